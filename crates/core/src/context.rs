@@ -1,0 +1,139 @@
+//! What the runner lends a running stage: progress bars and file readers.
+
+use std::path::Path;
+use std::time::Duration;
+
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use crate::{Field, StageError, Table};
+
+/// Reads the files a loader stage is pointed at. The runner's I/O edge
+/// supplies one that also reads Parquet; the default reads CSV and `.npy`.
+pub trait ProductReader: Send + Sync {
+    fn read_table(&self, path: &Path) -> Result<Table, StageError>;
+    fn read_field(&self, path: &Path, dx_m: f64, dy_m: f64) -> Result<Field, StageError>;
+}
+
+/// Reads CSV tables and `.npy` fields; Parquet needs the runner's reader.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BasicReader;
+
+impl ProductReader for BasicReader {
+    fn read_table(&self, path: &Path) -> Result<Table, StageError> {
+        match extension(path).as_str() {
+            "csv" => crate::csv_table::read_csv(path),
+            other => Err(StageError::file(
+                path,
+                format!("cannot read tables from `.{other}` files here (CSV only)"),
+            )),
+        }
+    }
+
+    fn read_field(&self, path: &Path, dx_m: f64, dy_m: f64) -> Result<Field, StageError> {
+        let file = std::fs::File::open(path).map_err(|e| StageError::file(path, e.to_string()))?;
+        Field::read_npy(std::io::BufReader::new(file), dx_m, dy_m)
+            .map_err(|e| StageError::file(path, e.to_string()))
+    }
+}
+
+/// The lowercase extension of a path, or "" if it has none.
+pub fn extension(path: &Path) -> String {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase()
+}
+
+/// The running stage's view of the runner.
+pub struct Context<'a> {
+    stage: String,
+    multi: Option<&'a MultiProgress>,
+    reader: &'a dyn ProductReader,
+}
+
+impl<'a> Context<'a> {
+    /// A context with hidden progress and the basic reader: for tests and
+    /// library use.
+    pub fn new(stage: &str) -> Context<'static> {
+        Context {
+            stage: stage.to_owned(),
+            multi: None,
+            reader: &BasicReader,
+        }
+    }
+
+    /// The runner's context: bars drawn under `multi` (None = quiet).
+    pub fn with(stage: &str, multi: Option<&'a MultiProgress>, reader: &'a dyn ProductReader) -> Self {
+        Context {
+            stage: stage.to_owned(),
+            multi,
+            reader,
+        }
+    }
+
+    /// The stage's name in the pipeline.
+    pub fn stage(&self) -> &str {
+        &self.stage
+    }
+
+    /// A progress bar over `len` steps, labelled with the stage name.
+    pub fn progress(&self, len: u64, what: &str) -> Progress {
+        let bar = match self.multi {
+            Some(multi) => {
+                let bar = multi.add(ProgressBar::new(len));
+                bar.set_style(
+                    ProgressStyle::with_template(
+                        "{prefix:>14.bold} {msg:<24} [{bar:30}] {human_pos}/{human_len} ({eta})",
+                    )
+                    .expect("valid template")
+                    .progress_chars("=> "),
+                );
+                bar.enable_steady_tick(Duration::from_millis(200));
+                bar
+            }
+            None => ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::hidden()),
+        };
+        bar.set_prefix(self.stage.clone());
+        bar.set_message(what.to_owned());
+        Progress(bar)
+    }
+
+    /// Prints a line above the progress bars (nothing when quiet).
+    pub fn note(&self, message: &str) {
+        if let Some(multi) = self.multi {
+            let _ = multi.println(format!("{:>14} {message}", self.stage));
+        }
+    }
+
+    pub fn read_table(&self, path: &Path) -> Result<Table, StageError> {
+        self.reader.read_table(path)
+    }
+
+    pub fn read_field(&self, path: &Path, dx_m: f64, dy_m: f64) -> Result<Field, StageError> {
+        self.reader.read_field(path, dx_m, dy_m)
+    }
+}
+
+/// A progress bar; share it by reference across worker threads (it is
+/// `Sync`). It disappears when dropped.
+pub struct Progress(ProgressBar);
+
+impl Progress {
+    pub fn inc(&self, n: u64) {
+        self.0.inc(n);
+    }
+
+    pub fn set_position(&self, pos: u64) {
+        self.0.set_position(pos);
+    }
+
+    pub fn set_message(&self, what: &str) {
+        self.0.set_message(what.to_owned());
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
+        self.0.finish_and_clear();
+    }
+}

@@ -1,0 +1,49 @@
+//! The error a stage returns. The runner adds the stage name and the file.
+
+use std::path::PathBuf;
+
+use crate::{ProductKind, TableError};
+
+#[derive(Debug, thiserror::Error)]
+pub enum StageError {
+    #[error("input `{0}` is missing")]
+    MissingInput(String),
+    #[error("input `{name}` is a {found}, expected a {expected}")]
+    InputKind {
+        name: String,
+        expected: ProductKind,
+        found: ProductKind,
+    },
+    #[error("input `{input}`: {source}")]
+    InputTable {
+        input: String,
+        #[source]
+        source: TableError,
+    },
+    #[error(transparent)]
+    Table(#[from] TableError),
+    #[error("{}: {message}", path.display())]
+    File { path: PathBuf, message: String },
+    #[error("{0}")]
+    Invalid(String),
+    #[error(transparent)]
+    Other(Box<dyn std::error::Error + Send + Sync>),
+}
+
+impl StageError {
+    /// Wraps a stage crate's own error type.
+    pub fn other(e: impl std::error::Error + Send + Sync + 'static) -> Self {
+        StageError::Other(Box::new(e))
+    }
+
+    pub fn invalid(message: impl Into<String>) -> Self {
+        StageError::Invalid(message.into())
+    }
+
+    pub fn file(path: impl Into<PathBuf>, message: impl Into<String>) -> Self {
+        StageError::File {
+            path: path.into(),
+            message: message.into(),
+        }
+    }
+}

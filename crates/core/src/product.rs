@@ -1,0 +1,182 @@
+//! What stages produce and consume: tables, fields and files.
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::sync::Arc;
+
+use serde::Serialize;
+
+use crate::{Field, StageError, Table};
+
+/// The kind of a product, as declared in a stage's inputs and outputs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ProductKind {
+    /// A table, stored as Parquet.
+    Table,
+    /// A 2-D field, stored as `.npy` with a `.grid.json` sidecar.
+    Field,
+    /// Named files (figures, HTML), stored as they are.
+    Files,
+}
+
+impl fmt::Display for ProductKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            ProductKind::Table => "table",
+            ProductKind::Field => "field",
+            ProductKind::Files => "files",
+        })
+    }
+}
+
+/// Files a stage writes verbatim, keyed by file name (`fig7.svg`,
+/// `index.html`); they land directly in the stage's output folder.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Files {
+    pub files: BTreeMap<String, Vec<u8>>,
+}
+
+impl Files {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    pub fn with(mut self, name: &str, bytes: Vec<u8>) -> Self {
+        self.files.insert(name.to_owned(), bytes);
+        self
+    }
+}
+
+/// One output of a stage.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Product {
+    Table(Table),
+    Field(Field),
+    Files(Files),
+}
+
+impl Product {
+    pub fn kind(&self) -> ProductKind {
+        match self {
+            Product::Table(_) => ProductKind::Table,
+            Product::Field(_) => ProductKind::Field,
+            Product::Files(_) => ProductKind::Files,
+        }
+    }
+}
+
+/// The products a stage receives, by input name.
+#[derive(Clone, Debug, Default)]
+pub struct Inputs {
+    items: BTreeMap<String, Arc<Product>>,
+}
+
+impl Inputs {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    pub fn insert(&mut self, name: &str, product: Arc<Product>) {
+        self.items.insert(name.to_owned(), product);
+    }
+
+    /// Builder for tests and library use.
+    pub fn with(mut self, name: &str, product: Product) -> Self {
+        self.insert(name, Arc::new(product));
+        self
+    }
+
+    pub fn get(&self, name: &str) -> Option<&Product> {
+        self.items.get(name).map(|p| p.as_ref())
+    }
+
+    pub fn names(&self) -> impl Iterator<Item = &str> {
+        self.items.keys().map(String::as_str)
+    }
+
+    fn require(&self, name: &str) -> Result<&Product, StageError> {
+        self.get(name)
+            .ok_or_else(|| StageError::MissingInput(name.to_owned()))
+    }
+
+    pub fn table(&self, name: &str) -> Result<&Table, StageError> {
+        match self.require(name)? {
+            Product::Table(t) => Ok(t),
+            other => Err(wrong_kind(name, ProductKind::Table, other)),
+        }
+    }
+
+    pub fn field(&self, name: &str) -> Result<&Field, StageError> {
+        match self.require(name)? {
+            Product::Field(f) => Ok(f),
+            other => Err(wrong_kind(name, ProductKind::Field, other)),
+        }
+    }
+
+    pub fn files(&self, name: &str) -> Result<&Files, StageError> {
+        match self.require(name)? {
+            Product::Files(f) => Ok(f),
+            other => Err(wrong_kind(name, ProductKind::Files, other)),
+        }
+    }
+}
+
+fn wrong_kind(name: &str, expected: ProductKind, found: &Product) -> StageError {
+    StageError::InputKind {
+        name: name.to_owned(),
+        expected,
+        found: found.kind(),
+    }
+}
+
+/// The products a stage returns, by output name.
+#[derive(Clone, Debug, Default)]
+pub struct Outputs {
+    items: BTreeMap<String, Product>,
+}
+
+impl Outputs {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    pub fn table(mut self, name: &str, table: Table) -> Self {
+        self.items.insert(name.to_owned(), Product::Table(table));
+        self
+    }
+
+    pub fn field(mut self, name: &str, field: Field) -> Self {
+        self.items.insert(name.to_owned(), Product::Field(field));
+        self
+    }
+
+    pub fn files(mut self, name: &str, files: Files) -> Self {
+        self.items.insert(name.to_owned(), Product::Files(files));
+        self
+    }
+
+    pub fn insert(&mut self, name: &str, product: Product) {
+        self.items.insert(name.to_owned(), product);
+    }
+
+    pub fn get(&self, name: &str) -> Option<&Product> {
+        self.items.get(name)
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = (&str, &Product)> {
+        self.items.iter().map(|(k, v)| (k.as_str(), v))
+    }
+
+    pub fn into_inner(self) -> BTreeMap<String, Product> {
+        self.items
+    }
+
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
+    }
+}

@@ -1,0 +1,96 @@
+//! The strain-energy interface shared by every model family.
+
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
+
+/// The homogeneous tensile tests of the paper's section 2.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub enum Mode {
+    /// Uniaxial tension: stretches (λ, λ^-½, λ^-½).
+    #[serde(rename = "UT")]
+    Uniaxial,
+    /// Planar tension (pure shear): stretches (λ, 1, λ^-1).
+    #[serde(rename = "PT")]
+    Planar,
+    /// Equibiaxial tension: stretches (λ, λ, λ^-2).
+    #[serde(rename = "BT")]
+    Equibiaxial,
+}
+
+impl Mode {
+    pub const ALL: [Mode; 3] = [Mode::Uniaxial, Mode::Planar, Mode::Equibiaxial];
+
+    /// The label used in tables: `UT`, `PT` or `BT`.
+    pub fn label(self) -> &'static str {
+        match self {
+            Mode::Uniaxial => "UT",
+            Mode::Planar => "PT",
+            Mode::Equibiaxial => "BT",
+        }
+    }
+
+    pub fn from_label(label: &str) -> Option<Mode> {
+        match label.trim().to_ascii_uppercase().as_str() {
+            "UT" => Some(Mode::Uniaxial),
+            "PT" | "PS" => Some(Mode::Planar),
+            "BT" | "ET" | "EB" => Some(Mode::Equibiaxial),
+            _ => None,
+        }
+    }
+
+    /// Principal stretches (λ1, λ2, λ3) of an incompressible solid in this
+    /// test at loading stretch λ.
+    pub fn stretches(self, stretch: f64) -> [f64; 3] {
+        match self {
+            Mode::Uniaxial => [stretch, stretch.powf(-0.5), stretch.powf(-0.5)],
+            Mode::Planar => [stretch, 1.0, 1.0 / stretch],
+            Mode::Equibiaxial => [stretch, stretch, stretch.powi(-2)],
+        }
+    }
+
+    /// How many loaded directions share the work dW/dλ: the nominal stress is
+    /// dW/dλ divided by this (2 for equibiaxial, 1 otherwise).
+    pub fn loaded_directions(self) -> f64 {
+        match self {
+            Mode::Equibiaxial => 2.0,
+            _ => 1.0,
+        }
+    }
+}
+
+impl fmt::Display for Mode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.label())
+    }
+}
+
+/// An incompressible isotropic hyperelastic material.
+///
+/// Nominal (first Piola–Kirchhoff) stresses are in pascals and follow from
+/// the reduced energy along each test path, T = (dW/dλ) / k with k loaded
+/// directions; implementations give them in closed form where one exists.
+pub trait Hyperelastic: fmt::Debug + Send + Sync {
+    /// The model family's name in the `material` table (`ogden`, ...).
+    fn family(&self) -> &'static str;
+
+    /// Initial shear modulus μ0, Pa.
+    fn shear_modulus_pa(&self) -> f64;
+
+    /// Strain energy density W(λ1, λ2, λ3) for λ1 λ2 λ3 = 1, Pa.
+    fn energy_pa(&self, stretches: [f64; 3]) -> f64;
+
+    /// Nominal stress in `mode` at loading stretch λ, Pa.
+    fn nominal_stress_pa(&self, mode: Mode, stretch: f64) -> f64;
+
+    /// dT/dλ in `mode` at loading stretch λ, Pa.
+    fn nominal_stress_slope_pa(&self, mode: Mode, stretch: f64) -> f64;
+
+    /// Named parameters in SI units, in the order of the `material` table.
+    fn parameters(&self) -> Vec<(String, f64)>;
+
+    /// Initial Young's modulus E0 = 2 μ0 (1 + ν) with ν = ½, Pa.
+    fn youngs_modulus_pa(&self) -> f64 {
+        3.0 * self.shear_modulus_pa()
+    }
+}

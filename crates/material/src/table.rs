@@ -1,0 +1,83 @@
+//! The `material` table: how a fitted or preset model travels between
+//! stages. One row per parameter: `model` (family), `param`, `value` (SI).
+
+use hypercontact_core::{ColumnSpec, Table};
+
+use crate::{Hyperelastic, MaterialError, Ogden};
+
+/// The schema of the `material` table.
+pub const MATERIAL_COLUMNS: &[ColumnSpec] = &[
+    ColumnSpec::str("model", "model family: ogden, neo-hookean, mooney-rivlin, yeoh, arruda-boyce"),
+    ColumnSpec::str("param", "parameter name (mu_1, alpha_1, c10, ...)"),
+    ColumnSpec::f64("value", "Pa or 1", "parameter value in SI units (moduli in Pa)"),
+];
+
+/// Writes a model as a `material` table.
+pub fn to_table(model: &dyn Hyperelastic) -> Table {
+    let params = model.parameters();
+    Table::new()
+        .with("model", vec![model.family(); params.len()])
+        .with("param", params.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>())
+        .with("value", params.iter().map(|(_, v)| *v).collect::<Vec<_>>())
+}
+
+/// Reads a model back from a `material` table.
+pub fn from_table(table: &Table) -> Result<Box<dyn Hyperelastic>, MaterialError> {
+    let err = |e: hypercontact_core::TableError| MaterialError::Table(e.to_string());
+    let models = table.str("model").map_err(err)?;
+    let names = table.str("param").map_err(err)?;
+    let values = table.f64("value").map_err(err)?;
+    let family = models
+        .first()
+        .ok_or_else(|| MaterialError::Table("the material table is empty".into()))?;
+    if let Some(other) = models.iter().find(|m| *m != family) {
+        return Err(MaterialError::Table(format!(
+            "one table holds two models, `{family}` and `{other}`"
+        )));
+    }
+    let get = |name: &str| -> Result<f64, MaterialError> {
+        names
+            .iter()
+            .position(|n| n == name)
+            .map(|i| values[i])
+            .ok_or_else(|| MaterialError::Table(format!("`{family}` needs parameter `{name}`")))
+    };
+    match family.as_str() {
+        "ogden" => {
+            let n = names.iter().filter(|n| n.starts_with("mu_")).count();
+            let mu = (1..=n).map(|i| get(&format!("mu_{i}"))).collect::<Result<_, _>>()?;
+            let alpha = (1..=n).map(|i| get(&format!("alpha_{i}"))).collect::<Result<_, _>>()?;
+            Ok(Box::new(Ogden::new(mu, alpha)?))
+        }
+        other => Err(MaterialError::Table(format!("unknown model family `{other}`"))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Mode;
+    use crate::presets::paper_epdm;
+
+    #[test]
+    fn round_trip_keeps_the_model() {
+        let m = paper_epdm();
+        let back = from_table(&to_table(&m)).unwrap();
+        for l in [0.6, 1.0, 1.4] {
+            assert_eq!(
+                back.nominal_stress_pa(Mode::Equibiaxial, l),
+                m.nominal_stress_pa(Mode::Equibiaxial, l)
+            );
+        }
+    }
+
+    #[test]
+    fn missing_parameter_is_named() {
+        let t = Table::new()
+            .with("model", vec!["ogden"])
+            .with("param", vec!["mu_1"])
+            .with("value", vec![1.0e6]);
+        let e = from_table(&t).unwrap_err().to_string();
+        assert!(e.contains("alpha_1"), "{e}");
+    }
+}
