@@ -63,7 +63,11 @@ impl<'a> Context<'a> {
     }
 
     /// The runner's context: bars drawn under `multi` (None = quiet).
-    pub fn with(stage: &str, multi: Option<&'a MultiProgress>, reader: &'a dyn ProductReader) -> Self {
+    pub fn with(
+        stage: &str,
+        multi: Option<&'a MultiProgress>,
+        reader: &'a dyn ProductReader,
+    ) -> Self {
         Context {
             stage: stage.to_owned(),
             multi,

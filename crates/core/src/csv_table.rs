@@ -39,7 +39,12 @@ pub fn read_csv(path: &Path) -> Result<Table, StageError> {
 
 fn infer(cells: Vec<String>) -> ColumnData {
     if !cells.is_empty() && cells.iter().all(|c| c.parse::<i64>().is_ok()) {
-        return ColumnData::I64(cells.iter().map(|c| c.parse().unwrap_or_default()).collect());
+        return ColumnData::I64(
+            cells
+                .iter()
+                .map(|c| c.parse().unwrap_or_default())
+                .collect(),
+        );
     }
     let numbers: Option<Vec<f64>> = cells
         .iter()
@@ -65,7 +70,11 @@ mod tests {
     fn infers_types_and_reads_nan() {
         let dir = tempdir();
         let path = dir.join("t.csv");
-        std::fs::write(&path, "# a comment\nmode,stretch,frame\nUT,1.0,1\nUT,,2\nBT,1.5,3\n").unwrap();
+        std::fs::write(
+            &path,
+            "# a comment\nmode,stretch,frame\nUT,1.0,1\nUT,,2\nBT,1.5,3\n",
+        )
+        .unwrap();
         let t = read_csv(&path).unwrap();
         assert_eq!(t.str("mode").unwrap(), ["UT", "UT", "BT"]);
         let s = t.f64("stretch").unwrap();

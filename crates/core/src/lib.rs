@@ -15,7 +15,7 @@ pub mod registry;
 pub mod stage;
 pub mod table;
 
-pub use context::{Context, Progress, ProductReader};
+pub use context::{Context, ProductReader, Progress};
 pub use error::StageError;
 pub use field::Field;
 pub use params::{ParamError, Params};

@@ -317,7 +317,10 @@ mod tests {
         let err = t.f64("patches").unwrap_err().to_string();
         assert!(err.contains("`patches`") && err.contains("i64"), "{err}");
         let err = t.f64("load_n").unwrap_err().to_string();
-        assert!(err.contains("`load_n`") && err.contains("z_m, patches"), "{err}");
+        assert!(
+            err.contains("`load_n`") && err.contains("z_m, patches"),
+            "{err}"
+        );
     }
 
     #[test]
@@ -325,7 +328,11 @@ mod tests {
         let ragged = Table::new().with("a", vec![1.0]).with("b", vec![1.0, 2.0]);
         assert!(matches!(
             ragged.validate(),
-            Err(TableError::RaggedColumn { len: 2, expected: 1, .. })
+            Err(TableError::RaggedColumn {
+                len: 2,
+                expected: 1,
+                ..
+            })
         ));
         let dup = Table::new().with("a", vec![1.0]).with("a", vec![2.0]);
         assert_eq!(dup.validate(), Err(TableError::DuplicateColumn("a".into())));
@@ -344,7 +351,9 @@ mod tests {
         all.append(&other).unwrap();
         assert_eq!(all.f64("x").unwrap(), &[1.0, 2.0, 3.0]);
         assert_eq!(all.str("icm.model").unwrap()[2], "hyperelastic");
-        let wrong = Table::new().with("icm.model", vec![1.0]).with("x", vec![1.0]);
+        let wrong = Table::new()
+            .with("icm.model", vec![1.0])
+            .with("x", vec![1.0]);
         assert!(all.append(&wrong).is_err());
     }
 }

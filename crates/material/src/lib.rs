@@ -37,3 +37,6 @@ pub enum MaterialError {
     #[error("invalid material: {0}")]
     Invalid(String),
 }
+
+/// Registers this crate's stage kinds.
+pub fn register(_registry: &mut hypercontact_core::Registry) {}

@@ -28,7 +28,10 @@ impl Ogden {
             )));
         }
         if let Some(i) = mu_pa.iter().position(|m| !m.is_finite()) {
-            return Err(MaterialError::Invalid(format!("Ogden μ_{} is not finite", i + 1)));
+            return Err(MaterialError::Invalid(format!(
+                "Ogden μ_{} is not finite",
+                i + 1
+            )));
         }
         Ok(Self { mu_pa, alpha })
     }

@@ -7,9 +7,16 @@ use crate::{Hyperelastic, MaterialError, Ogden};
 
 /// The schema of the `material` table.
 pub const MATERIAL_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::str("model", "model family: ogden, neo-hookean, mooney-rivlin, yeoh, arruda-boyce"),
+    ColumnSpec::str(
+        "model",
+        "model family: ogden, neo-hookean, mooney-rivlin, yeoh, arruda-boyce",
+    ),
     ColumnSpec::str("param", "parameter name (mu_1, alpha_1, c10, ...)"),
-    ColumnSpec::f64("value", "Pa or 1", "parameter value in SI units (moduli in Pa)"),
+    ColumnSpec::f64(
+        "value",
+        "Pa or 1",
+        "parameter value in SI units (moduli in Pa)",
+    ),
 ];
 
 /// Writes a model as a `material` table.
@@ -17,7 +24,10 @@ pub fn to_table(model: &dyn Hyperelastic) -> Table {
     let params = model.parameters();
     Table::new()
         .with("model", vec![model.family(); params.len()])
-        .with("param", params.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>())
+        .with(
+            "param",
+            params.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>(),
+        )
         .with("value", params.iter().map(|(_, v)| *v).collect::<Vec<_>>())
 }
 
@@ -45,11 +55,17 @@ pub fn from_table(table: &Table) -> Result<Box<dyn Hyperelastic>, MaterialError>
     match family.as_str() {
         "ogden" => {
             let n = names.iter().filter(|n| n.starts_with("mu_")).count();
-            let mu = (1..=n).map(|i| get(&format!("mu_{i}"))).collect::<Result<_, _>>()?;
-            let alpha = (1..=n).map(|i| get(&format!("alpha_{i}"))).collect::<Result<_, _>>()?;
+            let mu = (1..=n)
+                .map(|i| get(&format!("mu_{i}")))
+                .collect::<Result<_, _>>()?;
+            let alpha = (1..=n)
+                .map(|i| get(&format!("alpha_{i}")))
+                .collect::<Result<_, _>>()?;
             Ok(Box::new(Ogden::new(mu, alpha)?))
         }
-        other => Err(MaterialError::Table(format!("unknown model family `{other}`"))),
+        other => Err(MaterialError::Table(format!(
+            "unknown model family `{other}`"
+        ))),
     }
 }
 

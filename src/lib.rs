@@ -1,0 +1,13 @@
+//! hypercontact: reruns a rough-surface contact study of hyperelastic rubber
+//! end to end. This library part only assembles the stage registry; the
+//! stages live in `crates/`, the runner in `crates/runner`.
+
+use hypercontact_core::Registry;
+
+/// Every stage kind this build knows, by the name used after `uses:`.
+pub fn registry() -> Registry {
+    let mut registry = Registry::new();
+    hypercontact_material::register(&mut registry);
+    hypercontact_surface::register(&mut registry);
+    registry
+}
