@@ -95,6 +95,16 @@ impl Inputs {
         self.items.keys().map(String::as_str)
     }
 
+    /// The products of a many-input (`Arity::Many`), as (label, product) in
+    /// label order: `responses: { T1: a, T2: b }` gives `[("T1", a), ("T2", b)]`.
+    pub fn labelled(&self, name: &str) -> Vec<(&str, &Product)> {
+        let prefix = format!("{name}.");
+        self.items
+            .iter()
+            .filter_map(|(k, v)| k.strip_prefix(&prefix).map(|label| (label, v.as_ref())))
+            .collect()
+    }
+
     fn require(&self, name: &str) -> Result<&Product, StageError> {
         self.get(name)
             .ok_or_else(|| StageError::MissingInput(name.to_owned()))
