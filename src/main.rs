@@ -1,1 +1,317 @@
-fn main() {}
+//! The `hypercontact` command line.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::{Duration, SystemTime};
+
+use anyhow::{Context as _, Result};
+use clap::{Parser, Subcommand};
+use hypercontact_runner::cache::Cache;
+use hypercontact_runner::exec::default_cache_dir;
+use hypercontact_runner::{Pipeline, PlanOptions, RunOptions};
+
+mod stages;
+
+#[derive(Parser)]
+#[command(
+    name = "hypercontact",
+    version,
+    about = "Reruns a rough-surface contact study of hyperelastic rubber end to end",
+    long_about = "Reruns a rough-surface contact study of hyperelastic rubber end to end: \
+                  tensile tests → hyperelastic fit, interferometer tiles → height map → PSD → \
+                  truncation → incremental contact model → report, as a cached YAML pipeline."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(clap::Args, Clone)]
+struct RunArgs {
+    /// The pipeline file (YAML).
+    pipeline: PathBuf,
+    /// Output folder [default: runs/<pipeline name>/].
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Cache folder [default: .hypercontact/cache next to the pipeline file].
+    #[arg(long)]
+    cache: Option<PathBuf>,
+    /// Override a parameter: STAGE.PARAM=VALUE (VALUE is YAML). Repeatable.
+    #[arg(long = "set", value_name = "STAGE.PARAM=VALUE")]
+    set: Vec<String>,
+    /// Print what would run and why, then stop.
+    #[arg(long)]
+    dry_run: bool,
+    /// No progress bars and no summary.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a pipeline, reusing every cached stage whose inputs are unchanged.
+    Run {
+        #[command(flatten)]
+        args: RunArgs,
+        /// Recompute this stage even if cached. Repeatable.
+        #[arg(long, value_name = "STAGE")]
+        force: Vec<String>,
+        /// Run only this stage and the stages it needs.
+        #[arg(long, value_name = "STAGE")]
+        only: Option<String>,
+    },
+    /// Run the pipeline's `study:` sweep and gather the chosen tables.
+    Study {
+        #[command(flatten)]
+        args: RunArgs,
+    },
+    /// Describe the stage kinds: parameters (defaults, units), inputs, outputs.
+    Stages {
+        /// Only this kind, with its full documentation.
+        kind: Option<String>,
+        /// Machine-readable output.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Inspect or prune the cache.
+    Cache {
+        #[command(subcommand)]
+        action: CacheAction,
+    },
+}
+
+#[derive(clap::Args)]
+struct CacheWhere {
+    /// A pipeline whose cache to use (its .hypercontact/cache).
+    #[arg(long, conflicts_with = "cache")]
+    pipeline: Option<PathBuf>,
+    /// The cache folder [default: pipelines/.hypercontact/cache].
+    #[arg(long)]
+    cache: Option<PathBuf>,
+}
+
+#[derive(Subcommand)]
+enum CacheAction {
+    /// List entries: key, kind, stage, size, last use.
+    Ls {
+        #[command(flatten)]
+        at: CacheWhere,
+    },
+    /// Remove entries no longer needed, and debris of interrupted runs.
+    Gc {
+        #[command(flatten)]
+        at: CacheWhere,
+        /// Keep every entry these pipelines use now; remove the rest.
+        #[arg(long, value_name = "PIPELINE")]
+        keep: Vec<PathBuf>,
+        /// Remove entries unused for this many days (default 30 without --keep).
+        #[arg(long)]
+        older_than_days: Option<f64>,
+    },
+    /// Remove the whole cache.
+    Clean {
+        #[command(flatten)]
+        at: CacheWhere,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match dispatch(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn dispatch(cli: Cli) -> Result<()> {
+    let registry = hypercontact::registry();
+    match cli.command {
+        Command::Run { args, force, only } => {
+            let (pipeline, mut options) = prepare(&args, &registry)?;
+            options.plan = PlanOptions { force, only };
+            let report = hypercontact_runner::run(&pipeline, &options)?;
+            if args.dry_run {
+                print!("{}", report.plan.describe());
+            } else if !args.quiet {
+                print!("{}", report.summary());
+                println!(
+                    "{} ran, {} cached in {:.2} s; outputs in {}",
+                    report.computed(),
+                    report.hits(),
+                    report.provenance.wall_s,
+                    options.out_dir.display()
+                );
+            }
+        }
+        Command::Study { args } => {
+            let (pipeline, options) = prepare(&args, &registry)?;
+            let report = hypercontact_runner::study::run_study(&pipeline, &options)?;
+            for (k, (variant, run)) in report.runs.iter().enumerate() {
+                let values: Vec<String> = variant.iter().map(|(p, v)| format!("{p}={v}")).collect();
+                if args.dry_run {
+                    println!("variant {k}: {}", values.join(" "));
+                    print!("{}", run.plan.describe());
+                } else if !args.quiet {
+                    println!(
+                        "variant {k}: {:<50} {} ran, {} cached",
+                        values.join(" "),
+                        run.computed(),
+                        run.hits()
+                    );
+                }
+            }
+            if !args.quiet {
+                for (target, path) in &report.tables {
+                    println!("{target} → {}", path.display());
+                }
+            }
+        }
+        Command::Stages { kind, json } => stages::print(&registry, kind.as_deref(), json)?,
+        Command::Cache { action } => cache_command(action, &registry)?,
+    }
+    Ok(())
+}
+
+fn prepare(
+    args: &RunArgs,
+    registry: &hypercontact_core::Registry,
+) -> Result<(Pipeline, RunOptions)> {
+    let mut pipeline = Pipeline::load(&args.pipeline, registry)?;
+    for assignment in &args.set {
+        pipeline.set(assignment)?;
+    }
+    let mut options = RunOptions::for_pipeline(&pipeline);
+    if let Some(out) = &args.out {
+        options.out_dir = out.clone();
+    }
+    if let Some(cache) = &args.cache {
+        options.cache_dir = cache.clone();
+    }
+    options.dry_run = args.dry_run;
+    options.quiet = args.quiet;
+    options.overrides = args.set.clone();
+    Ok((pipeline, options))
+}
+
+fn cache_dir(at: &CacheWhere, registry: &hypercontact_core::Registry) -> Result<PathBuf> {
+    Ok(match (&at.cache, &at.pipeline) {
+        (Some(dir), _) => dir.clone(),
+        (None, Some(p)) => default_cache_dir(&Pipeline::load(p, registry)?),
+        (None, None) => Path::new("pipelines").join(".hypercontact").join("cache"),
+    })
+}
+
+fn cache_command(action: CacheAction, registry: &hypercontact_core::Registry) -> Result<()> {
+    match action {
+        CacheAction::Ls { at } => {
+            let dir = cache_dir(&at, registry)?;
+            let cache = Cache::open(&dir).with_context(|| format!("opening {}", dir.display()))?;
+            let entries = cache.list()?;
+            let mut total = 0;
+            for e in &entries {
+                total += e.bytes;
+                let (kind, stage) = e.manifest.as_ref().map_or(("(unreadable)", ""), |m| {
+                    (m.kind.as_str(), m.stage.as_str())
+                });
+                println!(
+                    "{}  {:<16} {:<16} {:>10}  {}",
+                    &e.key,
+                    kind,
+                    stage,
+                    human_bytes(e.bytes),
+                    e.last_used.map_or("-".into(), ago)
+                );
+            }
+            println!(
+                "{} entries, {} in {}",
+                entries.len(),
+                human_bytes(total),
+                dir.display()
+            );
+        }
+        CacheAction::Gc {
+            at,
+            keep,
+            older_than_days,
+        } => {
+            let dir = cache_dir(&at, registry)?;
+            let cache = Cache::open(&dir)?;
+            let mut keys = std::collections::HashSet::new();
+            for p in &keep {
+                let pipeline = Pipeline::load(p, registry)?;
+                let plan = hypercontact_runner::Plan::build(
+                    &pipeline,
+                    &cache,
+                    &PlanOptions::default(),
+                    None,
+                )?;
+                keys.extend(plan.stages.into_iter().map(|s| s.key));
+            }
+            let max_age = match (older_than_days, keep.is_empty()) {
+                (Some(d), _) => Some(Duration::from_secs_f64(d * 86_400.0)),
+                (None, true) => Some(Duration::from_secs(30 * 86_400)),
+                (None, false) => None,
+            };
+            let mut removed = 0;
+            let mut freed = 0;
+            for e in cache.list()? {
+                let unused = !keep.is_empty() && !keys.contains(&e.key);
+                let old = match (max_age, e.last_used) {
+                    (Some(age), Some(t)) => {
+                        SystemTime::now().duration_since(t).unwrap_or_default() > age
+                    }
+                    _ => false,
+                };
+                if unused || old || e.manifest.is_none() {
+                    cache.remove(&e.key)?;
+                    removed += 1;
+                    freed += e.bytes;
+                }
+            }
+            let debris = cache.clean_tmp(3600)?;
+            println!(
+                "removed {removed} entries ({}) and {debris} leftovers of interrupted runs",
+                human_bytes(freed)
+            );
+        }
+        CacheAction::Clean { at } => {
+            let dir = cache_dir(&at, registry)?;
+            if dir.exists() {
+                Cache::open(&dir)?.clean()?;
+            }
+            println!("removed {}", dir.display());
+        }
+    }
+    Ok(())
+}
+
+fn human_bytes(n: u64) -> String {
+    const UNITS: [&str; 5] = ["B", "KiB", "MiB", "GiB", "TiB"];
+    let mut v = n as f64;
+    let mut u = 0;
+    while v >= 1024.0 && u < UNITS.len() - 1 {
+        v /= 1024.0;
+        u += 1;
+    }
+    if u == 0 {
+        format!("{n} B")
+    } else {
+        format!("{v:.1} {}", UNITS[u])
+    }
+}
+
+fn ago(t: SystemTime) -> String {
+    let s = SystemTime::now()
+        .duration_since(t)
+        .unwrap_or_default()
+        .as_secs();
+    match s {
+        0..=119 => format!("{s} s ago"),
+        120..=7199 => format!("{} min ago", s / 60),
+        7200..=172_799 => format!("{} h ago", s / 3600),
+        _ => format!("{} days ago", s / 86_400),
+    }
+}

@@ -1,1 +1,144 @@
-pub fn x() {}
+//! The I/O edge: the only crate that touches polars.
+//!
+//! Tables go to and from Parquet; the [`RunnerReader`] gives loader stages
+//! Parquet as well as the CSV and `.npy` that core reads itself.
+
+use std::io::{Read, Seek, Write};
+use std::path::Path;
+
+use hypercontact_core::context::{BasicReader, extension};
+use hypercontact_core::{ColumnData, Field, ProductReader, StageError, Table};
+use polars::prelude::*;
+
+#[derive(Debug, thiserror::Error)]
+pub enum IoError {
+    #[error("parquet: {0}")]
+    Polars(#[from] PolarsError),
+    #[error("column `{name}` has type {dtype}, which hypercontact does not read")]
+    Unsupported { name: String, dtype: String },
+    #[error("table: {0}")]
+    Table(#[from] hypercontact_core::TableError),
+}
+
+fn to_frame(table: &Table) -> Result<DataFrame, IoError> {
+    table.validate()?;
+    let columns = table
+        .columns()
+        .iter()
+        .map(|c| {
+            let name = PlSmallStr::from(c.name.as_str());
+            match &c.data {
+                ColumnData::F64(v) => Column::new(name, v.as_slice()),
+                ColumnData::I64(v) => Column::new(name, v.as_slice()),
+                ColumnData::Str(v) => Column::new(name, v.as_slice()),
+            }
+        })
+        .collect();
+    Ok(DataFrame::new(table.n_rows(), columns)?)
+}
+
+/// Writes a table as Parquet (zstd, with statistics).
+pub fn write_parquet<W: Write>(table: &Table, writer: W) -> Result<(), IoError> {
+    let mut frame = to_frame(table)?;
+    ParquetWriter::new(writer)
+        .with_compression(ParquetCompression::Zstd(None))
+        .finish(&mut frame)?;
+    Ok(())
+}
+
+/// Reads a Parquet file into a table. Integer columns become `i64`, float
+/// columns `f64` (nulls read as NaN), strings `str`.
+pub fn read_parquet<R: Read + Seek + Send + Sync + 'static>(reader: R) -> Result<Table, IoError>
+where
+    R: polars::io::mmap::MmapBytesReader,
+{
+    let frame = ParquetReader::new(reader).finish()?;
+    let mut table = Table::new();
+    for column in frame.columns() {
+        let name = column.name().as_str();
+        let dtype = column.dtype();
+        let data = if dtype.is_float() {
+            let c = column.cast(&DataType::Float64)?;
+            ColumnData::F64(c.f64()?.iter().map(|v| v.unwrap_or(f64::NAN)).collect())
+        } else if dtype.is_integer() {
+            if column.null_count() > 0 {
+                let c = column.cast(&DataType::Float64)?;
+                ColumnData::F64(c.f64()?.iter().map(|v| v.unwrap_or(f64::NAN)).collect())
+            } else {
+                let c = column.cast(&DataType::Int64)?;
+                ColumnData::I64(c.i64()?.iter().map(|v| v.unwrap_or_default()).collect())
+            }
+        } else if dtype.is_string() {
+            ColumnData::Str(
+                column
+                    .str()?
+                    .iter()
+                    .map(|v| v.unwrap_or_default().to_owned())
+                    .collect(),
+            )
+        } else {
+            return Err(IoError::Unsupported {
+                name: name.to_owned(),
+                dtype: dtype.to_string(),
+            });
+        };
+        table.push(name, data);
+    }
+    Ok(table)
+}
+
+/// Reads a Parquet file from disk.
+pub fn read_parquet_file(path: &Path) -> Result<Table, StageError> {
+    let file = std::fs::File::open(path).map_err(|e| StageError::file(path, e.to_string()))?;
+    read_parquet(file).map_err(|e| StageError::file(path, e.to_string()))
+}
+
+/// The reader the runner lends to stages: Parquet here, CSV and `.npy` from
+/// core.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RunnerReader;
+
+impl ProductReader for RunnerReader {
+    fn read_table(&self, path: &Path) -> Result<Table, StageError> {
+        match extension(path).as_str() {
+            "parquet" | "pq" => read_parquet_file(path),
+            _ => BasicReader.read_table(path),
+        }
+    }
+
+    fn read_field(&self, path: &Path, dx_m: f64, dy_m: f64) -> Result<Field, StageError> {
+        BasicReader.read_field(path, dx_m, dy_m)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Cursor;
+
+    #[test]
+    fn parquet_round_trip_keeps_types_and_nan() {
+        let t = Table::new()
+            .with("mode", vec!["UT", "BT"])
+            .with("stretch", vec![1.0, f64::NAN])
+            .with("frame", vec![3_i64, 4]);
+        let mut bytes = Vec::new();
+        write_parquet(&t, &mut bytes).unwrap();
+        let back = read_parquet(Cursor::new(bytes)).unwrap();
+        assert_eq!(back.column_names(), ["mode", "stretch", "frame"]);
+        assert_eq!(back.str("mode").unwrap(), ["UT", "BT"]);
+        assert!(back.f64("stretch").unwrap()[1].is_nan());
+        assert_eq!(back.i64("frame").unwrap(), &[3, 4]);
+    }
+
+    #[test]
+    fn ragged_table_is_refused() {
+        let t = Table::new().with("a", vec![1.0]).with("b", vec![1.0, 2.0]);
+        assert!(write_parquet(&t, Vec::new()).is_err());
+    }
+
+    #[test]
+    fn garbage_is_an_error_not_a_panic() {
+        assert!(read_parquet(Cursor::new(b"not parquet".to_vec())).is_err());
+    }
+}

@@ -1,0 +1,291 @@
+//! The content-addressed cache of stage outputs.
+//!
+//! Layout under the cache root:
+//! - `entries/<key>/`: one finished entry: its products and `manifest.json`
+//!   (every file's BLAKE3 and size);
+//! - `tmp/`: entries being written; a finished one is renamed into
+//!   `entries/` in one step, so a run killed mid-write leaves only debris in
+//!   `tmp/`, never a half-written entry (the scheme ruff uses for its cache:
+//!   write a temporary file, then rename);
+//! - `locks/<key>.lock`: an exclusive file lock held while an entry is
+//!   computed, so two runs sharing the cache compute it once.
+//!
+//! An entry is trusted only if its manifest parses and every file matches
+//! its recorded size and hash; anything else is recomputed.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::io;
+use std::path::{Path, PathBuf};
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use serde::{Deserialize, Serialize};
+
+use crate::hash::file_hash;
+use crate::store::OutputRecord;
+
+/// What an entry records about itself.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Manifest {
+    pub format: u32,
+    pub key: String,
+    pub kind: String,
+    pub version: u32,
+    /// The stage's name in the pipeline that first computed it.
+    pub stage: String,
+    pub created_unix_s: u64,
+    /// How long the computation took, seconds.
+    pub compute_s: f64,
+    pub params: serde_json::Value,
+    pub outputs: BTreeMap<String, OutputRecord>,
+}
+
+pub const MANIFEST_FORMAT: u32 = 1;
+
+/// The state of an entry on disk.
+#[derive(Debug)]
+pub enum EntryState {
+    Missing,
+    Valid(Box<Manifest>),
+    /// Present but not trustworthy, with the reason.
+    Corrupt(String),
+}
+
+#[derive(Clone, Debug)]
+pub struct Cache {
+    root: PathBuf,
+}
+
+/// Holds an entry's lock; released on drop.
+pub struct EntryLock {
+    _file: fs::File,
+}
+
+fn now_unix_s() -> u64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs())
+}
+
+fn unique_suffix() -> String {
+    let nanos = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    format!("{}.{nanos}", std::process::id())
+}
+
+impl Cache {
+    pub fn open(root: &Path) -> io::Result<Self> {
+        for sub in ["entries", "tmp", "locks"] {
+            fs::create_dir_all(root.join(sub))?;
+        }
+        Ok(Self {
+            root: root.to_owned(),
+        })
+    }
+
+    pub fn root(&self) -> &Path {
+        &self.root
+    }
+
+    pub fn entry_dir(&self, key: &str) -> PathBuf {
+        self.root.join("entries").join(key)
+    }
+
+    /// Checks an entry: manifest readable, every file present with its size
+    /// and hash.
+    pub fn check(&self, key: &str) -> EntryState {
+        let dir = self.entry_dir(key);
+        if !dir.exists() {
+            return EntryState::Missing;
+        }
+        let manifest: Manifest = match fs::read(dir.join("manifest.json"))
+            .map_err(|e| e.to_string())
+            .and_then(|b| serde_json::from_slice(&b).map_err(|e| e.to_string()))
+        {
+            Ok(m) => m,
+            Err(e) => return EntryState::Corrupt(format!("manifest unreadable: {e}")),
+        };
+        if manifest.key != key || manifest.format != MANIFEST_FORMAT {
+            return EntryState::Corrupt("manifest belongs to another key or format".into());
+        }
+        for record in manifest.outputs.values() {
+            for (rel, file) in &record.files {
+                let path = dir.join(rel);
+                match fs::metadata(&path) {
+                    Ok(m) if m.len() == file.bytes => {}
+                    Ok(m) => {
+                        return EntryState::Corrupt(format!(
+                            "{rel} has {} bytes, expected {}",
+                            m.len(),
+                            file.bytes
+                        ));
+                    }
+                    Err(e) => return EntryState::Corrupt(format!("{rel}: {e}")),
+                }
+                match file_hash(&path) {
+                    Ok(h) if h == file.blake3 => {}
+                    Ok(_) => return EntryState::Corrupt(format!("{rel} fails its hash check")),
+                    Err(e) => return EntryState::Corrupt(format!("{rel}: {e}")),
+                }
+            }
+        }
+        EntryState::Valid(Box::new(manifest))
+    }
+
+    /// Blocks until this process holds the entry's lock.
+    pub fn lock(&self, key: &str) -> io::Result<EntryLock> {
+        let path = self.root.join("locks").join(format!("{key}.lock"));
+        let file = fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(path)?;
+        file.lock()?;
+        Ok(EntryLock { _file: file })
+    }
+
+    /// A fresh temporary folder for writing an entry.
+    pub fn staging_dir(&self, key: &str) -> io::Result<PathBuf> {
+        let dir = self
+            .root
+            .join("tmp")
+            .join(format!("{key}.{}", unique_suffix()));
+        fs::create_dir_all(&dir)?;
+        Ok(dir)
+    }
+
+    /// Finishes an entry written in `staging`: writes its manifest, makes
+    /// its files read-only, and renames it into place (replacing a corrupt
+    /// entry, if one is there). Call with the entry's lock held.
+    pub fn commit(&self, staging: &Path, manifest: &Manifest) -> io::Result<PathBuf> {
+        for record in manifest.outputs.values() {
+            for rel in record.files.keys() {
+                let path = staging.join(rel);
+                let mut perms = fs::metadata(&path)?.permissions();
+                perms.set_readonly(true);
+                fs::set_permissions(&path, perms)?;
+            }
+        }
+        let bytes = serde_json::to_vec_pretty(manifest).map_err(io::Error::other)?;
+        fs::write(staging.join("manifest.json"), bytes)?;
+        let dst = self.entry_dir(&manifest.key);
+        if dst.exists() {
+            let trash =
+                self.root
+                    .join("tmp")
+                    .join(format!("{}.trash.{}", manifest.key, unique_suffix()));
+            fs::rename(&dst, &trash)?;
+            let _ = remove_tree(&trash);
+        }
+        fs::rename(staging, &dst)?;
+        Ok(dst)
+    }
+
+    /// Marks an entry as used now (for `cache gc --older-than`).
+    pub fn touch(&self, key: &str) {
+        let path = self.entry_dir(key).join("manifest.json");
+        if let Ok(file) = fs::File::options().append(true).open(&path) {
+            let _ = file.set_modified(SystemTime::now());
+        }
+    }
+
+    /// Every entry with its manifest (or why it is unreadable), size in bytes
+    /// and last use.
+    pub fn list(&self) -> io::Result<Vec<EntryInfo>> {
+        let mut out = Vec::new();
+        for entry in fs::read_dir(self.root.join("entries"))? {
+            let entry = entry?;
+            let key = entry.file_name().to_string_lossy().into_owned();
+            let dir = entry.path();
+            let manifest = fs::read(dir.join("manifest.json"))
+                .ok()
+                .and_then(|b| serde_json::from_slice::<Manifest>(&b).ok());
+            let last_used = fs::metadata(dir.join("manifest.json"))
+                .and_then(|m| m.modified())
+                .ok();
+            out.push(EntryInfo {
+                bytes: tree_size(&dir),
+                key,
+                manifest,
+                last_used,
+            });
+        }
+        out.sort_by(|a, b| a.last_used.cmp(&b.last_used).then(a.key.cmp(&b.key)));
+        Ok(out)
+    }
+
+    /// Removes one entry (with its lock file).
+    pub fn remove(&self, key: &str) -> io::Result<()> {
+        let _lock = self.lock(key)?;
+        let trash = self
+            .root
+            .join("tmp")
+            .join(format!("{key}.trash.{}", unique_suffix()));
+        if self.entry_dir(key).exists() {
+            fs::rename(self.entry_dir(key), &trash)?;
+            remove_tree(&trash)?;
+        }
+        Ok(())
+    }
+
+    /// Removes leftovers of interrupted runs from `tmp/` older than
+    /// `min_age_s` (their writers are gone); returns how many.
+    pub fn clean_tmp(&self, min_age_s: u64) -> io::Result<usize> {
+        let mut n = 0;
+        for entry in fs::read_dir(self.root.join("tmp"))? {
+            let entry = entry?;
+            let age = entry
+                .metadata()?
+                .modified()
+                .ok()
+                .and_then(|t| t.elapsed().ok())
+                .map_or(0, |d| d.as_secs());
+            if age >= min_age_s {
+                remove_tree(&entry.path())?;
+                n += 1;
+            }
+        }
+        Ok(n)
+    }
+
+    /// Removes the whole cache.
+    pub fn clean(&self) -> io::Result<()> {
+        remove_tree(&self.root)
+    }
+}
+
+/// An entry as listed by `cache ls`.
+#[derive(Debug)]
+pub struct EntryInfo {
+    pub key: String,
+    pub manifest: Option<Manifest>,
+    pub bytes: u64,
+    pub last_used: Option<SystemTime>,
+}
+
+/// Deletes a tree even where files were made read-only.
+fn remove_tree(path: &Path) -> io::Result<()> {
+    match fs::remove_dir_all(path) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(e),
+    }
+}
+
+fn tree_size(path: &Path) -> u64 {
+    let Ok(entries) = fs::read_dir(path) else {
+        return 0;
+    };
+    entries
+        .filter_map(Result::ok)
+        .map(|e| match e.file_type() {
+            Ok(t) if t.is_dir() => tree_size(&e.path()),
+            _ => e.metadata().map_or(0, |m| m.len()),
+        })
+        .sum()
+}
+
+pub(crate) fn unix_now() -> u64 {
+    now_unix_s()
+}

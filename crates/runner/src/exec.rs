@@ -1,0 +1,414 @@
+//! Running a plan: cache lookups, locked computation, atomic entries,
+//! exported outputs and the provenance record.
+//!
+//! Caching, timing and progress wrap every stage from the outside; a stage
+//! itself only computes.
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use hypercontact_core::{Context, Inputs, Outputs, Product, ProductKind};
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use crate::cache::{Cache, EntryState, MANIFEST_FORMAT, Manifest, unix_now};
+use crate::pipeline::{Pipeline, PipelineError};
+use crate::plan::{Plan, PlanOptions, PlannedStage, Reason};
+use crate::provenance::{CacheUse, Provenance, StageRecord};
+use crate::store::{self, OutputRecord, StoreError};
+
+/// How to run.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// Where outputs land: `<out>/<stage>/<output>.<ext>`.
+    pub out_dir: PathBuf,
+    pub cache_dir: PathBuf,
+    pub plan: PlanOptions,
+    /// Print the plan and stop.
+    pub dry_run: bool,
+    /// No progress bars or summary.
+    pub quiet: bool,
+    /// `--set` assignments already applied, recorded in provenance.
+    pub overrides: Vec<String>,
+    /// Export outputs into `out_dir` and write `provenance.json` there.
+    pub export: bool,
+}
+
+impl RunOptions {
+    /// Defaults for a pipeline: `runs/<name>/` and the cache next to the
+    /// pipeline file.
+    pub fn for_pipeline(pipeline: &Pipeline) -> Self {
+        Self {
+            out_dir: PathBuf::from("runs").join(&pipeline.name),
+            cache_dir: default_cache_dir(pipeline),
+            plan: PlanOptions::default(),
+            dry_run: false,
+            quiet: true,
+            overrides: Vec::new(),
+            export: true,
+        }
+    }
+}
+
+/// `.hypercontact/cache` in the pipeline file's folder.
+pub fn default_cache_dir(pipeline: &Pipeline) -> PathBuf {
+    pipeline.dir.join(".hypercontact").join("cache")
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    #[error(transparent)]
+    Pipeline(#[from] PipelineError),
+    #[error("{file}: stage `{stage}` ({kind}) failed: {source}", file = file.display())]
+    Stage {
+        file: PathBuf,
+        stage: String,
+        kind: String,
+        #[source]
+        source: hypercontact_core::StageError,
+    },
+    #[error("stage `{stage}` ({kind}) broke its output contract: {message}")]
+    Contract {
+        stage: String,
+        kind: String,
+        message: String,
+    },
+    #[error("cache at {}: {source}", path.display())]
+    Cache {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error(transparent)]
+    Store(#[from] StoreError),
+}
+
+/// What a run did.
+#[derive(Debug)]
+pub struct RunReport {
+    pub plan: Plan,
+    pub provenance: Provenance,
+}
+
+impl RunReport {
+    pub fn hits(&self) -> usize {
+        self.count(CacheUse::Hit)
+    }
+
+    pub fn computed(&self) -> usize {
+        self.count(CacheUse::Miss) + self.count(CacheUse::Forced)
+    }
+
+    fn count(&self, what: CacheUse) -> usize {
+        self.provenance
+            .stages
+            .values()
+            .filter(|s| s.cache == what)
+            .count()
+    }
+
+    /// One line per stage: status, time, outputs.
+    pub fn summary(&self) -> String {
+        let mut out = String::new();
+        for s in &self.plan.stages {
+            let Some(r) = self.provenance.stages.get(&s.name) else {
+                continue;
+            };
+            let status = match r.cache {
+                CacheUse::Hit => "cached",
+                CacheUse::Miss => "ran",
+                CacheUse::Forced => "forced",
+                CacheUse::Skipped => "skipped",
+            };
+            out.push_str(&format!(
+                "{status:>8}  {:<16} {:<16} {:>8.2} s  {}\n",
+                s.name,
+                s.kind,
+                if r.cache == CacheUse::Hit {
+                    r.compute_s
+                } else {
+                    r.wall_s
+                },
+                r.outputs.keys().cloned().collect::<Vec<_>>().join(" ")
+            ));
+        }
+        out
+    }
+}
+
+/// Test hook: called after each file written into a cache entry.
+pub type AfterFile<'a> = &'a mut dyn FnMut(&Path);
+
+/// Plans and runs a pipeline.
+pub fn run(pipeline: &Pipeline, options: &RunOptions) -> Result<RunReport, RunError> {
+    run_with_hook(pipeline, options, &mut |_| {})
+}
+
+/// [`run`] with a hook after every cache file written (crash tests).
+pub fn run_with_hook(
+    pipeline: &Pipeline,
+    options: &RunOptions,
+    after_file: AfterFile,
+) -> Result<RunReport, RunError> {
+    let started = Instant::now();
+    let started_unix_s = unix_now();
+    let cache = Cache::open(&options.cache_dir).map_err(|source| RunError::Cache {
+        path: options.cache_dir.clone(),
+        source,
+    })?;
+    let provenance_path = options.out_dir.join("provenance.json");
+    let previous = Provenance::read(&provenance_path);
+    let plan = Plan::build(pipeline, &cache, &options.plan, previous.as_ref())?;
+    let mut provenance = Provenance {
+        pipeline: pipeline.name.clone(),
+        pipeline_file: pipeline.file.display().to_string(),
+        pipeline_blake3: crate::hash::text_hash(pipeline.source()),
+        hypercontact_version: env!("CARGO_PKG_VERSION").to_owned(),
+        overrides: options.overrides.clone(),
+        started_unix_s,
+        wall_s: 0.0,
+        stages: BTreeMap::new(),
+    };
+    if options.dry_run {
+        return Ok(RunReport { plan, provenance });
+    }
+
+    let multi = (!options.quiet).then(MultiProgress::new);
+    let overall = match &multi {
+        Some(m) => {
+            let bar = m.add(ProgressBar::new(plan.stages.len() as u64));
+            bar.set_style(
+                ProgressStyle::with_template("{prefix:>14.bold} [{bar:30}] {pos}/{len} {msg}")
+                    .expect("valid template")
+                    .progress_chars("=> "),
+            );
+            bar.set_prefix("stages");
+            bar
+        }
+        None => ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden()),
+    };
+
+    let reader = hypercontact_io::RunnerReader;
+    let mut products: HashMap<(String, String), Arc<Product>> = HashMap::new();
+    let mut manifests: HashMap<String, Manifest> = HashMap::new();
+
+    for planned in &plan.stages {
+        overall.set_message(planned.name.clone());
+        let t0 = Instant::now();
+        if matches!(planned.reason, Reason::NotSelected) {
+            overall.inc(1);
+            continue;
+        }
+        let decl = pipeline
+            .stage(&planned.name)
+            .expect("the plan only names pipeline stages");
+        let forced = matches!(planned.reason, Reason::Forced);
+
+        // A hit needs no lock: entries appear by rename, whole or not at all.
+        let mut manifest = match (&planned.reason, cache.check(&planned.key)) {
+            (r, EntryState::Valid(m)) if !matches!(r, Reason::Forced) => Some(*m),
+            _ => None,
+        };
+        let mut use_ = CacheUse::Hit;
+        if manifest.is_none() {
+            let _lock = cache.lock(&planned.key).map_err(|source| RunError::Cache {
+                path: cache.root().to_owned(),
+                source,
+            })?;
+            // Another run may have finished this entry while we waited.
+            if !forced && let EntryState::Valid(m) = cache.check(&planned.key) {
+                manifest = Some(*m);
+            } else {
+                let inputs = gather_inputs(planned, &cache, &manifests, &mut products)?;
+                let ctx = Context::with(&planned.name, multi.as_ref(), &reader);
+                let t_compute = Instant::now();
+                let outputs = decl
+                    .stage
+                    .run_dyn(decl.params.as_ref(), &inputs, &ctx)
+                    .map_err(|source| RunError::Stage {
+                        file: pipeline.file.clone(),
+                        stage: planned.name.clone(),
+                        kind: planned.kind.clone(),
+                        source,
+                    })?;
+                let compute_s = t_compute.elapsed().as_secs_f64();
+                check_contract(planned, decl.stage.info(), &outputs)?;
+                let m = write_entry(&cache, planned, &outputs, compute_s, after_file)?;
+                for (name, product) in outputs.into_inner() {
+                    products.insert((planned.name.clone(), name), Arc::new(product));
+                }
+                use_ = if forced {
+                    CacheUse::Forced
+                } else {
+                    CacheUse::Miss
+                };
+                manifest = Some(m);
+            }
+        }
+        let manifest = manifest.expect("a hit or a fresh entry");
+        if use_ == CacheUse::Hit {
+            cache.touch(&planned.key);
+        }
+
+        let mut exported = BTreeMap::new();
+        if options.export {
+            let stage_dir = options.out_dir.join(&planned.name);
+            let entry = cache.entry_dir(&planned.key);
+            for (output, record) in &manifest.outputs {
+                for (rel, file) in &record.files {
+                    let name = store::export_name(output, record, rel);
+                    store::place(&entry.join(rel), &stage_dir.join(&name))?;
+                    exported.insert(format!("{}/{name}", planned.name), file.blake3.clone());
+                }
+            }
+        }
+        provenance.stages.insert(
+            planned.name.clone(),
+            StageRecord {
+                kind: planned.kind.clone(),
+                version: planned.version,
+                key: planned.key.clone(),
+                params: planned.params.clone(),
+                files: planned.files.clone(),
+                inputs: planned.input_records(),
+                outputs: exported,
+                cache: use_,
+                wall_s: t0.elapsed().as_secs_f64(),
+                compute_s: manifest.compute_s,
+            },
+        );
+        manifests.insert(planned.name.clone(), manifest);
+        overall.inc(1);
+    }
+    overall.finish_and_clear();
+
+    provenance.wall_s = started.elapsed().as_secs_f64();
+    if options.export {
+        // Stages that were not part of this run keep their earlier record.
+        if let Some(previous) = previous {
+            for (name, record) in previous.stages {
+                if pipeline.stage(&name).is_some() {
+                    provenance.stages.entry(name).or_insert(StageRecord {
+                        cache: CacheUse::Skipped,
+                        ..record
+                    });
+                }
+            }
+        }
+        provenance
+            .write(&provenance_path)
+            .map_err(|source| RunError::Cache {
+                path: provenance_path.clone(),
+                source,
+            })?;
+    }
+    Ok(RunReport { plan, provenance })
+}
+
+/// Loads the products a stage needs, from this run's memory or the cache.
+fn gather_inputs(
+    planned: &PlannedStage,
+    cache: &Cache,
+    manifests: &HashMap<String, Manifest>,
+    products: &mut HashMap<(String, String), Arc<Product>>,
+) -> Result<Inputs, RunError> {
+    let mut inputs = Inputs::new();
+    for input in &planned.inputs {
+        let id = (input.from_stage.clone(), input.from_output.clone());
+        if !products.contains_key(&id) {
+            let manifest = manifests
+                .get(&input.from_stage)
+                .expect("upstream stages run first");
+            let record =
+                manifest
+                    .outputs
+                    .get(&input.from_output)
+                    .ok_or_else(|| RunError::Contract {
+                        stage: input.from_stage.clone(),
+                        kind: manifest.kind.clone(),
+                        message: format!("its cache entry has no output `{}`", input.from_output),
+                    })?;
+            let dir = cache.entry_dir(&input.upstream_key);
+            let product = store::read_product(&dir, &input.from_output, record)?;
+            products.insert(id.clone(), Arc::new(product));
+        }
+        inputs.insert(&input.input, products[&id].clone());
+    }
+    Ok(inputs)
+}
+
+/// Every declared output present with its kind and columns, nothing else.
+fn check_contract(
+    planned: &PlannedStage,
+    info: &hypercontact_core::StageInfo,
+    outputs: &Outputs,
+) -> Result<(), RunError> {
+    let broken = |message: String| RunError::Contract {
+        stage: planned.name.clone(),
+        kind: planned.kind.clone(),
+        message,
+    };
+    for spec in info.outputs {
+        let product = outputs
+            .get(spec.name)
+            .ok_or_else(|| broken(format!("output `{}` is missing", spec.name)))?;
+        if product.kind() != spec.kind {
+            return Err(broken(format!(
+                "output `{}` is a {}, declared a {}",
+                spec.name,
+                product.kind(),
+                spec.kind
+            )));
+        }
+        if let Product::Table(t) = product {
+            t.validate()
+                .and_then(|_| t.conform(spec.columns))
+                .map_err(|e| broken(format!("output `{}`: {e}", spec.name)))?;
+        }
+        if let Product::Field(f) = product
+            && spec.kind == ProductKind::Field
+            && !(f.dx_m > 0.0 && f.dy_m > 0.0)
+        {
+            return Err(broken(format!(
+                "output `{}` has no grid spacing",
+                spec.name
+            )));
+        }
+    }
+    if let Some((name, _)) = outputs.iter().find(|(n, _)| info.output(n).is_none()) {
+        return Err(broken(format!("output `{name}` is not declared")));
+    }
+    Ok(())
+}
+
+fn write_entry(
+    cache: &Cache,
+    planned: &PlannedStage,
+    outputs: &Outputs,
+    compute_s: f64,
+    after_file: AfterFile,
+) -> Result<Manifest, RunError> {
+    let cache_err = |source| RunError::Cache {
+        path: cache.root().to_owned(),
+        source,
+    };
+    let staging = cache.staging_dir(&planned.key).map_err(cache_err)?;
+    let mut records: BTreeMap<String, OutputRecord> = BTreeMap::new();
+    for (name, product) in outputs.iter() {
+        let record = store::write_product(&staging, name, product, after_file)?;
+        records.insert(name.to_owned(), record);
+    }
+    let manifest = Manifest {
+        format: MANIFEST_FORMAT,
+        key: planned.key.clone(),
+        kind: planned.kind.clone(),
+        version: planned.version,
+        stage: planned.name.clone(),
+        created_unix_s: unix_now(),
+        compute_s,
+        params: planned.params.clone(),
+        outputs: records,
+    };
+    cache.commit(&staging, &manifest).map_err(cache_err)?;
+    Ok(manifest)
+}

@@ -1,0 +1,574 @@
+//! The plan: stage order, every cache key, and what runs and why, before
+//! anything runs.
+//!
+//! A key is the BLAKE3 of the stage kind, its implementation version, its
+//! canonical parameters (input files replaced by their content hashes) and,
+//! for each input, the upstream entry's key and output name. Upstream keys
+//! are known before anything runs, so the plan sees every downstream rerun
+//! that an upstream change causes (Snakemake's dry run does; DVC's does not).
+
+use std::collections::{BTreeMap, HashMap};
+use std::fmt;
+
+use hypercontact_core::stage::Arity;
+use hypercontact_core::{ProductKind, StageInfo};
+
+use crate::cache::{Cache, EntryState};
+use crate::hash::{canonical_json, path_hash, text_hash};
+use crate::pipeline::{Pipeline, PipelineError, StageDecl};
+use crate::provenance::{InputRecord, Provenance, StageRecord};
+
+/// An input resolved to an upstream product.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ResolvedInput {
+    pub input: String,
+    pub from_stage: String,
+    pub from_output: String,
+    pub upstream_key: String,
+}
+
+/// Why a stage runs, or that it does not.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Reason {
+    Cached,
+    New,
+    Forced,
+    VersionChanged {
+        from: u32,
+        to: u32,
+    },
+    KindChanged {
+        from: String,
+    },
+    ParamsChanged(Vec<String>),
+    InputsChanged(Vec<String>),
+    FilesChanged(Vec<String>),
+    /// Nothing changed since the last run, but the entry is gone or corrupt.
+    NotInCache(String),
+    /// Not needed for `--only`.
+    NotSelected,
+}
+
+impl fmt::Display for Reason {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Reason::Cached => f.write_str("cached"),
+            Reason::New => f.write_str("new (no earlier run in this output folder)"),
+            Reason::Forced => f.write_str("forced"),
+            Reason::VersionChanged { from, to } => write!(f, "version changed ({from} → {to})"),
+            Reason::KindChanged { from } => write!(f, "kind changed (was `{from}`)"),
+            Reason::ParamsChanged(p) => write!(f, "params changed: {}", p.join(", ")),
+            Reason::InputsChanged(i) => write!(f, "input changed: {}", i.join(", ")),
+            Reason::FilesChanged(p) => write!(f, "input file changed: {}", p.join(", ")),
+            Reason::NotInCache(why) => write!(f, "not in cache ({why})"),
+            Reason::NotSelected => f.write_str("skipped (not needed for --only)"),
+        }
+    }
+}
+
+/// One stage in the plan.
+#[derive(Clone, Debug)]
+pub struct PlannedStage {
+    pub name: String,
+    pub kind: String,
+    pub version: u32,
+    pub key: String,
+    pub params: serde_json::Value,
+    pub files: BTreeMap<String, String>,
+    pub inputs: Vec<ResolvedInput>,
+    pub runs: bool,
+    pub reason: Reason,
+}
+
+impl PlannedStage {
+    /// The provenance view of the inputs.
+    pub fn input_records(&self) -> BTreeMap<String, InputRecord> {
+        self.inputs
+            .iter()
+            .map(|i| {
+                (
+                    i.input.clone(),
+                    InputRecord {
+                        from: format!("{}.{}", i.from_stage, i.from_output),
+                        key: i.upstream_key.clone(),
+                    },
+                )
+            })
+            .collect()
+    }
+}
+
+/// Stages in execution order with their keys and reasons.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    pub stages: Vec<PlannedStage>,
+}
+
+/// What the user asked for.
+#[derive(Clone, Debug, Default)]
+pub struct PlanOptions {
+    pub force: Vec<String>,
+    pub only: Option<String>,
+}
+
+impl Plan {
+    pub fn build(
+        pipeline: &Pipeline,
+        cache: &Cache,
+        options: &PlanOptions,
+        previous: Option<&Provenance>,
+    ) -> Result<Plan, PipelineError> {
+        let order = topological_order(pipeline)?;
+        for name in options.force.iter().chain(options.only.iter()) {
+            if pipeline.stage(name).is_none() {
+                return Err(PipelineError::new(
+                    &pipeline.file,
+                    format!(
+                        "no stage `{name}` to force or run (stages: {})",
+                        stage_list(pipeline)
+                    ),
+                ));
+            }
+        }
+        let selected = match &options.only {
+            Some(only) => ancestors(pipeline, only),
+            None => pipeline.stages.iter().map(|s| s.name.clone()).collect(),
+        };
+
+        let mut keys: HashMap<String, String> = HashMap::new();
+        let mut runs: HashMap<String, bool> = HashMap::new();
+        let mut stages = Vec::new();
+        for index in order {
+            let decl = &pipeline.stages[index];
+            let info = decl.stage.info();
+            let inputs = resolve_inputs(pipeline, decl, info, &keys)?;
+            let (params, files) = keyed_params(pipeline, decl)?;
+            let material = serde_json::json!({
+                "kind": info.kind,
+                "version": info.version,
+                "params": params,
+                "inputs": inputs
+                    .iter()
+                    .map(|i| (i.input.clone(), format!("{}/{}", i.upstream_key, i.from_output)))
+                    .collect::<BTreeMap<_, _>>(),
+            });
+            let key = text_hash(&canonical_json(&material));
+            keys.insert(decl.name.clone(), key.clone());
+
+            let is_selected = selected.contains(&decl.name);
+            let state = cache.check(&key);
+            let reason = if !is_selected {
+                Reason::NotSelected
+            } else if options.force.contains(&decl.name) {
+                Reason::Forced
+            } else if matches!(state, EntryState::Valid(_)) {
+                Reason::Cached
+            } else {
+                let record = previous.and_then(|p| p.stages.get(&decl.name));
+                why_rerun(decl, info, &files, &inputs, record, &runs, &state)
+            };
+            let run = !matches!(reason, Reason::Cached | Reason::NotSelected);
+            runs.insert(decl.name.clone(), run);
+            stages.push(PlannedStage {
+                name: decl.name.clone(),
+                kind: decl.kind.clone(),
+                version: info.version,
+                key,
+                params: decl.params.to_json(),
+                files,
+                inputs,
+                runs: run,
+                reason,
+            });
+        }
+        Ok(Plan { stages })
+    }
+
+    pub fn stage(&self, name: &str) -> Option<&PlannedStage> {
+        self.stages.iter().find(|s| s.name == name)
+    }
+
+    /// The plan as a human reads it: one line per stage.
+    pub fn describe(&self) -> String {
+        let width = self.stages.iter().map(|s| s.name.len()).max().unwrap_or(0);
+        let kind_width = self.stages.iter().map(|s| s.kind.len()).max().unwrap_or(0);
+        let mut out = String::new();
+        for s in &self.stages {
+            let verb = match s.reason {
+                Reason::Cached => "cached",
+                Reason::NotSelected => "skip",
+                _ => "RUN",
+            };
+            out.push_str(&format!(
+                "{verb:>6}  {:<width$}  {:<kind_width$}  {}  {}\n",
+                s.name,
+                s.kind,
+                &s.key[..12],
+                s.reason
+            ));
+        }
+        out
+    }
+}
+
+fn stage_list(pipeline: &Pipeline) -> String {
+    pipeline
+        .stages
+        .iter()
+        .map(|s| s.name.as_str())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn why_rerun(
+    decl: &StageDecl,
+    info: &StageInfo,
+    files: &BTreeMap<String, String>,
+    inputs: &[ResolvedInput],
+    record: Option<&StageRecord>,
+    runs: &HashMap<String, bool>,
+    state: &EntryState,
+) -> Reason {
+    let Some(record) = record else {
+        return Reason::New;
+    };
+    if record.kind != decl.kind {
+        return Reason::KindChanged {
+            from: record.kind.clone(),
+        };
+    }
+    if record.version != info.version {
+        return Reason::VersionChanged {
+            from: record.version,
+            to: info.version,
+        };
+    }
+    let changed = changed_keys(&record.params, &decl.params.to_json(), "");
+    if !changed.is_empty() {
+        return Reason::ParamsChanged(changed);
+    }
+    let changed_files: Vec<String> = files
+        .iter()
+        .filter(|(path, hash)| record.files.get(*path) != Some(hash))
+        .map(|(path, _)| path.clone())
+        .collect();
+    if !changed_files.is_empty() {
+        return Reason::FilesChanged(changed_files);
+    }
+    let changed_inputs: Vec<String> = inputs
+        .iter()
+        .filter(|i| record.inputs.get(&i.input).map(|r| &r.key) != Some(&i.upstream_key))
+        .map(|i| {
+            if runs.get(&i.from_stage).copied().unwrap_or(false) {
+                format!("{} ({} reruns)", i.input, i.from_stage)
+            } else {
+                format!("{} (from {})", i.input, i.from_stage)
+            }
+        })
+        .collect();
+    if !changed_inputs.is_empty() {
+        return Reason::InputsChanged(changed_inputs);
+    }
+    Reason::NotInCache(match state {
+        EntryState::Corrupt(why) => format!("entry corrupt: {why}"),
+        _ => "entry missing".into(),
+    })
+}
+
+/// Dotted paths whose values differ between two JSON objects.
+fn changed_keys(old: &serde_json::Value, new: &serde_json::Value, prefix: &str) -> Vec<String> {
+    use serde_json::Value;
+    match (old, new) {
+        (Value::Object(a), Value::Object(b)) => {
+            let mut keys: Vec<&String> = a.keys().chain(b.keys()).collect();
+            keys.sort();
+            keys.dedup();
+            keys.into_iter()
+                .flat_map(|k| {
+                    let path = if prefix.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{prefix}.{k}")
+                    };
+                    changed_keys(
+                        a.get(k).unwrap_or(&Value::Null),
+                        b.get(k).unwrap_or(&Value::Null),
+                        &path,
+                    )
+                })
+                .collect()
+        }
+        (a, b) if canonical_json(a) == canonical_json(b) => Vec::new(),
+        (a, b) => vec![format!("{prefix}: {} → {}", short(a), short(b))],
+    }
+}
+
+fn short(v: &serde_json::Value) -> String {
+    let s = v.to_string();
+    if s.len() > 40 {
+        format!("{}…", &s[..40])
+    } else {
+        s
+    }
+}
+
+/// The canonical parameters with every input path replaced by the hash of
+/// its content, and the map path → hash.
+fn keyed_params(
+    pipeline: &Pipeline,
+    decl: &StageDecl,
+) -> Result<(serde_json::Value, BTreeMap<String, String>), PipelineError> {
+    let mut params = decl.params.clone();
+    let mut files = BTreeMap::new();
+    for path in params.paths_mut() {
+        if path.as_os_str().is_empty() {
+            continue;
+        }
+        let shown = path.display().to_string();
+        let hash = path_hash(path).map_err(|e| {
+            let param = find_param_with_value(&decl.params.to_json(), &shown);
+            let line = param
+                .as_deref()
+                .and_then(|p| pipeline.key_line(&decl.name, p))
+                .or(decl.line);
+            PipelineError::new(
+                &pipeline.file,
+                format!(
+                    "{}cannot read `{shown}`: {e}",
+                    param
+                        .map(|p| format!("parameter `{p}`: "))
+                        .unwrap_or_default()
+                ),
+            )
+            .at(line, None)
+            .stage(&decl.name)
+        })?;
+        files.insert(shown, hash.clone());
+        *path = format!("blake3:{hash}").into();
+    }
+    Ok((params.to_json(), files))
+}
+
+fn find_param_with_value(params: &serde_json::Value, value: &str) -> Option<String> {
+    params.as_object()?.iter().find_map(|(k, v)| match v {
+        serde_json::Value::String(s) if s == value => Some(k.clone()),
+        serde_json::Value::Object(_) => {
+            find_param_with_value(v, value).map(|sub| format!("{k}.{sub}"))
+        }
+        _ => None,
+    })
+}
+
+fn resolve_inputs(
+    pipeline: &Pipeline,
+    decl: &StageDecl,
+    info: &StageInfo,
+    keys: &HashMap<String, String>,
+) -> Result<Vec<ResolvedInput>, PipelineError> {
+    let err = |line: Option<usize>, message: String| {
+        PipelineError::new(&pipeline.file, message)
+            .at(line.or(decl.line), None)
+            .stage(&decl.name)
+    };
+    let declared: Vec<&str> = info.inputs.iter().map(|i| i.name).collect();
+    let mut resolved = Vec::new();
+    for binding in &decl.inputs {
+        let line = pipeline.key_line(&decl.name, &binding.declared);
+        let spec = info.input(&binding.declared).ok_or_else(|| {
+            err(
+                line,
+                format!(
+                    "`{}` takes no input `{}` (its inputs: {})",
+                    decl.kind,
+                    binding.declared,
+                    if declared.is_empty() {
+                        "none".to_owned()
+                    } else {
+                        declared.join(", ")
+                    }
+                ),
+            )
+        })?;
+        let upstream = pipeline.stage(&binding.from_stage).ok_or_else(|| {
+            err(
+                line,
+                format!(
+                    "input `{}` refers to unknown stage `{}` (stages: {})",
+                    binding.input,
+                    binding.from_stage,
+                    stage_list(pipeline)
+                ),
+            )
+        })?;
+        let up_info = upstream.stage.info();
+        let output = match &binding.from_output {
+            Some(o) => up_info.output(o).ok_or_else(|| {
+                err(
+                    line,
+                    format!(
+                        "input `{}`: stage `{}` ({}) has no output `{o}` (its outputs: {})",
+                        binding.input,
+                        upstream.name,
+                        upstream.kind,
+                        up_info
+                            .outputs
+                            .iter()
+                            .map(|o| o.name)
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                )
+            })?,
+            None => up_info
+                .output(&binding.declared)
+                .or_else(|| up_info.outputs.iter().find(|o| o.kind == spec.kind))
+                .ok_or_else(|| {
+                    err(
+                        line,
+                        format!(
+                            "input `{}`: stage `{}` has no {} output",
+                            binding.input, upstream.name, spec.kind
+                        ),
+                    )
+                })?,
+        };
+        if output.kind != spec.kind {
+            return Err(err(
+                line,
+                format!(
+                    "input `{}` takes a {}, but `{}.{}` is a {}",
+                    binding.input, spec.kind, upstream.name, output.name, output.kind
+                ),
+            ));
+        }
+        if spec.kind == ProductKind::Table && !output.columns.is_empty() {
+            for column in spec.columns {
+                if !output.columns.iter().any(|c| c.name == column.name) {
+                    return Err(err(
+                        line,
+                        format!(
+                            "input `{}` needs column `{}`, which `{}.{}` does not declare",
+                            binding.input, column.name, upstream.name, output.name
+                        ),
+                    ));
+                }
+            }
+        }
+        let upstream_key = keys
+            .get(&upstream.name)
+            .cloned()
+            .expect("upstream stages are planned first");
+        resolved.push(ResolvedInput {
+            input: binding.input.clone(),
+            from_stage: upstream.name.clone(),
+            from_output: output.name.to_owned(),
+            upstream_key,
+        });
+    }
+    for spec in info.inputs {
+        let given = decl
+            .inputs
+            .iter()
+            .filter(|b| b.declared == spec.name)
+            .count();
+        match spec.arity {
+            Arity::One if given != 1 => {
+                return Err(err(
+                    None,
+                    format!(
+                        "missing input `{}` ({}: {}); add `inputs: {{ {}: <stage> }}`",
+                        spec.name, spec.kind, spec.doc, spec.name
+                    ),
+                ));
+            }
+            Arity::Optional if given > 1 => {
+                return Err(err(
+                    None,
+                    format!("input `{}` takes at most one product", spec.name),
+                ));
+            }
+            _ => {}
+        }
+    }
+    Ok(resolved)
+}
+
+/// Stage indices in dependency order (YAML order among independent stages),
+/// or the cycle.
+fn topological_order(pipeline: &Pipeline) -> Result<Vec<usize>, PipelineError> {
+    let index: HashMap<&str, usize> = pipeline
+        .stages
+        .iter()
+        .enumerate()
+        .map(|(i, s)| (s.name.as_str(), i))
+        .collect();
+    let n = pipeline.stages.len();
+    // 0 = unvisited, 1 = on the stack, 2 = done.
+    let mut state = vec![0u8; n];
+    let mut order = Vec::with_capacity(n);
+    fn visit(
+        i: usize,
+        pipeline: &Pipeline,
+        index: &HashMap<&str, usize>,
+        state: &mut [u8],
+        order: &mut Vec<usize>,
+        stack: &mut Vec<usize>,
+    ) -> Result<(), Vec<usize>> {
+        match state[i] {
+            2 => return Ok(()),
+            1 => {
+                let start = stack.iter().position(|&s| s == i).unwrap_or(0);
+                let mut cycle = stack[start..].to_vec();
+                cycle.push(i);
+                return Err(cycle);
+            }
+            _ => {}
+        }
+        state[i] = 1;
+        stack.push(i);
+        for binding in &pipeline.stages[i].inputs {
+            // Unknown upstream stages are reported when inputs are resolved.
+            if let Some(&j) = index.get(binding.from_stage.as_str()) {
+                visit(j, pipeline, index, state, order, stack)?;
+            }
+        }
+        stack.pop();
+        state[i] = 2;
+        order.push(i);
+        Ok(())
+    }
+    for i in 0..n {
+        let mut stack = Vec::new();
+        visit(i, pipeline, &index, &mut state, &mut order, &mut stack).map_err(|cycle| {
+            let names: Vec<&str> = cycle
+                .iter()
+                .map(|&j| pipeline.stages[j].name.as_str())
+                .collect();
+            let first = &pipeline.stages[cycle[0]];
+            PipelineError::new(
+                &pipeline.file,
+                format!("the stages form a cycle: {}", names.join(" → ")),
+            )
+            .at(first.line, None)
+            .stage(&first.name)
+        })?;
+    }
+    Ok(order)
+}
+
+/// `name` and every stage it depends on.
+fn ancestors(pipeline: &Pipeline, name: &str) -> Vec<String> {
+    let mut out = vec![name.to_owned()];
+    let mut i = 0;
+    while i < out.len() {
+        if let Some(decl) = pipeline.stage(&out[i]) {
+            for b in &decl.inputs {
+                if !out.contains(&b.from_stage) {
+                    out.push(b.from_stage.clone());
+                }
+            }
+        }
+        i += 1;
+    }
+    out
+}

@@ -1,0 +1,217 @@
+//! Products on disk: a table is `<name>.parquet`, a field `<name>.npy` with
+//! its grid in `<name>.grid.json`, and files live under `<name>/`.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use hypercontact_core::{Field, Files, Product, ProductKind};
+use serde::{Deserialize, Serialize};
+
+/// A file of a stored product with its checksum.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FileRecord {
+    pub blake3: String,
+    pub bytes: u64,
+}
+
+/// A stored product: its kind and its files (paths relative to the entry).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OutputRecord {
+    pub kind: ProductKind,
+    pub files: BTreeMap<String, FileRecord>,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum StoreError {
+    #[error("{}: {source}", path.display())]
+    Io { path: PathBuf, source: io::Error },
+    #[error("{}: {message}", path.display())]
+    Format { path: PathBuf, message: String },
+}
+
+fn io_err(path: &Path) -> impl FnOnce(io::Error) -> StoreError + '_ {
+    move |source| StoreError::Io {
+        path: path.to_owned(),
+        source,
+    }
+}
+
+/// Writes a file and returns its record (hashed while written).
+fn write_file(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> Result<(), String>,
+) -> Result<FileRecord, StoreError> {
+    if let Some(parent) = path.parent() {
+        fs::create_dir_all(parent).map_err(io_err(parent))?;
+    }
+    struct Tee<W> {
+        inner: W,
+        hasher: blake3::Hasher,
+        bytes: u64,
+    }
+    impl<W: Write> Write for Tee<W> {
+        fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+            let n = self.inner.write(buf)?;
+            self.hasher.update(&buf[..n]);
+            self.bytes += n as u64;
+            Ok(n)
+        }
+        fn flush(&mut self) -> io::Result<()> {
+            self.inner.flush()
+        }
+    }
+    let file = fs::File::create(path).map_err(io_err(path))?;
+    let mut tee = Tee {
+        inner: BufWriter::new(file),
+        hasher: blake3::Hasher::new(),
+        bytes: 0,
+    };
+    write(&mut tee).map_err(|message| StoreError::Format {
+        path: path.to_owned(),
+        message,
+    })?;
+    tee.flush().map_err(io_err(path))?;
+    Ok(FileRecord {
+        blake3: tee.hasher.finalize().to_hex().to_string(),
+        bytes: tee.bytes,
+    })
+}
+
+/// Writes one product into `dir`; `after_file` is called after each file
+/// (tests use it to simulate a crash mid-write).
+pub fn write_product(
+    dir: &Path,
+    name: &str,
+    product: &Product,
+    after_file: &mut dyn FnMut(&Path),
+) -> Result<OutputRecord, StoreError> {
+    let mut files = BTreeMap::new();
+    let mut put = |rel: String, write: &mut dyn FnMut(&mut dyn Write) -> Result<(), String>| {
+        let path = dir.join(&rel);
+        let record = write_file(&path, |w| write(w))?;
+        after_file(&path);
+        files.insert(rel, record);
+        Ok::<_, StoreError>(())
+    };
+    match product {
+        Product::Table(table) => put(format!("{name}.parquet"), &mut |w| {
+            hypercontact_io::write_parquet(table, w).map_err(|e| e.to_string())
+        })?,
+        Product::Field(field) => {
+            put(format!("{name}.npy"), &mut |w| {
+                field.write_npy(w).map_err(|e| e.to_string())
+            })?;
+            put(format!("{name}.grid.json"), &mut |w| {
+                w.write_all(&field.grid_json()).map_err(|e| e.to_string())
+            })?;
+        }
+        Product::Files(set) => {
+            for (file, bytes) in &set.files {
+                if file.contains("..") || file.starts_with('/') || file.is_empty() {
+                    return Err(StoreError::Format {
+                        path: dir.join(name),
+                        message: format!("output file name `{file}` is not a plain relative path"),
+                    });
+                }
+                put(format!("{name}/{file}"), &mut |w| {
+                    w.write_all(bytes).map_err(|e| e.to_string())
+                })?;
+            }
+        }
+    }
+    Ok(OutputRecord {
+        kind: product.kind(),
+        files,
+    })
+}
+
+/// Reads a product back from `dir`.
+pub fn read_product(dir: &Path, name: &str, record: &OutputRecord) -> Result<Product, StoreError> {
+    match record.kind {
+        ProductKind::Table => {
+            let path = dir.join(format!("{name}.parquet"));
+            let file = fs::File::open(&path).map_err(io_err(&path))?;
+            let table = hypercontact_io::read_parquet(file).map_err(|e| StoreError::Format {
+                path: path.clone(),
+                message: e.to_string(),
+            })?;
+            Ok(Product::Table(table))
+        }
+        ProductKind::Field => {
+            let npy = dir.join(format!("{name}.npy"));
+            let grid = dir.join(format!("{name}.grid.json"));
+            let grid_bytes = fs::read(&grid).map_err(io_err(&grid))?;
+            let file = fs::File::open(&npy).map_err(io_err(&npy))?;
+            let field =
+                Field::read_with_grid(io::BufReader::new(file), &grid_bytes).map_err(|e| {
+                    StoreError::Format {
+                        path: npy.clone(),
+                        message: e.to_string(),
+                    }
+                })?;
+            Ok(Product::Field(field))
+        }
+        ProductKind::Files => {
+            let mut set = Files::new();
+            let prefix = format!("{name}/");
+            for rel in record.files.keys() {
+                let path = dir.join(rel);
+                let bytes = fs::read(&path).map_err(io_err(&path))?;
+                let file = rel.strip_prefix(&prefix).unwrap_or(rel);
+                set.files.insert(file.to_owned(), bytes);
+            }
+            Ok(Product::Files(set))
+        }
+    }
+}
+
+/// Where a stored file lands in a run's output folder: tables and fields
+/// keep their names, files drop the output-name prefix.
+pub fn export_name(output: &str, record: &OutputRecord, rel: &str) -> String {
+    match record.kind {
+        ProductKind::Files => rel
+            .strip_prefix(&format!("{output}/"))
+            .unwrap_or(rel)
+            .to_owned(),
+        _ => rel.to_owned(),
+    }
+}
+
+/// Places `src` at `dst` atomically: hard link (or copy across devices) to a
+/// temporary name beside `dst`, then rename over it.
+pub fn place(src: &Path, dst: &Path) -> Result<(), StoreError> {
+    if let Some(parent) = dst.parent() {
+        fs::create_dir_all(parent).map_err(io_err(parent))?;
+    }
+    if same_file(src, dst) {
+        return Ok(());
+    }
+    let tmp = dst.with_file_name(format!(
+        ".{}.{}.tmp",
+        dst.file_name()
+            .map(|n| n.to_string_lossy())
+            .unwrap_or_default(),
+        std::process::id()
+    ));
+    let _ = fs::remove_file(&tmp);
+    if fs::hard_link(src, &tmp).is_err() {
+        fs::copy(src, &tmp).map_err(io_err(&tmp))?;
+    }
+    fs::rename(&tmp, dst).map_err(io_err(dst))
+}
+
+#[cfg(unix)]
+fn same_file(a: &Path, b: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (fs::metadata(a), fs::metadata(b)) {
+        (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
+        _ => false,
+    }
+}
+
+#[cfg(not(unix))]
+fn same_file(_: &Path, _: &Path) -> bool {
+    false
+}

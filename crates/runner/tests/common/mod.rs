@@ -1,0 +1,242 @@
+//! Small stage kinds for exercising the runner without real physics.
+
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use hypercontact_core::product::ProductKind;
+use hypercontact_core::stage::Arity;
+use hypercontact_core::{
+    ColumnSpec, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs, ParamDoc,
+    ParamError, Params, Registry, Stage, StageError, StageInfo, Table,
+};
+use serde::{Deserialize, Serialize};
+
+/// How often `scale` computed, across threads.
+pub static SCALE_RUNS: AtomicUsize = AtomicUsize::new(0);
+
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SourceParams {
+    pub value: f64,
+    pub n: u32,
+    /// Optional CSV whose `x` column is appended.
+    pub path: PathBuf,
+}
+
+impl Params for SourceParams {
+    fn check(&self) -> Result<(), ParamError> {
+        if self.n > 1_000_000 {
+            return Err(ParamError::new("n", "at most 1e6"));
+        }
+        Ok(())
+    }
+    fn paths_mut(&mut self) -> Vec<&mut PathBuf> {
+        vec![&mut self.path]
+    }
+}
+
+pub struct Source;
+static SOURCE: StageInfo = StageInfo {
+    kind: "source",
+    version: 1,
+    summary: "test source",
+    doc: "",
+    params: &[
+        ParamDoc {
+            name: "value",
+            unit: "m",
+            doc: "",
+        },
+        ParamDoc {
+            name: "n",
+            unit: "",
+            doc: "",
+        },
+        ParamDoc {
+            name: "path",
+            unit: "",
+            doc: "",
+        },
+    ],
+    inputs: &[],
+    outputs: &[OutputSpec {
+        name: "t",
+        kind: ProductKind::Table,
+        columns: &[ColumnSpec::f64("x", "m", "")],
+        doc: "",
+    }],
+};
+
+impl Stage for Source {
+    type Params = SourceParams;
+    fn info(&self) -> &'static StageInfo {
+        &SOURCE
+    }
+    fn run(&self, p: &SourceParams, _: &Inputs, ctx: &Context) -> Result<Outputs, StageError> {
+        let mut x: Vec<f64> = (0..p.n).map(|i| p.value * i as f64).collect();
+        if !p.path.as_os_str().is_empty() {
+            x.extend(ctx.read_table(&p.path)?.to_f64("x")?);
+        }
+        Ok(Outputs::new().table("t", Table::new().with("x", x)))
+    }
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ScaleParams {
+    pub factor: f64,
+    pub sleep_ms: u64,
+}
+
+impl Default for ScaleParams {
+    fn default() -> Self {
+        Self {
+            factor: 1.0,
+            sleep_ms: 0,
+        }
+    }
+}
+impl Params for ScaleParams {}
+
+pub struct Scale;
+static SCALE: StageInfo = StageInfo {
+    kind: "scale",
+    version: 1,
+    summary: "test scale",
+    doc: "",
+    params: &[
+        ParamDoc {
+            name: "factor",
+            unit: "",
+            doc: "",
+        },
+        ParamDoc {
+            name: "sleep_ms",
+            unit: "ms",
+            doc: "",
+        },
+    ],
+    inputs: &[InputSpec {
+        name: "t",
+        kind: ProductKind::Table,
+        arity: Arity::One,
+        columns: &[ColumnSpec::f64("x", "m", "")],
+        doc: "a table with x",
+    }],
+    outputs: &[
+        OutputSpec {
+            name: "t",
+            kind: ProductKind::Table,
+            columns: &[ColumnSpec::f64("x", "m", "")],
+            doc: "",
+        },
+        OutputSpec {
+            name: "map",
+            kind: ProductKind::Field,
+            columns: &[],
+            doc: "",
+        },
+        OutputSpec {
+            name: "figs",
+            kind: ProductKind::Files,
+            columns: &[],
+            doc: "",
+        },
+    ],
+};
+
+impl Stage for Scale {
+    type Params = ScaleParams;
+    fn info(&self) -> &'static StageInfo {
+        &SCALE
+    }
+    fn run(&self, p: &ScaleParams, inputs: &Inputs, _: &Context) -> Result<Outputs, StageError> {
+        SCALE_RUNS.fetch_add(1, Ordering::SeqCst);
+        std::thread::sleep(std::time::Duration::from_millis(p.sleep_ms));
+        let x: Vec<f64> = inputs
+            .table("t")?
+            .f64("x")?
+            .iter()
+            .map(|v| v * p.factor)
+            .collect();
+        let n = x.len().max(1);
+        let map = Field::new(ndarray::Array2::from_elem((n, 2), p.factor), 1e-5, 1e-5)
+            .map_err(StageError::other)?;
+        Ok(Outputs::new()
+            .table("t", Table::new().with("x", x))
+            .field("map", map)
+            .files(
+                "figs",
+                Files::new().with("note.txt", format!("factor {}", p.factor).into_bytes()),
+            ))
+    }
+}
+
+/// Gathers many tables: sums their rows.
+pub struct Gather;
+static GATHER: StageInfo = StageInfo {
+    kind: "gather",
+    version: 1,
+    summary: "test many-input",
+    doc: "",
+    params: &[],
+    inputs: &[InputSpec {
+        name: "parts",
+        kind: ProductKind::Table,
+        arity: Arity::Many,
+        columns: &[],
+        doc: "",
+    }],
+    outputs: &[OutputSpec {
+        name: "rows",
+        kind: ProductKind::Table,
+        columns: &[ColumnSpec::str("label", ""), ColumnSpec::i64("n", "", "")],
+        doc: "",
+    }],
+};
+
+impl Stage for Gather {
+    type Params = hypercontact_core::params::NoParams;
+    fn info(&self) -> &'static StageInfo {
+        &GATHER
+    }
+    fn run(&self, _: &Self::Params, inputs: &Inputs, _: &Context) -> Result<Outputs, StageError> {
+        let parts = inputs.labelled("parts");
+        let labels: Vec<String> = parts.iter().map(|(l, _)| l.to_string()).collect();
+        let n: Vec<i64> = parts
+            .iter()
+            .map(|(_, p)| match p {
+                hypercontact_core::Product::Table(t) => t.n_rows() as i64,
+                _ => -1,
+            })
+            .collect();
+        Ok(Outputs::new().table("rows", Table::new().with("label", labels).with("n", n)))
+    }
+}
+
+pub fn registry() -> Registry {
+    let mut r = Registry::new();
+    r.add(Source).add(Scale).add(Gather);
+    r
+}
+
+/// Writes `text` to `dir/name` and returns the path.
+pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+pub const BASIC: &str = "\
+name: basic
+stages:
+  src:
+    uses: source
+    with: { value: 2.0e-5, n: 5 }
+  double:
+    uses: scale
+    inputs: { t: src }
+    with: { factor: 2 }
+";

@@ -1,0 +1,425 @@
+//! The runner against small test stages: keys, invalidation, crash safety,
+//! concurrency, corruption, re-runs and YAML errors.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
+
+use common::{BASIC, SCALE_RUNS, registry, write};
+use hypercontact_runner::cache::{Cache, EntryState};
+use hypercontact_runner::plan::{Plan, PlanOptions, Reason};
+use hypercontact_runner::provenance::CacheUse;
+use hypercontact_runner::{Pipeline, RunOptions, run};
+
+fn options(dir: &Path) -> RunOptions {
+    RunOptions {
+        out_dir: dir.join("out"),
+        cache_dir: dir.join("cache"),
+        plan: PlanOptions::default(),
+        dry_run: false,
+        quiet: true,
+        overrides: vec![],
+        export: true,
+    }
+}
+
+fn load(dir: &Path, name: &str, text: &str) -> Pipeline {
+    let path = write(dir, name, text);
+    Pipeline::load(&path, &registry()).unwrap()
+}
+
+fn keys(p: &Pipeline, dir: &Path) -> Vec<String> {
+    let cache = Cache::open(&dir.join("cache")).unwrap();
+    Plan::build(p, &cache, &PlanOptions::default(), None)
+        .unwrap()
+        .stages
+        .into_iter()
+        .map(|s| s.key)
+        .collect()
+}
+
+#[test]
+fn keys_ignore_parameter_order_and_float_spelling() {
+    let t = tempfile::tempdir().unwrap();
+    let a = load(t.path(), "a.yaml", BASIC);
+    let reordered = BASIC
+        .replace(
+            "{ value: 2.0e-5, n: 5 }",
+            "\n      n: 5\n      value: 20e-6",
+        )
+        .replace("{ factor: 2 }", "{ factor: 2.0, sleep_ms: 0 }");
+    let b = load(t.path(), "b.yaml", &reordered);
+    assert_eq!(keys(&a, t.path()), keys(&b, t.path()));
+    let changed = load(t.path(), "c.yaml", &BASIC.replace("factor: 2", "factor: 3"));
+    let (ka, kc) = (keys(&a, t.path()), keys(&changed, t.path()));
+    assert_eq!(
+        ka[0], kc[0],
+        "the upstream key does not depend on downstream params"
+    );
+    assert_ne!(ka[1], kc[1]);
+}
+
+#[test]
+fn changes_invalidate_exactly_what_depends_on_them() {
+    let t = tempfile::tempdir().unwrap();
+    let csv = write(t.path(), "x.csv", "x\n1.5\n2.5\n");
+    let text = BASIC.replace("n: 5 }", "n: 5, path: x.csv }");
+    let p = load(t.path(), "p.yaml", &text);
+    let o = options(t.path());
+    let first = run(&p, &o).unwrap();
+    assert_eq!(first.computed(), 2);
+
+    // Input file edited: both stages rerun, the plan says why.
+    std::fs::write(&csv, "x\n1.5\n2.75\n").unwrap();
+    let plan = run(
+        &p,
+        &RunOptions {
+            dry_run: true,
+            ..o.clone()
+        },
+    )
+    .unwrap()
+    .plan;
+    assert!(matches!(&plan.stages[0].reason, Reason::FilesChanged(f) if f[0].ends_with("x.csv")));
+    assert!(
+        matches!(&plan.stages[1].reason, Reason::InputsChanged(i) if i[0].contains("src reruns"))
+    );
+    run(&p, &o).unwrap();
+
+    // Parameter change downstream: only that stage.
+    let mut q = p.clone();
+    q.set("double.factor=4").unwrap();
+    let plan = run(
+        &q,
+        &RunOptions {
+            dry_run: true,
+            ..o.clone()
+        },
+    )
+    .unwrap()
+    .plan;
+    assert_eq!(plan.stages[0].reason, Reason::Cached);
+    assert!(
+        matches!(&plan.stages[1].reason, Reason::ParamsChanged(c) if c[0].starts_with("factor"))
+    );
+
+    // Version change: same kind name, new implementation version.
+    let mut r2 = hypercontact_core::Registry::new();
+    r2.add(common::Source).add(Scale2);
+    let p2 = Pipeline::load(&t.path().join("p.yaml"), &r2).unwrap();
+    let plan = run(&p2, &RunOptions { dry_run: true, ..o }).unwrap().plan;
+    assert_eq!(plan.stages[0].reason, Reason::Cached);
+    assert_eq!(
+        plan.stages[1].reason,
+        Reason::VersionChanged { from: 1, to: 2 }
+    );
+}
+
+/// `scale` with a bumped version.
+struct Scale2;
+impl hypercontact_core::Stage for Scale2 {
+    type Params = common::ScaleParams;
+    fn info(&self) -> &'static hypercontact_core::StageInfo {
+        static INFO: std::sync::OnceLock<hypercontact_core::StageInfo> = std::sync::OnceLock::new();
+        INFO.get_or_init(|| hypercontact_core::StageInfo {
+            version: 2,
+            ..*hypercontact_core::Stage::info(&common::Scale)
+        })
+    }
+    fn run(
+        &self,
+        p: &Self::Params,
+        i: &hypercontact_core::Inputs,
+        c: &hypercontact_core::Context,
+    ) -> Result<hypercontact_core::Outputs, hypercontact_core::StageError> {
+        hypercontact_core::Stage::run(&common::Scale, p, i, c)
+    }
+}
+
+#[test]
+fn second_run_is_all_hits_with_identical_outputs() {
+    let t = tempfile::tempdir().unwrap();
+    let p = load(t.path(), "p.yaml", BASIC);
+    let o = options(t.path());
+    run(&p, &o).unwrap();
+    let files = [
+        "src/t.parquet",
+        "double/t.parquet",
+        "double/map.npy",
+        "double/map.grid.json",
+        "double/note.txt",
+    ];
+    let before: Vec<Vec<u8>> = files
+        .iter()
+        .map(|f| std::fs::read(o.out_dir.join(f)).unwrap())
+        .collect();
+    let again = run(&p, &o).unwrap();
+    assert_eq!(again.hits(), 2);
+    assert_eq!(again.computed(), 0);
+    let after: Vec<Vec<u8>> = files
+        .iter()
+        .map(|f| std::fs::read(o.out_dir.join(f)).unwrap())
+        .collect();
+    assert_eq!(before, after);
+    let prov: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(o.out_dir.join("provenance.json")).unwrap()).unwrap();
+    assert_eq!(prov["stages"]["double"]["cache"], "hit");
+    assert_eq!(prov["stages"]["double"]["inputs"]["t"]["from"], "src.t");
+    assert!(prov["stages"]["src"]["outputs"]["src/t.parquet"].is_string());
+}
+
+#[test]
+fn a_crash_mid_write_leaves_no_entry_and_the_next_run_recovers() {
+    let t = tempfile::tempdir().unwrap();
+    let p = load(t.path(), "p.yaml", BASIC);
+    let o = options(t.path());
+    let crashed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        let mut written = 0;
+        hypercontact_runner::exec::run_with_hook(&p, &o, &mut |_| {
+            written += 1;
+            if written == 3 {
+                panic!("simulated kill after the third file");
+            }
+        })
+    }));
+    assert!(crashed.is_err());
+    let cache = Cache::open(&o.cache_dir).unwrap();
+    let ks = keys(&p, t.path());
+    assert!(
+        matches!(cache.check(&ks[0]), EntryState::Valid(_)),
+        "src finished before the crash"
+    );
+    assert!(
+        matches!(cache.check(&ks[1]), EntryState::Missing),
+        "no half-written entry"
+    );
+    assert!(
+        std::fs::read_dir(o.cache_dir.join("tmp")).unwrap().count() > 0,
+        "debris stays in tmp/"
+    );
+    let report = run(&p, &o).unwrap();
+    assert_eq!((report.hits(), report.computed()), (1, 1));
+    assert!(matches!(cache.check(&ks[1]), EntryState::Valid(_)));
+}
+
+#[test]
+fn a_corrupt_entry_is_detected_and_recomputed() {
+    let t = tempfile::tempdir().unwrap();
+    let p = load(t.path(), "p.yaml", BASIC);
+    let o = options(t.path());
+    run(&p, &o).unwrap();
+    let key = &keys(&p, t.path())[1];
+    let victim: PathBuf = o.cache_dir.join("entries").join(key).join("t.parquet");
+    let mut perms = std::fs::metadata(&victim).unwrap().permissions();
+    #[allow(clippy::permissions_set_readonly_false)]
+    perms.set_readonly(false);
+    std::fs::set_permissions(&victim, perms).unwrap();
+    let mut bytes = std::fs::read(&victim).unwrap();
+    let mid = bytes.len() / 2;
+    bytes[mid] ^= 0xff;
+    std::fs::write(&victim, &bytes).unwrap();
+
+    let plan = run(
+        &p,
+        &RunOptions {
+            dry_run: true,
+            ..o.clone()
+        },
+    )
+    .unwrap()
+    .plan;
+    assert!(
+        matches!(&plan.stages[1].reason, Reason::NotInCache(why) if why.contains("hash")),
+        "{:?}",
+        plan.stages[1].reason
+    );
+    let report = run(&p, &o).unwrap();
+    assert_eq!(report.provenance.stages["double"].cache, CacheUse::Miss);
+    let cache = Cache::open(&o.cache_dir).unwrap();
+    assert!(matches!(cache.check(key), EntryState::Valid(_)));
+}
+
+#[test]
+fn two_concurrent_runs_compute_each_entry_once() {
+    let t = tempfile::tempdir().unwrap();
+    let text = BASIC.replace("{ factor: 2 }", "{ factor: 7, sleep_ms: 400 }");
+    let p = load(t.path(), "p.yaml", &text);
+    let before = SCALE_RUNS.load(Ordering::SeqCst);
+    let handles: Vec<_> = (0..2)
+        .map(|i| {
+            let p = p.clone();
+            let mut o = options(t.path());
+            o.out_dir = t.path().join(format!("out{i}"));
+            std::thread::spawn(move || run(&p, &o).unwrap())
+        })
+        .collect();
+    let reports: Vec<_> = handles.into_iter().map(|h| h.join().unwrap()).collect();
+    // Other tests run `scale` too, with other factors; count this key only.
+    let computed: usize = reports
+        .iter()
+        .map(|r| (r.provenance.stages["double"].cache == CacheUse::Miss) as usize)
+        .sum();
+    assert_eq!(computed, 1, "exactly one run computed the shared entry");
+    assert!(SCALE_RUNS.load(Ordering::SeqCst) - before >= 1);
+    let a = std::fs::read(t.path().join("out0/double/t.parquet")).unwrap();
+    let b = std::fs::read(t.path().join("out1/double/t.parquet")).unwrap();
+    assert_eq!(a, b);
+}
+
+#[test]
+fn force_only_and_many_inputs() {
+    let t = tempfile::tempdir().unwrap();
+    let text = format!(
+        "{BASIC}  other:\n    uses: source\n    with: {{ n: 3 }}\n  all:\n    uses: gather\n    inputs:\n      parts: {{ b: double.t, a: other }}\n"
+    );
+    let p = load(t.path(), "p.yaml", &text);
+    let o = options(t.path());
+    let report = run(&p, &o).unwrap();
+    assert_eq!(report.computed(), 4);
+    let rows = hypercontact_io::read_parquet_file(&o.out_dir.join("all/rows.parquet")).unwrap();
+    assert_eq!(rows.str("label").unwrap(), ["a", "b"]);
+    assert_eq!(rows.i64("n").unwrap(), &[3, 5]);
+
+    let forced = RunOptions {
+        plan: PlanOptions {
+            force: vec!["double".into()],
+            only: None,
+        },
+        ..o.clone()
+    };
+    let report = run(&p, &forced).unwrap();
+    assert_eq!(report.provenance.stages["double"].cache, CacheUse::Forced);
+    assert_eq!(
+        report.provenance.stages["all"].cache,
+        CacheUse::Hit,
+        "same output, same key downstream"
+    );
+
+    let only = RunOptions {
+        plan: PlanOptions {
+            force: vec![],
+            only: Some("double".into()),
+        },
+        dry_run: true,
+        ..o
+    };
+    let plan = run(&p, &only).unwrap().plan;
+    assert_eq!(plan.stage("other").unwrap().reason, Reason::NotSelected);
+    assert_eq!(plan.stage("all").unwrap().reason, Reason::NotSelected);
+    assert_eq!(plan.stage("src").unwrap().reason, Reason::Cached);
+}
+
+#[test]
+fn a_study_shares_upstream_stages_and_gathers_tables() {
+    let t = tempfile::tempdir().unwrap();
+    let text = format!(
+        "{BASIC}study:\n  grid:\n    double.factor: [1, 2, 3]\n    src.n: [2, 4]\n  collect: [double.t]\n"
+    );
+    let p = load(t.path(), "p.yaml", &text);
+    let o = options(t.path());
+    let report = hypercontact_runner::study::run_study(&p, &o).unwrap();
+    assert_eq!(report.runs.len(), 6);
+    let computed: usize = report.runs.iter().map(|(_, r)| r.computed()).sum();
+    assert_eq!(computed, 2 + 6, "two sources, six scales");
+    let table = hypercontact_io::read_parquet_file(&o.out_dir.join("double.t.parquet")).unwrap();
+    assert_eq!(table.column_names(), ["double.factor", "src.n", "x"]);
+    assert_eq!(table.n_rows(), 3 * (2 + 4));
+    assert_eq!(table.i64("double.factor").unwrap()[table.n_rows() - 1], 3);
+}
+
+fn error_of(text: &str, files: &[(&str, &str)]) -> String {
+    let t = tempfile::tempdir().unwrap();
+    for (name, content) in files {
+        write(t.path(), name, content);
+    }
+    let path = write(t.path(), "bad.yaml", text);
+    let result = Pipeline::load(&path, &registry()).and_then(|p| {
+        let cache = Cache::open(&t.path().join("cache")).unwrap();
+        Plan::build(&p, &cache, &PlanOptions::default(), None).map(|_| ())
+    });
+    let e = result
+        .expect_err("the pipeline should be refused")
+        .to_string();
+    assert!(e.contains("bad.yaml"), "{e}");
+    e
+}
+
+#[test]
+fn yaml_errors_name_file_line_and_stage() {
+    let e = error_of(&BASIC.replace("uses: scale", "uses: scael"), &[]);
+    assert!(
+        e.contains("bad.yaml:7:")
+            && e.contains("unknown stage kind `scael`")
+            && e.contains("gather, scale, source"),
+        "{e}"
+    );
+
+    let e = error_of(&BASIC.replace("factor: 2", "factr: 2"), &[]);
+    assert!(
+        e.contains("bad.yaml:9:") && e.contains("unknown field `factr`") && e.contains("`double`"),
+        "{e}"
+    );
+
+    let e = error_of(&BASIC.replace("n: 5", "n: five"), &[]);
+    assert!(
+        e.contains("bad.yaml:5:") && e.contains("invalid type") && e.contains("`src`"),
+        "{e}"
+    );
+
+    let e = error_of(&BASIC.replace("n: 5", "n: 5000000"), &[]);
+    assert!(
+        e.contains("bad.yaml:5") && e.contains("parameter `n`"),
+        "{e}"
+    );
+
+    let e = error_of(&BASIC.replace("    inputs: { t: src }\n", ""), &[]);
+    assert!(
+        e.contains("bad.yaml:6") && e.contains("stage `double`") && e.contains("missing input `t`"),
+        "{e}"
+    );
+
+    let e = error_of(&BASIC.replace("{ t: src }", "{ t: srcc }"), &[]);
+    assert!(
+        e.contains("bad.yaml:8") && e.contains("unknown stage `srcc`"),
+        "{e}"
+    );
+
+    let cyclic = "name: c\nstages:\n  a:\n    uses: scale\n    inputs: { t: b }\n  b:\n    uses: scale\n    inputs: { t: a }\n";
+    let e = error_of(cyclic, &[]);
+    assert!(e.contains("cycle") && e.contains("a → b → a"), "{e}");
+
+    let e = error_of(&BASIC.replace("n: 5 }", "n: 5, path: nowhere.csv }"), &[]);
+    assert!(
+        e.contains("bad.yaml:5") && e.contains("parameter `path`") && e.contains("nowhere.csv"),
+        "{e}"
+    );
+
+    let e = error_of("name: x\nstages:\n  a:\n    use: source\n", &[]);
+    assert!(
+        e.contains("bad.yaml:4:") && e.contains("unknown field `use`"),
+        "{e}"
+    );
+
+    let e = error_of(&BASIC.replace("{ t: src }", "{ t: src.nope }"), &[]);
+    assert!(
+        e.contains("has no output `nope`") && e.contains("its outputs: t"),
+        "{e}"
+    );
+}
+
+#[test]
+fn set_errors_name_the_assignment() {
+    let t = tempfile::tempdir().unwrap();
+    let mut p = load(t.path(), "p.yaml", BASIC);
+    let e = p.set("double.factor=abc").unwrap_err().to_string();
+    assert!(
+        e.contains("--set `double.factor=abc`") && e.contains("invalid type"),
+        "{e}"
+    );
+    let e = p.set("nostage.x=1").unwrap_err().to_string();
+    assert!(e.contains("no stage `nostage`"), "{e}");
+    let e = p.set("double.bogus=1").unwrap_err().to_string();
+    assert!(e.contains("unknown field `bogus`"), "{e}");
+    p.set("double.factor=5").unwrap();
+}
