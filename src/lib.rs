@@ -9,5 +9,10 @@ pub fn registry() -> Registry {
     let mut registry = Registry::new();
     hypercontact_material::register(&mut registry);
     hypercontact_surface::register(&mut registry);
+    hypercontact_truncation::register(&mut registry);
+    hypercontact_icm::register(&mut registry);
+    hypercontact_synth::register(&mut registry);
+    hypercontact_dic::register(&mut registry);
+    hypercontact_report::register(&mut registry);
     registry
 }

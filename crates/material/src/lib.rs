@@ -4,17 +4,41 @@
 //!   its slope in UT, PT and BT) and its implementations;
 //! - [`contact`]: the paper's Eq. (2) φ(ε), its inverse and Eq. (6) E_t,
 //!   which the incremental contact model evaluates;
-//! - [`table`]: the `material` table that carries a model between stages.
+//! - [`table`]: the `material` table that carries a model between stages;
+//! - [`tensile`], [`fit`], [`stability`]: tensile data, the simultaneous
+//!   UT/PT/BT least-squares fit and the Drucker stability check, behind the
+//!   stages `tensile-table`, `material-fit` and `material-preset`.
 
+pub mod arruda_boyce;
 pub mod contact;
+pub mod family;
+pub mod fit;
+pub mod fit_stage;
+pub mod invariants;
 pub mod model;
+pub mod mooney_rivlin;
+pub mod neo_hookean;
 pub mod ogden;
+pub mod preset_stage;
 pub mod presets;
+pub mod quality;
+pub mod sample;
+pub mod stability;
 pub mod table;
+pub mod tensile;
+pub mod tensile_stage;
+pub mod yeoh;
 
+pub use arruda_boyce::ArrudaBoyce;
 pub use contact::{ContactLaw, MonotonicRange};
+pub use family::Family;
+pub use fit::{FitOptions, FitResult, Residual, fit};
 pub use model::{Hyperelastic, Mode};
+pub use mooney_rivlin::MooneyRivlin;
+pub use neo_hookean::NeoHookean;
 pub use ogden::Ogden;
+pub use tensile::TensileData;
+pub use yeoh::Yeoh;
 
 /// Errors of the material crate.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -36,7 +60,25 @@ pub enum MaterialError {
     UnknownPreset { name: String, known: String },
     #[error("invalid material: {0}")]
     Invalid(String),
+    /// A tensile table that cannot be fitted; `origin` is the file or input.
+    #[error("{origin}: {}column `{column}`: {message}", row.map(|r| format!("row {r}, ")).unwrap_or_default())]
+    Tensile {
+        origin: String,
+        /// 1-based data row (header and `#` comment lines not counted).
+        row: Option<usize>,
+        column: String,
+        message: String,
+    },
+    #[error("fit of model `{model}`: {message}")]
+    Fit { model: String, message: String },
+    #[error("unknown model `{name}` (known: {known})")]
+    UnknownModel { name: String, known: String },
 }
 
 /// Registers this crate's stage kinds.
-pub fn register(_registry: &mut hypercontact_core::Registry) {}
+pub fn register(registry: &mut hypercontact_core::Registry) {
+    registry
+        .add(tensile_stage::TensileTable)
+        .add(fit_stage::MaterialFit)
+        .add(preset_stage::MaterialPreset);
+}

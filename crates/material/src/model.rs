@@ -93,4 +93,32 @@ pub trait Hyperelastic: fmt::Debug + Send + Sync {
     fn youngs_modulus_pa(&self) -> f64 {
         3.0 * self.shear_modulus_pa()
     }
+
+    /// The Drucker stiffness at principal stretches (λ1, λ2, λ3), Pa: the
+    /// Hessian of Ŵ(ε1, ε2) = W(e^ε1, e^ε2, e^(−ε1−ε2)) in the log strains,
+    /// whose gradient is (σ1 − σ3, σ2 − σ3). Drucker's condition
+    /// dσ:dε > 0 holds where it is positive definite (see
+    /// [`crate::stability`]). The default differentiates
+    /// [`Hyperelastic::energy_pa`] numerically; families override it in
+    /// closed form.
+    fn log_strain_hessian_pa(&self, stretches: [f64; 3]) -> [[f64; 2]; 2] {
+        log_strain_hessian_by_differences(self, stretches)
+    }
+}
+
+/// [`Hyperelastic::log_strain_hessian_pa`] by central second differences of
+/// the energy (step 1e-4 in log strain): the default, and an independent
+/// check of the closed forms.
+pub fn log_strain_hessian_by_differences<M: Hyperelastic + ?Sized>(
+    model: &M,
+    [l1, l2, l3]: [f64; 3],
+) -> [[f64; 2]; 2] {
+    let h = 1e-4;
+    let w =
+        |d1: f64, d2: f64| model.energy_pa([l1 * d1.exp(), l2 * d2.exp(), l3 * (-d1 - d2).exp()]);
+    let w0 = w(0.0, 0.0);
+    let h11 = (w(h, 0.0) - 2.0 * w0 + w(-h, 0.0)) / (h * h);
+    let h22 = (w(0.0, h) - 2.0 * w0 + w(0.0, -h)) / (h * h);
+    let h12 = (w(h, h) - w(h, -h) - w(-h, h) + w(-h, -h)) / (4.0 * h * h);
+    [[h11, h12], [h12, h22]]
 }

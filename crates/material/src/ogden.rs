@@ -84,6 +84,19 @@ impl Hyperelastic for Ogden {
             .sum()
     }
 
+    fn log_strain_hessian_pa(&self, [l1, l2, l3]: [f64; 3]) -> [[f64; 2]; 2] {
+        // Ŵ = Σ 2μ/α² (e^(α ε1) + e^(α ε2) + e^(−α (ε1 + ε2)) − 3).
+        let mut h = [[0.0; 2]; 2];
+        for (mu, a) in self.terms() {
+            let p3 = l3.powf(a);
+            h[0][0] += 2.0 * mu * (l1.powf(a) + p3);
+            h[1][1] += 2.0 * mu * (l2.powf(a) + p3);
+            h[0][1] += 2.0 * mu * p3;
+        }
+        h[1][0] = h[0][1];
+        h
+    }
+
     fn parameters(&self) -> Vec<(String, f64)> {
         let n = self.mu_pa.len();
         (0..n)
@@ -140,6 +153,13 @@ mod tests {
         let bt = m.nominal_stress_slope_pa(Mode::Equibiaxial, 1.0);
         assert!((ut / mu0 - 3.0).abs() < 1e-9, "{}", ut / mu0);
         assert!((bt / mu0 - 6.0).abs() < 1e-9, "{}", bt / mu0);
+    }
+
+    #[test]
+    fn drucker_hessian_and_small_strain_limits() {
+        let m = Ogden::new(vec![0.63e6, 0.0012e6, -0.01e6], vec![1.3, 5.0, -2.0]).unwrap();
+        crate::invariants::tests::check_against_energy(&m);
+        crate::invariants::tests::check_small_strain(&m);
     }
 
     #[test]

@@ -3,7 +3,7 @@
 
 use hypercontact_core::{ColumnSpec, Table};
 
-use crate::{Hyperelastic, MaterialError, Ogden};
+use crate::{ArrudaBoyce, Hyperelastic, MaterialError, MooneyRivlin, NeoHookean, Ogden, Yeoh};
 
 /// The schema of the `material` table.
 pub const MATERIAL_COLUMNS: &[ColumnSpec] = &[
@@ -63,8 +63,13 @@ pub fn from_table(table: &Table) -> Result<Box<dyn Hyperelastic>, MaterialError>
                 .collect::<Result<_, _>>()?;
             Ok(Box::new(Ogden::new(mu, alpha)?))
         }
+        "neo-hookean" => Ok(Box::new(NeoHookean::new(get("c10")?)?)),
+        "mooney-rivlin" => Ok(Box::new(MooneyRivlin::new(get("c10")?, get("c01")?)?)),
+        "yeoh" => Ok(Box::new(Yeoh::new(get("c10")?, get("c20")?, get("c30")?)?)),
+        "arruda-boyce" => Ok(Box::new(ArrudaBoyce::new(get("mu")?, get("lambda_m")?)?)),
         other => Err(MaterialError::Table(format!(
-            "unknown model family `{other}`"
+            "unknown model family `{other}` (known: ogden, neo-hookean, mooney-rivlin, yeoh, \
+             arruda-boyce)"
         ))),
     }
 }
@@ -85,6 +90,31 @@ mod tests {
                 m.nominal_stress_pa(Mode::Equibiaxial, l)
             );
         }
+    }
+
+    #[test]
+    fn every_family_round_trips() {
+        let models: Vec<Box<dyn Hyperelastic>> = vec![
+            Box::new(NeoHookean::new(0.2e6).unwrap()),
+            Box::new(MooneyRivlin::new(0.2e6, 0.03e6).unwrap()),
+            Box::new(Yeoh::new(0.2e6, -0.01e6, 0.001e6).unwrap()),
+            Box::new(ArrudaBoyce::new(0.3e6, 2.7).unwrap()),
+        ];
+        for m in models {
+            let back = from_table(&to_table(m.as_ref())).unwrap();
+            assert_eq!(back.family(), m.family());
+            assert_eq!(back.parameters(), m.parameters());
+        }
+    }
+
+    #[test]
+    fn unknown_family_is_named() {
+        let t = Table::new()
+            .with("model", vec!["gent"])
+            .with("param", vec!["mu"])
+            .with("value", vec![1.0e6]);
+        let e = from_table(&t).unwrap_err().to_string();
+        assert!(e.contains("`gent`") && e.contains("yeoh"), "{e}");
     }
 
     #[test]

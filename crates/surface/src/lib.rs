@@ -1,11 +1,24 @@
 //! Surface stages: load a height map, or stitch, filter and characterise
-//! interferometer tiles.
+//! interferometer tiles (PSD, σ, Hurst exponent).
 
+pub mod error;
+pub mod filter;
 pub mod height_map;
+pub mod hurst;
+pub mod plane;
+pub mod psd;
+pub mod register;
+pub mod stats;
+pub mod stitch;
+pub mod surface_stage;
+pub mod tiles;
 
 use hypercontact_core::Registry;
+
+pub use error::SurfaceError;
 
 /// Registers this crate's stage kinds.
 pub fn register(registry: &mut Registry) {
     registry.add(height_map::HeightMap);
+    registry.add(surface_stage::Surface);
 }

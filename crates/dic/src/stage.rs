@@ -1,0 +1,552 @@
+//! Stage `dic`: stretch, strain, force and nominal stress per frame of a
+//! tensile test, from its speckle images and force log.
+//!
+//! The gauge-section value of a frame is the deformation gradient F of the
+//! least-squares affine map from the frame-0 positions of all valid points
+//! (POIs or markers) to their current ones; λ along the loading axis x and
+//! λ₂ across it are F's principal stretches. Nominal stress is the force,
+//! interpolated at the frame's time, over the undeformed cross-section
+//! (gauge width × thickness), as the paper's section 2 tests report it.
+
+use std::path::PathBuf;
+
+use hypercontact_core::params::{in_range, positive};
+use hypercontact_core::{
+    Arity, ColumnSpec, Context, Field, InputSpec, Inputs, OutputSpec, Outputs, ParamDoc,
+    ParamError, Params, ProductKind, Stage, StageError, StageInfo, Table,
+};
+use hypercontact_material::Mode;
+use ndarray::Array2;
+use serde::{Deserialize, Serialize};
+
+use crate::DicError;
+use crate::icgn::IcgnSettings;
+use crate::markers::{MarkerSettings, MarkerTracker};
+use crate::poi_grid::PoiGrid;
+use crate::sequence::{Sequence, Source};
+use crate::strain::{Mat2, affine_fit, gradient_field, green_lagrange, principal_stretches};
+use crate::subset_tracking::{SubsetSettings, SubsetTracker};
+
+/// How points are followed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// Subset DIC (IC-GN) on a POI grid.
+    #[default]
+    Subset,
+    /// Centroids of painted marker dots.
+    Markers,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DicParams {
+    pub method: Method,
+    /// A folder with the files, instead of the `sequence` input.
+    pub dir: Option<PathBuf>,
+    /// Test mode; overrides specimen.json.
+    pub mode: Option<String>,
+    /// Region of interest [x0, y0, x1, y1] in frame-0 pixels; overrides
+    /// specimen.json.
+    pub roi_px: Option<[usize; 4]>,
+    pub subset_px: usize,
+    pub step_px: usize,
+    /// Side of the strain window, in POIs (odd).
+    pub strain_window: usize,
+    pub max_iterations: usize,
+    pub convergence_px: f64,
+    pub min_zncc: f64,
+    pub update_strain: f64,
+    pub search_px: usize,
+    pub marker_threshold: f64,
+    pub marker_min_area_px: usize,
+    pub marker_max_jump_px: f64,
+    /// Geometry overrides of specimen.json, metres.
+    pub gauge_width_m: Option<f64>,
+    pub thickness_m: Option<f64>,
+    pub pixel_m: Option<f64>,
+}
+
+impl Default for DicParams {
+    fn default() -> Self {
+        Self {
+            method: Method::Subset,
+            dir: None,
+            mode: None,
+            roi_px: None,
+            subset_px: 31,
+            step_px: 10,
+            strain_window: 5,
+            max_iterations: 30,
+            convergence_px: 1e-3,
+            min_zncc: 0.9,
+            update_strain: 0.1,
+            search_px: 64,
+            marker_threshold: 0.07,
+            marker_min_area_px: 20,
+            marker_max_jump_px: 25.0,
+            gauge_width_m: None,
+            thickness_m: None,
+            pixel_m: None,
+        }
+    }
+}
+
+impl Params for DicParams {
+    fn check(&self) -> Result<(), ParamError> {
+        if let Some(mode) = &self.mode
+            && Mode::from_label(mode).is_none()
+        {
+            return Err(ParamError::new(
+                "mode",
+                format!("must be UT, PT or BT, got `{mode}`"),
+            ));
+        }
+        if self.subset_px < 7 || self.subset_px.is_multiple_of(2) || self.subset_px > 501 {
+            return Err(ParamError::new(
+                "subset_px",
+                format!("must be odd, 7 … 501, got {}", self.subset_px),
+            ));
+        }
+        if self.step_px == 0 {
+            return Err(ParamError::new("step_px", "must be at least 1"));
+        }
+        if self.strain_window < 2 {
+            return Err(ParamError::new(
+                "strain_window",
+                format!("must be at least 2, got {}", self.strain_window),
+            ));
+        }
+        if self.max_iterations == 0 {
+            return Err(ParamError::new("max_iterations", "must be at least 1"));
+        }
+        positive("convergence_px", self.convergence_px)?;
+        in_range("min_zncc", self.min_zncc, -1.0, 1.0)?;
+        positive("update_strain", self.update_strain)?;
+        if self.search_px == 0 {
+            return Err(ParamError::new("search_px", "must be at least 1"));
+        }
+        in_range("marker_threshold", self.marker_threshold, 0.0, 1.0)?;
+        positive("marker_max_jump_px", self.marker_max_jump_px)?;
+        for (name, v) in [
+            ("gauge_width_m", self.gauge_width_m),
+            ("thickness_m", self.thickness_m),
+            ("pixel_m", self.pixel_m),
+        ] {
+            if let Some(v) = v {
+                positive(name, v)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn paths_mut(&mut self) -> Vec<&mut PathBuf> {
+        self.dir.iter_mut().collect()
+    }
+}
+
+impl DicParams {
+    fn subset_settings(&self) -> SubsetSettings {
+        SubsetSettings {
+            icgn: IcgnSettings {
+                subset_px: self.subset_px,
+                max_iterations: self.max_iterations,
+                convergence_px: self.convergence_px,
+            },
+            min_zncc: self.min_zncc,
+            update_strain: self.update_strain,
+            search_px: self.search_px,
+        }
+    }
+}
+
+/// The `dic` stage.
+pub struct Dic;
+
+/// The tensile table schema, shared with `tensile-table`.
+pub const TENSILE_COLUMNS: &[ColumnSpec] = &[
+    ColumnSpec::str("mode", "UT, PT or BT"),
+    ColumnSpec::i64("frame", "", "frame number from frames.csv"),
+    ColumnSpec::f64("time_s", "s", "frame time"),
+    ColumnSpec::f64(
+        "stretch",
+        "",
+        "loading stretch λ (principal, nearest the x axis)",
+    ),
+    ColumnSpec::f64("stretch_2", "", "in-plane transverse principal stretch"),
+    ColumnSpec::f64("strain", "", "engineering strain λ − 1"),
+    ColumnSpec::f64("force_n", "N", "force interpolated at the frame time"),
+    ColumnSpec::f64(
+        "nominal_stress_pa",
+        "Pa",
+        "force / undeformed cross-section",
+    ),
+    ColumnSpec::f64(
+        "valid_fraction",
+        "",
+        "share of POIs (or markers) tracked in this frame",
+    ),
+];
+
+static INFO: StageInfo = StageInfo {
+    kind: "dic",
+    version: 1,
+    summary: "Digital image correlation of a tensile test: stretch, strain, force, nominal stress per frame",
+    doc: "Reads frames.csv, the images it lists (PNG/TIFF, 8/16 bit), force.csv and specimen.json \
+          from the `sequence` input or the folder `dir`. method `subset`: POIs on a grid in the \
+          ROI; FFT ZNCC integer seed, reliability-guided propagation, IC-GN with a first-order \
+          shape function and bicubic B-spline interpolation (Pan et al. 2013), POIs below \
+          `min_zncc` or not converged are invalid; incremental reference updating when the \
+          strain since the reference exceeds `update_strain`, positions and gradients composed \
+          so deformation accumulates from frame 0. method `markers`: weighted centroids of dark \
+          painted dots. Gauge value per frame: least-squares affine fit of all valid points → \
+          F → principal stretches (λ along x first). Field `strain`: Green–Lagrange E_xx of the \
+          last frame from strain-window fits (NaN where invalid). Force linearly interpolated \
+          at frame times; nominal stress = F / (gauge width × thickness).",
+    params: &[
+        ParamDoc {
+            name: "method",
+            unit: "",
+            doc: "subset or markers",
+        },
+        ParamDoc {
+            name: "dir",
+            unit: "",
+            doc: "folder with the files (instead of the sequence input)",
+        },
+        ParamDoc {
+            name: "mode",
+            unit: "",
+            doc: "UT, PT or BT (default: specimen.json)",
+        },
+        ParamDoc {
+            name: "roi_px",
+            unit: "",
+            doc: "[x0, y0, x1, y1] frame-0 pixels (default: specimen.json)",
+        },
+        ParamDoc {
+            name: "subset_px",
+            unit: "",
+            doc: "subset side, odd (31)",
+        },
+        ParamDoc {
+            name: "step_px",
+            unit: "",
+            doc: "POI spacing (10)",
+        },
+        ParamDoc {
+            name: "strain_window",
+            unit: "",
+            doc: "strain window side in POIs (5)",
+        },
+        ParamDoc {
+            name: "max_iterations",
+            unit: "",
+            doc: "IC-GN iteration limit (30)",
+        },
+        ParamDoc {
+            name: "convergence_px",
+            unit: "",
+            doc: "IC-GN stops when the update moves the subset less (1e-3)",
+        },
+        ParamDoc {
+            name: "min_zncc",
+            unit: "",
+            doc: "POIs correlating worse are invalid (0.9)",
+        },
+        ParamDoc {
+            name: "update_strain",
+            unit: "",
+            doc: "reference update threshold on |λ − 1| (0.1)",
+        },
+        ParamDoc {
+            name: "search_px",
+            unit: "",
+            doc: "FFT seed search radius (64)",
+        },
+        ParamDoc {
+            name: "marker_threshold",
+            unit: "",
+            doc: "marker pixels are darker than this fraction of full scale (0.07)",
+        },
+        ParamDoc {
+            name: "marker_min_area_px",
+            unit: "",
+            doc: "smallest marker in frame 0 (20)",
+        },
+        ParamDoc {
+            name: "marker_max_jump_px",
+            unit: "",
+            doc: "largest distance from the predicted marker position (25)",
+        },
+        ParamDoc {
+            name: "gauge_width_m",
+            unit: "m",
+            doc: "override specimen.json",
+        },
+        ParamDoc {
+            name: "thickness_m",
+            unit: "m",
+            doc: "override specimen.json",
+        },
+        ParamDoc {
+            name: "pixel_m",
+            unit: "m",
+            doc: "override specimen.json",
+        },
+    ],
+    inputs: &[InputSpec {
+        name: "sequence",
+        kind: ProductKind::Files,
+        arity: Arity::Optional,
+        columns: &[],
+        doc: "the synth-tensile files (or use `dir`)",
+    }],
+    outputs: &[
+        OutputSpec {
+            name: "tensile",
+            kind: ProductKind::Table,
+            columns: TENSILE_COLUMNS,
+            doc: "one row per frame",
+        },
+        OutputSpec {
+            name: "strain",
+            kind: ProductKind::Field,
+            columns: &[],
+            doc: "Green–Lagrange E_xx of the last frame on the POI grid (markers: one gauge value)",
+        },
+    ],
+};
+
+impl Stage for Dic {
+    type Params = DicParams;
+
+    fn info(&self) -> &'static StageInfo {
+        &INFO
+    }
+
+    fn run(&self, p: &DicParams, inputs: &Inputs, ctx: &Context) -> Result<Outputs, StageError> {
+        let source = match (inputs.get("sequence"), &p.dir) {
+            (Some(_), Some(_)) => {
+                return Err(StageError::invalid(
+                    "give either the `sequence` input or the parameter `dir`, not both",
+                ));
+            }
+            (None, None) => {
+                return Err(StageError::invalid(
+                    "no images: connect the `sequence` input or set the parameter `dir`",
+                ));
+            }
+            (Some(_), None) => Source::Files(inputs.files("sequence")?),
+            (None, Some(dir)) => Source::Dir(dir.clone()),
+        };
+        let sequence = Sequence::open(source).map_err(StageError::other)?;
+        let analysis = analyse(&sequence, p, ctx).map_err(StageError::other)?;
+        Ok(Outputs::new()
+            .table("tensile", analysis.table)
+            .field("strain", analysis.strain))
+    }
+}
+
+/// The stage's results.
+pub struct Analysis {
+    pub table: Table,
+    /// Green–Lagrange E_xx of the last frame.
+    pub strain: Field,
+    /// Gauge deformation gradient per frame.
+    pub gradients: Vec<Mat2>,
+}
+
+/// Runs the DIC over an opened sequence.
+pub fn analyse(sequence: &Sequence, p: &DicParams, ctx: &Context) -> Result<Analysis, DicError> {
+    let specimen = &sequence.specimen;
+    let mode_label = p
+        .mode
+        .clone()
+        .or_else(|| specimen.mode.clone())
+        .ok_or_else(|| DicError::param("mode", "is needed (no `mode` in specimen.json)"))?;
+    let mode = Mode::from_label(&mode_label).ok_or_else(|| {
+        DicError::file(
+            "specimen.json",
+            format!("mode `{mode_label}` is not UT, PT or BT"),
+        )
+    })?;
+    let need = |param: &str, v: Option<f64>| {
+        v.filter(|v| *v > 0.0 && v.is_finite()).ok_or_else(|| {
+            DicError::param(
+                param,
+                "is needed as a positive number (parameter or specimen.json)",
+            )
+        })
+    };
+    let width_m = need("gauge_width_m", p.gauge_width_m.or(specimen.gauge_width_m))?;
+    let thickness_m = need("thickness_m", p.thickness_m.or(specimen.thickness_m))?;
+    let pixel_m = need("pixel_m", p.pixel_m.or(specimen.pixel_m))?;
+    let area_m2 = width_m * thickness_m;
+    let (roi_px, roi_name) = match (p.roi_px, specimen.roi_px) {
+        (Some(r), _) => (r, "roi_px"),
+        (None, Some(r)) => (r, "specimen.json roi_px"),
+        (None, None) => {
+            return Err(DicError::param(
+                "roi_px",
+                "is needed (no `roi_px` in specimen.json)",
+            ));
+        }
+    };
+
+    let frame0 = sequence.image(0)?;
+    let n_frames = sequence.frames.len();
+    let progress = ctx.progress(n_frames as u64, "correlating frames");
+    let mut gradients = Vec::with_capacity(n_frames);
+    let mut valid_fraction = Vec::with_capacity(n_frames);
+    let strain_field;
+
+    match p.method {
+        Method::Subset => {
+            let grid = PoiGrid::new(
+                roi_px,
+                roi_name,
+                p.step_px,
+                p.subset_px,
+                frame0.width,
+                frame0.height,
+            )?;
+            let mut tracker = SubsetTracker::new(p.subset_settings(), grid, frame0);
+            gradients.push([[1.0, 0.0], [0.0, 1.0]]);
+            valid_fraction.push(1.0);
+            progress.inc(1);
+            let mut last: Vec<Option<[f64; 2]>> =
+                tracker.grid().points.iter().copied().map(Some).collect();
+            for k in 1..n_frames {
+                let entry = &sequence.frames[k];
+                let image = sequence.image(k)?;
+                let track = tracker.track(image, k, &entry.file)?;
+                gradients.push(gauge_gradient(
+                    &tracker.grid().points,
+                    &track.positions,
+                    k,
+                    &entry.file,
+                )?);
+                let valid = track.positions.iter().filter(|x| x.is_some()).count();
+                valid_fraction.push(valid as f64 / track.positions.len() as f64);
+                last = track.positions;
+                progress.inc(1);
+            }
+            let grid = tracker.grid();
+            let field = gradient_field(grid.nx, grid.ny, &grid.points, &last, p.strain_window);
+            let mut values = Array2::from_elem((grid.nx, grid.ny), f64::NAN);
+            for (i, f) in field.iter().enumerate() {
+                if let Some(f) = f {
+                    values[[i % grid.nx, i / grid.nx]] = green_lagrange(f)[0];
+                }
+            }
+            let dx = grid.step_px as f64 * pixel_m;
+            strain_field =
+                Field::new(values, dx, dx).map_err(|e| DicError::Invalid(e.to_string()))?;
+        }
+        Method::Markers => {
+            let settings = MarkerSettings {
+                threshold: p.marker_threshold,
+                min_area_px: p.marker_min_area_px,
+                max_jump_px: p.marker_max_jump_px,
+            };
+            let mut tracker =
+                MarkerTracker::new(settings, &frame0, roi_px, &sequence.frames[0].file)?;
+            gradients.push([[1.0, 0.0], [0.0, 1.0]]);
+            valid_fraction.push(1.0);
+            progress.inc(1);
+            for k in 1..n_frames {
+                let entry = &sequence.frames[k];
+                let image = sequence.image(k)?;
+                let found = tracker.track(&image, k, &entry.file)?;
+                gradients.push(gauge_gradient(&tracker.reference, &found, k, &entry.file)?);
+                let valid = found.iter().filter(|x| x.is_some()).count();
+                valid_fraction.push(valid as f64 / found.len() as f64);
+                progress.inc(1);
+            }
+            // Markers give the gauge value only: a one-cell field over the ROI.
+            let exx = gradients.last().map_or(0.0, |f| green_lagrange(f)[0]);
+            let [x0, y0, x1, y1] = roi_px;
+            strain_field = Field::new(
+                Array2::from_elem((1, 1), exx),
+                (x1 - x0 + 1) as f64 * pixel_m,
+                (y1 - y0 + 1) as f64 * pixel_m,
+            )
+            .map_err(|e| DicError::Invalid(e.to_string()))?;
+        }
+    }
+    drop(progress);
+
+    let mut stretch = Vec::with_capacity(n_frames);
+    let mut stretch_2 = Vec::with_capacity(n_frames);
+    let mut force = Vec::with_capacity(n_frames);
+    for (entry, f) in sequence.frames.iter().zip(&gradients) {
+        let (l1, l2) = principal_stretches(f);
+        stretch.push(l1);
+        stretch_2.push(l2);
+        force.push(sequence.force_at(entry.time_s, entry)?);
+    }
+    let table = Table::new()
+        .with("mode", vec![mode.label(); n_frames])
+        .with(
+            "frame",
+            sequence.frames.iter().map(|f| f.frame).collect::<Vec<_>>(),
+        )
+        .with(
+            "time_s",
+            sequence.frames.iter().map(|f| f.time_s).collect::<Vec<_>>(),
+        )
+        .with(
+            "strain",
+            stretch.iter().map(|l| l - 1.0).collect::<Vec<_>>(),
+        )
+        .with("stretch", stretch)
+        .with("stretch_2", stretch_2)
+        .with(
+            "nominal_stress_pa",
+            force.iter().map(|f| f / area_m2).collect::<Vec<_>>(),
+        )
+        .with("force_n", force)
+        .with("valid_fraction", valid_fraction);
+    let table = reorder(table);
+    Ok(Analysis {
+        table,
+        strain: strain_field,
+        gradients,
+    })
+}
+
+/// The columns in the order of [`TENSILE_COLUMNS`].
+fn reorder(table: Table) -> Table {
+    let mut out = Table::new();
+    for spec in TENSILE_COLUMNS {
+        if let Ok(column) = table.column(spec.name) {
+            out.push(spec.name, column.clone());
+        }
+    }
+    out
+}
+
+/// The gauge deformation gradient from all valid points.
+fn gauge_gradient(
+    reference: &[[f64; 2]],
+    current: &[Option<[f64; 2]>],
+    frame: usize,
+    file: &str,
+) -> Result<Mat2, DicError> {
+    let (from, to): (Vec<[f64; 2]>, Vec<[f64; 2]>) = reference
+        .iter()
+        .zip(current)
+        .filter_map(|(&x0, x)| x.map(|x| (x0, x)))
+        .unzip();
+    affine_fit(&from, &to)
+        .map(|(_, _, f)| f)
+        .ok_or_else(|| DicError::Lost {
+            frame,
+            file: file.to_owned(),
+            reason: format!(
+                "only {} tracked point(s), not enough for a deformation gradient",
+                from.len()
+            ),
+        })
+}

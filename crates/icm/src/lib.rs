@@ -1,0 +1,31 @@
+//! The incremental contact model (ICM) of Wang, extended to hyperelastic
+//! solids with the tangent modulus (the paper's section 4, Eqs. 4–7).
+//!
+//! - [`solver`]: the integration over a truncation profile (pure, on slices);
+//! - [`modulus`]: E_t*(S) of a material (hyperelastic) or E0* (linear);
+//! - [`tangent_table`]: E_t(S) tabulated once, so each plane costs nanoseconds;
+//! - [`stage`]: the `icm` stage.
+
+pub mod modulus;
+pub mod solver;
+pub mod stage;
+pub mod tangent_table;
+
+pub use modulus::{CompositeModulus, Model};
+pub use solver::{ProfileSlices, Scheme, Solution, SolveError, solve};
+
+/// Errors of the ICM stage.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum IcmError {
+    #[error("input `profile`: {0}")]
+    Profile(String),
+    #[error("input `material`: {0}")]
+    Material(#[from] hypercontact_material::MaterialError),
+    #[error(transparent)]
+    Solve(#[from] SolveError),
+}
+
+/// Registers this crate's stage kinds.
+pub fn register(registry: &mut hypercontact_core::Registry) {
+    registry.add(stage::Icm);
+}

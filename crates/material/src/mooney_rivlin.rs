@@ -1,0 +1,105 @@
+//! The incompressible Mooney–Rivlin solid, W = C10 (I1 − 3) + C01 (I2 − 3),
+//! μ0 = 2 (C10 + C01) (Abaqus' parameter names).
+
+use crate::invariants::{self, InvariantEnergy, InvariantSlopes};
+use crate::{Hyperelastic, MaterialError, Mode};
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct MooneyRivlin {
+    pub c10_pa: f64,
+    pub c01_pa: f64,
+}
+
+impl MooneyRivlin {
+    pub fn new(c10_pa: f64, c01_pa: f64) -> Result<Self, MaterialError> {
+        if !(c10_pa.is_finite() && c01_pa.is_finite()) {
+            return Err(MaterialError::Invalid(format!(
+                "Mooney–Rivlin C10 = {c10_pa}, C01 = {c01_pa} must be finite"
+            )));
+        }
+        Ok(Self { c10_pa, c01_pa })
+    }
+}
+
+impl InvariantEnergy for MooneyRivlin {
+    fn energy_at(&self, i1: f64, i2: f64) -> f64 {
+        self.c10_pa * (i1 - 3.0) + self.c01_pa * (i2 - 3.0)
+    }
+
+    fn slopes_at(&self, _: f64, _: f64) -> InvariantSlopes {
+        InvariantSlopes {
+            w1: self.c10_pa,
+            w2: self.c01_pa,
+            ..Default::default()
+        }
+    }
+}
+
+impl Hyperelastic for MooneyRivlin {
+    fn family(&self) -> &'static str {
+        "mooney-rivlin"
+    }
+
+    fn shear_modulus_pa(&self) -> f64 {
+        2.0 * (self.c10_pa + self.c01_pa)
+    }
+
+    fn energy_pa(&self, stretches: [f64; 3]) -> f64 {
+        let (i1, i2) = invariants::invariants(stretches);
+        self.energy_at(i1, i2)
+    }
+
+    fn nominal_stress_pa(&self, mode: Mode, stretch: f64) -> f64 {
+        invariants::nominal_stress(self, mode, stretch)
+    }
+
+    fn nominal_stress_slope_pa(&self, mode: Mode, stretch: f64) -> f64 {
+        invariants::nominal_stress_slope(self, mode, stretch)
+    }
+
+    fn log_strain_hessian_pa(&self, stretches: [f64; 3]) -> [[f64; 2]; 2] {
+        invariants::log_strain_hessian(self, stretches)
+    }
+
+    fn parameters(&self) -> Vec<(String, f64)> {
+        vec![("c10".into(), self.c10_pa), ("c01".into(), self.c01_pa)]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::invariants::tests::{check_against_energy, check_small_strain};
+
+    #[test]
+    fn stresses_follow_the_energy_and_the_small_strain_limit() {
+        let m = MooneyRivlin::new(0.18e6, 0.02e6).unwrap();
+        check_against_energy(&m);
+        check_small_strain(&m);
+    }
+
+    #[test]
+    fn closed_forms() {
+        // UT: T = 2 (λ − λ^-2)(C10 + C01/λ); PT: 2 (λ − λ^-3)(C10 + C01);
+        // BT: 2 (λ − λ^-5)(C10 + λ² C01) (Rivlin & Saunders 1951 forms).
+        let (c10, c01) = (0.18e6, 0.05e6);
+        let m = MooneyRivlin::new(c10, c01).unwrap();
+        for l in [0.5, 1.2, 2.0, 4.0_f64] {
+            let cases = [
+                (Mode::Uniaxial, 2.0 * (l - l.powi(-2)) * (c10 + c01 / l)),
+                (Mode::Planar, 2.0 * (l - l.powi(-3)) * (c10 + c01)),
+                (
+                    Mode::Equibiaxial,
+                    2.0 * (l - l.powi(-5)) * (c10 + l * l * c01),
+                ),
+            ];
+            for (mode, expected) in cases {
+                let t = m.nominal_stress_pa(mode, l);
+                assert!(
+                    (t - expected).abs() < 1e-9 * c10,
+                    "{mode} λ={l}: {t} vs {expected}"
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,59 @@
+//! Errors of the report stage; each names the input, column and row, or the
+//! figure, that went wrong.
+
+use hypercontact_core::{StageError, TableError};
+
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// An input table lacks a column or holds the wrong type.
+    #[error("input `{input}`: {source}")]
+    Table {
+        input: String,
+        #[source]
+        source: TableError,
+    },
+    /// An input holds a value the report cannot draw (NaN, wrong label, ...).
+    #[error("input `{input}`: {message}")]
+    Input { input: String, message: String },
+    /// The `material` table cannot be decoded into a model.
+    #[error("input `material`: {0}")]
+    Material(String),
+    /// Plotting failed (a backend or layout error).
+    #[error("figure `{figure}`: {message}")]
+    Plot { figure: String, message: String },
+    /// Encoding a PNG failed.
+    #[error("encoding `{name}`: {message}")]
+    Encode { name: String, message: String },
+}
+
+impl ReportError {
+    pub fn input(input: &str, message: impl Into<String>) -> Self {
+        ReportError::Input {
+            input: input.to_owned(),
+            message: message.into(),
+        }
+    }
+
+    pub fn table(input: &str, source: TableError) -> Self {
+        ReportError::Table {
+            input: input.to_owned(),
+            source,
+        }
+    }
+
+    pub fn plot(figure: &str, message: impl std::fmt::Display) -> Self {
+        ReportError::Plot {
+            figure: figure.to_owned(),
+            message: message.to_string(),
+        }
+    }
+}
+
+impl From<ReportError> for StageError {
+    fn from(e: ReportError) -> Self {
+        match e {
+            ReportError::Table { input, source } => StageError::InputTable { input, source },
+            other => StageError::other(other),
+        }
+    }
+}

@@ -1,0 +1,96 @@
+//! Fig. 8 of the paper: the composite tangent modulus ratio E_t*/E0* of the
+//! hyperelastic ICM against the contact area fraction A/A0 for every sample
+//! (the paper reports 2.2–3). The linear ICM's ratio is 1 by construction
+//! and is not drawn (it would squeeze the hyperelastic range).
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::fig2::min_max;
+use super::fig7::{LEGEND_PX, SampleResponses};
+use super::plotting::{
+    Axis, Figure, LegendEntry, Rasters, TextSizes, draw_axes, draw_legend, sample_colour, thin,
+    tick_linear,
+};
+use crate::ReportError;
+
+pub struct Fig8<'a> {
+    pub samples: Vec<SampleResponses<'a>>,
+}
+
+impl Figure for Fig8<'_> {
+    fn name(&self) -> &'static str {
+        "fig8"
+    }
+
+    fn size_px(&self) -> (u32, u32) {
+        (1000, 680)
+    }
+
+    fn draw<'r, DB: DrawingBackend + 'r>(
+        &self,
+        root: &'r DrawingArea<DB, Shift>,
+        _: &mut Rasters,
+    ) -> Result<(), ReportError> {
+        let name = self.name();
+        let err = |e| ReportError::plot(name, e);
+        let sizes = TextSizes::for_width(self.size_px().0);
+        let curves = || self.samples.iter().filter_map(|s| s.hyperelastic);
+        let (lo, hi) = min_max(curves().flat_map(|r| r.tangent_ratio.iter().copied()));
+        let pad = 0.08 * (hi - lo).max(0.1);
+        let (y_lo, y_hi) = ((lo - pad).max(0.0), hi + pad);
+        let x_hi = curves()
+            .flat_map(|r| r.area_fraction.iter().copied())
+            .fold(0.0f64, f64::max)
+            .clamp(0.05, 1.0);
+        let mut chart = ChartBuilder::on(root)
+            .margin(20)
+            .margin_right(LEGEND_PX as i32)
+            .x_label_area_size(sizes.label * 2.9)
+            .y_label_area_size(sizes.label * 3.4)
+            .build_cartesian_2d(Axis::new(0.0, x_hi, 6), Axis::new(y_lo, y_hi, 8))
+            .map_err(err)?;
+        draw_axes(
+            &mut chart,
+            name,
+            sizes,
+            "contact area fraction A/A₀",
+            "tangent modulus ratio Eₜ*/E₀*",
+            &|v| tick_linear(*v),
+            &|v| tick_linear(*v),
+            (6, 8),
+        )?;
+        let mut legend = Vec::new();
+        for s in &self.samples {
+            let Some(r) = s.hyperelastic else { continue };
+            let style = sample_colour(s.colour_index).stroke_width(3);
+            let points: Vec<(f64, f64)> = r
+                .area_fraction
+                .iter()
+                .copied()
+                .zip(r.tangent_ratio.iter().copied())
+                .collect();
+            chart
+                .draw_series(LineSeries::new(
+                    thin(&points, x_hi, y_hi - y_lo, 0.006),
+                    style,
+                ))
+                .map_err(err)?;
+            legend.push(LegendEntry {
+                label: s.label.to_owned(),
+                style,
+                dashed: false,
+            });
+        }
+        let (plot_x, plot_y) = chart.plotting_area().get_base_pixel();
+        let plot_w = chart.plotting_area().dim_in_pixel().0 as i32;
+        let (root_x, root_y) = root.get_base_pixel();
+        draw_legend(
+            name,
+            root,
+            (plot_x - root_x + plot_w + 25, plot_y - root_y + 10),
+            &legend,
+            sizes.legend,
+        )
+    }
+}

@@ -1,0 +1,212 @@
+//! The HTML building blocks of `index.html`: the page shell (style sized for
+//! A4 text width, no external resources), tables, number formatting and the
+//! provenance section.
+
+use hypercontact_core::{ColumnData, Table};
+
+/// Escapes text for HTML element content and attribute values.
+pub fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+/// `v` with `digits` significant digits, plain between 1e-4 and 1e7 and in
+/// scientific notation outside; "n/a" for NaN and infinities.
+pub fn fmt_sig(v: f64, digits: usize) -> String {
+    if !v.is_finite() {
+        return "n/a".into();
+    }
+    if v == 0.0 {
+        return "0".into();
+    }
+    let magnitude = v.abs().log10().floor() as i32;
+    if !(-4..7).contains(&magnitude) {
+        let s = format!("{:.*e}", digits.saturating_sub(1), v);
+        // 1.230e-5 → 1.23e-5
+        return match s.split_once('e') {
+            Some((m, e)) if m.contains('.') => {
+                format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
+            }
+            _ => s,
+        };
+    }
+    let decimals = (digits as i32 - 1 - magnitude).max(0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        s
+    }
+}
+
+/// A table with a header row; `None` cells render as "n/a".
+pub fn simple_table(caption: &str, header: &[String], rows: &[Vec<String>]) -> String {
+    // The caption is a paragraph, not <caption>: a <caption> is only as
+    // wide as its table and wraps word by word above narrow tables.
+    let mut html = String::new();
+    if !caption.is_empty() {
+        html.push_str(&format!(
+            "<p class=\"table-caption\">{}</p>\n",
+            escape(caption)
+        ));
+    }
+    html.push_str("<table>\n");
+    html.push_str("<thead><tr>");
+    for h in header {
+        html.push_str(&format!("<th>{h}</th>"));
+    }
+    html.push_str("</tr></thead>\n<tbody>\n");
+    for row in rows {
+        html.push_str("<tr>");
+        for cell in row {
+            html.push_str(&format!("<td>{cell}</td>"));
+        }
+        html.push_str("</tr>\n");
+    }
+    html.push_str("</tbody></table>\n");
+    html
+}
+
+/// Any table, every column as it is (floats with 5 significant digits).
+pub fn generic_table(caption: &str, table: &Table) -> String {
+    let header: Vec<String> = table.column_names().iter().map(|n| escape(n)).collect();
+    let rows: Vec<Vec<String>> = (0..table.n_rows())
+        .map(|row| {
+            table
+                .columns()
+                .iter()
+                .map(|c| match &c.data {
+                    ColumnData::F64(v) => fmt_sig(v[row], 5),
+                    ColumnData::I64(v) => v[row].to_string(),
+                    ColumnData::Str(v) => escape(&v[row]),
+                })
+                .collect()
+        })
+        .collect();
+    simple_table(caption, &header, &rows)
+}
+
+/// The provenance section at the bottom of the page. The runner does not
+/// hand provenance to stages yet, so the stage passes `None` and a
+/// placeholder is shown; a caller that has the run's record (versions,
+/// parameters, input hashes, timings) passes it as JSON.
+pub fn provenance_section(provenance: Option<&serde_json::Value>) -> String {
+    let mut html = String::from("<section id=\"provenance\">\n<h2>Provenance</h2>\n");
+    match provenance {
+        None => html.push_str(
+            "<p class=\"note\">No provenance record was passed to the report stage \
+             (versions, parameters, input hashes and timings of the run). The runner's \
+             record of this run lists them.</p>\n",
+        ),
+        Some(value) => {
+            if let Some(object) = value.as_object() {
+                let scalars: Vec<Vec<String>> = object
+                    .iter()
+                    .filter(|(_, v)| !v.is_object() && !v.is_array())
+                    .map(|(k, v)| {
+                        let text = match v {
+                            serde_json::Value::String(s) => s.clone(),
+                            other => other.to_string(),
+                        };
+                        vec![escape(k), escape(&text)]
+                    })
+                    .collect();
+                if !scalars.is_empty() {
+                    html.push_str(&simple_table(
+                        "",
+                        &["item".to_owned(), "value".to_owned()],
+                        &scalars,
+                    ));
+                }
+            }
+            let pretty = serde_json::to_string_pretty(value).unwrap_or_else(|_| value.to_string());
+            html.push_str(&format!(
+                "<details open><summary>Full record (JSON)</summary>\n<pre>{}</pre>\n</details>\n",
+                escape(&pretty)
+            ));
+        }
+    }
+    html.push_str("</section>\n");
+    html
+}
+
+/// The page around `body`: inline style only, sized for reading and
+/// printing at A4 width.
+pub fn page(title: &str, body: &str) -> String {
+    format!(
+        r#"<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<title>{title}</title>
+<style>
+  body {{ font-family: "DejaVu Sans", Arial, sans-serif; font-size: 10.5pt; line-height: 1.45;
+         max-width: 180mm; margin: 12mm auto; padding: 0 6mm; color: #111; }}
+  h1 {{ font-size: 16pt; margin-bottom: 0.2em; }}
+  h2 {{ font-size: 13pt; border-bottom: 1px solid #bbb; padding-bottom: 2px; margin-top: 1.8em; }}
+  figure {{ margin: 1.2em 0; page-break-inside: avoid; }}
+  figure svg {{ width: 100%; height: auto; display: block; }}
+  figcaption {{ font-size: 9.5pt; margin-top: 0.4em; }}
+  table {{ border-collapse: collapse; margin: 0.8em 0; font-size: 9pt;
+          border-top: 1.5px solid #000; border-bottom: 1.5px solid #000; }}
+  .table-caption {{ font-weight: bold; margin: 1.2em 0 0.2em 0; font-size: 9.5pt; }}
+  table {{ margin-top: 0.2em; }}
+  th {{ border-bottom: 1px solid #000; text-align: right; padding: 3px 8px; }}
+  td {{ text-align: right; padding: 2px 8px; font-variant-numeric: tabular-nums; }}
+  th:first-child, td:first-child {{ text-align: left; }}
+  .note {{ color: #555; font-size: 9.5pt; }}
+  .skipped {{ background: #f6f6f6; border-left: 3px solid #999; padding: 4px 10px; }}
+  pre {{ font-size: 8pt; white-space: pre-wrap; background: #f6f6f6; padding: 6px; }}
+  @media print {{ body {{ margin: 0 auto; }} h2 {{ page-break-after: avoid; }} }}
+</style>
+</head>
+<body>
+{body}
+</body>
+</html>
+"#,
+        title = escape(title),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn significant_digits() {
+        assert_eq!(fmt_sig(5025.77e6 / 1e6, 6), "5025.77");
+        assert_eq!(fmt_sig(1.79, 3), "1.79");
+        assert_eq!(fmt_sig(0.000123456, 3), "0.000123");
+        assert_eq!(fmt_sig(1.5e-9, 3), "1.5e-9");
+        assert_eq!(fmt_sig(-0.0488, 3), "-0.0488");
+        assert_eq!(fmt_sig(2.0, 4), "2");
+        assert_eq!(fmt_sig(f64::NAN, 3), "n/a");
+        assert_eq!(fmt_sig(12345678.0, 3), "1.23e7");
+    }
+
+    #[test]
+    fn escapes_markup() {
+        assert_eq!(escape("a<b & \"c\""), "a&lt;b &amp; &quot;c&quot;");
+    }
+
+    #[test]
+    fn provenance_placeholder_and_record() {
+        assert!(provenance_section(None).contains("No provenance record"));
+        let record = serde_json::json!({"version": "0.1.0", "stages": {"fit": {"ms": 12}}});
+        let html = provenance_section(Some(&record));
+        assert!(html.contains("<td>version</td><td>0.1.0</td>"), "{html}");
+        assert!(html.contains("&quot;ms&quot;: 12"), "{html}");
+    }
+}

@@ -1,0 +1,44 @@
+//! The `report` stage of hypercontact: the paper's figures (Figs. 2, 4, 7
+//! and 8 as PNG and SVG), its Table 1, the model comparison and a
+//! per-sample summary, in one self-contained HTML page plus `summary.json`.
+//!
+//! - [`gather`]: reads and checks whatever inputs are wired;
+//! - [`figures`]: one file per figure, shared plotting helpers;
+//! - [`summary`], [`html`]: the numbers and the page;
+//! - [`report`]: decides what can be drawn and assembles the files;
+//! - [`stage`]: the `report` stage kind.
+//!
+//! Library users who hold the run's provenance call
+//! [`report::render_report`] with it; the stage passes none yet.
+
+pub mod error;
+pub mod figures;
+pub mod gather;
+pub mod html;
+pub mod interp;
+pub mod powerlaw;
+pub mod report;
+pub mod stage;
+pub mod summary;
+
+pub use error::ReportError;
+pub use html::provenance_section;
+pub use report::{ReportOptions, build_report, render_report};
+pub use stage::{Report, ReportParams};
+
+/// Registers this crate's stage kinds.
+pub fn register(registry: &mut hypercontact_core::Registry) {
+    registry.add(stage::Report);
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn registers_the_report_kind() {
+        let mut registry = hypercontact_core::Registry::new();
+        super::register(&mut registry);
+        assert_eq!(registry.kinds().collect::<Vec<_>>(), ["report"]);
+        let info = registry.get("report").unwrap().info();
+        assert_eq!(info.outputs[0].name, "report");
+    }
+}

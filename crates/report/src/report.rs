@@ -1,0 +1,500 @@
+//! Assembles the report from whatever inputs are wired: decides which
+//! figures can be drawn (and notes why the others cannot), renders them,
+//! and writes `index.html`, `figN.png`, `figN.svg` and `summary.json`.
+
+use hypercontact_core::{Files, Inputs};
+use serde_json::Value;
+
+use crate::ReportError;
+use crate::figures::fig2::Fig2;
+use crate::figures::fig4::Fig4;
+use crate::figures::fig7::{Fig7, SampleResponses};
+use crate::figures::fig8::Fig8;
+use crate::figures::{Rendered, render};
+use crate::gather::ReportData;
+use crate::html::{escape, fmt_sig, generic_table, page, provenance_section, simple_table};
+use crate::summary::{FigureStatus, Summary};
+
+/// What the report shows beyond its inputs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReportOptions {
+    pub title: String,
+    /// A/A0 at which the summary reads F/(E0* A0).
+    pub area_fractions: Vec<f64>,
+}
+
+impl Default for ReportOptions {
+    fn default() -> Self {
+        ReportOptions {
+            title: "hypercontact — rough-surface contact of a hyperelastic rubber".into(),
+            area_fractions: vec![0.1, 0.5, 0.9],
+        }
+    }
+}
+
+/// Reads the inputs and builds the report's files. `provenance` is the
+/// run's record when the caller has one (the runner does not pass it to
+/// stages yet); `None` renders a placeholder section.
+pub fn render_report(
+    inputs: &Inputs,
+    options: &ReportOptions,
+    provenance: Option<&Value>,
+) -> Result<Files, ReportError> {
+    let data = ReportData::gather(inputs)?;
+    build_report(&data, options, provenance)
+}
+
+/// One figure's outcome: rendered, or skipped with the reason.
+struct Outcome {
+    status: FigureStatus,
+    rendered: Option<Rendered>,
+}
+
+fn skipped(name: &str, why: String) -> Outcome {
+    Outcome {
+        status: FigureStatus {
+            name: name.to_owned(),
+            rendered: false,
+            note: Some(why),
+        },
+        rendered: None,
+    }
+}
+
+fn drawn(rendered: Rendered, notes: Vec<String>) -> Outcome {
+    Outcome {
+        status: FigureStatus {
+            name: rendered.name.to_owned(),
+            rendered: true,
+            note: (!notes.is_empty()).then(|| notes.join("; ")),
+        },
+        rendered: Some(rendered),
+    }
+}
+
+fn responses<'a>(data: &'a ReportData<'a>, hyperelastic_only: bool) -> Vec<SampleResponses<'a>> {
+    data.samples
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| {
+            s.response.is_some() || (!hyperelastic_only && s.response_linear.is_some())
+        })
+        .map(|(i, s)| SampleResponses {
+            label: &s.label,
+            colour_index: i,
+            hyperelastic: s.response.as_ref(),
+            linear: s.response_linear.as_ref(),
+        })
+        .collect()
+}
+
+/// Decides on and renders one figure.
+type FigureJob = fn(&ReportData<'_>) -> Result<Outcome, ReportError>;
+
+/// Renders the four figures on scoped threads (each figure is independent;
+/// Fig. 4 with its height maps dominates), in figure order.
+fn figure_outcomes(data: &ReportData<'_>) -> Result<Vec<Outcome>, ReportError> {
+    let jobs: [FigureJob; 4] = [fig2_outcome, fig4_outcome, fig7_outcome, fig8_outcome];
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = jobs
+            .iter()
+            .map(|job| scope.spawn(move || job(data)))
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+            })
+            .collect()
+    })
+}
+
+fn fig2_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
+    let Some(curves) = &data.curves else {
+        return Ok(skipped(
+            "fig2",
+            "input `curves` (the material fit's measured and fitted stresses) is not wired".into(),
+        ));
+    };
+    let mut notes = Vec::new();
+    if data.quality.is_none() {
+        notes.push("`quality` not wired: no R² in the legend".to_owned());
+    }
+    if data.stability.is_none() {
+        notes.push("`stability` not wired: stability limits not marked".to_owned());
+    }
+    let fig = Fig2 {
+        curves,
+        r2_by_mode: &data.r2_by_mode,
+        stability: data.stability.as_deref(),
+    };
+    Ok(drawn(render(&fig)?, notes))
+}
+
+fn fig4_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
+    let surfaces: Vec<_> = data
+        .samples
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| {
+            s.height.is_some() || s.psd_x.is_some() || s.psd_y.is_some() || s.profile.is_some()
+        })
+        .map(|(i, s)| (s, i))
+        .collect();
+    if surfaces.is_empty() {
+        return Ok(skipped(
+            "fig4",
+            "no per-sample surface input (`heights`, `psd` or `profiles`) is wired".into(),
+        ));
+    }
+    let mut notes = Vec::new();
+    for (s, _) in &surfaces {
+        let absent: Vec<&str> = [
+            (s.height.is_none(), "height map"),
+            (s.psd_x.is_none(), "PSD along x"),
+            (s.psd_y.is_none(), "PSD along y"),
+            (s.profile.is_none(), "truncation profile"),
+        ]
+        .into_iter()
+        .filter_map(|(gone, what)| gone.then_some(what))
+        .collect();
+        if !absent.is_empty() {
+            notes.push(format!("{}: no {}", s.label, absent.join(", ")));
+        }
+    }
+    Ok(drawn(render(&Fig4 { samples: surfaces })?, notes))
+}
+
+fn fig7_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
+    let samples = responses(data, false);
+    if samples.is_empty() {
+        return Ok(skipped(
+            "fig7",
+            "no ICM response (`responses` or `responses_linear`) is wired".into(),
+        ));
+    }
+    let mut notes = Vec::new();
+    if samples.iter().all(|s| s.linear.is_none()) {
+        notes.push("`responses_linear` not wired: no linear-ICM curves".to_owned());
+    }
+    if samples.iter().all(|s| s.hyperelastic.is_none()) {
+        notes.push("`responses` not wired: no hyperelastic-ICM curves".to_owned());
+    }
+    Ok(drawn(render(&Fig7 { samples })?, notes))
+}
+
+fn fig8_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
+    let samples = responses(data, true);
+    if samples.is_empty() {
+        return Ok(skipped(
+            "fig8",
+            "no hyperelastic ICM response (`responses`) is wired; the linear ICM's ratio is 1 \
+             by construction"
+                .into(),
+        ));
+    }
+    Ok(drawn(render(&Fig8 { samples })?, Vec::new()))
+}
+
+const CAPTIONS: [(&str, &str, &str); 4] = [
+    (
+        "fig2",
+        "Fig. 2",
+        "Nominal stress against stretch in uniaxial (UT), planar (PT) and equibiaxial (BT) \
+         tension: measured (symbols) and fitted model (lines), with the fit's R² per mode. \
+         Dashed vertical lines (listed in the legend) mark where the fitted model stops \
+         being Drucker stable.",
+    ),
+    (
+        "fig4",
+        "Fig. 4",
+        "Per sample, left to right: height map (heights above the lowest point; grey = not \
+         measured; bar = scale); PSD C(q) along x and along y with the power law \
+         C ∝ q<sup>−1−2H</sup> (dashed); contact area fraction A/A<sub>0</sub> of a plane \
+         truncating the surface at height z (σ = rms height).",
+    ),
+    (
+        "fig7",
+        "Fig. 7",
+        "Normalised load F/(E<sub>0</sub>* A<sub>0</sub>) against contact area fraction \
+         A/A<sub>0</sub>: incremental contact model with the hyperelastic tangent modulus \
+         (solid) and with the constant modulus of the linear model (dashed).",
+    ),
+    (
+        "fig8",
+        "Fig. 8",
+        "Composite tangent modulus ratio E<sub>t</sub>*/E<sub>0</sub>* of the hyperelastic \
+         incremental contact model against contact area fraction A/A<sub>0</sub>.",
+    ),
+];
+
+fn figure_html(outcome: &Outcome) -> String {
+    let name = outcome.status.name.as_str();
+    let (_, label, caption) = CAPTIONS
+        .iter()
+        .find(|(n, _, _)| *n == name)
+        .copied()
+        .unwrap_or((name, name, ""));
+    match &outcome.rendered {
+        None => format!(
+            "<p class=\"skipped\" id=\"{name}\"><b>{label}</b> skipped: {}.</p>\n",
+            escape(outcome.status.note.as_deref().unwrap_or("no input"))
+        ),
+        Some(r) => {
+            let note = outcome
+                .status
+                .note
+                .as_deref()
+                .map(|n| format!(" <span class=\"note\">(Incomplete: {}.)</span>", escape(n)))
+                .unwrap_or_default();
+            format!(
+                "<figure id=\"{name}\">\n{svg}\n<figcaption><b>{label}.</b> {caption}{note} \
+                 Files: <a href=\"{name}.png\">{name}.png</a>, \
+                 <a href=\"{name}.svg\">{name}.svg</a>.</figcaption>\n</figure>\n",
+                svg = r.svg
+            )
+        }
+    }
+}
+
+fn material_tables(data: &ReportData<'_>) -> String {
+    let mut html = String::new();
+    match &data.material {
+        Some(m) => {
+            let mpa = |v: f64| fmt_sig(v / 1e6, 6);
+            let mut rows: Vec<Vec<String>> = Vec::new();
+            let mus: Vec<&(String, f64)> = m
+                .parameters
+                .iter()
+                .filter(|(n, _)| n.starts_with("mu_"))
+                .collect();
+            if m.model == "ogden" && !mus.is_empty() {
+                for (name, mu) in &mus {
+                    let i = name.trim_start_matches("mu_");
+                    let alpha = m
+                        .parameters
+                        .iter()
+                        .find(|(n, _)| n == &format!("alpha_{i}"))
+                        .map_or("n/a".into(), |(_, a)| fmt_sig(*a, 4));
+                    rows.push(vec![i.to_owned(), mpa(*mu), alpha]);
+                }
+                html.push_str(&simple_table(
+                    &format!("Table 1. Fitted {} parameters (Abaqus convention)", m.model),
+                    &[
+                        "i".into(),
+                        "μ<sub>i</sub> (MPa)".into(),
+                        "α<sub>i</sub>".into(),
+                    ],
+                    &rows,
+                ));
+            } else {
+                for (name, value) in &m.parameters {
+                    rows.push(vec![escape(name), fmt_sig(*value, 6)]);
+                }
+                html.push_str(&simple_table(
+                    &format!("Table 1. Fitted {} parameters (SI units)", m.model),
+                    &["parameter".into(), "value".into()],
+                    &rows,
+                ));
+            }
+            html.push_str(&simple_table(
+                "Initial moduli (ν = 0.5)",
+                &["modulus".into(), "value (MPa)".into()],
+                &[
+                    vec!["μ<sub>0</sub> = Σ μ<sub>i</sub>".into(), mpa(m.mu0_pa)],
+                    vec![
+                        "E<sub>0</sub> = 2 μ<sub>0</sub> (1 + ν)".into(),
+                        mpa(m.e0_pa),
+                    ],
+                    vec![
+                        "E<sub>0</sub>* = E<sub>0</sub> / (1 − ν²)".into(),
+                        mpa(m.e0_star_pa),
+                    ],
+                ],
+            ));
+        }
+        None => html.push_str(
+            "<p class=\"skipped\"><b>Table 1</b> skipped: input `material` is not wired.</p>\n",
+        ),
+    }
+    if let Some(q) = data.quality {
+        html.push_str(&generic_table("Fit quality per mode", q));
+    }
+    if let Some(ranges) = &data.stability {
+        let rows: Vec<Vec<String>> = ranges
+            .iter()
+            .map(|r| {
+                vec![
+                    escape(&r.mode),
+                    fmt_limit(r.lambda_min),
+                    fmt_limit(r.lambda_max),
+                ]
+            })
+            .collect();
+        html.push_str(&simple_table(
+            "Drucker-stable stretch range of the fitted model",
+            &[
+                "mode".into(),
+                "λ<sub>min</sub>".into(),
+                "λ<sub>max</sub>".into(),
+            ],
+            &rows,
+        ));
+    }
+    if let Some(p) = data.params {
+        html.push_str(&generic_table(
+            "Fitted parameters, as the fit reports them",
+            p,
+        ));
+    }
+    match data.comparison {
+        Some(c) => html.push_str(&generic_table(
+            "Model comparison across strain-energy families",
+            c,
+        )),
+        None => html.push_str(
+            "<p class=\"skipped\"><b>Model comparison</b> skipped: input `comparison` is not wired.</p>\n",
+        ),
+    }
+    html
+}
+
+/// A stability limit; an unbounded side is stored as ±∞.
+fn fmt_limit(lambda: f64) -> String {
+    match lambda {
+        f64::INFINITY => "∞".into(),
+        f64::NEG_INFINITY => "−∞".into(),
+        v => fmt_sig(v, 4),
+    }
+}
+
+fn sample_table(summary: &Summary) -> String {
+    if summary.samples.is_empty() {
+        return "<p class=\"skipped\"><b>Sample summary</b> skipped: no per-sample input is wired.</p>\n"
+            .into();
+    }
+    let any_linear = summary
+        .samples
+        .iter()
+        .any(|s| s.load_norm.iter().any(|l| l.linear.is_some()));
+    let opt = |v: Option<f64>, digits| v.map_or("n/a".into(), |v| fmt_sig(v, digits));
+    let mut header: Vec<String> = [
+        "sample",
+        "σ (µm)",
+        "rms slope",
+        "H<sub>x</sub>",
+        "H<sub>y</sub>",
+    ]
+    .map(String::from)
+    .to_vec();
+    let areas: Vec<f64> = summary
+        .samples
+        .first()
+        .map(|s| s.load_norm.iter().map(|l| l.area_fraction).collect())
+        .unwrap_or_default();
+    for a in &areas {
+        header.push(format!(
+            "F/(E<sub>0</sub>*A<sub>0</sub>) at A/A<sub>0</sub> = {a}"
+        ));
+    }
+    if any_linear {
+        for a in &areas {
+            header.push(format!("linear ICM at {a}"));
+        }
+    }
+    let rows: Vec<Vec<String>> = summary
+        .samples
+        .iter()
+        .map(|s| {
+            let mut row = vec![
+                escape(&s.label),
+                opt(s.sigma_m.map(|v| v * 1e6), 4),
+                opt(s.rms_slope, 3),
+                opt(s.hurst_x, 3),
+                opt(s.hurst_y, 3),
+            ];
+            row.extend(s.load_norm.iter().map(|l| opt(l.hyperelastic, 3)));
+            if any_linear {
+                row.extend(s.load_norm.iter().map(|l| opt(l.linear, 3)));
+            }
+            row
+        })
+        .collect();
+    let mut html = simple_table(
+        "Summary per sample (loads from the hyperelastic ICM unless marked linear)",
+        &header,
+        &rows,
+    );
+    html.push_str(
+        "<p class=\"note\">Loads are read off the ICM curves by linear interpolation in \
+         A/A<sub>0</sub>; n/a = input not wired or A/A<sub>0</sub> outside the computed range. \
+         The same numbers, unrounded, are in <a href=\"summary.json\">summary.json</a>.</p>\n",
+    );
+    html
+}
+
+/// Renders every figure the data allows and writes the report's files.
+pub fn build_report(
+    data: &ReportData<'_>,
+    options: &ReportOptions,
+    provenance: Option<&Value>,
+) -> Result<Files, ReportError> {
+    let outcomes = figure_outcomes(data)?;
+    let summary = Summary::new(
+        &options.title,
+        data,
+        &options.area_fractions,
+        outcomes.iter().map(|o| o.status.clone()).collect(),
+    );
+
+    let mut body = format!("<h1>{}</h1>\n", escape(&options.title));
+    body.push_str(
+        "<p class=\"note\">Reproduces the figures and tables of the study from the pipeline's \
+         own results. Self-contained: figures are embedded; PNG and SVG copies and \
+         <a href=\"summary.json\">summary.json</a> sit beside this page.</p>\n",
+    );
+    let skipped: Vec<&Outcome> = outcomes.iter().filter(|o| !o.status.rendered).collect();
+    if !skipped.is_empty() {
+        body.push_str("<div class=\"skipped\"><b>Figures not drawn in this run:</b><ul>\n");
+        for o in skipped {
+            body.push_str(&format!(
+                "<li>{}: {}</li>\n",
+                o.status.name,
+                escape(o.status.note.as_deref().unwrap_or(""))
+            ));
+        }
+        body.push_str("</ul></div>\n");
+    }
+    let by_name = |name: &str| outcomes.iter().find(|o| o.status.name == name);
+    body.push_str("<h2>Material: tensile tests and hyperelastic fit</h2>\n");
+    if let Some(o) = by_name("fig2") {
+        body.push_str(&figure_html(o));
+    }
+    body.push_str(&material_tables(data));
+    body.push_str("<h2>Rough surfaces</h2>\n");
+    if let Some(o) = by_name("fig4") {
+        body.push_str(&figure_html(o));
+    }
+    body.push_str("<h2>Contact: incremental contact model</h2>\n");
+    for name in ["fig7", "fig8"] {
+        if let Some(o) = by_name(name) {
+            body.push_str(&figure_html(o));
+        }
+    }
+    body.push_str("<h2>Summary per sample</h2>\n");
+    body.push_str(&sample_table(&summary));
+    body.push_str(&provenance_section(provenance));
+
+    let mut files = Files::new()
+        .with("index.html", page(&options.title, &body).into_bytes())
+        .with("summary.json", summary.to_json());
+    for o in outcomes {
+        if let Some(r) = o.rendered {
+            files = files
+                .with(&format!("{}.png", r.name), r.png)
+                .with(&format!("{}.svg", r.name), r.svg.into_bytes());
+        }
+    }
+    Ok(files)
+}

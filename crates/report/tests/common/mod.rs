@@ -1,0 +1,323 @@
+//! Synthetic upstream tables for the report's tests, benchmark and demo:
+//! Ogden tensile curves, power-law PSDs, a smoothed random height map with
+//! missing points, Gaussian truncation curves and monotone ICM responses.
+//! Everything is a closed form or seeded, so expected numbers are known.
+
+#![allow(dead_code)]
+
+use hypercontact_core::{Field, Inputs, Product, Table};
+use ndarray::Array2;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Ogden terms (μ_i in Pa, α_i) of the synthetic material.
+pub const MU_PA: [f64; 2] = [0.55e6, 0.02e6];
+pub const ALPHA: [f64; 2] = [1.8, -2.5];
+
+/// Nominal stress of the Ogden model in the spec's closed forms
+/// (Abaqus convention): UT exponent −α/2 − 1, PT −α − 1, BT −2α − 1.
+pub fn ogden_stress_pa(mode: &str, stretch: f64) -> f64 {
+    MU_PA
+        .iter()
+        .zip(ALPHA)
+        .map(|(&mu, a)| {
+            let lateral = match mode {
+                "UT" => -a / 2.0 - 1.0,
+                "PT" => -a - 1.0,
+                _ => -2.0 * a - 1.0,
+            };
+            2.0 * mu / a * (stretch.powf(a - 1.0) - stretch.powf(lateral))
+        })
+        .sum()
+}
+
+/// Sample labels and their statistics: σ (m), H along x, H along y and the
+/// load scale s of F/(E0* A0) = s a^1.5 (decreasing, so T1 > T2 > T3 > T4).
+pub const SAMPLES: [(&str, f64, f64, f64, f64); 4] = [
+    ("T1", 12e-6, 0.80, 0.76, 0.40),
+    ("T2", 9e-6, 0.72, 0.70, 0.25),
+    ("T3", 7e-6, 0.65, 0.62, 0.15),
+    ("T4", 5e-6, 0.58, 0.55, 0.08),
+];
+
+pub fn curves(points_per_mode: usize) -> Table {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let (mut mode, mut stretch, mut measured, mut fitted) = (vec![], vec![], vec![], vec![]);
+    for (m, max) in [("UT", 3.0), ("PT", 2.4), ("BT", 2.0)] {
+        for k in 0..points_per_mode {
+            let l = 1.0 + (max - 1.0) * k as f64 / (points_per_mode - 1) as f64;
+            let exact = ogden_stress_pa(m, l);
+            mode.push(m);
+            stretch.push(l);
+            fitted.push(exact);
+            measured.push(exact * (1.0 + 0.02 * (rng.random::<f64>() - 0.5)));
+        }
+    }
+    Table::new()
+        .with("mode", mode)
+        .with("stretch", stretch)
+        .with("measured", measured)
+        .with("fitted", fitted)
+}
+
+pub fn quality() -> Table {
+    Table::new()
+        .with("mode", vec!["UT", "PT", "BT"])
+        .with("r2", vec![0.9991, 0.9978, 0.9962])
+        .with("rms_rel_err", vec![0.011, 0.017, 0.024])
+        .with("max_rel_err", vec![0.031, 0.045, 0.061])
+        .with("n_points", vec![60_i64, 60, 60])
+}
+
+pub fn stability() -> Table {
+    Table::new()
+        .with("mode", vec!["UT", "PT", "BT"])
+        .with("lambda_min", vec![0.45, 0.55, 0.7])
+        .with("lambda_max", vec![f64::INFINITY, 2.9, 1.8])
+}
+
+pub fn params() -> Table {
+    Table::new()
+        .with("param", vec!["mu_1", "alpha_1", "mu_2", "alpha_2"])
+        .with("value", vec![MU_PA[0], ALPHA[0], MU_PA[1], ALPHA[1]])
+}
+
+pub fn comparison() -> Table {
+    Table::new()
+        .with(
+            "model",
+            vec!["ogden-2", "yeoh", "mooney-rivlin", "neo-hookean"],
+        )
+        .with("n_params", vec![4_i64, 3, 2, 1])
+        .with("rms_rel_err", vec![0.018, 0.034, 0.081, 0.12])
+        .with("r2_min", vec![0.996, 0.989, 0.95, 0.91])
+}
+
+pub fn material() -> Table {
+    Table::new()
+        .with("model", vec!["ogden"; 4])
+        .with("param", vec!["mu_1", "mu_2", "alpha_1", "alpha_2"])
+        .with("value", vec![MU_PA[0], MU_PA[1], ALPHA[0], ALPHA[1]])
+}
+
+/// A smoothed random height map (axis 0 = x) of rms `sigma_m`, 20 µm
+/// pixels, with a few NaN points.
+pub fn height(n: usize, sigma_m: f64, seed: u64) -> Field {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut h = Array2::from_shape_fn((n, n), |_| rng.random::<f64>() - 0.5);
+    // Box blurs along both axes give long-wavelength roughness cheaply.
+    for _ in 0..3 {
+        let r = (n / 40).max(1) as isize;
+        for axis in 0..2 {
+            let src = h.clone();
+            for ((i, j), v) in h.indexed_iter_mut() {
+                let (mut sum, mut count) = (0.0, 0.0);
+                for d in -r..=r {
+                    let (ii, jj) = if axis == 0 {
+                        (i as isize + d, j as isize)
+                    } else {
+                        (i as isize, j as isize + d)
+                    };
+                    if ii >= 0 && jj >= 0 && (ii as usize) < n && (jj as usize) < n {
+                        sum += src[[ii as usize, jj as usize]];
+                        count += 1.0;
+                    }
+                }
+                *v = sum / count;
+            }
+        }
+    }
+    let mean = h.mean().unwrap();
+    let rms = h.mapv(|v| (v - mean).powi(2)).mean().unwrap().sqrt();
+    h.mapv_inplace(|v| (v - mean) / rms * sigma_m);
+    for k in 0..(n * n / 200) {
+        let (i, j) = ((k * 7919) % n, (k * 104729 / 3) % n);
+        h[[i, j]] = f64::NAN;
+    }
+    Field::new(h, 20e-6, 20e-6).unwrap()
+}
+
+/// 1-D PSDs C = A q^(−1−2H) along x and y and a radial one, with a 3 %
+/// multiplicative ripple, on `n` log-spaced q.
+pub fn psd(n: usize, h_x: f64, h_y: f64, sigma_m: f64) -> Table {
+    let (mut dir, mut q, mut c) = (vec![], vec![], vec![]);
+    for (d, h, exponent) in [
+        ("x", h_x, -1.0 - 2.0 * h_x),
+        ("y", h_y, -1.0 - 2.0 * h_y),
+        ("radial", h_x, -2.0 - 2.0 * h_x),
+    ] {
+        let _ = h;
+        for k in 0..n {
+            let qk = 3e2 * (1e5f64 / 3e2).powf(k as f64 / (n - 1) as f64);
+            let ripple = 1.0 + 0.03 * (k as f64 * 1.7).sin();
+            dir.push(d);
+            q.push(qk);
+            c.push(sigma_m * sigma_m * 1e-3 * (qk / 1e3).powf(exponent) * ripple);
+        }
+    }
+    Table::new()
+        .with("direction", dir)
+        .with("q_per_m", q)
+        .with("c", c)
+}
+
+pub fn stats(sigma_m: f64, h_x: f64, h_y: f64) -> Table {
+    Table::new()
+        .with("sigma_m", vec![sigma_m])
+        .with("rms_slope", vec![sigma_m * 2.0e4])
+        .with("hurst_x", vec![h_x])
+        .with("hurst_y", vec![h_y])
+        .with("hurst_radial", vec![(h_x + h_y) / 2.0])
+        .with("nx", vec![500_i64])
+        .with("ny", vec![500_i64])
+        .with("dx_m", vec![20e-6])
+        .with("nan_fraction", vec![0.005])
+}
+
+/// A/A0 = 1 − Φ(z/σ) (a Gaussian surface) on `levels` planes, top first.
+pub fn profile(levels: usize, sigma_m: f64) -> Table {
+    let zs: Vec<f64> = (0..levels)
+        .map(|k| 3.5 - 7.0 * k as f64 / (levels - 1) as f64)
+        .collect();
+    // Φ via the Abramowitz–Stegun 7.1.26 erf; accurate enough for a plot.
+    let erf = |x: f64| {
+        let t = 1.0 / (1.0 + 0.3275911 * x.abs());
+        let y = 1.0
+            - (((((1.061405429 * t - 1.453152027) * t) + 1.421413741) * t - 0.284496736) * t
+                + 0.254829592)
+                * t
+                * (-x * x).exp();
+        y.copysign(x)
+    };
+    let area: Vec<f64> = zs
+        .iter()
+        .map(|z| 0.5 * (1.0 - erf(z / 2f64.sqrt())))
+        .collect();
+    let n = levels;
+    Table::new()
+        .with(
+            "z_m",
+            zs.iter().map(|z| (z + 3.5) * sigma_m).collect::<Vec<_>>(),
+        )
+        .with(
+            "z_over_sigma",
+            zs.iter().map(|z| z + 3.5).collect::<Vec<_>>(),
+        )
+        .with("area_fraction", area.clone())
+        .with(
+            "patches",
+            (0..n as i64).map(|k| 1 + k % 50).collect::<Vec<_>>(),
+        )
+        .with(
+            "radius_m",
+            area.iter().map(|a| 1e-4 * a.sqrt()).collect::<Vec<_>>(),
+        )
+        .with("area_m2", area.iter().map(|a| a * 1e-4).collect::<Vec<_>>())
+}
+
+/// The area fractions of the response rows: non-uniform in A/A0, so the
+/// summary's values at 0.1, 0.5, 0.9 come from interpolation.
+pub fn response_area(levels: usize) -> Vec<f64> {
+    (0..levels)
+        .map(|k| (k as f64 / (levels - 1) as f64).powf(1.3))
+        .collect()
+}
+
+/// Hyperelastic: F/(E0* A0) = s a^1.5, E_t*/E0* = 3 − 1.6 a + 1.2 a²;
+/// linear: F/(E0* A0) = s a / 2 (exactly linear), ratio 1.
+pub fn response(levels: usize, scale: f64, linear: bool) -> Table {
+    let a = response_area(levels);
+    let load: Vec<f64> = a
+        .iter()
+        .map(|a| {
+            if linear {
+                scale * a / 2.0
+            } else {
+                scale * a.powf(1.5)
+            }
+        })
+        .collect();
+    let ratio: Vec<f64> = a
+        .iter()
+        .map(|a| {
+            if linear {
+                1.0
+            } else {
+                3.0 - 1.6 * a + 1.2 * a * a + 0.5 * (scale - 0.2)
+            }
+        })
+        .collect();
+    Table::new()
+        .with(
+            "z_m",
+            a.iter().map(|a| (1.0 - a) * 5e-5).collect::<Vec<_>>(),
+        )
+        .with("area_fraction", a.clone())
+        .with(
+            "load_n",
+            load.iter().map(|f| f * 7e6 * 1e-4).collect::<Vec<_>>(),
+        )
+        .with("load_norm", load.clone())
+        .with(
+            "mean_stress_pa",
+            load.iter()
+                .zip(&a)
+                .map(|(f, a)| if *a > 0.0 { f / a * 7e6 } else { 0.0 })
+                .collect::<Vec<_>>(),
+        )
+        .with("tangent_ratio", ratio)
+}
+
+/// Which groups of inputs to wire.
+#[derive(Clone, Copy)]
+pub struct Wiring {
+    pub tensile: bool,
+    pub surfaces: bool,
+    pub responses: bool,
+    pub linear: bool,
+}
+
+pub const ALL: Wiring = Wiring {
+    tensile: true,
+    surfaces: true,
+    responses: true,
+    linear: true,
+};
+
+/// Inputs as the runner would hand them: many-inputs as `name.label`.
+pub fn inputs(wiring: Wiring, map_n: usize, levels: usize) -> Inputs {
+    let mut inputs = Inputs::new();
+    let table = |t: Table| std::sync::Arc::new(Product::Table(t));
+    if wiring.tensile {
+        inputs.insert("curves", table(curves(60)));
+        inputs.insert("quality", table(quality()));
+        inputs.insert("params", table(params()));
+        inputs.insert("stability", table(stability()));
+        inputs.insert("comparison", table(comparison()));
+        inputs.insert("material", table(material()));
+    }
+    for (i, (label, sigma, hx, hy, scale)) in SAMPLES.iter().enumerate() {
+        if wiring.surfaces {
+            inputs.insert(
+                &format!("heights.{label}"),
+                std::sync::Arc::new(Product::Field(height(map_n, *sigma, i as u64))),
+            );
+            inputs.insert(&format!("psd.{label}"), table(psd(120, *hx, *hy, *sigma)));
+            inputs.insert(&format!("stats.{label}"), table(stats(*sigma, *hx, *hy)));
+            inputs.insert(&format!("profiles.{label}"), table(profile(levels, *sigma)));
+        }
+        if wiring.responses {
+            inputs.insert(
+                &format!("responses.{label}"),
+                table(response(levels, *scale, false)),
+            );
+        }
+        if wiring.linear {
+            inputs.insert(
+                &format!("responses_linear.{label}"),
+                table(response(levels, *scale, true)),
+            );
+        }
+    }
+    inputs
+}

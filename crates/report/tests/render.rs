@@ -1,0 +1,388 @@
+//! The report stage end to end on synthetic upstream tables: every figure
+//! is a real PNG and SVG, the page embeds and links them, summary.json
+//! holds the numbers of the input tables, and unwired inputs skip their
+//! figure with a note instead of failing.
+
+mod common;
+
+use std::collections::BTreeMap;
+
+use base64::Engine;
+use common::{ALL, SAMPLES, Wiring};
+use hypercontact_core::{Context, Files, Inputs, Product, Stage, Table};
+use hypercontact_report::{Report, ReportParams};
+use quick_xml::events::Event;
+use serde_json::Value;
+
+const MAP_N: usize = 96;
+const LEVELS: usize = 301;
+
+fn run(inputs: &Inputs) -> Files {
+    let out = Report
+        .run(&ReportParams::default(), inputs, &Context::new("report"))
+        .expect("the report renders");
+    match out.get("report") {
+        Some(Product::Files(files)) => files.clone(),
+        other => panic!("no `report` files output: {other:?}"),
+    }
+}
+
+fn text(files: &Files, name: &str) -> String {
+    String::from_utf8(files.files[name].clone()).expect("UTF-8")
+}
+
+/// A PNG that decodes, has the expected size and is not blank: at least 2 %
+/// of its pixels are not white and it uses many colours.
+fn assert_png(name: &str, bytes: &[u8], min_w: u32, min_h: u32) {
+    assert!(
+        bytes.starts_with(&[0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n']),
+        "{name}: no PNG signature"
+    );
+    let img = image::load_from_memory_with_format(bytes, image::ImageFormat::Png)
+        .unwrap_or_else(|e| panic!("{name}: does not decode: {e}"))
+        .to_rgb8();
+    assert!(
+        img.width() >= min_w && img.height() >= min_h,
+        "{name}: {}x{} is smaller than {min_w}x{min_h}",
+        img.width(),
+        img.height()
+    );
+    let inked = img.pixels().filter(|p| p.0 != [255, 255, 255]).count();
+    let total = (img.width() * img.height()) as usize;
+    assert!(
+        inked * 50 > total,
+        "{name}: only {inked} of {total} pixels drawn"
+    );
+    let colours: std::collections::HashSet<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+    assert!(colours.len() > 50, "{name}: only {} colours", colours.len());
+}
+
+/// Parses an SVG fully (well-formed XML), checks the root element's size and
+/// returns the count of elements by name.
+fn assert_svg(name: &str, svg: &str, min_w: u32, min_h: u32) -> BTreeMap<String, usize> {
+    let mut reader = quick_xml::Reader::from_str(svg);
+    let mut counts = BTreeMap::new();
+    let mut root: Option<(u32, u32)> = None;
+    loop {
+        match reader.read_event() {
+            Ok(Event::Eof) => break,
+            Ok(Event::Start(e) | Event::Empty(e)) => {
+                let tag = String::from_utf8_lossy(e.name().as_ref()).into_owned();
+                if root.is_none() {
+                    assert_eq!(tag, "svg", "{name}: root element is <{tag}>");
+                    let attr = |key: &str| -> u32 {
+                        let a = e
+                            .try_get_attribute(key)
+                            .unwrap()
+                            .unwrap_or_else(|| panic!("{name}: <svg> has no {key}"));
+                        String::from_utf8_lossy(&a.value).parse().unwrap()
+                    };
+                    root = Some((attr("width"), attr("height")));
+                }
+                *counts.entry(tag).or_insert(0) += 1;
+            }
+            Ok(_) => {}
+            Err(e) => panic!("{name}: malformed at {}: {e}", reader.buffer_position()),
+        }
+    }
+    let (w, h) = root.unwrap_or_else(|| panic!("{name}: no root element"));
+    assert!(w >= min_w && h >= min_h, "{name}: {w}x{h}");
+    let elements: usize = counts.values().sum();
+    assert!(elements > 30, "{name}: only {elements} elements");
+    assert!(
+        counts.get("text").copied().unwrap_or(0) >= 10,
+        "{name}: too little text"
+    );
+    counts
+}
+
+#[test]
+fn full_report_has_every_figure_as_valid_png_and_svg_and_the_page_embeds_them() {
+    let inputs = common::inputs(ALL, MAP_N, LEVELS);
+    let files = run(&inputs);
+    let expected = [
+        "fig2.png",
+        "fig2.svg",
+        "fig4.png",
+        "fig4.svg",
+        "fig7.png",
+        "fig7.svg",
+        "fig8.png",
+        "fig8.svg",
+        "index.html",
+        "summary.json",
+    ];
+    assert_eq!(
+        files.files.keys().map(String::as_str).collect::<Vec<_>>(),
+        expected
+    );
+    let html = text(&files, "index.html");
+    for (fig, w, h) in [
+        ("fig2", 900, 600),
+        ("fig4", 1500, 1500),
+        ("fig7", 900, 600),
+        ("fig8", 900, 600),
+    ] {
+        assert_png(fig, &files.files[&format!("{fig}.png")], w, h);
+        let svg = text(&files, &format!("{fig}.svg"));
+        let counts = assert_svg(fig, &svg, w, h);
+        // One polyline per drawn curve at least (4 samples; 3 modes in Fig. 2).
+        let curves = if fig == "fig2" { 3 } else { SAMPLES.len() };
+        assert!(
+            counts.get("polyline").copied().unwrap_or(0) >= curves,
+            "{fig}: {counts:?}"
+        );
+        // Embedded inline (the very same SVG) and linked as files.
+        assert!(html.contains(&svg), "{fig}: SVG not embedded in index.html");
+        assert!(
+            html.contains(&format!("href=\"{fig}.png\"")),
+            "{fig}.png not linked"
+        );
+        assert!(
+            html.contains(&format!("href=\"{fig}.svg\"")),
+            "{fig}.svg not linked"
+        );
+    }
+    // Self-contained: nothing is fetched from a network.
+    // Self-contained: no URL but the SVG namespace name (not fetched).
+    let without_namespace = html.replace("http://www.w3.org/2000/svg", "");
+    assert!(!without_namespace.contains("http://") && !without_namespace.contains("https://"));
+    assert!(
+        !html.contains("class=\"skipped\""),
+        "nothing should be skipped"
+    );
+    assert!(html.contains("Provenance") && html.contains("No provenance record"));
+    assert!(html.contains("Model comparison") && html.contains("mooney-rivlin"));
+    // An unbounded stability limit is shown as such.
+    assert!(
+        html.contains("<td>UT</td><td>0.45</td><td>∞</td>"),
+        "no ∞ limit"
+    );
+}
+
+#[test]
+fn fig4_svg_embeds_each_height_map_as_a_png_image() {
+    let files = run(&common::inputs(ALL, MAP_N, LEVELS));
+    let svg = text(&files, "fig4.svg");
+    let counts = assert_svg("fig4", &svg, 1500, 1500);
+    assert_eq!(counts.get("image"), Some(&SAMPLES.len()));
+    let first = svg.split("href=\"data:image/png;base64,").nth(1).unwrap();
+    let data = &first[..first.find('"').unwrap()];
+    let png = base64::engine::general_purpose::STANDARD
+        .decode(data)
+        .unwrap();
+    let img = image::load_from_memory(&png).unwrap();
+    assert!(img.width() > 100 && img.height() > 100);
+    // Every map is drawn before (under) the scale bar and colour bar.
+    let image_at = svg.find("<image").unwrap();
+    assert!(svg[..image_at].matches("<text").count() == 0);
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(1e-300)
+}
+
+/// Linear interpolation written out independently of the crate's.
+fn lerp_at(table: &Table, a: f64) -> f64 {
+    let xs = table.f64("area_fraction").unwrap();
+    let ys = table.f64("load_norm").unwrap();
+    let i = xs.iter().position(|&x| x >= a).unwrap();
+    if xs[i] == a {
+        return ys[i];
+    }
+    ys[i - 1] + (a - xs[i - 1]) * (ys[i] - ys[i - 1]) / (xs[i] - xs[i - 1])
+}
+
+#[test]
+fn summary_json_holds_the_numbers_of_the_input_tables() {
+    let inputs = common::inputs(ALL, MAP_N, LEVELS);
+    let files = run(&inputs);
+    let summary: Value = serde_json::from_slice(&files.files["summary.json"]).unwrap();
+
+    // Material: μ0 = Σ μ_i, E0 = 3 μ0, E0* = 4 μ0 (ν = ½).
+    let mu0 = common::MU_PA.iter().sum::<f64>();
+    let m = &summary["material"];
+    assert_eq!(m["model"], "ogden");
+    assert!(close(m["mu0_pa"].as_f64().unwrap(), mu0));
+    assert!(close(m["e0_pa"].as_f64().unwrap(), 3.0 * mu0));
+    assert!(close(m["e0_star_pa"].as_f64().unwrap(), 4.0 * mu0));
+    assert_eq!(summary["quality"][1]["mode"], "PT");
+    assert_eq!(summary["quality"][1]["r2"].as_f64(), Some(0.9978));
+    assert_eq!(summary["stability"][0]["lambda_max"], Value::Null);
+    assert_eq!(summary["stability"][2]["lambda_max"].as_f64(), Some(1.8));
+    assert_eq!(summary["comparison"].as_array().unwrap().len(), 4);
+
+    let samples = summary["samples"].as_array().unwrap();
+    assert_eq!(samples.len(), SAMPLES.len());
+    let mut at_half = Vec::new();
+    for (s, (label, sigma, hx, hy, scale)) in samples.iter().zip(SAMPLES) {
+        assert_eq!(s["label"], label);
+        assert_eq!(s["sigma_m"].as_f64(), Some(sigma));
+        assert!(close(s["rms_slope"].as_f64().unwrap(), sigma * 2.0e4));
+        assert_eq!(s["hurst_x"].as_f64(), Some(hx));
+        assert_eq!(s["hurst_y"].as_f64(), Some(hy));
+        let hyper = common::response(LEVELS, scale, false);
+        let loads = s["load_norm"].as_array().unwrap();
+        assert_eq!(loads.len(), 3);
+        for (l, a) in loads.iter().zip([0.1, 0.5, 0.9]) {
+            assert_eq!(l["area_fraction"].as_f64(), Some(a));
+            let got = l["hyperelastic"].as_f64().unwrap();
+            let want = lerp_at(&hyper, a);
+            assert!(close(got, want), "{label} at {a}: {got} vs {want}");
+            // Within 1 % of the closed form s a^1.5 the table samples.
+            assert!((got / (scale * a.powf(1.5)) - 1.0).abs() < 0.01);
+            // The linear responses are exactly linear in A/A0.
+            let linear = l["linear"].as_f64().unwrap();
+            assert!((linear - scale * a / 2.0).abs() < 1e-12, "{linear}");
+        }
+        at_half.push(loads[1]["hyperelastic"].as_f64().unwrap());
+    }
+    // The synthetic samples are ordered as the paper's: T1 > T2 > T3 > T4.
+    assert!(at_half.windows(2).all(|w| w[0] > w[1]), "{at_half:?}");
+    let figures = summary["figures"].as_array().unwrap();
+    assert!(figures.iter().all(|f| f["rendered"] == true));
+}
+
+#[test]
+fn without_the_tensile_branch_figs_4_7_8_still_render_and_fig2_is_noted() {
+    let wiring = Wiring {
+        tensile: false,
+        ..ALL
+    };
+    let files = run(&common::inputs(wiring, 48, 101));
+    for fig in ["fig4", "fig7", "fig8"] {
+        assert!(files.files.contains_key(&format!("{fig}.png")), "{fig}");
+    }
+    assert!(!files.files.contains_key("fig2.png") && !files.files.contains_key("fig2.svg"));
+    let html = text(&files, "index.html");
+    assert!(
+        html.contains("<b>Fig. 2</b> skipped") && html.contains("`curves`"),
+        "no note on Fig. 2"
+    );
+    assert!(html.contains("<b>Table 1</b> skipped"));
+    let summary: Value = serde_json::from_slice(&files.files["summary.json"]).unwrap();
+    assert_eq!(summary["material"], Value::Null);
+    let fig2 = &summary["figures"][0];
+    assert_eq!(fig2["name"], "fig2");
+    assert_eq!(fig2["rendered"], false);
+    assert!(fig2["note"].as_str().unwrap().contains("curves"));
+}
+
+#[test]
+fn only_the_tensile_branch_gives_fig2_and_notes_the_rest() {
+    let wiring = Wiring {
+        tensile: true,
+        surfaces: false,
+        responses: false,
+        linear: false,
+    };
+    let files = run(&common::inputs(wiring, 8, 11));
+    let names: Vec<&str> = files.files.keys().map(String::as_str).collect();
+    assert_eq!(
+        names,
+        ["fig2.png", "fig2.svg", "index.html", "summary.json"]
+    );
+    let html = text(&files, "index.html");
+    for fig in ["Fig. 4", "Fig. 7", "Fig. 8"] {
+        assert!(html.contains(&format!("<b>{fig}</b> skipped")), "{fig}");
+    }
+    assert!(html.contains("Sample summary</b> skipped"));
+}
+
+#[test]
+fn linear_only_responses_draw_fig7_and_skip_fig8() {
+    let wiring = Wiring {
+        tensile: false,
+        surfaces: false,
+        responses: false,
+        linear: true,
+    };
+    let files = run(&common::inputs(wiring, 8, 51));
+    assert!(files.files.contains_key("fig7.png"));
+    assert!(!files.files.contains_key("fig8.png"));
+    let summary: Value = serde_json::from_slice(&files.files["summary.json"]).unwrap();
+    let fig7 = summary["figures"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["name"] == "fig7")
+        .unwrap();
+    assert!(
+        fig7["note"]
+            .as_str()
+            .unwrap()
+            .contains("`responses` not wired")
+    );
+    assert_eq!(
+        summary["samples"][0]["load_norm"][1]["hyperelastic"],
+        Value::Null
+    );
+}
+
+#[test]
+fn no_inputs_at_all_still_give_a_page() {
+    let files = run(&Inputs::new());
+    let html = text(&files, "index.html");
+    assert_eq!(html.matches("skipped:").count(), 4 + 2 + 1, "{html}");
+    assert!(files.files.contains_key("summary.json"));
+}
+
+#[test]
+fn a_nan_in_a_plotted_column_names_input_column_and_row() {
+    let mut bad = common::response(21, 0.3, false);
+    let mut load = bad.f64("load_norm").unwrap().to_vec();
+    load[3] = f64::NAN;
+    bad = Table::new()
+        .with("area_fraction", bad.f64("area_fraction").unwrap().to_vec())
+        .with("load_norm", load)
+        .with("tangent_ratio", bad.f64("tangent_ratio").unwrap().to_vec());
+    let inputs = Inputs::new().with("responses.T2", Product::Table(bad));
+    let e = Report
+        .run(&ReportParams::default(), &inputs, &Context::new("report"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("responses.T2") && e.contains("load_norm") && e.contains("row 3"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_missing_column_names_the_input() {
+    let inputs = Inputs::new().with(
+        "profiles.T1",
+        Product::Table(Table::new().with("z_over_sigma", vec![0.0, 1.0])),
+    );
+    let e = Report
+        .run(&ReportParams::default(), &inputs, &Context::new("report"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("profiles.T1") && e.contains("area_fraction"),
+        "{e}"
+    );
+}
+
+#[test]
+fn provenance_record_is_rendered_when_given() {
+    let inputs = common::inputs(
+        Wiring {
+            tensile: false,
+            surfaces: false,
+            responses: true,
+            linear: false,
+        },
+        8,
+        21,
+    );
+    let record = serde_json::json!({"hypercontact": "0.1.0", "pipeline": "paper.yaml"});
+    let files = hypercontact_report::render_report(
+        &inputs,
+        &hypercontact_report::ReportOptions::default(),
+        Some(&record),
+    )
+    .unwrap();
+    let html = text(&files, "index.html");
+    assert!(html.contains("<td>pipeline</td><td>paper.yaml</td>"));
+    assert!(!html.contains("No provenance record"));
+}

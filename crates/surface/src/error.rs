@@ -1,0 +1,60 @@
+//! Errors of the surface stages; each names the file, tile, column or
+//! parameter a user has to look at.
+
+use hypercontact_core::StageError;
+
+#[derive(Debug, thiserror::Error)]
+pub enum SurfaceError {
+    #[error("{file}: {message}")]
+    Tile { file: String, message: String },
+    #[error("positions file {file}, line {line}: {message}")]
+    Positions {
+        file: String,
+        line: u64,
+        message: String,
+    },
+    #[error("positions file {file} does not match the tiles: {message}")]
+    PositionsMismatch { file: String, message: String },
+    #[error(
+        "{file} has shape {found:?} but {first} has {expected:?}: all tiles must have one shape"
+    )]
+    Shape {
+        file: String,
+        found: (usize, usize),
+        first: String,
+        expected: (usize, usize),
+    },
+    #[error(
+        "{file} has pixel_m = {found} but {first} has {expected}: all tiles must share one spacing"
+    )]
+    Spacing {
+        file: String,
+        found: f64,
+        first: String,
+        expected: f64,
+    },
+    #[error(
+        "{file} overlaps no other tile by at least {min_px} px: check its position in positions.csv"
+    )]
+    NoOverlap { file: String, min_px: usize },
+    #[error("{file} is not connected to {first} through overlapping tiles: the mosaic falls apart")]
+    Disconnected { file: String, first: String },
+    #[error("{0}")]
+    Input(String),
+    #[error(
+        "too few PSD points ({found}) between wavelengths {lambda_min_m} m and {lambda_max_m} m \
+             to fit the Hurst exponent along {direction}; widen hurst_lambda_min_m / hurst_lambda_max_m"
+    )]
+    HurstRange {
+        direction: &'static str,
+        found: usize,
+        lambda_min_m: f64,
+        lambda_max_m: f64,
+    },
+}
+
+impl From<SurfaceError> for StageError {
+    fn from(e: SurfaceError) -> Self {
+        StageError::other(e)
+    }
+}

@@ -1,0 +1,491 @@
+//! Stitching interferometer tiles into one map.
+//!
+//! 1. Every pair of tiles whose nominal footprints overlap by at least
+//!    `min_overlap_px` in both directions is registered by phase correlation
+//!    on the overlap (`register.rs`), first at the nominal offset, then again
+//!    on the overlap re-cut at the integer offset found, for the sub-pixel
+//!    part.
+//! 2. All pair offsets are solved together by least squares,
+//!    min Σ (P_j − P_i − m_ij)², with the mean correction Σ (P_i − N_i) fixed
+//!    at zero (the nominal positions are unbiased), so errors do not
+//!    accumulate along a row of tiles.
+//! 3. Levelling: each tile i gets a plane a_i + b_i·x + c_i·y (x, y about
+//!    the tile centre) such that the differences of levelled heights in all
+//!    overlaps are least squares, with the sums of a, b, c fixed at zero.
+//! 4. Blending: each mosaic pixel is the weighted mean of the levelled tiles
+//!    measuring it, weights falling linearly to the tile edges (feathering);
+//!    NaN where no tile measured. Tiles are placed at their positions rounded
+//!    to whole pixels: the map is resampled to the much coarser lateral
+//!    resolution afterwards, and rounding avoids interpolating (smoothing)
+//!    the measured heights.
+
+use ndarray::Array2;
+use rayon::prelude::*;
+
+use crate::error::SurfaceError;
+use crate::register::{correlation, phase_correlate};
+use crate::tiles::TileSet;
+
+/// What stitching found for one tile.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TileFit {
+    pub nominal_px: [f64; 2],
+    pub found_px: [f64; 2],
+    /// Slope removed along x and y, m/m.
+    pub tilt_rad: [f64; 2],
+    /// Height removed at the tile centre, metres.
+    pub piston_m: f64,
+    /// Mean Pearson correlation of the tile's overlaps after alignment.
+    pub correlation: f64,
+}
+
+/// The stitched map and what was found per tile.
+#[derive(Clone, Debug)]
+pub struct Mosaic {
+    /// Heights, metres; NaN where no tile measured.
+    pub heights: Array2<f64>,
+    /// True where some tile's footprint covers the pixel.
+    pub covered: Array2<bool>,
+    pub tiles: Vec<TileFit>,
+}
+
+/// A registered pair of tiles: P_j − P_i = offset_px.
+#[derive(Clone, Debug)]
+struct PairFit {
+    i: usize,
+    j: usize,
+    offset_px: [f64; 2],
+    correlation: f64,
+}
+
+/// The overlap of tile i with tile j placed at offset d (integer pixels):
+/// ranges in tile i's coordinates, or None if narrower than `min_px`.
+fn overlap(n: (usize, usize), d: [i64; 2], min_px: usize) -> Option<[(usize, usize); 2]> {
+    let size = [n.0 as i64, n.1 as i64];
+    let mut out = [(0, 0); 2];
+    for a in 0..2 {
+        let lo = d[a].max(0);
+        let hi = (d[a] + size[a]).min(size[a]);
+        if hi - lo < min_px as i64 {
+            return None;
+        }
+        out[a] = (lo as usize, hi as usize);
+    }
+    Some(out)
+}
+
+/// The overlap patches of tiles i and j at integer offset d.
+fn patches(
+    a: &Array2<f64>,
+    b: &Array2<f64>,
+    d: [i64; 2],
+    r: [(usize, usize); 2],
+) -> (Array2<f64>, Array2<f64>) {
+    let shape = (r[0].1 - r[0].0, r[1].1 - r[1].0);
+    let pa = Array2::from_shape_fn(shape, |(u, v)| a[[r[0].0 + u, r[1].0 + v]]);
+    let pb = Array2::from_shape_fn(shape, |(u, v)| {
+        b[[
+            (r[0].0 as i64 + u as i64 - d[0]) as usize,
+            (r[1].0 as i64 + v as i64 - d[1]) as usize,
+        ]]
+    });
+    (pa, pb)
+}
+
+/// Registers one pair starting from its nominal offset.
+fn register_pair(set: &TileSet, i: usize, j: usize, min_px: usize) -> Option<PairFit> {
+    let (a, b) = (&set.heights[i], &set.heights[j]);
+    let n = a.dim();
+    let nominal = [
+        (set.nominal_px[j][0] - set.nominal_px[i][0]).round() as i64,
+        (set.nominal_px[j][1] - set.nominal_px[i][1]).round() as i64,
+    ];
+    let r0 = overlap(n, nominal, min_px)?;
+    let (pa, pb) = patches(a, b, nominal, r0);
+    let coarse = phase_correlate(&pa, &pb)?;
+    let d = [
+        nominal[0] + coarse.shift_px[0].round() as i64,
+        nominal[1] + coarse.shift_px[1].round() as i64,
+    ];
+    let Some(r1) = overlap(n, d, min_px) else {
+        return Some(PairFit {
+            i,
+            j,
+            offset_px: [
+                nominal[0] as f64 + coarse.shift_px[0],
+                nominal[1] as f64 + coarse.shift_px[1],
+            ],
+            correlation: correlation(&pa, &pb),
+        });
+    };
+    let (pa, pb) = patches(a, b, d, r1);
+    let fine = phase_correlate(&pa, &pb)?;
+    Some(PairFit {
+        i,
+        j,
+        offset_px: [
+            d[0] as f64 + fine.shift_px[0],
+            d[1] as f64 + fine.shift_px[1],
+        ],
+        correlation: correlation(&pa, &pb),
+    })
+}
+
+/// Solves a dense n × n system by Gaussian elimination with partial pivoting.
+fn solve_dense(mut m: Vec<f64>, mut r: Vec<f64>, n: usize) -> Option<Vec<f64>> {
+    for col in 0..n {
+        let pivot =
+            (col..n).max_by(|&x, &y| m[x * n + col].abs().total_cmp(&m[y * n + col].abs()))?;
+        if m[pivot * n + col].abs() < 1e-300 {
+            return None;
+        }
+        if pivot != col {
+            for k in 0..n {
+                m.swap(col * n + k, pivot * n + k);
+            }
+            r.swap(col, pivot);
+        }
+        for row in col + 1..n {
+            let f = m[row * n + col] / m[col * n + col];
+            if f != 0.0 {
+                for k in col..n {
+                    m[row * n + k] -= f * m[col * n + k];
+                }
+                r[row] -= f * r[col];
+            }
+        }
+    }
+    let mut x = vec![0.0; n];
+    for row in (0..n).rev() {
+        let s: f64 = (row + 1..n).map(|k| m[row * n + k] * x[k]).sum();
+        x[row] = (r[row] - s) / m[row * n + row];
+    }
+    Some(x)
+}
+
+/// Checks every tile overlaps another and all are connected.
+fn check_graph(set: &TileSet, pairs: &[(usize, usize)], min_px: usize) -> Result<(), SurfaceError> {
+    let n = set.heights.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut x: usize) -> usize {
+        while parent[x] != x {
+            parent[x] = parent[parent[x]];
+            x = parent[x];
+        }
+        x
+    }
+    let mut degree = vec![0; n];
+    for &(i, j) in pairs {
+        degree[i] += 1;
+        degree[j] += 1;
+        let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+        parent[ri] = rj;
+    }
+    if let Some(t) = (0..n).find(|&t| degree[t] == 0) {
+        return Err(SurfaceError::NoOverlap {
+            file: set.names[t].clone(),
+            min_px,
+        });
+    }
+    let r0 = root(&mut parent, 0);
+    if let Some(t) = (0..n).find(|&t| root(&mut parent, t) != r0) {
+        return Err(SurfaceError::Disconnected {
+            file: set.names[t].clone(),
+            first: set.names[0].clone(),
+        });
+    }
+    Ok(())
+}
+
+/// Least-squares positions from pair offsets, mean correction zero.
+fn solve_positions(set: &TileSet, fits: &[PairFit]) -> Option<Vec<[f64; 2]>> {
+    let n = set.heights.len();
+    let mut out = vec![[0.0; 2]; n];
+    for a in 0..2 {
+        // Normal equations of Σ (P_j − P_i − m)² + (Σ (P_k − N_k))².
+        let mut m = vec![1.0; n * n];
+        let sum_nominal: f64 = set.nominal_px.iter().map(|p| p[a]).sum();
+        let mut r = vec![sum_nominal; n];
+        for f in fits {
+            m[f.i * n + f.i] += 1.0;
+            m[f.j * n + f.j] += 1.0;
+            m[f.i * n + f.j] -= 1.0;
+            m[f.j * n + f.i] -= 1.0;
+            r[f.i] -= f.offset_px[a];
+            r[f.j] += f.offset_px[a];
+        }
+        let p = solve_dense(m, r, n)?;
+        for (o, v) in out.iter_mut().zip(p) {
+            o[a] = v;
+        }
+    }
+    Some(out)
+}
+
+/// Per-tile planes (a, b, c) in metres and metres per pixel about the centre.
+fn level(set: &TileSet, fits: &[PairFit], positions: &[[i64; 2]]) -> Option<Vec<[f64; 3]>> {
+    let n = set.heights.len();
+    let (sx, sy) = set.heights[0].dim();
+    let (cx, cy) = ((sx as f64 - 1.0) / 2.0, (sy as f64 - 1.0) / 2.0);
+    let dim = 3 * n;
+    // Coordinates scaled by the tile size keep the system well conditioned.
+    let scale = sx.max(sy) as f64;
+    let sums: Vec<(Vec<f64>, Vec<f64>)> = fits
+        .par_iter()
+        .map(|f| {
+            let mut m = vec![0.0; 36];
+            let mut r = vec![0.0; 6];
+            let d = [
+                positions[f.j][0] - positions[f.i][0],
+                positions[f.j][1] - positions[f.i][1],
+            ];
+            let Some(range) = overlap((sx, sy), d, 1) else {
+                return (m, r);
+            };
+            let (a, b) = (&set.heights[f.i], &set.heights[f.j]);
+            let count = (range[0].1 - range[0].0) * (range[1].1 - range[1].0);
+            let stride = ((count as f64 / 40_000.0).sqrt().ceil() as usize).max(1);
+            for u in (range[0].0..range[0].1).step_by(stride) {
+                for v in (range[1].0..range[1].1).step_by(stride) {
+                    let (ub, vb) = ((u as i64 - d[0]) as usize, (v as i64 - d[1]) as usize);
+                    let (ha, hb) = (a[[u, v]], b[[ub, vb]]);
+                    if ha.is_nan() || hb.is_nan() {
+                        continue;
+                    }
+                    // ha − hb = plane_i(u, v) − plane_j(ub, vb).
+                    let basis = [
+                        1.0,
+                        (u as f64 - cx) / scale,
+                        (v as f64 - cy) / scale,
+                        -1.0,
+                        -(ub as f64 - cx) / scale,
+                        -(vb as f64 - cy) / scale,
+                    ];
+                    for p in 0..6 {
+                        r[p] += basis[p] * (ha - hb);
+                        for q in 0..6 {
+                            m[p * 6 + q] += basis[p] * basis[q];
+                        }
+                    }
+                }
+            }
+            (m, r)
+        })
+        .collect();
+    let mut m = vec![0.0; dim * dim];
+    let mut r = vec![0.0; dim];
+    for (f, (pm, pr)) in fits.iter().zip(&sums) {
+        let index = |k: usize| if k < 3 { 3 * f.i + k } else { 3 * f.j + k - 3 };
+        for p in 0..6 {
+            r[index(p)] += pr[p];
+            for q in 0..6 {
+                m[index(p) * dim + index(q)] += pm[p * 6 + q];
+            }
+        }
+    }
+    // Gauge: Σ a = Σ b = Σ c = 0, weighted like a typical overlap.
+    let weight = m.iter().step_by(dim + 1).sum::<f64>() / dim as f64;
+    for k in 0..3 {
+        for i in 0..n {
+            for j in 0..n {
+                m[(3 * i + k) * dim + 3 * j + k] += weight;
+            }
+        }
+    }
+    let x = solve_dense(m, r, dim)?;
+    Some(
+        (0..n)
+            .map(|i| [x[3 * i], x[3 * i + 1] / scale, x[3 * i + 2] / scale])
+            .collect(),
+    )
+}
+
+/// Stitches a tile set. A single tile is returned as it is.
+pub fn stitch(set: &TileSet, min_overlap_px: usize) -> Result<Mosaic, SurfaceError> {
+    let n = set.heights.len();
+    let (sx, sy) = set.heights[0].dim();
+    let candidates: Vec<(usize, usize)> = (0..n)
+        .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
+        .filter(|&(i, j)| {
+            let d = [
+                (set.nominal_px[j][0] - set.nominal_px[i][0]).round() as i64,
+                (set.nominal_px[j][1] - set.nominal_px[i][1]).round() as i64,
+            ];
+            overlap((sx, sy), d, min_overlap_px).is_some()
+        })
+        .collect();
+    if n > 1 {
+        check_graph(set, &candidates, min_overlap_px)?;
+    }
+    let fits: Vec<PairFit> = candidates
+        .par_iter()
+        .filter_map(|&(i, j)| register_pair(set, i, j, min_overlap_px))
+        .collect();
+    let found = if n > 1 {
+        let pairs: Vec<(usize, usize)> = fits.iter().map(|f| (f.i, f.j)).collect();
+        check_graph(set, &pairs, min_overlap_px)?;
+        solve_positions(set, &fits).ok_or_else(|| {
+            SurfaceError::Input("tile positions: the least-squares system is singular".into())
+        })?
+    } else {
+        set.nominal_px.clone()
+    };
+    let rounded: Vec<[i64; 2]> = found
+        .iter()
+        .map(|p| [p[0].round() as i64, p[1].round() as i64])
+        .collect();
+    let planes = if n > 1 {
+        level(set, &fits, &rounded).ok_or_else(|| {
+            SurfaceError::Input("tile levelling: the least-squares system is singular".into())
+        })?
+    } else {
+        vec![[0.0; 3]]
+    };
+
+    let origin = [0, 1].map(|a| rounded.iter().map(|p| p[a]).min().unwrap_or(0));
+    let end = [0, 1].map(|a| {
+        rounded
+            .iter()
+            .map(|p| p[a] + [sx, sy][a] as i64)
+            .max()
+            .unwrap_or(0)
+    });
+    let (mx, my) = ((end[0] - origin[0]) as usize, (end[1] - origin[1]) as usize);
+    let (cx, cy) = ((sx as f64 - 1.0) / 2.0, (sy as f64 - 1.0) / 2.0);
+    let feather = |u: usize, n: usize| (u.min(n - 1 - u) + 1) as f64;
+    let mut heights = Array2::<f64>::zeros((mx, my));
+    let mut covered = Array2::<bool>::from_elem((mx, my), false);
+    heights
+        .as_slice_mut()
+        .expect("a fresh array is contiguous")
+        .par_chunks_mut(my)
+        .zip(
+            covered
+                .as_slice_mut()
+                .expect("a fresh array is contiguous")
+                .par_chunks_mut(my),
+        )
+        .enumerate()
+        .for_each(|(x, (row, cover))| {
+            let mut num = vec![0.0; my];
+            let mut den = vec![0.0; my];
+            let gx = x as i64 + origin[0];
+            for (t, p) in rounded.iter().enumerate() {
+                let u = gx - p[0];
+                if u < 0 || u >= sx as i64 {
+                    continue;
+                }
+                let u = u as usize;
+                let [a, b, c] = planes[t];
+                let tile_row = set.heights[t].row(u);
+                let y0 = (p[1] - origin[1]) as usize;
+                for (v, &h) in tile_row.iter().enumerate() {
+                    cover[y0 + v] = true;
+                    if h.is_nan() {
+                        continue;
+                    }
+                    let w = feather(u, sx).min(feather(v, sy));
+                    let levelled = h - (a + b * (u as f64 - cx) + c * (v as f64 - cy));
+                    num[y0 + v] += w * levelled;
+                    den[y0 + v] += w;
+                }
+            }
+            for ((o, n), d) in row.iter_mut().zip(num).zip(den) {
+                *o = if d > 0.0 { n / d } else { f64::NAN };
+            }
+        });
+
+    let mut correlation_sum = vec![(0.0, 0usize); n];
+    for f in &fits {
+        for t in [f.i, f.j] {
+            correlation_sum[t].0 += f.correlation;
+            correlation_sum[t].1 += 1;
+        }
+    }
+    let pixel_m = set.pixel_m;
+    let tiles = (0..n)
+        .map(|t| TileFit {
+            nominal_px: set.nominal_px[t],
+            found_px: found[t],
+            tilt_rad: [planes[t][1] / pixel_m, planes[t][2] / pixel_m],
+            piston_m: planes[t][0],
+            correlation: match correlation_sum[t] {
+                (_, 0) => f64::NAN,
+                (s, k) => s / k as f64,
+            },
+        })
+        .collect();
+    Ok(Mosaic {
+        heights,
+        covered,
+        tiles,
+    })
+}
+
+/// The largest region, found by peeling border lines, every pixel of which
+/// lies in some tile's footprint: ranges along x and y.
+pub fn covered_region(covered: &Array2<bool>) -> [(usize, usize); 2] {
+    let (nx, ny) = covered.dim();
+    let (mut x0, mut x1, mut y0, mut y1) = (0, nx, 0, ny);
+    while x1 > x0 + 1 && y1 > y0 + 1 {
+        let holes = [
+            (y0..y1).filter(|&y| !covered[[x0, y]]).count(),
+            (y0..y1).filter(|&y| !covered[[x1 - 1, y]]).count(),
+            (x0..x1).filter(|&x| !covered[[x, y0]]).count(),
+            (x0..x1).filter(|&x| !covered[[x, y1 - 1]]).count(),
+        ];
+        let (worst, &count) = holes
+            .iter()
+            .enumerate()
+            .max_by_key(|(_, c)| **c)
+            .expect("four sides");
+        if count == 0 {
+            break;
+        }
+        match worst {
+            0 => x0 += 1,
+            1 => x1 -= 1,
+            2 => y0 += 1,
+            _ => y1 -= 1,
+        }
+    }
+    [(x0, x1), (y0, y1)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dense_solver_solves() {
+        let m = vec![4.0, 1.0, 0.0, 1.0, 3.0, 1.0, 0.0, 1.0, 2.0];
+        let x = solve_dense(m, vec![1.0, 2.0, 3.0], 3).unwrap();
+        let back = [
+            4.0 * x[0] + x[1],
+            x[0] + 3.0 * x[1] + x[2],
+            x[1] + 2.0 * x[2],
+        ];
+        for (b, r) in back.iter().zip([1.0, 2.0, 3.0]) {
+            assert!((b - r).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn overlap_ranges() {
+        assert_eq!(overlap((10, 10), [7, 0], 2), Some([(7, 10), (0, 10)]));
+        assert_eq!(overlap((10, 10), [-7, 2], 2), Some([(0, 3), (2, 10)]));
+        assert_eq!(overlap((10, 10), [9, 0], 2), None);
+    }
+
+    #[test]
+    fn peels_uncovered_borders() {
+        let mut c = Array2::from_elem((10, 12), true);
+        for y in 0..12 {
+            c[[0, y]] = y > 3;
+        }
+        c[[9, 11]] = false;
+        let r = covered_region(&c);
+        assert_eq!(r[0].0, 1);
+        assert!(r[0].1 == 9 || r[1].1 == 11);
+    }
+}

@@ -1,0 +1,520 @@
+//! Stage `surface`: interferometer tiles → stitched, filtered height map,
+//! PSDs (x, y, radial), statistics and Hurst exponents.
+
+use std::f64::consts::TAU;
+use std::path::PathBuf;
+
+use hypercontact_core::params::{in_range, positive};
+use hypercontact_core::product::ProductKind;
+use hypercontact_core::{
+    Arity, ColumnSpec, Context, Field, InputSpec, Inputs, OutputSpec, Outputs, ParamDoc,
+    ParamError, Params, Stage, StageError, StageInfo, Table,
+};
+use ndarray::Array2;
+use serde::{Deserialize, Serialize};
+
+use crate::error::SurfaceError;
+use crate::hurst::{Dimension, fit_power_law};
+use crate::psd::{Spectrum, Window, psd_radial, psd_x, psd_y};
+use crate::stats::{Reference, reference_height, rms_slope, sigma};
+use crate::stitch::{Mosaic, covered_region, stitch};
+use crate::tiles::{DirSource, FilesSource, TileSet, TileSource, read_tiles};
+use crate::{filter, plane};
+
+/// Where heights are measured from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ReferenceKind {
+    Lowest,
+    Percentile,
+}
+
+/// What is removed before statistics and PSDs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Detrend {
+    Plane,
+    Mean,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SurfaceParams {
+    /// A folder with tile files and positions.csv (real data), instead of
+    /// the `tiles` input.
+    pub dir: Option<PathBuf>,
+    pub resolution_m: f64,
+    pub reference: ReferenceKind,
+    pub reference_percent: f64,
+    pub detrend: Detrend,
+    pub periodic: bool,
+    pub bins_per_decade: usize,
+    pub hurst_lambda_min_m: Option<f64>,
+    pub hurst_lambda_max_m: Option<f64>,
+    pub min_overlap_px: usize,
+}
+
+impl Default for SurfaceParams {
+    fn default() -> Self {
+        Self {
+            dir: None,
+            resolution_m: 20e-6,
+            reference: ReferenceKind::Lowest,
+            reference_percent: 1.0,
+            detrend: Detrend::Plane,
+            periodic: false,
+            bins_per_decade: 10,
+            hurst_lambda_min_m: None,
+            hurst_lambda_max_m: None,
+            min_overlap_px: 16,
+        }
+    }
+}
+
+impl Params for SurfaceParams {
+    fn check(&self) -> Result<(), ParamError> {
+        if !(self.resolution_m >= 0.0 && self.resolution_m.is_finite()) {
+            return Err(ParamError::new(
+                "resolution_m",
+                format!(
+                    "must be ≥ 0 (0 keeps the measured grid), got {}",
+                    self.resolution_m
+                ),
+            ));
+        }
+        in_range("reference_percent", self.reference_percent, 0.0, 100.0)?;
+        if !(1..=100).contains(&self.bins_per_decade) {
+            return Err(ParamError::new(
+                "bins_per_decade",
+                format!("must lie in [1, 100], got {}", self.bins_per_decade),
+            ));
+        }
+        if let Some(v) = self.hurst_lambda_min_m {
+            positive("hurst_lambda_min_m", v)?;
+        }
+        if let Some(v) = self.hurst_lambda_max_m {
+            positive("hurst_lambda_max_m", v)?;
+        }
+        if let (Some(lo), Some(hi)) = (self.hurst_lambda_min_m, self.hurst_lambda_max_m)
+            && lo >= hi
+        {
+            return Err(ParamError::new(
+                "hurst_lambda_min_m",
+                format!("must be below hurst_lambda_max_m ({hi} m), got {lo} m"),
+            ));
+        }
+        if self.min_overlap_px < 4 {
+            return Err(ParamError::new(
+                "min_overlap_px",
+                format!("must be at least 4, got {}", self.min_overlap_px),
+            ));
+        }
+        Ok(())
+    }
+
+    fn paths_mut(&mut self) -> Vec<&mut PathBuf> {
+        self.dir.iter_mut().collect()
+    }
+}
+
+/// The `surface` stage.
+pub struct Surface;
+
+const PSD_COLUMNS: &[ColumnSpec] = &[
+    ColumnSpec::str("direction", "x, y or radial"),
+    ColumnSpec::f64("q_per_m", "rad/m", "wavevector, mean of the bin's members"),
+    ColumnSpec::f64(
+        "c",
+        "m³ (x, y) or m⁴ (radial)",
+        "PSD, mean of the bin's members",
+    ),
+];
+
+const STATS_COLUMNS: &[ColumnSpec] = &[
+    ColumnSpec::f64("sigma_m", "m", "areal rms height Sq after detrending"),
+    ColumnSpec::f64("rms_slope", "", "rms gradient √⟨|∇h|²⟩"),
+    ColumnSpec::f64("hurst_x", "", "Hurst exponent from the PSD along x"),
+    ColumnSpec::f64("hurst_y", "", "Hurst exponent from the PSD along y"),
+    ColumnSpec::f64("hurst_radial", "", "Hurst exponent from the radial PSD"),
+    ColumnSpec::i64("nx", "", "points along x"),
+    ColumnSpec::i64("ny", "", "points along y"),
+    ColumnSpec::f64("dx_m", "m", "grid spacing (x and y)"),
+    ColumnSpec::f64("nan_fraction", "", "share of unmeasured points in `height`"),
+];
+
+const STITCH_COLUMNS: &[ColumnSpec] = &[
+    ColumnSpec::i64("tile", "", "the tile column of positions.csv"),
+    ColumnSpec::str("file", "tile file"),
+    ColumnSpec::f64("x_nominal_px", "px", "recorded position of pixel [0, 0], x"),
+    ColumnSpec::f64("y_nominal_px", "px", "recorded position of pixel [0, 0], y"),
+    ColumnSpec::f64("x_found_px", "px", "position found by stitching, x"),
+    ColumnSpec::f64("y_found_px", "px", "position found by stitching, y"),
+    ColumnSpec::f64("x_offset_px", "px", "found minus nominal, x"),
+    ColumnSpec::f64("y_offset_px", "px", "found minus nominal, y"),
+    ColumnSpec::f64(
+        "tilt_x_rad",
+        "rad",
+        "slope removed along x (about the tile centre)",
+    ),
+    ColumnSpec::f64("tilt_y_rad", "rad", "slope removed along y"),
+    ColumnSpec::f64("piston_m", "m", "height removed at the tile centre"),
+    ColumnSpec::f64(
+        "overlap_correlation",
+        "",
+        "mean Pearson correlation of its aligned overlaps",
+    ),
+];
+
+static INFO: StageInfo = StageInfo {
+    kind: "surface",
+    version: 1,
+    summary: "Stitch interferometer tiles, filter to a lateral resolution, PSD, σ and Hurst exponent",
+    doc: "Source: exactly one of input `tiles` (a Files product: tile_NNN.npy + positions.csv, as \
+          synth-surface writes), param `dir` (a folder of the same layout, real data) or input \
+          `height` (an already stitched map, e.g. from height-map). positions.csv has columns tile, \
+          file, x_m, y_m, pixel_m (nominal position of each tile's pixel [0, 0]). Tiles are read \
+          through a decoder trait (.npy now: float64/float32, metres, axis 0 = x, NaN = missing). \
+          STITCHING: overlapping pairs registered by phase correlation with sub-pixel Newton \
+          refinement; all pair offsets solved together by least squares (mean correction zero); a \
+          plane (tilt + piston) per tile from the overlaps by least squares; feathered blending \
+          (weights fall linearly to tile edges), tiles placed at whole pixels; NaN where no tile \
+          measured; the map is cropped to the region fully inside tile footprints. FILTER: ISO \
+          16610-61 Gaussian low-pass with cut-off 2·resolution_m (50 % amplitude there), sampled \
+          every resolution_m; NaN-aware (normalised convolution; NaN where under half the kernel \
+          weight was measured); resolution_m: 0 keeps the grid. DETRENDING: least-squares plane \
+          (or mean) over measured points, before statistics and PSDs. HEIGHT REFERENCE: `lowest` \
+          (the paper's choice: the lowest point is z = 0) or `percentile` (z = 0 at \
+          reference_percent of the heights); a single pit pixel shifts every z under `lowest`, a \
+          percentile is robust to it. PSD (SurfaceTopography conventions, numbers comparable one to \
+          one): axis 0 = x; L = N·dx; q = 2πk/L in rad/m; 1-D: C1D = |dx·FFT_x(w·h)|²/L, k = 0…N/2−1 \
+          (Nyquist dropped), averaged over all profiles; y: the same on the transposed map; radial: \
+          C2D = |dx·dy·FFT2(w·h)|²/(Lx·Ly) averaged over |q| bins up to π/dx; all binned in \
+          log-spaced bins (bins_per_decade, edges as SurfaceTopography's make_grid), each bin \
+          reporting the mean q and mean C of its members; window: none if `periodic`, otherwise Hann \
+          scaled to mean(w²) = 1 (1-D along the profile; rotationally symmetric for radial). Points \
+          still NaN after filtering enter the FFT at the mean height (0 after detrending); their \
+          share is nan_fraction. STATS: sigma_m = areal rms height Sq (not profile Rq); rms_slope = \
+          √⟨|∇h|²⟩ by forward differences. HURST: least squares of ln C on ln q, C ∝ q^(−1−2H) \
+          (1-D) and q^(−2−2H) (radial), over wavelengths hurst_lambda_min_m … hurst_lambda_max_m \
+          (default 4·dx … L/4).",
+    params: &[
+        ParamDoc {
+            name: "dir",
+            unit: "",
+            doc: "folder of tiles + positions.csv (instead of input `tiles`)",
+        },
+        ParamDoc {
+            name: "resolution_m",
+            unit: "m",
+            doc: "lateral resolution and new grid spacing (0 = keep)",
+        },
+        ParamDoc {
+            name: "reference",
+            unit: "",
+            doc: "height reference: lowest | percentile",
+        },
+        ParamDoc {
+            name: "reference_percent",
+            unit: "%",
+            doc: "percentile for reference: percentile",
+        },
+        ParamDoc {
+            name: "detrend",
+            unit: "",
+            doc: "plane | mean, removed before stats and PSDs",
+        },
+        ParamDoc {
+            name: "periodic",
+            unit: "",
+            doc: "the map is periodic: no window",
+        },
+        ParamDoc {
+            name: "bins_per_decade",
+            unit: "",
+            doc: "log bins per decade of q",
+        },
+        ParamDoc {
+            name: "hurst_lambda_min_m",
+            unit: "m",
+            doc: "shortest wavelength of the Hurst fit (default 4·dx)",
+        },
+        ParamDoc {
+            name: "hurst_lambda_max_m",
+            unit: "m",
+            doc: "longest wavelength of the Hurst fit (default L/4)",
+        },
+        ParamDoc {
+            name: "min_overlap_px",
+            unit: "px",
+            doc: "least overlap (both directions) for a tile pair",
+        },
+    ],
+    inputs: &[
+        InputSpec {
+            name: "tiles",
+            kind: ProductKind::Files,
+            arity: Arity::Optional,
+            columns: &[],
+            doc: "tile_NNN.npy + positions.csv",
+        },
+        InputSpec {
+            name: "height",
+            kind: ProductKind::Field,
+            arity: Arity::Optional,
+            columns: &[],
+            doc: "an already stitched map (skips stitching)",
+        },
+    ],
+    outputs: &[
+        OutputSpec {
+            name: "height",
+            kind: ProductKind::Field,
+            columns: &[],
+            doc: "stitched, filtered, detrended map from the reference height, metres (NaN = unmeasured)",
+        },
+        OutputSpec {
+            name: "psd",
+            kind: ProductKind::Table,
+            columns: PSD_COLUMNS,
+            doc: "binned PSDs",
+        },
+        OutputSpec {
+            name: "stats",
+            kind: ProductKind::Table,
+            columns: STATS_COLUMNS,
+            doc: "one row",
+        },
+        OutputSpec {
+            name: "stitch",
+            kind: ProductKind::Table,
+            columns: STITCH_COLUMNS,
+            doc: "per tile",
+        },
+    ],
+};
+
+/// The stitched map at the measured spacing and the stitch table.
+fn stitched(set: &TileSet, p: &SurfaceParams, ctx: &Context) -> Result<(Field, Table), StageError> {
+    let progress = ctx.progress(1, "stitch tiles");
+    let Mosaic {
+        heights,
+        covered,
+        tiles,
+    } = stitch(set, p.min_overlap_px)?;
+    progress.inc(1);
+    let [(x0, x1), (y0, y1)] = covered_region(&covered);
+    let cropped = Array2::from_shape_fn((x1 - x0, y1 - y0), |(i, j)| heights[[x0 + i, y0 + j]]);
+    drop(heights);
+    let field = Field::new(cropped, set.pixel_m, set.pixel_m).map_err(StageError::other)?;
+    let col =
+        |f: &dyn Fn(&crate::stitch::TileFit) -> f64| tiles.iter().map(f).collect::<Vec<f64>>();
+    let table = Table::new()
+        .with("tile", set.ids.clone())
+        .with("file", set.names.clone())
+        .with("x_nominal_px", col(&|t| t.nominal_px[0]))
+        .with("y_nominal_px", col(&|t| t.nominal_px[1]))
+        .with("x_found_px", col(&|t| t.found_px[0]))
+        .with("y_found_px", col(&|t| t.found_px[1]))
+        .with("x_offset_px", col(&|t| t.found_px[0] - t.nominal_px[0]))
+        .with("y_offset_px", col(&|t| t.found_px[1] - t.nominal_px[1]))
+        .with("tilt_x_rad", col(&|t| t.tilt_rad[0]))
+        .with("tilt_y_rad", col(&|t| t.tilt_rad[1]))
+        .with("piston_m", col(&|t| t.piston_m))
+        .with("overlap_correlation", col(&|t| t.correlation));
+    Ok((field, table))
+}
+
+fn empty_stitch_table() -> Table {
+    let mut t = Table::new();
+    for c in STITCH_COLUMNS {
+        match c.dtype {
+            hypercontact_core::DType::F64 => t.push(c.name, Vec::<f64>::new()),
+            hypercontact_core::DType::I64 => t.push(c.name, Vec::<i64>::new()),
+            hypercontact_core::DType::Str => t.push(c.name, Vec::<String>::new()),
+        }
+    }
+    t
+}
+
+/// Fits H for one PSD over the wavelength range of the parameters.
+fn hurst(
+    spectrum: &Spectrum,
+    direction: &'static str,
+    dimension: Dimension,
+    (spacing_m, length_m): (f64, f64),
+    p: &SurfaceParams,
+) -> Result<f64, SurfaceError> {
+    let lambda_min_m = p.hurst_lambda_min_m.unwrap_or(4.0 * spacing_m);
+    let lambda_max_m = p.hurst_lambda_max_m.unwrap_or(length_m / 4.0);
+    let fit = fit_power_law(spectrum, TAU / lambda_max_m, TAU / lambda_min_m).ok_or_else(|| {
+        SurfaceError::HurstRange {
+            direction,
+            found: spectrum
+                .q_per_m
+                .iter()
+                .filter(|&&q| q >= TAU / lambda_max_m && q <= TAU / lambda_min_m)
+                .count(),
+            lambda_min_m,
+            lambda_max_m,
+        }
+    })?;
+    Ok(fit.hurst(dimension))
+}
+
+/// Everything the stage computes from a stitched map at its measured grid.
+pub struct Analysis {
+    pub height: Field,
+    pub psd: Table,
+    pub stats: Table,
+}
+
+/// Filter, detrend, reference, PSDs, statistics and Hurst exponents.
+pub fn analyse(map: Field, p: &SurfaceParams, ctx: &Context) -> Result<Analysis, StageError> {
+    let progress = ctx.progress(3, "filter, PSD");
+    let filtered = if p.resolution_m > map.dx_m.max(map.dy_m) * (1.0 + 1e-9) {
+        let values = filter::gaussian_resample(&map.values, map.dx_m, map.dy_m, p.resolution_m);
+        Field::new(values, p.resolution_m, p.resolution_m).map_err(StageError::other)?
+    } else {
+        if p.resolution_m > 0.0 {
+            ctx.note(&format!(
+                "resolution_m = {} m is not coarser than the grid ({} m): map kept as measured",
+                p.resolution_m, map.dx_m
+            ));
+        }
+        map
+    };
+    progress.inc(1);
+    let (nx, ny) = filtered.values.dim();
+    if nx < 8 || ny < 8 {
+        return Err(SurfaceError::Input(format!(
+            "the filtered map has only {nx} × {ny} points: lower resolution_m ({} m) or measure a larger area",
+            p.resolution_m
+        ))
+        .into());
+    }
+    let mut h = filtered.values;
+    let (dx_m, dy_m) = (filtered.dx_m, filtered.dy_m);
+    let nan_count = h.iter().filter(|v| v.is_nan()).count();
+    if nan_count == h.len() {
+        return Err(SurfaceError::Input("every point of the map is NaN".into()).into());
+    }
+    let nan_fraction = nan_count as f64 / h.len() as f64;
+    match p.detrend {
+        Detrend::Plane => {
+            let fit = plane::fit_plane(&h).ok_or_else(|| {
+                SurfaceError::Input("too few measured points to fit a plane".into())
+            })?;
+            plane::subtract(&mut h, &fit);
+        }
+        Detrend::Mean => {
+            let valid = h.iter().filter(|v| !v.is_nan());
+            let mean = valid.clone().sum::<f64>() / valid.count() as f64;
+            h.mapv_inplace(|v| v - mean);
+        }
+    }
+    let sigma_m = sigma(&h);
+    let slope = rms_slope(&h, dx_m, dy_m);
+
+    // NaN left after filtering enters the FFT at the (zero) mean height.
+    let filled = h.mapv(|v| if v.is_nan() { 0.0 } else { v });
+    let window = if p.periodic {
+        Window::None
+    } else {
+        Window::Hann
+    };
+    let per_decade = p.bins_per_decade;
+    let sx = psd_x(&filled, dx_m, window, per_decade);
+    let sy = psd_y(&filled, dy_m, window, per_decade);
+    let sr = psd_radial(&filled, dx_m, dy_m, window, per_decade);
+    drop(filled);
+    progress.inc(1);
+    let (lx, ly) = (nx as f64 * dx_m, ny as f64 * dy_m);
+    let hurst_x = hurst(&sx, "x", Dimension::Profile, (dx_m, lx), p)?;
+    let hurst_y = hurst(&sy, "y", Dimension::Profile, (dy_m, ly), p)?;
+    let hurst_radial = hurst(
+        &sr,
+        "radial",
+        Dimension::Areal,
+        (dx_m.max(dy_m), lx.min(ly)),
+        p,
+    )?;
+
+    let reference = match p.reference {
+        ReferenceKind::Lowest => Reference::Lowest,
+        ReferenceKind::Percentile => Reference::Percentile(p.reference_percent),
+    };
+    let z0 = reference_height(&h, reference);
+    h.mapv_inplace(|v| v - z0);
+
+    let mut psd = Table::new();
+    for (name, s) in [("x", &sx), ("y", &sy), ("radial", &sr)] {
+        psd.append(
+            &Table::new()
+                .with("direction", vec![name.to_owned(); s.c.len()])
+                .with("q_per_m", s.q_per_m.clone())
+                .with("c", s.c.clone()),
+        )?;
+    }
+    let stats = Table::new()
+        .with("sigma_m", vec![sigma_m])
+        .with("rms_slope", vec![slope])
+        .with("hurst_x", vec![hurst_x])
+        .with("hurst_y", vec![hurst_y])
+        .with("hurst_radial", vec![hurst_radial])
+        .with("nx", vec![nx as i64])
+        .with("ny", vec![ny as i64])
+        .with("dx_m", vec![dx_m])
+        .with("nan_fraction", vec![nan_fraction]);
+    progress.inc(1);
+    Ok(Analysis {
+        height: Field::new(h, dx_m, dy_m).map_err(StageError::other)?,
+        psd,
+        stats,
+    })
+}
+
+impl Stage for Surface {
+    type Params = SurfaceParams;
+
+    fn info(&self) -> &'static StageInfo {
+        &INFO
+    }
+
+    fn run(
+        &self,
+        p: &SurfaceParams,
+        inputs: &Inputs,
+        ctx: &Context,
+    ) -> Result<Outputs, StageError> {
+        let given = [
+            inputs.get("tiles").is_some(),
+            p.dir.is_some(),
+            inputs.get("height").is_some(),
+        ];
+        if given.iter().filter(|g| **g).count() != 1 {
+            return Err(StageError::invalid(
+                "surface: give exactly one source: input `tiles`, parameter `dir` or input `height`",
+            ));
+        }
+        let (map, stitch_table) = if let Some(dir) = &p.dir {
+            let set = read_tiles(&DirSource { dir: dir.clone() })?;
+            stitched(&set, p, ctx)?
+        } else if inputs.get("tiles").is_some() {
+            let files = inputs.files("tiles")?;
+            let source: &dyn TileSource = &FilesSource {
+                files,
+                label: "input `tiles`".into(),
+            };
+            let set = read_tiles(source)?;
+            stitched(&set, p, ctx)?
+        } else {
+            (inputs.field("height")?.clone(), empty_stitch_table())
+        };
+        let analysis = analyse(map, p, ctx)?;
+        Ok(Outputs::new()
+            .field("height", analysis.height)
+            .table("psd", analysis.psd)
+            .table("stats", analysis.stats)
+            .table("stitch", stitch_table))
+    }
+}

@@ -1,0 +1,192 @@
+//! The surface stage on bad inputs (clear errors naming the file) and on
+//! real instrument maps (`data/reference/topography/`).
+
+use std::path::PathBuf;
+
+use hypercontact_core::{Context, Field, Files, Inputs, Product, Stage, StageError};
+use hypercontact_surface::surface_stage::{ReferenceKind, Surface, SurfaceParams};
+use ndarray::Array2;
+
+fn npy(values: Array2<f64>) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    Field::new(values, 1.0, 1.0)
+        .unwrap()
+        .write_npy(&mut bytes)
+        .unwrap();
+    bytes
+}
+
+fn rough(n: usize, seed: f64) -> Array2<f64> {
+    Array2::from_shape_fn((n, n), |(i, j)| {
+        1e-6 * ((i as f64 * 0.37 + seed).sin() * (j as f64 * 0.23).cos()
+            + (i as f64 * j as f64 * 0.01 + seed).sin())
+    })
+}
+
+fn run(params: &SurfaceParams, inputs: Inputs) -> Result<hypercontact_core::Outputs, StageError> {
+    Surface.run(params, &inputs, &Context::new("surface"))
+}
+
+fn tiles(csv: &str, tiles: Vec<(&str, Array2<f64>)>) -> Inputs {
+    let mut files = Files::new().with("positions.csv", csv.as_bytes().to_vec());
+    for (name, values) in tiles {
+        files = files.with(name, npy(values));
+    }
+    Inputs::new().with("tiles", Product::Files(files))
+}
+
+#[test]
+fn bad_inputs_are_clear_errors_naming_the_file() {
+    let p = SurfaceParams {
+        resolution_m: 0.0,
+        ..Default::default()
+    };
+    let head = "tile,file,x_m,y_m,pixel_m\n";
+    let message = |inputs: Inputs| run(&p, inputs).unwrap_err().to_string();
+
+    // A tile with no overlap to any other.
+    let m = message(tiles(
+        &format!("{head}0,a.npy,0,0,1e-6\n1,b.npy,48e-6,0,1e-6\n2,c.npy,0,500e-6,1e-6\n"),
+        vec![
+            ("a.npy", rough(64, 0.0)),
+            ("b.npy", rough(64, 1.0)),
+            ("c.npy", rough(64, 2.0)),
+        ],
+    ));
+    assert!(
+        m.contains("c.npy") && m.contains("overlaps no other tile"),
+        "{m}"
+    );
+    // Tiles of different shapes, and of different spacings.
+    let m = message(tiles(
+        &format!("{head}0,a.npy,0,0,1e-6\n1,b.npy,48e-6,0,1e-6\n"),
+        vec![("a.npy", rough(64, 0.0)), ("b.npy", rough(60, 1.0))],
+    ));
+    assert!(m.contains("b.npy") && m.contains("shape"), "{m}");
+    let m = message(tiles(
+        &format!("{head}0,a.npy,0,0,1e-6\n1,b.npy,48e-6,0,2e-6\n"),
+        vec![("a.npy", rough(64, 0.0)), ("b.npy", rough(64, 1.0))],
+    ));
+    assert!(m.contains("b.npy") && m.contains("spacing"), "{m}");
+    // A positions file that does not match the tiles.
+    let m = message(tiles(
+        &format!("{head}0,a.npy,0,0,1e-6\n1,b.npy,48e-6,0,1e-6\n"),
+        vec![("a.npy", rough(64, 0.0)), ("B.npy", rough(64, 1.0))],
+    ));
+    assert!(
+        m.contains("positions.csv") && m.contains("does not match"),
+        "{m}"
+    );
+    // An all-NaN tile.
+    let m = message(tiles(
+        &format!("{head}0,a.npy,0,0,1e-6\n1,b.npy,48e-6,0,1e-6\n"),
+        vec![
+            ("a.npy", rough(64, 0.0)),
+            ("b.npy", Array2::from_elem((64, 64), f64::NAN)),
+        ],
+    ));
+    assert!(m.contains("b.npy") && m.contains("NaN"), "{m}");
+    // No source, two sources, a folder that does not exist.
+    let m = message(Inputs::new());
+    assert!(m.contains("exactly one source"), "{m}");
+    let two = SurfaceParams {
+        dir: Some("x".into()),
+        ..p.clone()
+    };
+    let m = run(
+        &two,
+        tiles(
+            &format!("{head}0,a.npy,0,0,1e-6\n"),
+            vec![("a.npy", rough(64, 0.0))],
+        ),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(m.contains("exactly one source"), "{m}");
+    let missing = SurfaceParams {
+        dir: Some("/nonexistent/scan".into()),
+        ..p.clone()
+    };
+    let m = run(&missing, Inputs::new()).unwrap_err().to_string();
+    assert!(m.contains("/nonexistent/scan/positions.csv"), "{m}");
+}
+
+fn reference(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/reference/topography")
+        .join(name)
+}
+
+#[test]
+fn real_maps_give_finite_psd_and_stats() {
+    for (name, nan_points) in [("sur-2", 117), ("metropro-1", 0)] {
+        for resolution_m in [0.0, 20e-6] {
+            let p = SurfaceParams {
+                dir: Some(reference(name)),
+                resolution_m,
+                reference: ReferenceKind::Percentile,
+                ..Default::default()
+            };
+            let out = run(&p, Inputs::new()).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let Some(Product::Table(stats)) = out.get("stats") else {
+                panic!("no stats")
+            };
+            let Some(Product::Table(psd)) = out.get("psd") else {
+                panic!("no psd")
+            };
+            let Some(Product::Field(height)) = out.get("height") else {
+                panic!("no height")
+            };
+            for column in [
+                "sigma_m",
+                "rms_slope",
+                "hurst_x",
+                "hurst_y",
+                "hurst_radial",
+                "dx_m",
+            ] {
+                let v = stats.f64(column).unwrap()[0];
+                assert!(v.is_finite(), "{name} at {resolution_m} m: {column} = {v}");
+            }
+            assert!(
+                psd.f64("c")
+                    .unwrap()
+                    .iter()
+                    .all(|c| c.is_finite() && *c >= 0.0)
+            );
+            let nan = height.values.iter().filter(|v| v.is_nan()).count();
+            let fraction = stats.f64("nan_fraction").unwrap()[0];
+            assert_eq!(fraction, nan as f64 / height.values.len() as f64);
+            if resolution_m == 0.0 {
+                // The measured grid is kept with its gaps, and a single tile is not moved.
+                assert_eq!(nan, nan_points, "{name}");
+                let Some(Product::Table(stitch)) = out.get("stitch") else {
+                    panic!("no stitch")
+                };
+                assert_eq!(stitch.f64("x_offset_px").unwrap(), &[0.0]);
+            } else {
+                // Gaps are mostly filled by the filter (a cluster may stay).
+                assert!(nan * 10 < nan_points.max(1), "{name}: {nan} NaN left");
+                assert_eq!(height.dx_m, 20e-6);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_stitched_map_can_come_from_the_height_input() {
+    let map = Field::new(rough(128, 0.5), 1e-6, 1e-6).unwrap();
+    let p = SurfaceParams {
+        resolution_m: 0.0,
+        ..Default::default()
+    };
+    let out = run(&p, Inputs::new().with("height", Product::Field(map))).unwrap();
+    let Some(Product::Table(stitch)) = out.get("stitch") else {
+        panic!("no stitch")
+    };
+    assert_eq!(stitch.n_rows(), 0);
+    let Some(Product::Field(h)) = out.get("height") else {
+        panic!("no height")
+    };
+    assert_eq!(h.values.dim(), (128, 128));
+}

@@ -1,0 +1,53 @@
+//! Truncation of a 4096 × 4096 self-affine map at 1000 levels (target:
+//! under 5 s) against the brute force of relabelling the map at each level.
+//!
+//! The brute force is timed on 20 of the 1000 levels (every 50th, at the
+//! middle of each block of 50, so the touched fractions span 0 … 1 evenly);
+//! its full cost is that time × 50, an extrapolation, said as such.
+//!
+//! Run: `cargo bench -p hypercontact-truncation --bench truncation`
+
+use std::hint::black_box;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use hypercontact_truncation::flood_fill::label_at;
+use hypercontact_truncation::self_affine::self_affine_map;
+use hypercontact_truncation::{Connectivity, Levels, TruncationOptions, truncate};
+
+const N: usize = 4096;
+const LEVELS: u32 = 1000;
+
+fn truncation_4096(c: &mut Criterion) {
+    let h = self_affine_map(N, N, 2e-5, 0.8, 1e-5, 4096);
+    let options = TruncationOptions {
+        levels: Levels::Count(LEVELS),
+        ..Default::default()
+    };
+    let mut group = c.benchmark_group("truncation_4096x4096_1000_levels");
+    group.sample_size(10);
+    group.bench_function("union_find_one_sweep", |b| {
+        b.iter(|| truncate(black_box(h.view()), 2e-5, 2e-5, &options, &mut |_| {}).unwrap())
+    });
+
+    let h_min = h.iter().copied().fold(f64::INFINITY, f64::min);
+    let above = h.mapv(|v| v - h_min);
+    let z_max = above.iter().copied().fold(0.0, f64::max);
+    let sampled: Vec<f64> = (0..LEVELS / 50)
+        .map(|block| {
+            let k = block * 50 + 25;
+            z_max * f64::from(LEVELS - k) / f64::from(LEVELS)
+        })
+        .collect();
+    group.bench_function("flood_fill_20_of_1000_levels", |b| {
+        b.iter(|| {
+            sampled
+                .iter()
+                .map(|&z| label_at(black_box(above.view()), z, Connectivity::Eight).1)
+                .sum::<usize>()
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, truncation_4096);
+criterion_main!(benches);

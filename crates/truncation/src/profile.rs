@@ -1,0 +1,380 @@
+//! Profile theory (Abbott and Firestone; the paper's section 4, Eq. 3): a
+//! plane at height z above the lowest point touches every pixel with
+//! h ≥ z. A(z) is the touched area, N(z) the number of connected touched
+//! patches and r(z) = sqrt(A / (π N)) their equivalent radius.
+//!
+//! All levels come from ONE sweep: the measured pixels are sorted by height
+//! once, added from the top down, and joined to their touched neighbours in
+//! a union–find ([`PixelSets`]); A and N are read off whenever the next plane
+//! is passed. N changes by +1 per added pixel and −1 per successful union.
+//! The map is not periodic: pixels on opposite edges are not neighbours (as
+//! in MATLAB's `bwlabel`).
+//!
+//! Conventions: σ is the rms height about the mean of the measured (non-NaN)
+//! points; A0 = (number of measured points) · dx · dy, so NaN holes count
+//! neither in A nor in A0 and A/A0 reaches 1 at z = 0.
+
+use ndarray::ArrayView2;
+use rayon::slice::ParallelSliceMut;
+
+use crate::TruncationError;
+use crate::levels::{Connectivity, Levels};
+use crate::union_find::{MAX_PIXELS, PixelSets};
+
+/// How to truncate a map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TruncationOptions {
+    pub levels: Levels,
+    pub connectivity: Connectivity,
+    /// Area fractions at which every patch's area is recorded: at the first
+    /// plane (from the top) whose A/A0 reaches each of them.
+    pub patch_fractions: Vec<f64>,
+}
+
+impl Default for TruncationOptions {
+    fn default() -> Self {
+        Self {
+            levels: Levels::default(),
+            connectivity: Connectivity::default(),
+            patch_fractions: vec![0.01, 0.1, 0.3, 0.5],
+        }
+    }
+}
+
+/// Every patch's area at one plane.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PatchSnapshot {
+    /// The area fraction asked for.
+    pub target_area_fraction: f64,
+    /// The row of the profile where it was taken.
+    pub level: usize,
+    /// Patch areas, largest first, m².
+    pub patch_areas_m2: Vec<f64>,
+}
+
+/// The truncation profile, one entry per plane, top down.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Profile {
+    /// Plane height above the lowest measured point, m.
+    pub z_m: Vec<f64>,
+    /// Touched area A, m².
+    pub area_m2: Vec<f64>,
+    /// A / A0.
+    pub area_fraction: Vec<f64>,
+    /// Connected touched patches N.
+    pub patches: Vec<u64>,
+    /// Eq. (3): r = sqrt(A / (π N)), m; 0 where N = 0.
+    pub radius_m: Vec<f64>,
+    /// RMS height about the mean of the measured points, m.
+    pub sigma_m: f64,
+    /// Nominal area A0 = measured points · dx · dy, m².
+    pub nominal_area_m2: f64,
+    pub measured_points: usize,
+    pub snapshots: Vec<PatchSnapshot>,
+}
+
+/// Truncates `heights` (axis 0 = x, metres, NaN = not measured) at every
+/// plane of `options.levels`. `progress` receives the number of pixels added
+/// since its last call.
+pub fn truncate(
+    heights: ArrayView2<f64>,
+    dx_m: f64,
+    dy_m: f64,
+    options: &TruncationOptions,
+    progress: &mut dyn FnMut(u64),
+) -> Result<Profile, TruncationError> {
+    let (nx, ny) = heights.dim();
+    // The sets live on the map framed by one never-touched pixel on every
+    // side, so neighbours need no bounds checks: index (ix+1)·(ny+2) + iy+1.
+    let stride = ny + 2;
+    if (nx + 2) * stride > MAX_PIXELS {
+        return Err(TruncationError::TooLarge { nx, ny });
+    }
+    let heights = heights.as_standard_layout();
+    let flat = heights
+        .as_slice()
+        .expect("a standard-layout array is contiguous");
+    if let Some(i) = flat.iter().position(|h| h.is_infinite()) {
+        return Err(TruncationError::NonFinite {
+            ix: i / ny,
+            iy: i % ny,
+            value: flat[i],
+        });
+    }
+
+    // Measured pixels as (height above the lowest point, index), top first.
+    let h_min = flat
+        .iter()
+        .copied()
+        .filter(|h| !h.is_nan())
+        .fold(f64::INFINITY, f64::min);
+    if h_min == f64::INFINITY {
+        return Err(TruncationError::NothingMeasured);
+    }
+    let mut order: Vec<(f64, u32)> = flat
+        .iter()
+        .enumerate()
+        .filter(|(_, h)| !h.is_nan())
+        .map(|(i, &h)| (h - h_min, ((i / ny + 1) * stride + i % ny + 1) as u32))
+        .collect();
+    order.par_sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+    let measured = order.len();
+    let z_max_m = order[0].0;
+    if z_max_m <= 0.0 {
+        return Err(TruncationError::Flat);
+    }
+    let sigma_m = rms_about_mean(flat);
+    let pixel_area_m2 = dx_m * dy_m;
+    let nominal_area_m2 = measured as f64 * pixel_area_m2;
+
+    let planes = options
+        .levels
+        .planes_m(order.iter().map(|&(h, _)| h), z_max_m);
+    let mut targets: Vec<f64> = options.patch_fractions.clone();
+    targets.sort_by(f64::total_cmp);
+    let mut targets = targets.into_iter().peekable();
+
+    let offsets: Vec<isize> = options
+        .connectivity
+        .offsets()
+        .iter()
+        .map(|&(ox, oy)| ox * stride as isize + oy)
+        .collect();
+    let mut sets = PixelSets::new((nx + 2) * stride);
+    let mut profile = Profile {
+        z_m: Vec::with_capacity(planes.len()),
+        area_m2: Vec::with_capacity(planes.len()),
+        area_fraction: Vec::with_capacity(planes.len()),
+        patches: Vec::with_capacity(planes.len()),
+        radius_m: Vec::with_capacity(planes.len()),
+        sigma_m,
+        nominal_area_m2,
+        measured_points: measured,
+        snapshots: Vec::new(),
+    };
+    let mut added = 0_usize;
+    let mut patches = 0_u64;
+    for (level, &z_m) in planes.iter().enumerate() {
+        let before = added;
+        while added < measured && order[added].0 >= z_m {
+            let pixel = order[added].1;
+            sets.touch(pixel);
+            patches += 1;
+            // The new pixel's root, kept current so it is found only once.
+            let mut root = pixel;
+            for &offset in &offsets {
+                let neighbour = pixel.wrapping_add_signed(offset as i32);
+                if sets.is_touched(neighbour) {
+                    let other = sets.find(neighbour);
+                    if other != root {
+                        root = sets.link(root, other);
+                        patches -= 1;
+                    }
+                }
+            }
+            added += 1;
+        }
+        progress((added - before) as u64);
+
+        let area_m2 = added as f64 * pixel_area_m2;
+        let area_fraction = added as f64 / measured as f64;
+        profile.z_m.push(z_m);
+        profile.area_m2.push(area_m2);
+        profile.area_fraction.push(area_fraction);
+        profile.patches.push(patches);
+        profile.radius_m.push(if patches == 0 {
+            0.0
+        } else {
+            (area_m2 / (std::f64::consts::PI * patches as f64)).sqrt()
+        });
+
+        while let Some(&target) = targets.peek() {
+            if area_fraction < target {
+                break;
+            }
+            let mut sizes = sets.set_sizes();
+            sizes.sort_unstable_by(|a, b| b.cmp(a));
+            profile.snapshots.push(PatchSnapshot {
+                target_area_fraction: target,
+                level,
+                patch_areas_m2: sizes
+                    .into_iter()
+                    .map(|s| f64::from(s) * pixel_area_m2)
+                    .collect(),
+            });
+            targets.next();
+        }
+    }
+    Ok(profile)
+}
+
+/// RMS about the mean of the non-NaN values.
+fn rms_about_mean(values: &[f64]) -> f64 {
+    let (mut n, mut sum) = (0_usize, 0.0);
+    for &h in values.iter().filter(|h| !h.is_nan()) {
+        n += 1;
+        sum += h;
+    }
+    let mean = sum / n as f64;
+    let sq: f64 = values
+        .iter()
+        .filter(|h| !h.is_nan())
+        .map(|h| (h - mean) * (h - mean))
+        .sum();
+    (sq / n as f64).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::flood_fill::label_at;
+    use ndarray::{Array2, array};
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    fn run(h: &Array2<f64>, levels: Levels, connectivity: Connectivity) -> Profile {
+        let options = TruncationOptions {
+            levels,
+            connectivity,
+            ..Default::default()
+        };
+        truncate(h.view(), 1.0, 1.0, &options, &mut |_| {}).unwrap()
+    }
+
+    /// Compares every level with an independent flood-fill labelling.
+    fn check_against_flood_fill(h: &Array2<f64>, levels: Levels) {
+        let h_min = h
+            .iter()
+            .copied()
+            .filter(|v| !v.is_nan())
+            .fold(f64::INFINITY, f64::min);
+        // Heights above the lowest point, as the profile defines them.
+        let above = h.mapv(|v| v - h_min);
+        for connectivity in [Connectivity::Four, Connectivity::Eight] {
+            let p = run(h, levels, connectivity);
+            for (k, &z) in p.z_m.iter().enumerate() {
+                let (touched, patches) = label_at(above.view(), z, connectivity);
+                assert_eq!(
+                    p.area_m2[k], touched as f64,
+                    "A at level {k} ({connectivity:?})"
+                );
+                assert_eq!(
+                    p.patches[k], patches as u64,
+                    "N at level {k}, z = {z} ({connectivity:?})\n{h:?}"
+                );
+            }
+        }
+    }
+
+    fn random_map(rng: &mut ChaCha8Rng, nx: usize, ny: usize) -> Array2<f64> {
+        Array2::from_shape_fn((nx, ny), |_| rng.random::<f64>() * 1e-5)
+    }
+
+    #[test]
+    fn random_maps_match_flood_fill_at_every_level() {
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        for (nx, ny) in [(1, 1), (1, 9), (7, 1), (13, 17), (24, 19)] {
+            let mut h = random_map(&mut rng, nx, ny);
+            h[[0, 0]] += 1e-5; // a single-pixel map must not be flat
+            if nx * ny > 1 {
+                check_against_flood_fill(&h, Levels::Count(37));
+                check_against_flood_fill(&h, Levels::All);
+            }
+        }
+    }
+
+    #[test]
+    fn plateaus_match_flood_fill() {
+        // Four height values only: every plane cuts through ties.
+        let mut rng = ChaCha8Rng::seed_from_u64(2);
+        for _ in 0..5 {
+            let h = Array2::from_shape_fn((21, 16), |_| f64::from(rng.random_range(0..4_u8)));
+            check_against_flood_fill(&h, Levels::All);
+            check_against_flood_fill(&h, Levels::Count(3));
+            check_against_flood_fill(&h, Levels::Count(12));
+        }
+    }
+
+    #[test]
+    fn nan_holes_match_flood_fill_and_never_touch() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        for _ in 0..5 {
+            let mut h = random_map(&mut rng, 19, 23);
+            for v in h.iter_mut() {
+                if rng.random::<f64>() < 0.25 {
+                    *v = f64::NAN;
+                }
+            }
+            check_against_flood_fill(&h, Levels::Count(50));
+            check_against_flood_fill(&h, Levels::All);
+            let p = run(&h, Levels::Count(10), Connectivity::Eight);
+            let measured = h.iter().filter(|v| !v.is_nan()).count();
+            assert_eq!(p.measured_points, measured);
+            assert_eq!(*p.area_fraction.last().unwrap(), 1.0);
+            assert_eq!(*p.area_m2.last().unwrap(), measured as f64);
+        }
+    }
+
+    #[test]
+    fn diagonal_pixels_join_only_with_eight_connectivity() {
+        let h = array![[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0]];
+        let four = run(&h, Levels::Count(2), Connectivity::Four);
+        let eight = run(&h, Levels::Count(2), Connectivity::Eight);
+        assert_eq!(four.patches, [3, 3, 1]);
+        assert_eq!(eight.patches, [1, 1, 1]);
+        assert_eq!(four.area_m2, [3.0, 3.0, 9.0]);
+        let r = (3.0 / (std::f64::consts::PI * 3.0)).sqrt();
+        assert!((four.radius_m[0] - r).abs() < 1e-15);
+    }
+
+    #[test]
+    fn statistics_and_snapshot_follow_the_documented_conventions() {
+        let h = array![[1.0, 3.0], [f64::NAN, 5.0]];
+        let options = TruncationOptions {
+            levels: Levels::Count(4),
+            connectivity: Connectivity::Four,
+            patch_fractions: vec![0.5, 0.01],
+        };
+        let p = truncate(h.view(), 2.0, 3.0, &options, &mut |_| {}).unwrap();
+        // Heights above the lowest: 0, 2, 4; mean 3, σ² = (4 + 0 + 4) / 3.
+        assert_eq!(p.z_m, [4.0, 3.0, 2.0, 1.0, 0.0]);
+        assert!((p.sigma_m - (8.0_f64 / 3.0).sqrt()).abs() < 1e-15);
+        assert_eq!(p.nominal_area_m2, 18.0);
+        assert_eq!(p.area_m2, [6.0, 6.0, 12.0, 12.0, 18.0]);
+        assert_eq!(p.snapshots.len(), 2);
+        assert_eq!(p.snapshots[0].target_area_fraction, 0.01);
+        assert_eq!(p.snapshots[0].level, 0);
+        assert_eq!(p.snapshots[1].level, 2);
+        assert_eq!(p.snapshots[1].patch_areas_m2, [12.0]);
+    }
+
+    #[test]
+    fn bad_maps_are_named_errors() {
+        let none = truncate(
+            array![[f64::NAN]].view(),
+            1.0,
+            1.0,
+            &TruncationOptions::default(),
+            &mut |_| {},
+        );
+        assert!(matches!(none, Err(TruncationError::NothingMeasured)));
+        let flat = truncate(
+            array![[2.0, 2.0]].view(),
+            1.0,
+            1.0,
+            &TruncationOptions::default(),
+            &mut |_| {},
+        );
+        assert!(matches!(flat, Err(TruncationError::Flat)));
+        let inf = truncate(
+            array![[2.0, 1.0], [f64::INFINITY, 0.0]].view(),
+            1.0,
+            1.0,
+            &TruncationOptions::default(),
+            &mut |_| {},
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(inf.contains("[1, 0]"), "{inf}");
+    }
+}
