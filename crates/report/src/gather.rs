@@ -184,8 +184,8 @@ fn read_curves(table: &Table) -> Result<Vec<ModeCurve>, ReportError> {
         .str("mode")
         .map_err(|e| ReportError::table(input, e))?;
     let stretch = finite_column(input, table, "stretch")?;
-    let measured = finite_column(input, table, "measured")?;
-    let fitted = finite_column(input, table, "fitted")?;
+    let measured = finite_column(input, table, "measured_pa")?;
+    let fitted = finite_column(input, table, "fitted_pa")?;
     let mut labels: Vec<&String> = Vec::new();
     for m in modes {
         if !labels.contains(&m) {
@@ -406,8 +406,8 @@ mod tests {
         let t = Table::new()
             .with("mode", vec!["BT", "UT", "UT", "PT"])
             .with("stretch", vec![1.5, 2.0, 1.2, 1.1])
-            .with("measured", vec![3.0, 2.0, 1.0, 0.5])
-            .with("fitted", vec![3.1, 2.1, 1.1, 0.6]);
+            .with("measured_pa", vec![3.0, 2.0, 1.0, 0.5])
+            .with("fitted_pa", vec![3.1, 2.1, 1.1, 0.6]);
         let curves = read_curves(&t).unwrap();
         let modes: Vec<&str> = curves.iter().map(|c| c.mode.as_str()).collect();
         assert_eq!(modes, ["UT", "PT", "BT"]);

@@ -61,8 +61,8 @@ pub struct Report;
 const CURVES: &[ColumnSpec] = &[
     ColumnSpec::str("mode", "UT, PT or BT"),
     ColumnSpec::f64("stretch", "", "stretch λ"),
-    ColumnSpec::f64("measured", "Pa", "measured nominal stress"),
-    ColumnSpec::f64("fitted", "Pa", "fitted nominal stress"),
+    ColumnSpec::f64("measured_pa", "Pa", "measured nominal stress"),
+    ColumnSpec::f64("fitted_pa", "Pa", "fitted nominal stress"),
 ];
 const QUALITY: &[ColumnSpec] = &[
     ColumnSpec::str("mode", "UT, PT or BT"),

@@ -56,8 +56,8 @@ pub fn curves(points_per_mode: usize) -> Table {
     Table::new()
         .with("mode", mode)
         .with("stretch", stretch)
-        .with("measured", measured)
-        .with("fitted", fitted)
+        .with("measured_pa", measured)
+        .with("fitted_pa", fitted)
 }
 
 pub fn quality() -> Table {
