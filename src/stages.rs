@@ -141,8 +141,6 @@ fn wrap(text: &str, width: usize) -> Vec<String> {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
-
     /// Every documented parameter exists in the defaults and every default
     /// is documented, so `stages` never drifts from the code.
     #[test]

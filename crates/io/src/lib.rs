@@ -48,9 +48,9 @@ pub fn write_parquet<W: Write>(table: &Table, writer: W) -> Result<(), IoError> 
 
 /// Reads a Parquet file into a table. Integer columns become `i64`, float
 /// columns `f64` (nulls read as NaN), strings `str`.
-pub fn read_parquet<R: Read + Seek + Send + Sync + 'static>(reader: R) -> Result<Table, IoError>
+pub fn read_parquet<R>(reader: R) -> Result<Table, IoError>
 where
-    R: polars::io::mmap::MmapBytesReader,
+    R: Read + Seek + Send + Sync + 'static + polars::io::mmap::MmapBytesReader,
 {
     let frame = ParquetReader::new(reader).finish()?;
     let mut table = Table::new();

@@ -66,7 +66,7 @@ pub enum RunError {
         stage: String,
         kind: String,
         #[source]
-        source: hypercontact_core::StageError,
+        source: Box<hypercontact_core::StageError>,
     },
     #[error("stage `{stage}` ({kind}) broke its output contract: {message}")]
     Contract {
@@ -229,7 +229,7 @@ pub fn run_with_hook(
                         file: pipeline.file.clone(),
                         stage: planned.name.clone(),
                         kind: planned.kind.clone(),
-                        source,
+                        source: Box::new(source),
                     })?;
                 let compute_s = t_compute.elapsed().as_secs_f64();
                 check_contract(planned, decl.stage.info(), &outputs)?;
