@@ -205,8 +205,9 @@ pub fn run_with_hook(
         let forced = matches!(planned.reason, Reason::Forced);
 
         // A hit needs no lock: entries appear by rename, whole or not at all.
-        let mut manifest = match (&planned.reason, cache.check(&planned.key)) {
-            (r, EntryState::Valid(m)) if !matches!(r, Reason::Forced) => Some(*m),
+        // The plan already verified a cached entry; reuse that check.
+        let mut manifest = match planned.reason {
+            Reason::Cached => planned.manifest.clone(),
             _ => None,
         };
         let mut use_ = CacheUse::Hit;

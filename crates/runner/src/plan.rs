@@ -13,7 +13,7 @@ use std::fmt;
 use hypercontact_core::stage::Arity;
 use hypercontact_core::{ProductKind, StageInfo};
 
-use crate::cache::{Cache, EntryState};
+use crate::cache::{Cache, EntryState, Manifest};
 use crate::hash::{canonical_json, path_hash, text_hash};
 use crate::pipeline::{Pipeline, PipelineError, StageDecl};
 use crate::provenance::{InputRecord, Provenance, StageRecord};
@@ -78,6 +78,9 @@ pub struct PlannedStage {
     pub inputs: Vec<ResolvedInput>,
     pub runs: bool,
     pub reason: Reason,
+    /// The verified entry when the plan found one, so the run need not hash
+    /// its files a second time.
+    pub manifest: Option<Manifest>,
 }
 
 impl PlannedStage {
@@ -179,6 +182,10 @@ impl Plan {
                 inputs,
                 runs: run,
                 reason,
+                manifest: match &state {
+                    EntryState::Valid(m) => Some((**m).clone()),
+                    _ => None,
+                },
             });
         }
         Ok(Plan { stages })
