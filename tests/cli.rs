@@ -294,28 +294,137 @@ fn a_killed_run_leaves_a_usable_cache() {
     assert!(!ls.contains("(unreadable)"), "{ls}");
 }
 
-#[test]
-fn the_paper_pipeline_runs_from_a_fresh_cache() {
-    let t = tempfile::tempdir().unwrap();
-    let out = bin()
+/// `hypercontact run PIPELINE` into a temp folder's out/ and cache/.
+fn run_pipeline(dir: &Path, pipeline: &str, extra: &[&str]) -> Output {
+    bin()
         .arg("run")
-        .arg(repo().join("pipelines/paper.yaml"))
+        .arg(repo().join(pipeline))
         .arg("--out")
-        .arg(t.path().join("out"))
+        .arg(dir.join("out"))
         .arg("--cache")
-        .arg(t.path().join("cache"))
+        .arg(dir.join("cache"))
+        .args(extra)
         .output()
-        .unwrap();
+        .unwrap()
+}
+
+fn parquet(dir: &Path, file: &str) -> hypercontact_core::Table {
+    hypercontact_io::read_parquet_file(&dir.join("out").join(file)).unwrap()
+}
+
+#[test]
+fn the_tensile_csv_pipeline_fits_and_reports() {
+    let t = tempfile::tempdir().unwrap();
+    let out = run_pipeline(t.path(), "pipelines/tensile-csv.yaml", &[]);
     assert!(out.status.success(), "{}", text(&out));
-    assert!(text(&out).contains("7 ran, 0 cached"), "{}", text(&out));
-    let fit =
-        hypercontact_io::read_parquet_file(&t.path().join("out/fit/quality.parquet")).unwrap();
+    assert!(text(&out).contains("3 ran, 0 cached"), "{}", text(&out));
+    let fit = parquet(t.path(), "fit/quality.parquet");
     assert!(fit.f64("r2").unwrap().iter().all(|r2| *r2 > 0.99));
-    let hyper =
-        hypercontact_io::read_parquet_file(&t.path().join("out/contact/response.parquet")).unwrap();
-    let ratio = hyper.f64("tangent_ratio").unwrap();
+    let html = std::fs::read_to_string(t.path().join("out/report/index.html")).unwrap();
+    assert!(html.contains("fig2.svg"));
+}
+
+/// The quick version of the paper pipeline, end to end: DIC → fit, T1–T4
+/// scans → surface → truncation → ICM → report (issue 7's checks).
+#[test]
+fn the_quick_paper_pipeline_writes_the_report() {
+    let t = tempfile::tempdir().unwrap();
+    let out = run_pipeline(t.path(), "pipelines/quick.yaml", &[]);
+    assert!(out.status.success(), "{}", text(&out));
+    assert!(text(&out).contains("28 ran, 0 cached"), "{}", text(&out));
+    let report = t.path().join("out/report");
+
+    // Every figure as a real PNG and SVG, referenced by the page.
+    let html = std::fs::read_to_string(report.join("index.html")).unwrap();
+    for fig in ["fig2", "fig4", "fig7", "fig8"] {
+        let png = std::fs::read(report.join(format!("{fig}.png"))).unwrap();
+        assert!(
+            png.starts_with(b"\x89PNG\r\n\x1a\n") && png.len() > 20_000,
+            "{fig}.png"
+        );
+        let decoded = image::load_from_memory(&png).unwrap();
+        assert!(
+            decoded.width() >= 800,
+            "{fig}.png is {} px wide",
+            decoded.width()
+        );
+        let svg = std::fs::read_to_string(report.join(format!("{fig}.svg"))).unwrap();
+        assert!(svg.contains("<svg") && svg.trim_end().ends_with("</svg>") && svg.len() > 8_000);
+        assert!(
+            html.contains(&format!("href=\"{fig}.png\"")),
+            "{fig} not linked"
+        );
+    }
+    // The provenance of every upstream stage is on the page.
+    for stage in ["ut-dic", "fit", "t4-scan", "t3-trunc", "t1-icm-linear"] {
+        assert!(
+            html.contains(&format!("<td>{stage}</td>")),
+            "{stage} not in provenance"
+        );
+    }
+
+    // summary.json repeats the upstream tables' numbers.
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(report.join("summary.json")).unwrap()).unwrap();
+    let samples = summary["samples"].as_array().unwrap();
+    assert_eq!(samples.len(), 4);
+    let mut at_half = Vec::new();
+    for (k, sample) in samples.iter().enumerate() {
+        let label = format!("T{}", k + 1);
+        assert_eq!(sample["label"], label.as_str());
+        let stats = parquet(t.path(), &format!("t{}/stats.parquet", k + 1));
+        for column in ["sigma_m", "rms_slope", "hurst_x", "hurst_y"] {
+            assert_eq!(
+                sample[column].as_f64().unwrap(),
+                stats.f64(column).unwrap()[0],
+                "{label} {column}"
+            );
+        }
+        // F/(E0* A0) at A/A0 = 0.5, against the ICM table read directly.
+        let response = parquet(t.path(), &format!("t{}-icm/response.parquet", k + 1));
+        let (a, f) = (
+            response.f64("area_fraction").unwrap(),
+            response.f64("load_norm").unwrap(),
+        );
+        let i = a.iter().position(|&x| x >= 0.5).unwrap();
+        let expected = f[i - 1] + (f[i] - f[i - 1]) * (0.5 - a[i - 1]) / (a[i] - a[i - 1]);
+        let found = sample["load_norm"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|l| l["area_fraction"] == 0.5)
+            .unwrap()["hyperelastic"]
+            .as_f64()
+            .unwrap();
+        assert!(
+            (found / expected - 1.0).abs() < 1e-12,
+            "{label}: {found} vs {expected}"
+        );
+        at_half.push(found);
+    }
+    // The paper's ordering: F_T1 > F_T2 > F_T3 > F_T4 at equal area.
     assert!(
-        ratio.iter().all(|r| (1.99..3.0).contains(r)),
-        "E_t*/E0* outside [2, 3]"
+        at_half.windows(2).all(|w| w[0] > w[1]),
+        "F/(E0* A0) at A/A0 = 0.5: {at_half:?}"
+    );
+
+    // A second run is all cache; one sample's truncation changed reruns
+    // exactly that sample's downstream stages and the report.
+    let again = run_pipeline(t.path(), "pipelines/quick.yaml", &[]);
+    assert!(
+        text(&again).contains("0 ran, 28 cached"),
+        "{}",
+        text(&again)
+    );
+    let changed = run_pipeline(
+        t.path(),
+        "pipelines/quick.yaml",
+        &["--set", "t3-trunc.levels=500"],
+    );
+    assert!(changed.status.success(), "{}", text(&changed));
+    assert!(
+        text(&changed).contains("4 ran, 24 cached"),
+        "{}",
+        text(&changed)
     );
 }

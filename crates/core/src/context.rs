@@ -49,6 +49,7 @@ pub struct Context<'a> {
     stage: String,
     multi: Option<&'a MultiProgress>,
     reader: &'a dyn ProductReader,
+    upstream: Option<serde_json::Value>,
 }
 
 impl<'a> Context<'a> {
@@ -59,6 +60,7 @@ impl<'a> Context<'a> {
             stage: stage.to_owned(),
             multi: None,
             reader: &BasicReader,
+            upstream: None,
         }
     }
 
@@ -72,7 +74,23 @@ impl<'a> Context<'a> {
             stage: stage.to_owned(),
             multi,
             reader,
+            upstream: None,
         }
+    }
+
+    /// Attaches the record of the stages this one depends on (kinds,
+    /// versions, parameters, cache keys, input-file hashes, compute times),
+    /// as the runner knows it: what a report prints as its provenance. It is
+    /// a function of the upstream cache keys, so it never makes a cached
+    /// result stale.
+    pub fn with_upstream(mut self, record: serde_json::Value) -> Self {
+        self.upstream = Some(record);
+        self
+    }
+
+    /// The upstream record, when a runner supplied one.
+    pub fn upstream(&self) -> Option<&serde_json::Value> {
+        self.upstream.as_ref()
     }
 
     /// The stage's name in the pipeline.

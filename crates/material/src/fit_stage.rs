@@ -5,7 +5,7 @@
 
 use hypercontact_core::{
     Arity, ColumnSpec, Context, InputSpec, Inputs, OutputSpec, Outputs, ParamDoc, ParamError,
-    Params, ProductKind, Stage, StageError, StageInfo, Table,
+    Params, Product, ProductKind, Stage, StageError, StageInfo, Table,
 };
 use serde::{Deserialize, Serialize};
 
@@ -262,9 +262,10 @@ static INFO: StageInfo = StageInfo {
     inputs: &[InputSpec {
         name: "tensile",
         kind: ProductKind::Table,
-        arity: Arity::One,
+        arity: Arity::Many,
         columns: TENSILE_COLUMNS,
-        doc: "UT/PT/BT stress–stretch data (tensile-table or the DIC stage)",
+        doc: "UT/PT/BT stress–stretch data (tensile-table or the DIC stage): one table \
+              (`tensile: csv`) or several fitted together (`tensile: { UT: dic-ut, PT: dic-pt }`)",
     }],
     outputs: &[
         OutputSpec {
@@ -306,6 +307,31 @@ static INFO: StageInfo = StageInfo {
     ],
 };
 
+/// Every table bound to `tensile`, single or labelled, as one data set.
+fn gather_tensile(inputs: &Inputs) -> Result<TensileData, StageError> {
+    let mut tables: Vec<(String, &Table)> = Vec::new();
+    if inputs.get("tensile").is_some() {
+        tables.push(("input `tensile`".to_owned(), inputs.table("tensile")?));
+    }
+    for (label, product) in inputs.labelled("tensile") {
+        let Product::Table(t) = product else {
+            return Err(StageError::invalid(format!(
+                "input `tensile.{label}` is a {}, expected a table",
+                product.kind()
+            )));
+        };
+        tables.push((format!("input `tensile.{label}`"), t));
+    }
+    if tables.is_empty() {
+        return Err(StageError::MissingInput("tensile".to_owned()));
+    }
+    let mut data = TensileData::default();
+    for (origin, table) in tables {
+        data.extend(TensileData::from_table(table, &origin).map_err(StageError::other)?);
+    }
+    Ok(data)
+}
+
 impl Stage for MaterialFit {
     type Params = MaterialFitParams;
 
@@ -315,8 +341,7 @@ impl Stage for MaterialFit {
 
     fn run(&self, p: &Self::Params, inputs: &Inputs, ctx: &Context) -> Result<Outputs, StageError> {
         let family = Family::parse(&p.model).map_err(StageError::other)?;
-        let data = TensileData::from_table(inputs.table("tensile")?, "input `tensile`")
-            .map_err(StageError::other)?;
+        let data = gather_tensile(inputs)?;
         let options = p.options();
         let chosen = fit(&data, family, &options).map_err(StageError::other)?;
         let model = chosen.model.as_ref();

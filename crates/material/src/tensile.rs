@@ -52,6 +52,22 @@ impl TensileData {
         self.curves.iter().map(TensileCurve::len).sum()
     }
 
+    /// Adds another data set's points: curves of a mode already present are
+    /// extended (repeat tests of one mode fit together).
+    pub fn extend(&mut self, other: TensileData) {
+        for curve in other.curves {
+            match self.curves.iter_mut().find(|c| c.mode == curve.mode) {
+                Some(mine) => {
+                    mine.stretch.extend(curve.stretch);
+                    mine.stress_pa.extend(curve.stress_pa);
+                }
+                None => self.curves.push(curve),
+            }
+        }
+        self.curves
+            .sort_by_key(|c| Mode::ALL.iter().position(|m| *m == c.mode));
+    }
+
     /// "UT 24, PT 13, BT 16": the point counts for messages.
     pub fn counts(&self) -> String {
         Mode::ALL

@@ -96,10 +96,10 @@ pub fn generic_table(caption: &str, table: &Table) -> String {
     simple_table(caption, &header, &rows)
 }
 
-/// The provenance section at the bottom of the page. The runner does not
-/// hand provenance to stages yet, so the stage passes `None` and a
-/// placeholder is shown; a caller that has the run's record (versions,
-/// parameters, input hashes, timings) passes it as JSON.
+/// The provenance section at the bottom of the page: the record the runner
+/// hands the stage (versions, parameters, keys, input-file hashes, compute
+/// times of every upstream stage), or a placeholder when the report is
+/// rendered outside a run.
 pub fn provenance_section(provenance: Option<&serde_json::Value>) -> String {
     let mut html = String::from("<section id=\"provenance\">\n<h2>Provenance</h2>\n");
     match provenance {
@@ -129,15 +129,72 @@ pub fn provenance_section(provenance: Option<&serde_json::Value>) -> String {
                     ));
                 }
             }
+            if let Some(upstream) = value.get("upstream").and_then(|u| u.as_object()) {
+                html.push_str(&upstream_table(upstream));
+            }
             let pretty = serde_json::to_string_pretty(value).unwrap_or_else(|_| value.to_string());
             html.push_str(&format!(
-                "<details open><summary>Full record (JSON)</summary>\n<pre>{}</pre>\n</details>\n",
+                "<details><summary>Full record (JSON)</summary>\n<pre>{}</pre>\n</details>\n",
                 escape(&pretty)
             ));
         }
     }
     html.push_str("</section>\n");
     html
+}
+
+/// One row per upstream stage: what made the numbers on this page.
+fn upstream_table(upstream: &serde_json::Map<String, serde_json::Value>) -> String {
+    let text = |v: Option<&serde_json::Value>| match v {
+        Some(serde_json::Value::String(s)) => s.clone(),
+        Some(other) => other.to_string(),
+        None => String::new(),
+    };
+    let rows: Vec<Vec<String>> = upstream
+        .iter()
+        .map(|(name, r)| {
+            let key = text(r.get("key"));
+            let files = r
+                .get("files_blake3")
+                .and_then(|f| f.as_object())
+                .map(|f| {
+                    f.iter()
+                        .map(|(path, hash)| {
+                            let hash = text(Some(hash));
+                            format!("{path} ({})", &hash[..hash.len().min(12)])
+                        })
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                })
+                .unwrap_or_default();
+            let compute_s = r
+                .get("compute_s")
+                .and_then(|v| v.as_f64())
+                .unwrap_or(f64::NAN);
+            vec![
+                escape(name),
+                escape(&format!(
+                    "{} v{}",
+                    text(r.get("kind")),
+                    text(r.get("version"))
+                )),
+                format!("<code>{}</code>", escape(&key[..key.len().min(12)])),
+                format!("{compute_s:.2}"),
+                escape(&text(r.get("params"))),
+                escape(&files),
+            ]
+        })
+        .collect();
+    let header = [
+        "stage",
+        "kind",
+        "cache key",
+        "compute s",
+        "parameters",
+        "input files (BLAKE3)",
+    ]
+    .map(str::to_owned);
+    simple_table("Stages behind this report", &header, &rows)
 }
 
 /// The page around `body`: inline style only, sized for reading and
@@ -167,6 +224,7 @@ pub fn page(title: &str, body: &str) -> String {
   th:first-child, td:first-child {{ text-align: left; }}
   .note {{ color: #555; font-size: 9.5pt; }}
   .skipped {{ background: #f6f6f6; border-left: 3px solid #999; padding: 4px 10px; }}
+  #provenance td {{ text-align: left; overflow-wrap: anywhere; font-size: 8pt; vertical-align: top; }}
   pre {{ font-size: 8pt; white-space: pre-wrap; background: #f6f6f6; padding: 6px; }}
   @media print {{ body {{ margin: 0 auto; }} h2 {{ page-break-after: avoid; }} }}
 </style>

@@ -227,7 +227,7 @@ impl Stage for Report {
             area_fractions: p.area_fractions.clone(),
         };
         let progress = ctx.progress(1, "figures and page");
-        let files = render_report(inputs, &options, None)?;
+        let files = render_report(inputs, &options, ctx.upstream())?;
         progress.inc(1);
         let skipped: Vec<&str> = ["fig2", "fig4", "fig7", "fig8"]
             .into_iter()

@@ -221,7 +221,8 @@ pub fn run_with_hook(
                 manifest = Some(*m);
             } else {
                 let inputs = gather_inputs(planned, &cache, &manifests, &mut products)?;
-                let ctx = Context::with(&planned.name, multi.as_ref(), &reader);
+                let ctx = Context::with(&planned.name, multi.as_ref(), &reader)
+                    .with_upstream(upstream_record(pipeline, &plan, planned, &provenance));
                 let t_compute = Instant::now();
                 let outputs = decl
                     .stage
@@ -412,4 +413,55 @@ fn write_entry(
     };
     cache.commit(&staging, &manifest).map_err(cache_err)?;
     Ok(manifest)
+}
+
+/// What a stage may know of the stages it depends on, transitively: kind,
+/// version, key, parameters, input-file hashes and the compute time of the
+/// entry. Only what the upstream keys determine (no wall times of this run,
+/// no cache use), so a cached downstream result never shows a stale record.
+fn upstream_record(
+    pipeline: &Pipeline,
+    plan: &Plan,
+    planned: &PlannedStage,
+    provenance: &Provenance,
+) -> serde_json::Value {
+    let by_name: HashMap<&str, &PlannedStage> =
+        plan.stages.iter().map(|s| (s.name.as_str(), s)).collect();
+    let mut seen = std::collections::BTreeSet::new();
+    let mut stack: Vec<&str> = planned
+        .inputs
+        .iter()
+        .map(|i| i.from_stage.as_str())
+        .collect();
+    while let Some(name) = stack.pop() {
+        if seen.insert(name.to_owned())
+            && let Some(s) = by_name.get(name)
+        {
+            stack.extend(s.inputs.iter().map(|i| i.from_stage.as_str()));
+        }
+    }
+    let stages: serde_json::Map<String, serde_json::Value> = seen
+        .iter()
+        .filter_map(|name| {
+            let r = provenance.stages.get(name)?;
+            Some((
+                name.clone(),
+                serde_json::json!({
+                    "kind": r.kind,
+                    "version": r.version,
+                    "key": r.key,
+                    "params": r.params,
+                    "files_blake3": r.files,
+                    "compute_s": r.compute_s,
+                }),
+            ))
+        })
+        .collect();
+    serde_json::json!({
+        "pipeline": pipeline.name,
+        "hypercontact_version": env!("CARGO_PKG_VERSION"),
+        "stage": planned.name,
+        "key": planned.key,
+        "upstream": stages,
+    })
 }

@@ -213,6 +213,10 @@ struct RawStage {
     uses: String,
     #[serde(default)]
     with: Option<yaml_serde::Value>,
+    /// A YAML file of parameters (a sample's recipe, say), relative to the
+    /// pipeline; keys in `with:` override it.
+    #[serde(default)]
+    with_file: Option<PathBuf>,
     #[serde(default)]
     inputs: IndexMap<String, RawInput>,
     #[serde(default)]
@@ -321,11 +325,37 @@ impl Pipeline {
             let mut params = parsed
                 .remove(name)
                 .ok_or_else(|| locate("parameters were not parsed".into()))?;
-            resolve_paths(params.as_mut(), &dir);
-            let raw_params = match &rs.with {
+            let mut raw_params = match &rs.with {
                 Some(v) => to_json(file, v)?,
                 None => serde_json::Value::Object(Default::default()),
             };
+            if let Some(with_file) = &rs.with_file {
+                let at_key = || {
+                    let key_line = line.and_then(|l| find_key_line(source, l, "with_file"));
+                    PipelineError::new(file, String::new())
+                        .at(key_line, None)
+                        .stage(name)
+                };
+                let (merged, typed) = params_from_file(
+                    &dir.join(with_file),
+                    &raw_params,
+                    stage.as_ref(),
+                )
+                .map_err(|e| match e {
+                    FileParamsError::Read(message) => PipelineError {
+                        message,
+                        ..at_key()
+                    },
+                    FileParamsError::Located(mut e) => {
+                        e.message =
+                            format!("{} (read by with_file in {})", e.message, file.display());
+                        e.stage(name)
+                    }
+                })?;
+                raw_params = merged;
+                params = typed;
+            }
+            resolve_paths(params.as_mut(), &dir);
             let mut inputs = Vec::new();
             for (input, binding) in &rs.inputs {
                 let refs: Vec<(String, &str)> = match binding {
@@ -469,6 +499,53 @@ impl Pipeline {
         decl.params = params;
         Ok(())
     }
+}
+
+enum FileParamsError {
+    /// The file cannot be read: reported at the `with_file:` key.
+    Read(String),
+    /// Bad content: reported in the file itself.
+    Located(PipelineError),
+}
+
+/// Parameters from a `with_file:` YAML file with the stage's `with:` keys
+/// laid over them: the merged JSON and its typed, checked form. Errors in
+/// the file's content name the file (and line, where YAML gives one).
+fn params_from_file(
+    path: &Path,
+    inline: &serde_json::Value,
+    stage: &dyn DynStage,
+) -> Result<(serde_json::Value, Box<dyn AnyParams>), FileParamsError> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        FileParamsError::Read(format!("with_file: cannot read {}: {e}", path.display()))
+    })?;
+    let value: yaml_serde::Value = yaml_serde::from_str(&text)
+        .map_err(|e| FileParamsError::Located(PipelineError::from_yaml(path, &e)))?;
+    let mut merged = to_json(path, &value).map_err(FileParamsError::Located)?;
+    let Some(base) = merged.as_object_mut() else {
+        return Err(FileParamsError::Located(PipelineError::new(
+            path,
+            "expected a map of parameters",
+        )));
+    };
+    if let Some(over) = inline.as_object() {
+        for (k, v) in over {
+            base.insert(k.clone(), v.clone());
+        }
+    }
+    let typed = parse_params(stage, merged.clone()).map_err(|message| {
+        // A failed check or an unknown key names its parameter: point at it.
+        let line = message
+            .split('`')
+            .nth(1)
+            .and_then(|key| {
+                text.lines()
+                    .position(|l| l.trim_start().starts_with(&format!("{key}:")))
+            })
+            .map(|i| i + 1);
+        FileParamsError::Located(PipelineError::new(path, message).at(line, None))
+    })?;
+    Ok((merged, typed))
 }
 
 /// Typed parameters from a JSON object, checked.

@@ -423,3 +423,42 @@ fn set_errors_name_the_assignment() {
     assert!(e.contains("unknown field `bogus`"), "{e}");
     p.set("double.factor=5").unwrap();
 }
+
+#[test]
+fn with_file_supplies_parameters_that_with_overrides() {
+    let t = tempfile::tempdir().unwrap();
+    write(t.path(), "recipe.yaml", "# a recipe\nvalue: 3.0e-5\nn: 7\n");
+    let text = BASIC.replace(
+        "    with: { value: 2.0e-5, n: 5 }\n",
+        "    with_file: recipe.yaml\n    with: { n: 9 }\n",
+    );
+    assert_ne!(text, BASIC, "the test edits the source stage");
+    let p = load(t.path(), "p.yaml", &text);
+    let src = p.stage("src").unwrap();
+    assert_eq!(src.raw_params["value"], 3.0e-5);
+    assert_eq!(src.raw_params["n"], 9);
+
+    // The recipe's content enters the key: editing it reruns the stage.
+    let before = keys(&p, t.path());
+    write(t.path(), "recipe.yaml", "value: 4.0e-5\nn: 7\n");
+    let edited = load(t.path(), "p.yaml", &text);
+    assert_ne!(keys(&edited, t.path())[0], before[0]);
+
+    // Errors name the recipe file and line, or the with_file key.
+    let text = text.replace("    with: { n: 9 }\n", "");
+    let e = error_of(&text, &[("recipe.yaml", "value: 3.0e-5\nn: 5000000\n")]);
+    assert!(
+        e.contains("recipe.yaml:2") && e.contains("parameter `n`"),
+        "{e}"
+    );
+    let e = error_of(&text, &[("recipe.yaml", "value: 1\nnn: 2\n")]);
+    assert!(
+        e.contains("recipe.yaml:2") && e.contains("unknown field `nn`"),
+        "{e}"
+    );
+    let e = error_of(&text, &[]);
+    assert!(
+        e.contains("bad.yaml:5") && e.contains("cannot read") && e.contains("recipe.yaml"),
+        "{e}"
+    );
+}

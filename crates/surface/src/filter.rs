@@ -17,6 +17,13 @@ use ndarray::Array2;
 use rayon::prelude::*;
 
 /// α of ISO 16610-61: 50 % transmission at the cut-off.
+/// The wavelength above which the Gaussian of cut-off `cutoff_m` passes at
+/// least `power` (0…1) of the power: its amplitude transmission is
+/// exp(−π (α λc / λ)²) (ISO 16610-61), squared for power.
+pub fn wavelength_passing_m(cutoff_m: f64, power: f64) -> f64 {
+    iso_alpha() * cutoff_m / (power.recip().ln() / (2.0 * std::f64::consts::PI)).sqrt()
+}
+
 pub fn iso_alpha() -> f64 {
     (std::f64::consts::LN_2 / std::f64::consts::PI).sqrt()
 }
@@ -158,6 +165,15 @@ mod tests {
                 "λ {lambda}: {got} vs {expected}"
             );
         }
+    }
+
+    #[test]
+    fn passes_the_stated_power_beyond_its_wavelength() {
+        // Measured transmission of the filter itself, squared for power.
+        let lambda_px = wavelength_passing_m(10.0, 0.9);
+        assert!((lambda_px / 10.0 - 3.63).abs() < 0.01, "{lambda_px}");
+        let got = transmission(lambda_px, 5.0).powi(2);
+        assert!((got - 0.9).abs() < 0.01, "{got}");
     }
 
     #[test]

@@ -79,20 +79,32 @@ fn signed(k: usize, n: usize) -> Option<f64> {
     }
 }
 
-/// Finds e with b(u) ≈ a(u + e) for two patches of one shape (NaN allowed).
-/// None if a patch has fewer than three measured points.
-pub fn phase_correlate(a: &Array2<f64>, b: &Array2<f64>) -> Option<Registration> {
-    let (nx, ny) = a.dim();
-    if b.dim() != (nx, ny) || nx < 4 || ny < 4 {
-        return None;
+/// The normalised cross-power spectrum of two patches of one shape.
+struct CrossPower {
+    nx: usize,
+    ny: usize,
+    /// A·B*, unnormalised.
+    raw: Vec<Complex64>,
+}
+
+impl CrossPower {
+    fn new(a: &Array2<f64>, b: &Array2<f64>) -> Option<Self> {
+        let (nx, ny) = a.dim();
+        if b.dim() != (nx, ny) || nx < 4 || ny < 4 {
+            return None;
+        }
+        let mut fa = prepare(a)?;
+        let mut fb = prepare(b)?;
+        fft2(&mut fa, nx, ny, false);
+        fft2(&mut fb, nx, ny, false);
+        let raw = fa.iter().zip(&fb).map(|(x, y)| x * y.conj()).collect();
+        Some(Self { nx, ny, raw })
     }
-    let mut fa = prepare(a)?;
-    let mut fb = prepare(b)?;
-    fft2(&mut fa, nx, ny, false);
-    fft2(&mut fb, nx, ny, false);
-    let raw: Vec<Complex64> = fa.iter().zip(&fb).map(|(x, y)| x * y.conj()).collect();
-    let whiten = |power: f64| {
-        raw.iter()
+
+    /// A·B* / |A·B*|^power.
+    fn whitened(&self, power: f64) -> Vec<Complex64> {
+        self.raw
+            .iter()
             .map(|c| {
                 let m = c.norm();
                 if m > 0.0 {
@@ -101,30 +113,89 @@ pub fn phase_correlate(a: &Array2<f64>, b: &Array2<f64>) -> Option<Registration>
                     Complex64::default()
                 }
             })
-            .collect::<Vec<Complex64>>()
+            .collect()
+    }
+
+    /// The correlation surface: real part of the inverse transform of the
+    /// spectrum whitened to `power` (1: phase correlation, 1 at a perfect
+    /// match; 0: plain cross-correlation).
+    fn surface(&self, power: f64) -> Vec<f64> {
+        let mut cross = self.whitened(power);
+        fft2(&mut cross, self.nx, self.ny, true);
+        let n = (self.nx * self.ny) as f64;
+        cross.iter().map(|v| v.re / n).collect()
+    }
+}
+
+/// Index k of an FFT of n points as a shift in (−n/2, n/2].
+fn wrap(k: usize, n: usize) -> i64 {
+    if k > n / 2 {
+        k as i64 - n as i64
+    } else {
+        k as i64
+    }
+}
+
+/// The `count` highest local maxima of the phase-correlation surface of two
+/// patches, highest first: integer shifts e (b(u) ≈ a(u + e)) in
+/// (−n/2, n/2] per axis, with their heights. A shift is only known modulo
+/// the patch size; the caller may try e ± n where that is plausible.
+/// Checking several peaks against the overlap's correlation is what makes
+/// registration robust when the true peak is not the highest (Preibisch,
+/// Saalfeld & Tomancak, Bioinformatics 25, 1463, 2009, do the same).
+pub fn correlation_peaks(a: &Array2<f64>, b: &Array2<f64>, count: usize) -> Vec<([i64; 2], f64)> {
+    let Some(cross) = CrossPower::new(a, b) else {
+        return Vec::new();
     };
-    let mut cross = whiten(1.0);
+    let (nx, ny) = (cross.nx, cross.ny);
+    // Half whitening: full whitening gives the many wavevectors beyond the
+    // surface's short cut-off, where only noise and dropouts live, as much
+    // say as those with signal, and the true peak can drown among theirs.
+    let r = cross.surface(0.5);
+    let at = |i: usize, j: usize| r[i * ny + j];
+    let mut peaks: Vec<([i64; 2], f64)> = Vec::new();
+    for i in 0..nx {
+        for j in 0..ny {
+            let v = at(i, j);
+            let is_max = [
+                (nx - 1, ny - 1),
+                (nx - 1, 0),
+                (nx - 1, 1),
+                (0, ny - 1),
+                (0, 1),
+                (1, ny - 1),
+                (1, 0),
+                (1, 1),
+            ]
+            .iter()
+            .all(|&(di, dj)| at((i + di) % nx, (j + dj) % ny) <= v);
+            if is_max {
+                peaks.push(([wrap(i, nx), wrap(j, ny)], v));
+            }
+        }
+    }
+    peaks.sort_by(|x, y| y.1.total_cmp(&x.1));
+    peaks.truncate(count);
+    peaks
+}
+
+/// Finds e with b(u) ≈ a(u + e) for two patches of one shape (NaN allowed).
+/// None if a patch has fewer than three measured points.
+pub fn phase_correlate(a: &Array2<f64>, b: &Array2<f64>) -> Option<Registration> {
+    let cross = CrossPower::new(a, b)?;
+    let (nx, ny) = (cross.nx, cross.ny);
     // The sub-pixel step weights each frequency by √|A·B*|: full whitening
     // gives the wavevectors without signal (beyond the surface's short
     // cut-off, or below the noise) as much say as the rest, and their random
     // phases would steer Newton's steps. Any positive weighting peaks at the
     // true shift of a pure translation.
-    let spectrum = whiten(0.5);
-    fft2(&mut cross, nx, ny, true);
-    let n = (nx * ny) as f64;
+    let spectrum = cross.whitened(0.5);
     let (best, peak) = cross
-        .iter()
+        .surface(1.0)
+        .into_iter()
         .enumerate()
-        .map(|(k, v)| (k, v.re / n))
         .max_by(|x, y| x.1.total_cmp(&y.1))?;
-    let wrap = |k: usize, n: usize| {
-        if k > n / 2 {
-            k as f64 - n as f64
-        } else {
-            k as f64
-        }
-    };
-    let mut s = [wrap(best / ny, nx), wrap(best % ny, ny)];
+    let mut s = [wrap(best / ny, nx) as f64, wrap(best % ny, ny) as f64];
 
     // Newton on r(s) = Σ Re(R e^{i(ωx sx + ωy sy)}); the phasor factorises
     // per axis, so each iteration costs one pass over the spectrum.
@@ -173,6 +244,115 @@ pub fn phase_correlate(a: &Array2<f64>, b: &Array2<f64>) -> Option<Registration>
         }
     }
     Some(Registration { shift_px: s, peak })
+}
+
+/// Cubic convolution kernel of Keys (IEEE TASSP 29, 1153, 1981), a = −½:
+/// interpolates exactly through the samples and reproduces quadratics.
+fn keys(t: f64) -> f64 {
+    let t = t.abs();
+    if t < 1.0 {
+        (1.5 * t - 2.5) * t * t + 1.0
+    } else if t < 2.0 {
+        ((-0.5 * t + 2.5) * t - 4.0) * t + 2.0
+    } else {
+        0.0
+    }
+}
+
+/// `h` at the non-integer position (x, y) by cubic convolution; None when
+/// the 4 × 4 stencil leaves the patch or touches a missing point.
+fn interpolate(h: &Array2<f64>, x: f64, y: f64) -> Option<f64> {
+    let (nx, ny) = h.dim();
+    let (x0, y0) = (x.floor(), y.floor());
+    if x0 < 1.0 || y0 < 1.0 || x0 + 2.0 >= nx as f64 || y0 + 2.0 >= ny as f64 {
+        return None;
+    }
+    let (i0, j0) = (x0 as usize - 1, y0 as usize - 1);
+    let wx = [0, 1, 2, 3].map(|k| keys(x - (i0 + k) as f64));
+    let wy = [0, 1, 2, 3].map(|k| keys(y - (j0 + k) as f64));
+    let mut sum = 0.0;
+    for (di, wxi) in wx.iter().enumerate() {
+        for (dj, wyj) in wy.iter().enumerate() {
+            sum += wxi * wyj * h[[i0 + di, j0 + dj]];
+        }
+    }
+    (!sum.is_nan()).then_some(sum)
+}
+
+/// Most points one refinement uses: beyond this the overlap is subsampled
+/// on a regular stride (the shift is a global parameter; 60 000 points fix
+/// it far below the interpolation error).
+const REFINE_POINTS: usize = 60_000;
+
+/// Sub-pixel shift e with b(u) ≈ a(u + e) + c₀ + c₁x + c₂y for two patches
+/// already aligned to the nearest pixel, by Gauss–Newton on the heights
+/// themselves (Lucas & Kanade, IJCAI 1981), `a` interpolated by cubic
+/// convolution; the plane absorbs the tiles' different tilt and piston.
+/// Unlike the phase-correlation peak, which a taper common to both patches
+/// pulls toward zero shift, this is unbiased for a pure translation.
+/// None with too few valid points, a singular system, or a shift that
+/// wanders beyond ±1.5 px (the integer alignment was wrong).
+pub fn refine_shift(a: &Array2<f64>, b: &Array2<f64>, start: [f64; 2]) -> Option<[f64; 2]> {
+    let (nx, ny) = a.dim();
+    if b.dim() != (nx, ny) || nx < 8 || ny < 8 {
+        return None;
+    }
+    let (cx, cy) = ((nx as f64 - 1.0) / 2.0, (ny as f64 - 1.0) / 2.0);
+    let scale = nx.max(ny) as f64;
+    let margin = 4;
+    let inner = (nx - 2 * margin) * (ny - 2 * margin);
+    let stride = ((inner as f64 / REFINE_POINTS as f64).sqrt().ceil() as usize).max(1);
+    let mut e = start;
+    for _ in 0..30 {
+        if e[0].abs() > 1.5 || e[1].abs() > 1.5 {
+            return None;
+        }
+        let mut m = vec![0.0; 25];
+        let mut r = vec![0.0; 5];
+        let mut count = 0usize;
+        for i in (margin..nx - margin).step_by(stride) {
+            for j in (margin..ny - margin).step_by(stride) {
+                let hb = b[[i, j]];
+                if hb.is_nan() {
+                    continue;
+                }
+                let (x, y) = (i as f64 + e[0], j as f64 + e[1]);
+                let (Some(ha), Some(xp), Some(xm), Some(yp), Some(ym)) = (
+                    interpolate(a, x, y),
+                    interpolate(a, x + 0.5, y),
+                    interpolate(a, x - 0.5, y),
+                    interpolate(a, x, y + 0.5),
+                    interpolate(a, x, y - 0.5),
+                ) else {
+                    continue;
+                };
+                // Residual hb − (ha + plane); unknowns δe and the plane.
+                let jac = [
+                    xp - xm,
+                    yp - ym,
+                    1.0,
+                    (i as f64 - cx) / scale,
+                    (j as f64 - cy) / scale,
+                ];
+                for p in 0..5 {
+                    r[p] += jac[p] * (hb - ha);
+                    for q in 0..5 {
+                        m[p * 5 + q] += jac[p] * jac[q];
+                    }
+                }
+                count += 1;
+            }
+        }
+        if count < 50 {
+            return None;
+        }
+        let step = crate::stitch::solve_dense(m, r, 5)?;
+        e = [e[0] + step[0], e[1] + step[1]];
+        if step[0].abs().max(step[1].abs()) < 1e-5 {
+            return Some(e);
+        }
+    }
+    Some(e)
 }
 
 /// Pearson correlation of the points measured in both patches.
@@ -261,6 +441,24 @@ mod tests {
                 assert!((found - e[a]).abs() < 0.05, "{e:?}: {found} along {a}");
             }
             assert!(fine.peak > 0.2, "peak {}", fine.peak);
+        }
+    }
+
+    #[test]
+    fn refinement_recovers_sub_pixel_shifts_under_a_plane() {
+        let h = surface(256, 3);
+        for e in [[0.3, -0.45], [-0.12, 0.07], [0.5, 0.5]] {
+            let moved = shifted(&h, e);
+            let a = Array2::from_shape_fn((60, 200), |(i, j)| h[[40 + i, 20 + j]]);
+            // b(u) = a(u + e) plus a tilt and piston of its own, one gap.
+            let mut b = Array2::from_shape_fn((60, 200), |(i, j)| {
+                moved[[40 + i, 20 + j]] + 2e-6 + 3e-9 * i as f64 - 1e-9 * j as f64
+            });
+            b[[30, 100]] = f64::NAN;
+            let found = refine_shift(&a, &b, [0.0, 0.0]).unwrap();
+            for k in 0..2 {
+                assert!((found[k] - e[k]).abs() < 0.01, "{e:?}: found {found:?}");
+            }
         }
     }
 

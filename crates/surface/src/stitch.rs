@@ -23,7 +23,7 @@ use ndarray::Array2;
 use rayon::prelude::*;
 
 use crate::error::SurfaceError;
-use crate::register::{correlation, phase_correlate};
+use crate::register::{correlation, correlation_peaks, phase_correlate, refine_shift};
 use crate::tiles::TileSet;
 
 /// What stitching found for one tile.
@@ -37,6 +37,8 @@ pub struct TileFit {
     pub piston_m: f64,
     /// Mean Pearson correlation of the tile's overlaps after alignment.
     pub correlation: f64,
+    /// Overlaps of this tile dropped as outliers by the joint solution.
+    pub pairs_rejected: usize,
 }
 
 /// The stitched map and what was found per tile.
@@ -92,7 +94,14 @@ fn patches(
     (pa, pb)
 }
 
-/// Registers one pair starting from its nominal offset.
+/// Phase-correlation peaks tried per pair, each checked by the correlation
+/// of the overlap it implies.
+const PEAKS_TRIED: usize = 8;
+
+/// Registers one pair starting from its nominal offset. The integer offset
+/// is the candidate (from the highest phase-correlation peaks, each also
+/// taken modulo the patch size) whose overlap correlates best; the sub-pixel
+/// rest comes from phase correlation on the overlap re-cut at that offset.
 fn register_pair(set: &TileSet, i: usize, j: usize, min_px: usize) -> Option<PairFit> {
     let (a, b) = (&set.heights[i], &set.heights[j]);
     let n = a.dim();
@@ -102,37 +111,54 @@ fn register_pair(set: &TileSet, i: usize, j: usize, min_px: usize) -> Option<Pai
     ];
     let r0 = overlap(n, nominal, min_px)?;
     let (pa, pb) = patches(a, b, nominal, r0);
-    let coarse = phase_correlate(&pa, &pb)?;
-    let d = [
-        nominal[0] + coarse.shift_px[0].round() as i64,
-        nominal[1] + coarse.shift_px[1].round() as i64,
-    ];
-    let Some(r1) = overlap(n, d, min_px) else {
-        return Some(PairFit {
-            i,
-            j,
-            offset_px: [
-                nominal[0] as f64 + coarse.shift_px[0],
-                nominal[1] as f64 + coarse.shift_px[1],
-            ],
-            correlation: correlation(&pa, &pb),
-        });
-    };
-    let (pa, pb) = patches(a, b, d, r1);
-    let fine = phase_correlate(&pa, &pb)?;
+    let size = [pa.dim().0 as i64, pa.dim().1 as i64];
+    let mut best: Option<([i64; 2], f64)> = None;
+    for (e, _) in correlation_peaks(&pa, &pb, PEAKS_TRIED) {
+        for ex in [e[0], e[0] - size[0], e[0] + size[0]] {
+            for ey in [e[1], e[1] - size[1], e[1] + size[1]] {
+                let d = [nominal[0] + ex, nominal[1] + ey];
+                let Some(r) = overlap(n, d, min_px) else {
+                    continue;
+                };
+                let (qa, qb) = patches(a, b, d, r);
+                let c = correlation(&qa, &qb);
+                if best.is_none_or(|(_, b)| c > b) {
+                    best = Some((d, c));
+                }
+            }
+        }
+    }
+    let (mut d, _) = best?;
+    // Sub-pixel rest on the overlap re-cut at d; a rest beyond half a pixel
+    // moves d and is refined again.
+    let mut rest = None;
+    for _ in 0..3 {
+        let r = overlap(n, d, min_px)?;
+        let (pa, pb) = patches(a, b, d, r);
+        let e = refine_shift(&pa, &pb, [0.0, 0.0])
+            .or_else(|| phase_correlate(&pa, &pb).map(|f| f.shift_px))?;
+        let whole = e.map(|v| v.round() as i64);
+        if whole == [0, 0] {
+            rest = Some(e);
+            break;
+        }
+        d = [d[0] + whole[0], d[1] + whole[1]];
+    }
+    let e = rest?;
+    let offset_px = [d[0] as f64 + e[0], d[1] as f64 + e[1]];
+    let r = overlap(n, d, min_px)?;
+    let (pa, pb) = patches(a, b, d, r);
+    let correlation = correlation(&pa, &pb);
     Some(PairFit {
         i,
         j,
-        offset_px: [
-            d[0] as f64 + fine.shift_px[0],
-            d[1] as f64 + fine.shift_px[1],
-        ],
-        correlation: correlation(&pa, &pb),
+        offset_px,
+        correlation,
     })
 }
 
 /// Solves a dense n × n system by Gaussian elimination with partial pivoting.
-fn solve_dense(mut m: Vec<f64>, mut r: Vec<f64>, n: usize) -> Option<Vec<f64>> {
+pub(crate) fn solve_dense(mut m: Vec<f64>, mut r: Vec<f64>, n: usize) -> Option<Vec<f64>> {
     for col in 0..n {
         let pivot =
             (col..n).max_by(|&x, &y| m[x * n + col].abs().total_cmp(&m[y * n + col].abs()))?;
@@ -161,6 +187,31 @@ fn solve_dense(mut m: Vec<f64>, mut r: Vec<f64>, n: usize) -> Option<Vec<f64>> {
         x[row] = (r[row] - s) / m[row * n + row];
     }
     Some(x)
+}
+
+/// A pair whose registered offset differs from the joint least-squares
+/// solution by more than this (pixels, either axis) is an outlier — a
+/// featureless or repetitive overlap that locked onto a wrong peak — and is
+/// dropped while the tiles stay connected. Correct pairs agree to a few
+/// hundredths of a pixel.
+const MAX_PAIR_RESIDUAL_PX: f64 = 0.5;
+
+/// Whether the pairs connect all n tiles.
+fn connected(n: usize, pairs: &[(usize, usize)]) -> bool {
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut x: usize) -> usize {
+        while parent[x] != x {
+            parent[x] = parent[parent[x]];
+            x = parent[x];
+        }
+        x
+    }
+    for &(i, j) in pairs {
+        let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+        parent[ri] = rj;
+    }
+    let r0 = root(&mut parent, 0);
+    (0..n).all(|t| root(&mut parent, t) == r0)
 }
 
 /// Checks every tile overlaps another and all are connected.
@@ -321,12 +372,41 @@ pub fn stitch(set: &TileSet, min_overlap_px: usize) -> Result<Mosaic, SurfaceErr
         .par_iter()
         .filter_map(|&(i, j)| register_pair(set, i, j, min_overlap_px))
         .collect();
+    let mut fits = fits;
+    let mut rejected = vec![0usize; n];
     let found = if n > 1 {
         let pairs: Vec<(usize, usize)> = fits.iter().map(|f| (f.i, f.j)).collect();
         check_graph(set, &pairs, min_overlap_px)?;
-        solve_positions(set, &fits).ok_or_else(|| {
-            SurfaceError::Input("tile positions: the least-squares system is singular".into())
-        })?
+        loop {
+            let found = solve_positions(set, &fits).ok_or_else(|| {
+                SurfaceError::Input("tile positions: the least-squares system is singular".into())
+            })?;
+            // The pair that least agrees with the joint solution goes, as
+            // long as the tiles stay connected without it.
+            let residual = |f: &PairFit| {
+                (0..2)
+                    .map(|a| (found[f.j][a] - found[f.i][a] - f.offset_px[a]).abs())
+                    .fold(0.0, f64::max)
+            };
+            let Some((worst, r)) = fits
+                .iter()
+                .enumerate()
+                .map(|(k, f)| (k, residual(f)))
+                .max_by(|x, y| x.1.total_cmp(&y.1))
+            else {
+                break found;
+            };
+            let rest: Vec<(usize, usize)> = (0..fits.len())
+                .filter(|&k| k != worst)
+                .map(|k| (fits[k].i, fits[k].j))
+                .collect();
+            if r <= MAX_PAIR_RESIDUAL_PX || !connected(n, &rest) {
+                break found;
+            }
+            let dropped = fits.remove(worst);
+            rejected[dropped.i] += 1;
+            rejected[dropped.j] += 1;
+        }
     } else {
         set.nominal_px.clone()
     };
@@ -413,6 +493,7 @@ pub fn stitch(set: &TileSet, min_overlap_px: usize) -> Result<Mosaic, SurfaceErr
                 (_, 0) => f64::NAN,
                 (s, k) => s / k as f64,
             },
+            pairs_rejected: rejected[t],
         })
         .collect();
     Ok(Mosaic {

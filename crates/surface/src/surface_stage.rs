@@ -163,19 +163,28 @@ const STITCH_COLUMNS: &[ColumnSpec] = &[
         "",
         "mean Pearson correlation of its aligned overlaps",
     ),
+    ColumnSpec::i64(
+        "pairs_rejected",
+        "",
+        "overlaps of this tile dropped as outliers (registered offset > 0.5 px from the joint solution)",
+    ),
 ];
 
 static INFO: StageInfo = StageInfo {
     kind: "surface",
-    version: 1,
+    version: 2,
     summary: "Stitch interferometer tiles, filter to a lateral resolution, PSD, σ and Hurst exponent",
     doc: "Source: exactly one of input `tiles` (a Files product: tile_NNN.npy + positions.csv, as \
           synth-surface writes), param `dir` (a folder of the same layout, real data) or input \
           `height` (an already stitched map, e.g. from height-map). positions.csv has columns tile, \
           file, x_m, y_m, pixel_m (nominal position of each tile's pixel [0, 0]). Tiles are read \
           through a decoder trait (.npy now: float64/float32, metres, axis 0 = x, NaN = missing). \
-          STITCHING: overlapping pairs registered by phase correlation with sub-pixel Newton \
-          refinement; all pair offsets solved together by least squares (mean correction zero); a \
+          STITCHING: overlapping pairs registered by phase correlation: the eight highest peaks (of the half-whitened cross-power spectrum), each \
+          also taken modulo the overlap size, are checked by the Pearson correlation of the overlap \
+          they imply and the best wins, then the sub-pixel rest by Gauss–Newton on the heights of the \
+          re-cut overlap (cubic-convolution interpolation, a plane absorbing tilt and piston); all \
+          pair offsets solved together by least squares (mean correction zero), pairs more than \
+          0.5 px from the joint solution dropped as outliers while the tiles stay connected; a \
           plane (tilt + piston) per tile from the overlaps by least squares; feathered blending \
           (weights fall linearly to tile edges), tiles placed at whole pixels; NaN where no tile \
           measured; the map is cropped to the region fully inside tile footprints. FILTER: ISO \
@@ -196,7 +205,9 @@ static INFO: StageInfo = StageInfo {
           share is nan_fraction. STATS: sigma_m = areal rms height Sq (not profile Rq); rms_slope = \
           √⟨|∇h|²⟩ by forward differences. HURST: least squares of ln C on ln q, C ∝ q^(−1−2H) \
           (1-D) and q^(−2−2H) (radial), over wavelengths hurst_lambda_min_m … hurst_lambda_max_m \
-          (default 4·dx … L/4).",
+          (default 4·dx … L/4; on a map this stage filtered, from the wavelength where the \
+          Gaussian still passes 90 % of the power, 3.6 cut-offs = 7.3·resolution_m, so the filter's \
+          roll-off does not steepen the slope).",
     params: &[
         ParamDoc {
             name: "dir",
@@ -221,12 +232,12 @@ static INFO: StageInfo = StageInfo {
         ParamDoc {
             name: "detrend",
             unit: "",
-            doc: "plane | mean, removed before stats and PSDs",
+            doc: "plane | mean, removed before stats and PSDs (periodic maps: mean only)",
         },
         ParamDoc {
             name: "periodic",
             unit: "",
-            doc: "the map is periodic: no window",
+            doc: "the map is periodic: no window, and only the mean is removed",
         },
         ParamDoc {
             name: "bins_per_decade",
@@ -236,7 +247,7 @@ static INFO: StageInfo = StageInfo {
         ParamDoc {
             name: "hurst_lambda_min_m",
             unit: "m",
-            doc: "shortest wavelength of the Hurst fit (default 4·dx)",
+            doc: "shortest wavelength of the Hurst fit (default 4·dx, 7.3·resolution_m when filtered)",
         },
         ParamDoc {
             name: "hurst_lambda_max_m",
@@ -320,7 +331,14 @@ fn stitched(set: &TileSet, p: &SurfaceParams, ctx: &Context) -> Result<(Field, T
         .with("tilt_x_rad", col(&|t| t.tilt_rad[0]))
         .with("tilt_y_rad", col(&|t| t.tilt_rad[1]))
         .with("piston_m", col(&|t| t.piston_m))
-        .with("overlap_correlation", col(&|t| t.correlation));
+        .with("overlap_correlation", col(&|t| t.correlation))
+        .with(
+            "pairs_rejected",
+            tiles
+                .iter()
+                .map(|t| t.pairs_rejected as i64)
+                .collect::<Vec<i64>>(),
+        );
     Ok((field, table))
 }
 
@@ -336,29 +354,62 @@ fn empty_stitch_table() -> Table {
     t
 }
 
-/// Fits H for one PSD over the wavelength range of the parameters.
+/// Least PSD points a default Hurst range must hold before it gives up the
+/// filter-safe short end.
+const HURST_MIN_POINTS: usize = 5;
+
+/// Fits H for one PSD over the wavelength range of the parameters, with a
+/// note when the default range had to reach into the filter's roll-off.
 fn hurst(
     spectrum: &Spectrum,
     direction: &'static str,
     dimension: Dimension,
     (spacing_m, length_m): (f64, f64),
     p: &SurfaceParams,
-) -> Result<f64, SurfaceError> {
-    let lambda_min_m = p.hurst_lambda_min_m.unwrap_or(4.0 * spacing_m);
+) -> Result<(f64, Option<String>), SurfaceError> {
     let lambda_max_m = p.hurst_lambda_max_m.unwrap_or(length_m / 4.0);
+    let count = |lambda_min_m: f64| {
+        spectrum
+            .q_per_m
+            .iter()
+            .filter(|&&q| q >= TAU / lambda_max_m && q <= TAU / lambda_min_m)
+            .count()
+    };
+    let mut note = None;
+    let lambda_min_m = p.hurst_lambda_min_m.unwrap_or_else(|| {
+        let grid = 4.0 * spacing_m;
+        // Where the stage filtered, stop where the Gaussian still passes
+        // 90 % of the power: its roll-off would steepen the fitted slope
+        // (+0.05…0.1 in H on maps of a few hundred points).
+        let filtered =
+            p.resolution_m > 0.0 && (spacing_m - p.resolution_m).abs() < 1e-9 * spacing_m;
+        if !filtered {
+            return grid;
+        }
+        let safe = grid.max(crate::filter::wavelength_passing_m(
+            2.0 * p.resolution_m,
+            0.9,
+        ));
+        if count(safe) >= HURST_MIN_POINTS {
+            safe
+        } else {
+            note = Some(format!(
+                "Hurst fit along {direction}: the map is too small for a fit range clear of the \
+                 filter's roll-off ({safe:.3e} m … {lambda_max_m:.3e} m); fitted from 4·dx, \
+                 where the filter steepens the PSD (H reads high)"
+            ));
+            grid
+        }
+    });
     let fit = fit_power_law(spectrum, TAU / lambda_max_m, TAU / lambda_min_m).ok_or_else(|| {
         SurfaceError::HurstRange {
             direction,
-            found: spectrum
-                .q_per_m
-                .iter()
-                .filter(|&&q| q >= TAU / lambda_max_m && q <= TAU / lambda_min_m)
-                .count(),
+            found: count(lambda_min_m),
             lambda_min_m,
             lambda_max_m,
         }
     })?;
-    Ok(fit.hurst(dimension))
+    Ok((fit.hurst(dimension), note))
 }
 
 /// Everything the stage computes from a stitched map at its measured grid.
@@ -399,7 +450,12 @@ pub fn analyse(map: Field, p: &SurfaceParams, ctx: &Context) -> Result<Analysis,
         return Err(SurfaceError::Input("every point of the map is NaN".into()).into());
     }
     let nan_fraction = nan_count as f64 / h.len() as f64;
-    match p.detrend {
+    // A plane fitted to a periodic map removes a sawtooth that is not part
+    // of it: power leaks into every q along the tilt's direction and the
+    // fitted Hurst exponent falls (0.70 → 0.66 on a 1024² map). Periodic
+    // maps only lose their mean.
+    let detrend = if p.periodic { Detrend::Mean } else { p.detrend };
+    match detrend {
         Detrend::Plane => {
             let fit = plane::fit_plane(&h).ok_or_else(|| {
                 SurfaceError::Input("too few measured points to fit a plane".into())
@@ -429,15 +485,21 @@ pub fn analyse(map: Field, p: &SurfaceParams, ctx: &Context) -> Result<Analysis,
     drop(filled);
     progress.inc(1);
     let (lx, ly) = (nx as f64 * dx_m, ny as f64 * dy_m);
-    let hurst_x = hurst(&sx, "x", Dimension::Profile, (dx_m, lx), p)?;
-    let hurst_y = hurst(&sy, "y", Dimension::Profile, (dy_m, ly), p)?;
-    let hurst_radial = hurst(
-        &sr,
-        "radial",
-        Dimension::Areal,
-        (dx_m.max(dy_m), lx.min(ly)),
-        p,
-    )?;
+    let fits = [
+        hurst(&sx, "x", Dimension::Profile, (dx_m, lx), p)?,
+        hurst(&sy, "y", Dimension::Profile, (dy_m, ly), p)?,
+        hurst(
+            &sr,
+            "radial",
+            Dimension::Areal,
+            (dx_m.max(dy_m), lx.min(ly)),
+            p,
+        )?,
+    ];
+    for note in fits.iter().filter_map(|f| f.1.as_deref()) {
+        ctx.note(note);
+    }
+    let [hurst_x, hurst_y, hurst_radial] = fits.map(|f| f.0);
 
     let reference = match p.reference {
         ReferenceKind::Lowest => Reference::Lowest,

@@ -112,7 +112,7 @@ fn stats_of(h: Array2<f64>, pixel_m: f64, params: &SurfaceParams) -> hypercontac
 }
 
 #[test]
-#[ignore = "open: measured radial H = 0.669 for a prescribed 0.7 (x: 0.661); 0.5 passes; cause not yet found"]
+
 fn hurst_exponent_is_recovered_on_1024_maps() {
     let (n, pixel_m) = (1024, 1e-6);
     let params = SurfaceParams {
