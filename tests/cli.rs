@@ -334,6 +334,18 @@ fn the_quick_paper_pipeline_writes_the_report() {
     assert!(text(&out).contains("28 ran, 0 cached"), "{}", text(&out));
     let report = t.path().join("out/report");
 
+    // Issue 6: the images → DIC → fit chain recovers the generating
+    // material's curves within 1 % RMS relative error per mode.
+    let quality = parquet(t.path(), "fit/quality.parquet");
+    for (mode, rms) in quality
+        .str("mode")
+        .unwrap()
+        .iter()
+        .zip(quality.f64("rms_rel_err").unwrap())
+    {
+        assert!(*rms < 0.01, "{mode}: RMS relative error {rms}");
+    }
+
     // Every figure as a real PNG and SVG, referenced by the page.
     let html = std::fs::read_to_string(report.join("index.html")).unwrap();
     for fig in ["fig2", "fig4", "fig7", "fig8"] {

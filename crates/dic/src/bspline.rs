@@ -7,6 +7,8 @@
 //! TMI 19, 2000), so the spline passes exactly through every pixel value.
 //! Pixel centres sit at integer coordinates; `x` is the column, `y` the row.
 
+use rayon::prelude::*;
+
 use crate::gray::GrayImage;
 
 /// The pole of the cubic B-spline prefilter, √3 − 2.
@@ -21,38 +23,48 @@ pub struct BSplineImage {
 }
 
 /// The four cubic B-spline weights of nodes `i-1 … i+2` at fraction `t` of
-/// the way from node `i` to `i+1`.
+/// the way from node `i` to `i+1`: (1 − t)³/6, (4 − 6t² + 3t³)/6,
+/// (1 + 3t + 3t² − 3t³)/6 and t³/6, written with multiplications only since
+/// this runs twice per warped point.
 #[inline(always)]
 pub fn weights(t: f64) -> [f64; 4] {
+    const SIXTH: f64 = 1.0 / 6.0;
     let t2 = t * t;
     let t3 = t2 * t;
     let s = 1.0 - t;
     [
-        s * s * s / 6.0,
-        (4.0 - 6.0 * t2 + 3.0 * t3) / 6.0,
-        (1.0 + 3.0 * t + 3.0 * t2 - 3.0 * t3) / 6.0,
-        t3 / 6.0,
+        s * s * s * SIXTH,
+        (2.0 / 3.0) - t2 + 0.5 * t3,
+        SIXTH + 0.5 * (t + t2 - t3),
+        t3 * SIXTH,
     ]
 }
 
+/// Adding and removing 1.5 · 2⁵² rounds to an integer (round to nearest,
+/// the only mode Rust code runs in), and the integer sits in the low bits.
+const ROUND: f64 = 6_755_399_441_055_744.0;
+
+/// A position `p` ≥ 1 as node `i` and fraction `t = p − i` ∈ [0, 1]: `i` is
+/// ⌊p⌋, or ⌊p⌋ − 1 when p is an integer (then t = 1, which the spline
+/// weights treat as well as t = 0). Float arithmetic only, unlike `floor`
+/// (a library call on baseline x86-64) or a saturating `as` cast, so a loop
+/// of it vectorises.
+#[inline(always)]
+fn split(p: f64) -> (u64, f64) {
+    let shifted = (p - 0.5) + ROUND;
+    let node = shifted - ROUND;
+    (shifted.to_bits() & 0xffff_ffff, p - node)
+}
+
 impl BSplineImage {
-    /// Prefilters `image` (rows, then columns).
+    /// Prefilters `image`: rows in parallel, then all columns together.
     pub fn new(image: &GrayImage) -> Self {
         let (width, height) = (image.width, image.height);
         let mut coefficients = image.pixels.clone();
-        for row in coefficients.chunks_exact_mut(width) {
-            prefilter_line(row);
-        }
-        let mut column = vec![0.0; height];
-        for x in 0..width {
-            for (y, c) in column.iter_mut().enumerate() {
-                *c = coefficients[y * width + x];
-            }
-            prefilter_line(&mut column);
-            for (y, c) in column.iter().enumerate() {
-                coefficients[y * width + x] = *c;
-            }
-        }
+        coefficients
+            .par_chunks_exact_mut(width)
+            .for_each(prefilter_line);
+        prefilter_columns(&mut coefficients, width, height);
         Self {
             width,
             height,
@@ -73,18 +85,76 @@ impl BSplineImage {
     /// The spline at `(x, y)`; the caller guarantees `contains_box` for it.
     #[inline(always)]
     pub fn value(&self, x: f64, y: f64) -> f64 {
-        let xf = x.floor();
-        let yf = y.floor();
-        let wx = weights(x - xf);
-        let wy = weights(y - yf);
-        let base = (yf as usize - 1) * self.width + xf as usize - 1;
-        let mut sum = 0.0;
-        for (j, wyj) in wy.iter().enumerate() {
-            let start = base + j * self.width;
-            let row = &self.coefficients[start..start + 4];
-            sum += wyj * (row[0] * wx[0] + row[1] * wx[1] + row[2] * wx[2] + row[3] * wx[3]);
+        // Truncation is the floor here since `contains_box` keeps x, y ≥ 1,
+        // and `f64::floor` is a library call on baseline x86-64.
+        let xi = x as usize;
+        let yi = y as usize;
+        let wx = weights(x - xi as f64);
+        let wy = weights(y - yi as f64);
+        let w = self.width;
+        let base = (yi - 1) * w + xi - 1;
+        // One slice for the whole 4 × 4 support: the row reads below are
+        // then checked against its length only.
+        let support = &self.coefficients[base..base + 3 * w + 4];
+        let row = |j: usize| -> f64 {
+            let r = &support[j * w..j * w + 4];
+            r[0] * wx[0] + r[1] * wx[1] + r[2] * wx[2] + r[3] * wx[3]
+        };
+        wy[0] * row(0) + wy[1] * row(1) + wy[2] * row(2) + wy[3] * row(3)
+    }
+
+    /// The spline on an affine grid of points, row by row into `out`
+    /// (`columns` per row): point (r, c) = origin + c·step_column + r·step_row.
+    /// The caller guarantees `contains_box` for the grid's corners with a
+    /// margin of 1e-6 px. Equal to `value` at each point up to rounding;
+    /// done in blocks along a row: first the nodes and weights of a block's
+    /// points, in a loop the compiler vectorises, then the coefficient reads.
+    pub fn values_on_grid(
+        &self,
+        origin: (f64, f64),
+        step_column: (f64, f64),
+        step_row: (f64, f64),
+        columns: usize,
+        out: &mut [f64],
+    ) {
+        const BLOCK: usize = 16;
+        let w = self.width;
+        let mut node_x = [0u64; BLOCK];
+        let mut node_y = [0u64; BLOCK];
+        let mut wx = [[0.0; BLOCK]; 4];
+        let mut wy = [[0.0; BLOCK]; 4];
+        for (r, out_row) in out.chunks_exact_mut(columns).enumerate() {
+            let x = origin.0 + r as f64 * step_row.0;
+            let y = origin.1 + r as f64 * step_row.1;
+            let mut first = 0.0;
+            for out_block in out_row.chunks_mut(BLOCK) {
+                for k in 0..BLOCK {
+                    let c = first + k as f64;
+                    let (nx, tx) = split(x + c * step_column.0);
+                    let (ny, ty) = split(y + c * step_column.1);
+                    node_x[k] = nx;
+                    node_y[k] = ny;
+                    let (ax, ay) = (weights(tx), weights(ty));
+                    for j in 0..4 {
+                        wx[j][k] = ax[j];
+                        wy[j][k] = ay[j];
+                    }
+                }
+                for (k, g) in out_block.iter_mut().enumerate() {
+                    let b = (node_y[k] as usize - 1) * w + node_x[k] as usize - 1;
+                    let support = &self.coefficients[b..b + 3 * w + 4];
+                    let row = |j: usize| -> f64 {
+                        let r = &support[j * w..j * w + 4];
+                        r[0] * wx[0][k] + r[1] * wx[1][k] + r[2] * wx[2][k] + r[3] * wx[3][k]
+                    };
+                    *g = wy[0][k] * row(0)
+                        + wy[1][k] * row(1)
+                        + wy[2][k] * row(2)
+                        + wy[3][k] * row(3);
+                }
+                first += BLOCK as f64;
+            }
         }
-        sum
     }
 
     /// The spline's gradient (d/dx, d/dy) at pixel centre `(x, y)`, which
@@ -100,6 +170,38 @@ impl BSplineImage {
         let gx = (dx(y - 1) + 4.0 * dx(y) + dx(y + 1)) / 6.0;
         let gy = (dy(x - 1) + 4.0 * dy(x) + dy(x + 1)) / 6.0;
         (gx, gy)
+    }
+
+    /// `gradient_at_node` at every pixel centre, row-major like the image:
+    /// (d/dx image, d/dy image), zero on the one-pixel border where the node
+    /// stencil has no neighbours. Rows are computed in parallel.
+    pub fn node_gradients(&self) -> (Vec<f64>, Vec<f64>) {
+        let (w, h) = (self.width, self.height);
+        let mut gradient_x = vec![0.0; w * h];
+        let mut gradient_y = vec![0.0; w * h];
+        if w < 3 || h < 3 {
+            return (gradient_x, gradient_y);
+        }
+        let c = &self.coefficients;
+        gradient_x
+            .par_chunks_exact_mut(w)
+            .zip(gradient_y.par_chunks_exact_mut(w))
+            .enumerate()
+            .filter(|(y, _)| *y >= 1 && *y + 1 < h)
+            .for_each(|(y, (gx_row, gy_row))| {
+                let above = &c[(y - 1) * w..y * w];
+                let here = &c[y * w..(y + 1) * w];
+                let below = &c[(y + 1) * w..(y + 2) * w];
+                // The stencils of `gradient_at_node`, in the same order of
+                // operations, so both give identical numbers.
+                let dx = |r: &[f64], x: usize| (r[x + 1] - r[x - 1]) * 0.5;
+                let dy = |x: usize| (below[x] - above[x]) * 0.5;
+                for x in 1..w - 1 {
+                    gx_row[x] = (dx(above, x) + 4.0 * dx(here, x) + dx(below, x)) / 6.0;
+                    gy_row[x] = (dy(x - 1) + 4.0 * dy(x) + dy(x + 1)) / 6.0;
+                }
+            });
+        (gradient_x, gradient_y)
     }
 }
 
@@ -143,6 +245,68 @@ fn prefilter_line(line: &mut [f64]) {
     line[n - 1] = (z / (z * z - 1.0)) * (z * line[n - 2] + line[n - 1]);
     for k in (0..n - 1).rev() {
         line[k] = z * (line[k + 1] - line[k]);
+    }
+}
+
+/// `prefilter_line` applied to every column of a row-major `width × height`
+/// array at once: each step of the recursion updates a whole row, so memory
+/// is read in order instead of with a stride of one row per element.
+fn prefilter_columns(c: &mut [f64], width: usize, height: usize) {
+    let n = height;
+    if n < 2 {
+        return;
+    }
+    let z = POLE;
+    let gain = (1.0 - z) * (1.0 - 1.0 / z);
+    for v in c.iter_mut() {
+        *v *= gain;
+    }
+    let row = |k: usize| k * width..(k + 1) * width;
+    let horizon = ((1e-12_f64).ln() / z.abs().ln()).ceil() as usize;
+    let mut first = c[row(0)].to_vec();
+    if horizon < n {
+        let mut zk = z;
+        for k in 1..horizon {
+            for (s, v) in first.iter_mut().zip(&c[row(k)]) {
+                *s += zk * v;
+            }
+            zk *= z;
+        }
+    } else {
+        let iz = 1.0 / z;
+        let mut zk = z;
+        let mut z2n = z.powi(n as i32 - 1);
+        for (s, v) in first.iter_mut().zip(&c[row(n - 1)]) {
+            *s += z2n * v;
+        }
+        z2n = z2n * z2n * iz;
+        for k in 1..n - 1 {
+            for (s, v) in first.iter_mut().zip(&c[row(k)]) {
+                *s += (zk + z2n) * v;
+            }
+            zk *= z;
+            z2n *= iz;
+        }
+        for s in first.iter_mut() {
+            *s /= 1.0 - zk * zk;
+        }
+    }
+    c[row(0)].copy_from_slice(&first);
+    for k in 1..n {
+        let (done, rest) = c.split_at_mut(k * width);
+        for (v, p) in rest[..width].iter_mut().zip(&done[row(k - 1)]) {
+            *v += z * p;
+        }
+    }
+    let (done, last) = c.split_at_mut((n - 1) * width);
+    for (v, p) in last.iter_mut().zip(&done[row(n - 2)]) {
+        *v = (z / (z * z - 1.0)) * (z * p + *v);
+    }
+    for k in (0..n - 1).rev() {
+        let (head, tail) = c.split_at_mut((k + 1) * width);
+        for (v, q) in head[row(k)].iter_mut().zip(&tail[..width]) {
+            *v = z * (q - *v);
+        }
     }
 }
 
@@ -193,5 +357,31 @@ mod tests {
             (gx - ex).abs() < 1e-6 && (gy - ey).abs() < 1e-6,
             "{gx} {gy}"
         );
+    }
+
+    #[test]
+    fn gradient_images_and_grid_values_match_the_pointwise_forms() {
+        let img = image(40, 33, |x, y| {
+            (0.41 * x).sin() * (0.27 * y).cos() + 0.02 * x
+        });
+        let spline = BSplineImage::new(&img);
+        let (gx, gy) = spline.node_gradients();
+        for y in 1..32 {
+            for x in 1..39 {
+                let (ex, ey) = spline.gradient_at_node(x, y);
+                assert_eq!((gx[y * 40 + x], gy[y * 40 + x]), (ex, ey), "{x},{y}");
+            }
+        }
+        // A sheared, stretched 21 × 3 grid whose rows cross a block edge,
+        // including points that land exactly on nodes (t = 0 or 1).
+        let (origin, step_column, step_row) = ((3.0, 4.0), (1.25, 0.125), (0.5, 7.0));
+        let mut out = vec![0.0; 21 * 3];
+        spline.values_on_grid(origin, step_column, step_row, 21, &mut out);
+        for (k, v) in out.iter().enumerate() {
+            let (r, c) = ((k / 21) as f64, (k % 21) as f64);
+            let x = origin.0 + c * step_column.0 + r * step_row.0;
+            let y = origin.1 + c * step_column.1 + r * step_row.1;
+            assert!((v - spline.value(x, y)).abs() < 1e-12, "{x},{y}");
+        }
     }
 }

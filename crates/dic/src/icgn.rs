@@ -130,79 +130,166 @@ pub struct Match {
     pub converged: bool,
 }
 
-/// A reference subset with everything IC-GN precomputes from it.
+/// A reference frame prepared for IC-GN once per reference update: its
+/// pixels and its B-spline's gradient at every pixel centre. A subset of the
+/// frame then reads these images instead of evaluating the spline, so the
+/// per-POI setup is one pass of sums and a 6 × 6 Cholesky factorisation.
 #[derive(Clone, Debug)]
-pub struct ReferenceSubset {
+pub struct ReferenceFrame {
+    image: GrayImage,
+    /// ∂f/∂x and ∂f/∂y of the reference spline at each pixel, row-major.
+    gradient_x: Vec<f64>,
+    gradient_y: Vec<f64>,
+}
+
+impl ReferenceFrame {
+    /// Prefilters `image` and takes its gradients.
+    pub fn new(image: GrayImage) -> Self {
+        let spline = BSplineImage::new(&image);
+        Self::with_spline(image, &spline)
+    }
+
+    /// As `new`, reusing the spline already built from `image` (a target
+    /// frame that becomes the reference).
+    ///
+    /// # Panics
+    /// If `spline` is not the size of `image`.
+    pub fn with_spline(image: GrayImage, spline: &BSplineImage) -> Self {
+        assert_eq!(
+            (image.width, image.height),
+            (spline.width, spline.height),
+            "reference spline and image differ in size"
+        );
+        let (gradient_x, gradient_y) = spline.node_gradients();
+        Self {
+            image,
+            gradient_x,
+            gradient_y,
+        }
+    }
+
+    pub fn image(&self) -> &GrayImage {
+        &self.image
+    }
+
+    /// The subset of side `2 half + 1` centred on pixel `(x0, y0)`; None if
+    /// it does not fit inside the image (with the gradient's one-pixel
+    /// margin) or holds no texture.
+    pub fn subset(&self, x0: usize, y0: usize, half: usize) -> Option<ReferenceSubset<'_>> {
+        ReferenceSubset::new(self, x0, y0, half)
+    }
+}
+
+/// A reference subset with everything IC-GN precomputes from it. With
+/// f̃ = (f − f̄)/‖f − f̄‖ and J̃ = ∇f̃ · ∂W/∂p = (∇f/‖f − f̄‖) · ∂W/∂p, the
+/// subset keeps Σ J̃ f̃, Σ J̃ and the Cholesky factor of Σ J̃ᵀ J̃; per point
+/// it reads f and ∇f from its `ReferenceFrame`.
+#[derive(Clone, Debug)]
+pub struct ReferenceSubset<'a> {
     pub x0: usize,
     pub y0: usize,
     half: usize,
-    /// Per point: f̃ = (f − f̄)/‖f − f̄‖, then the six steepest-descent terms
-    /// J̃ = ∇f̃ · ∂W/∂p.
-    points: Vec<[f64; 7]>,
+    frame: &'a ReferenceFrame,
+    /// f̄ and 1/‖f − f̄‖.
+    mean: f64,
+    inv_norm: f64,
     sum_j_f: [f64; 6],
     sum_j: [f64; 6],
     /// Cholesky factor of the Gauss–Newton Hessian Σ J̃ᵀ J̃.
     hessian_chol: [[f64; 6]; 6],
 }
 
-impl ReferenceSubset {
-    /// The subset of side `2 half + 1` centred on pixel `(x0, y0)`; None if
-    /// it does not fit inside the image (with the gradient's one-pixel
-    /// margin) or holds no texture.
-    pub fn new(
-        image: &GrayImage,
-        spline: &BSplineImage,
-        x0: usize,
-        y0: usize,
-        half: usize,
-    ) -> Option<Self> {
-        if x0 < half + 1
-            || y0 < half + 1
-            || x0 + half + 1 >= image.width
-            || y0 + half + 1 >= image.height
+impl<'a> ReferenceSubset<'a> {
+    fn new(frame: &'a ReferenceFrame, x0: usize, y0: usize, half: usize) -> Option<Self> {
+        let image = &frame.image;
+        let width = image.width;
+        if x0 < half + 1 || y0 < half + 1 || x0 + half + 1 >= width || y0 + half + 1 >= image.height
         {
             return None;
         }
         let side = 2 * half + 1;
+        let h = half as f64;
+        let rows = |values: &'a [f64]| {
+            (y0 - half..=y0 + half).map(move |y| {
+                let start = y * width + x0 - half;
+                &values[start..start + side]
+            })
+        };
         let n = (side * side) as f64;
-        let mut mean = 0.0;
-        for y in y0 - half..=y0 + half {
-            mean += image.pixels[y * image.width + x0 - half..=y * image.width + x0 + half]
-                .iter()
-                .sum::<f64>();
-        }
-        mean /= n;
+        let mean = rows(&image.pixels).flatten().sum::<f64>() / n;
+
+        // J = (gx, gx·dx, gx·dy, gy, gy·dx, gy·dy) makes every entry of
+        // Σ J Jᵀ a moment Σ p·dxⁱ·dyʲ (i + j ≤ 2) of p ∈ {gx², gx·gy, gy²}:
+        // sum each row over dx first, then weight the row sums by dy.
         let mut ss = 0.0;
-        for y in y0 - half..=y0 + half {
-            for x in x0 - half..=x0 + half {
-                let d = image.get(x, y) - mean;
-                ss += d * d;
+        // Moments (1, dx, dx², dy, dx·dy, dy²) of gx², gx·gy, gy².
+        let mut m = [[0.0; 6]; 3];
+        let mut sum_j = [0.0; 6];
+        let mut sum_j_f = [0.0; 6];
+        for (row, ((f_row, gx_row), gy_row)) in rows(&image.pixels)
+            .zip(rows(&frame.gradient_x))
+            .zip(rows(&frame.gradient_y))
+            .enumerate()
+        {
+            let dy = row as f64 - h;
+            let mut r = [[0.0; 3]; 3];
+            // Σ gx, Σ gx·dx, Σ gy, Σ gy·dx and the same times (f − f̄).
+            let mut g = [0.0; 4];
+            let mut gf = [0.0; 4];
+            let mut dx = -h;
+            for ((&f, &gx), &gy) in f_row.iter().zip(gx_row).zip(gy_row) {
+                let fc = f - mean;
+                ss += fc * fc;
+                for (moments, p) in r.iter_mut().zip([gx * gx, gx * gy, gy * gy]) {
+                    moments[0] += p;
+                    moments[1] += p * dx;
+                    moments[2] += p * dx * dx;
+                }
+                g[0] += gx;
+                g[1] += gx * dx;
+                g[2] += gy;
+                g[3] += gy * dx;
+                gf[0] += gx * fc;
+                gf[1] += gx * dx * fc;
+                gf[2] += gy * fc;
+                gf[3] += gy * dx * fc;
+                dx += 1.0;
+            }
+            for (total, row_sums) in m.iter_mut().zip(&r) {
+                total[0] += row_sums[0];
+                total[1] += row_sums[1];
+                total[2] += row_sums[2];
+                total[3] += dy * row_sums[0];
+                total[4] += dy * row_sums[1];
+                total[5] += dy * dy * row_sums[0];
+            }
+            for (total, s) in [(&mut sum_j, &g), (&mut sum_j_f, &gf)] {
+                total[0] += s[0];
+                total[1] += s[1];
+                total[2] += dy * s[0];
+                total[3] += s[2];
+                total[4] += s[3];
+                total[5] += dy * s[2];
             }
         }
         let norm = ss.sqrt();
         if norm.is_nan() || norm <= 1e-9 {
             return None;
         }
-        let mut points = Vec::with_capacity(side * side);
+        let inv_norm = 1.0 / norm;
+        let inv_norm_sq = inv_norm * inv_norm;
+        // Lower triangle of Σ J Jᵀ from the moments: for the x-block rows
+        // a, b ∈ {1, dx, dy}, moment index of the product a·b.
+        const PRODUCT: [[usize; 3]; 3] = [[0, 1, 3], [1, 2, 4], [3, 4, 5]];
         let mut hessian = [[0.0; 6]; 6];
-        let mut sum_j_f = [0.0; 6];
-        let mut sum_j = [0.0; 6];
-        for y in y0 - half..=y0 + half {
-            let dy = y as f64 - y0 as f64;
-            for x in x0 - half..=x0 + half {
-                let dx = x as f64 - x0 as f64;
-                let f = (image.get(x, y) - mean) / norm;
-                let (gx, gy) = spline.gradient_at_node(x, y);
-                let (gx, gy) = (gx / norm, gy / norm);
-                let j = [gx, gx * dx, gx * dy, gy, gy * dx, gy * dy];
-                for a in 0..6 {
-                    sum_j_f[a] += j[a] * f;
-                    sum_j[a] += j[a];
-                    for b in 0..=a {
-                        hessian[a][b] += j[a] * j[b];
-                    }
+        for a in 0..3 {
+            for b in 0..3 {
+                let k = PRODUCT[a][b];
+                if b <= a {
+                    hessian[a][b] = m[0][k] * inv_norm_sq;
+                    hessian[a + 3][b + 3] = m[2][k] * inv_norm_sq;
                 }
-                points.push([f, j[0], j[1], j[2], j[3], j[4], j[5]]);
+                hessian[a + 3][b] = m[1][k] * inv_norm_sq;
             }
         }
         let hessian_chol = cholesky(&hessian)?;
@@ -210,9 +297,11 @@ impl ReferenceSubset {
             x0,
             y0,
             half,
-            points,
-            sum_j_f,
-            sum_j,
+            frame,
+            mean,
+            inv_norm,
+            sum_j_f: sum_j_f.map(|s| s * inv_norm_sq),
+            sum_j: sum_j.map(|s| s * inv_norm),
             hessian_chol,
         })
     }
@@ -221,8 +310,11 @@ impl ReferenceSubset {
         self.half
     }
 
-    /// Whether the warped subset's interpolation support stays in `target`.
+    /// Whether the warped subset's interpolation support stays in `target`,
+    /// with a margin of 1e-6 px for the rounding of the stepped positions
+    /// in `solve`.
     fn fits(&self, target: &BSplineImage, warp: &Warp) -> bool {
+        const MARGIN_PX: f64 = 1e-6;
         let h = self.half as f64;
         let (mut x_min, mut x_max, mut y_min, mut y_max) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
         for (dx, dy) in [(-h, -h), (h, -h), (-h, h), (h, h)] {
@@ -235,7 +327,12 @@ impl ReferenceSubset {
         let (cx, cy) = (self.x0 as f64, self.y0 as f64);
         x_min.is_finite()
             && y_min.is_finite()
-            && target.contains_box(cx + x_min, cx + x_max, cy + y_min, cy + y_max)
+            && target.contains_box(
+                cx + x_min - MARGIN_PX,
+                cx + x_max + MARGIN_PX,
+                cy + y_min - MARGIN_PX,
+                cy + y_max + MARGIN_PX,
+            )
     }
 
     /// Refines `guess` by IC-GN against the deformed image `target`.
@@ -245,44 +342,66 @@ impl ReferenceSubset {
         let h = self.half as f64;
         let side = 2 * self.half + 1;
         let n = (side * side) as f64;
+        let width = self.frame.image.width;
+        let first = (self.y0 - self.half) * width + self.x0 - self.half;
+        // The deformed image at the warped subset; allocated once per solve.
+        let mut g = vec![0.0; side * side];
         for iteration in 1..=settings.max_iterations {
             if !self.fits(target, &warp) {
                 return failed(warp, iteration);
             }
-            // One pass: Σg, Σg², Σf̃g and Σ J̃ g.
-            let mut sums = [0.0; 9];
-            let step_x = (1.0 + warp.ux, warp.vx);
-            for row in 0..side {
+            // The deformed image at the warped subset, then one pass for
+            // Σg, Σg², Σfg and Σ J g (raw f and ∇f, scaled below).
+            let (ox, oy) = warp.apply(-h, -h);
+            target.values_on_grid(
+                (self.x0 as f64 + ox, self.y0 as f64 + oy),
+                (1.0 + warp.ux, warp.vx),
+                (warp.uy, 1.0 + warp.vy),
+                side,
+                &mut g,
+            );
+            let (mut sum_g, mut sum_gg, mut sum_fg) = (0.0, 0.0, 0.0);
+            let mut sum_j_g = [0.0; 6];
+            for (row, g_row) in g.chunks_exact(side).enumerate() {
                 let dy = row as f64 - h;
-                let (ox, oy) = warp.apply(-h, dy);
-                let mut x = self.x0 as f64 + ox;
-                let mut y = self.y0 as f64 + oy;
-                let points = &self.points[row * side..(row + 1) * side];
-                for p in points {
-                    let g = target.value(x, y);
-                    sums[0] += g;
-                    sums[1] += g * g;
-                    sums[2] += p[0] * g;
-                    sums[3] += p[1] * g;
-                    sums[4] += p[2] * g;
-                    sums[5] += p[3] * g;
-                    sums[6] += p[4] * g;
-                    sums[7] += p[5] * g;
-                    sums[8] += p[6] * g;
-                    x += step_x.0;
-                    y += step_x.1;
+                let start = first + row * width;
+                let f_row = &self.frame.image.pixels[start..start + side];
+                let gx_row = &self.frame.gradient_x[start..start + side];
+                let gy_row = &self.frame.gradient_y[start..start + side];
+                // Σ gx·g, Σ gx·g·dx, Σ gy·g, Σ gy·g·dx along the row.
+                let mut r = [0.0; 4];
+                let mut dx = -h;
+                for (((&f, &gx), &gy), &g) in f_row.iter().zip(gx_row).zip(gy_row).zip(g_row) {
+                    sum_g += g;
+                    sum_gg += g * g;
+                    sum_fg += f * g;
+                    let gx_g = gx * g;
+                    let gy_g = gy * g;
+                    r[0] += gx_g;
+                    r[1] += gx_g * dx;
+                    r[2] += gy_g;
+                    r[3] += gy_g * dx;
+                    dx += 1.0;
                 }
+                sum_j_g[0] += r[0];
+                sum_j_g[1] += r[1];
+                sum_j_g[2] += dy * r[0];
+                sum_j_g[3] += r[2];
+                sum_j_g[4] += r[3];
+                sum_j_g[5] += dy * r[2];
             }
-            let g_mean = sums[0] / n;
-            let g_ss = sums[1] - n * g_mean * g_mean;
+            let g_mean = sum_g / n;
+            let g_ss = sum_gg - n * g_mean * g_mean;
             if g_ss.is_nan() || g_ss <= 1e-18 {
                 return failed(warp, iteration);
             }
             let g_norm = g_ss.sqrt();
-            zncc = sums[2] / g_norm;
+            // Σ f̃ g = (Σ f g − f̄ Σ g)/‖f − f̄‖.
+            zncc = (sum_fg - self.mean * sum_g) * self.inv_norm / g_norm;
             let mut b = [0.0; 6];
             for a in 0..6 {
-                b[a] = self.sum_j_f[a] - (sums[3 + a] - g_mean * self.sum_j[a]) / g_norm;
+                b[a] = self.sum_j_f[a]
+                    - (sum_j_g[a] * self.inv_norm - g_mean * self.sum_j[a]) / g_norm;
             }
             let d = cholesky_solve(&self.hessian_chol, &b);
             let increment = Warp {
@@ -409,6 +528,55 @@ mod tests {
         let x = cholesky_solve(&cholesky(&a).unwrap(), &b);
         for i in 0..6 {
             assert!((x[i] - x_true[i]).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn subset_hessian_equals_the_direct_sum() {
+        // Σ J̃ᵀ J̃ over the points, J̃ = ∇f/‖f − f̄‖ · ∂W/∂p, summed directly
+        // from the spline, against the factor built from moments.
+        let (width, height) = (48, 44);
+        let pixels = (0..width * height)
+            .map(|i| {
+                let (x, y) = ((i % width) as f64, (i / width) as f64);
+                (0.5 * x).sin() * (0.3 * y).cos() + 0.1 * (0.7 * x + 0.4 * y).sin()
+            })
+            .collect();
+        let image = GrayImage::new(width, height, pixels).unwrap();
+        let spline = BSplineImage::new(&image);
+        let frame = ReferenceFrame::with_spline(image.clone(), &spline);
+        let (x0, y0, half) = (23, 20, 7);
+        let subset = frame.subset(x0, y0, half).unwrap();
+        let points: Vec<(usize, usize)> = (y0 - half..=y0 + half)
+            .flat_map(|y| (x0 - half..=x0 + half).map(move |x| (x, y)))
+            .collect();
+        let mean = points.iter().map(|&(x, y)| image.get(x, y)).sum::<f64>() / 225.0;
+        let norm = points
+            .iter()
+            .map(|&(x, y)| (image.get(x, y) - mean).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let mut direct = [[0.0; 6]; 6];
+        for &(x, y) in &points {
+            let (gx, gy) = spline.gradient_at_node(x, y);
+            let (dx, dy) = (x as f64 - x0 as f64, y as f64 - y0 as f64);
+            let j = [gx, gx * dx, gx * dy, gy, gy * dx, gy * dy].map(|v| v / norm);
+            for a in 0..6 {
+                for b in 0..6 {
+                    direct[a][b] += j[a] * j[b];
+                }
+            }
+        }
+        let l = subset.hessian_chol;
+        for a in 0..6 {
+            for b in 0..6 {
+                let product: f64 = (0..6).map(|k| l[a][k] * l[b][k]).sum();
+                assert!(
+                    (product - direct[a][b]).abs() < 1e-10 * direct[a][a].max(direct[b][b]),
+                    "H[{a}][{b}] {product} vs {}",
+                    direct[a][b]
+                );
+            }
         }
     }
 }

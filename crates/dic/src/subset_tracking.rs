@@ -22,7 +22,7 @@ use rayon::prelude::*;
 use crate::DicError;
 use crate::bspline::BSplineImage;
 use crate::gray::GrayImage;
-use crate::icgn::{IcgnSettings, Match, ReferenceSubset, Warp};
+use crate::icgn::{IcgnSettings, Match, ReferenceFrame, ReferenceSubset, Warp};
 use crate::poi_grid::PoiGrid;
 use crate::strain::{IDENTITY, Mat2, affine_fit, mat_inv, mat_mul, principal_stretches};
 use crate::zncc_fft::integer_search;
@@ -54,8 +54,9 @@ struct PoiState {
 pub struct SubsetTracker {
     settings: SubsetSettings,
     grid: PoiGrid,
-    reference: GrayImage,
-    reference_spline: BSplineImage,
+    /// The reference frame with its spline gradients, built once per
+    /// reference update and shared by every POI's subset.
+    reference: ReferenceFrame,
     /// Frame index of the current reference.
     pub reference_frame: usize,
     /// Position and local gradient of each POI in the reference frame.
@@ -75,7 +76,6 @@ pub struct FrameTrack {
 
 impl SubsetTracker {
     pub fn new(settings: SubsetSettings, grid: PoiGrid, frame0: GrayImage) -> Self {
-        let reference_spline = BSplineImage::new(&frame0);
         let reference_state = grid.points.iter().map(|&p| Some((p, IDENTITY))).collect();
         let state = grid
             .points
@@ -90,8 +90,7 @@ impl SubsetTracker {
         Self {
             settings,
             grid,
-            reference: frame0,
-            reference_spline,
+            reference: ReferenceFrame::new(frame0),
             reference_frame: 0,
             reference_state,
             state,
@@ -104,20 +103,14 @@ impl SubsetTracker {
     }
 
     /// The reference subset of POI `i` and its centre pixel, if it fits.
-    fn subset(&self, i: usize) -> Option<(ReferenceSubset, [f64; 2], Mat2)> {
+    fn subset(&self, i: usize) -> Option<(ReferenceSubset<'_>, [f64; 2], Mat2)> {
         let (position, gradient) = self.reference_state[i]?;
         let (px, py) = (position[0].round(), position[1].round());
         if px < 0.0 || py < 0.0 {
             return None;
         }
         let half = self.settings.icgn.subset_px / 2;
-        let subset = ReferenceSubset::new(
-            &self.reference,
-            &self.reference_spline,
-            px as usize,
-            py as usize,
-            half,
-        )?;
+        let subset = self.reference.subset(px as usize, py as usize, half)?;
         Some((subset, position, gradient))
     }
 
@@ -132,14 +125,15 @@ impl SubsetTracker {
         frame: usize,
         file: &str,
     ) -> Result<FrameTrack, DicError> {
-        if (target.width, target.height) != (self.reference.width, self.reference.height) {
+        let reference = self.reference.image();
+        if (target.width, target.height) != (reference.width, reference.height) {
             return Err(DicError::SizeMismatch {
                 frame,
                 file: file.to_owned(),
                 width: target.width,
                 height: target.height,
-                width0: self.reference.width,
-                height0: self.reference.height,
+                width0: reference.width,
+                height0: reference.height,
             });
         }
         let spline = BSplineImage::new(&target);
@@ -236,8 +230,7 @@ impl SubsetTracker {
                     .iter()
                     .map(|s| s.valid.then_some((s.position, s.gradient)))
                     .collect();
-                self.reference_spline = spline;
-                self.reference = target;
+                self.reference = ReferenceFrame::with_spline(target, &spline);
                 self.reference_frame = frame;
             }
         }
@@ -324,7 +317,7 @@ impl SubsetTracker {
                 (subset.x0 as i64, subset.y0 as i64)
             };
             let Some(hit) = integer_search(
-                &self.reference,
+                self.reference.image(),
                 subset.x0,
                 subset.y0,
                 half,

@@ -4,7 +4,7 @@
 
 use hypercontact_dic::GrayImage;
 use hypercontact_dic::bspline::BSplineImage;
-use hypercontact_dic::icgn::{IcgnSettings, ReferenceSubset, Warp};
+use hypercontact_dic::icgn::{IcgnSettings, ReferenceFrame, Warp};
 use hypercontact_synth::tensile::experiment::expose;
 use hypercontact_synth::tensile::render::{AxisMap, render};
 use hypercontact_synth::tensile::speckle::SpecklePattern;
@@ -38,7 +38,7 @@ fn rms_error(noise: f64) -> f64 {
         convergence_px: 1e-4,
     };
     let reference = image(&pattern, [0.0, 0.0], noise, 100);
-    let reference_spline = BSplineImage::new(&reference);
+    let reference = ReferenceFrame::new(reference);
     let shifts = [
         [0.1, 0.0],
         [0.25, -0.4],
@@ -52,7 +52,7 @@ fn rms_error(noise: f64) -> f64 {
         let target = BSplineImage::new(&image(&pattern, *shift, noise, s as u64));
         for y in (40..=120).step_by(10) {
             for x in (40..=120).step_by(10) {
-                let subset = ReferenceSubset::new(&reference, &reference_spline, x, y, 15).unwrap();
+                let subset = reference.subset(x, y, 15).unwrap();
                 let guess = Warp::translation(shift[0].round(), shift[1].round());
                 let m = subset.solve(&target, guess, &settings);
                 assert!(

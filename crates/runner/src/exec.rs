@@ -190,6 +190,17 @@ pub fn run_with_hook(
 
     let reader = hypercontact_io::RunnerReader;
     let mut products: HashMap<(String, String), Arc<Product>> = HashMap::new();
+    // How many later stages still read each product: at zero it leaves
+    // memory (a paper-scale run would otherwise hold every sample's tiles
+    // and truth at once).
+    let mut readers: HashMap<(String, String), usize> = HashMap::new();
+    for s in &plan.stages {
+        for input in &s.inputs {
+            *readers
+                .entry((input.from_stage.clone(), input.from_output.clone()))
+                .or_default() += 1;
+        }
+    }
     let mut manifests: HashMap<String, Manifest> = HashMap::new();
 
     for planned in &plan.stages {
@@ -237,7 +248,10 @@ pub fn run_with_hook(
                 check_contract(planned, decl.stage.info(), &outputs)?;
                 let m = write_entry(&cache, planned, &outputs, compute_s, after_file)?;
                 for (name, product) in outputs.into_inner() {
-                    products.insert((planned.name.clone(), name), Arc::new(product));
+                    let id = (planned.name.clone(), name);
+                    if readers.get(&id).is_some_and(|&n| n > 0) {
+                        products.insert(id, Arc::new(product));
+                    }
                 }
                 use_ = if forced {
                     CacheUse::Forced
@@ -280,6 +294,15 @@ pub fn run_with_hook(
             },
         );
         manifests.insert(planned.name.clone(), manifest);
+        for input in &planned.inputs {
+            let id = (input.from_stage.clone(), input.from_output.clone());
+            if let Some(n) = readers.get_mut(&id) {
+                *n = n.saturating_sub(1);
+                if *n == 0 {
+                    products.remove(&id);
+                }
+            }
+        }
         overall.inc(1);
     }
     overall.finish_and_clear();

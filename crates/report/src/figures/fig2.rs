@@ -170,7 +170,7 @@ impl Figure for Fig2<'_> {
 
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
+            .position(SeriesLabelPosition::LowerRight)
             .margin(15)
             .legend_area_size(60)
             .label_font(font(sizes.legend))
