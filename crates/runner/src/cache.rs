@@ -10,8 +10,17 @@
 //! - `locks/<key>.lock`: an exclusive file lock held while an entry is
 //!   computed, so two runs sharing the cache compute it once.
 //!
+//! - `stamps/<key>.json`: for each file of an entry, the file's size, inode,
+//!   ctime and mtime when its hash last matched.
+//!
 //! An entry is trusted only if its manifest parses and every file matches
-//! its recorded size and hash; anything else is recomputed.
+//! its recorded size and hash; anything else is recomputed. A file is
+//! hashed the first time an entry is reused; later checks hash it again
+//! only if its stamp changed. Nothing rewrites a file without changing its
+//! ctime (no user tool can set it back), so an edited, replaced or
+//! truncated file is still caught, while a warm run of a pipeline with
+//! gigabytes of cached tiles costs a `stat` per file instead of reading them
+//! all (git's index trusts unchanged stat data the same way).
 
 use std::collections::BTreeMap;
 use std::fs;
@@ -76,7 +85,7 @@ fn unique_suffix() -> String {
 
 impl Cache {
     pub fn open(root: &Path) -> io::Result<Self> {
-        for sub in ["entries", "tmp", "locks"] {
+        for sub in ["entries", "tmp", "locks", "stamps"] {
             fs::create_dir_all(root.join(sub))?;
         }
         Ok(Self {
@@ -90,6 +99,10 @@ impl Cache {
 
     pub fn entry_dir(&self, key: &str) -> PathBuf {
         self.root.join("entries").join(key)
+    }
+
+    fn stamps_path(&self, key: &str) -> PathBuf {
+        self.root.join("stamps").join(format!("{key}.json"))
     }
 
     /// Checks an entry: manifest readable, every file present with its size
@@ -109,11 +122,17 @@ impl Cache {
         if manifest.key != key || manifest.format != MANIFEST_FORMAT {
             return EntryState::Corrupt("manifest belongs to another key or format".into());
         }
+        let stamps_path = self.stamps_path(key);
+        let old_stamps: BTreeMap<String, String> = fs::read(&stamps_path)
+            .ok()
+            .and_then(|b| serde_json::from_slice(&b).ok())
+            .unwrap_or_default();
+        let mut stamps = BTreeMap::new();
         for record in manifest.outputs.values() {
             for (rel, file) in &record.files {
                 let path = dir.join(rel);
-                match fs::metadata(&path) {
-                    Ok(m) if m.len() == file.bytes => {}
+                let meta = match fs::metadata(&path) {
+                    Ok(m) if m.len() == file.bytes => m,
                     Ok(m) => {
                         return EntryState::Corrupt(format!(
                             "{rel} has {} bytes, expected {}",
@@ -122,13 +141,29 @@ impl Cache {
                         ));
                     }
                     Err(e) => return EntryState::Corrupt(format!("{rel}: {e}")),
+                };
+                let stamp = stamp(&meta);
+                if let Some(unchanged) = &stamp
+                    && old_stamps.get(rel) == Some(unchanged)
+                {
+                    stamps.insert(rel.clone(), unchanged.clone());
+                    continue;
                 }
                 match file_hash(&path) {
                     Ok(h) if h == file.blake3 => {}
                     Ok(_) => return EntryState::Corrupt(format!("{rel} fails its hash check")),
                     Err(e) => return EntryState::Corrupt(format!("{rel}: {e}")),
                 }
+                if let Some(stamp) = stamp {
+                    stamps.insert(rel.clone(), stamp);
+                }
             }
+        }
+        if stamps != old_stamps
+            && let Ok(bytes) = serde_json::to_vec(&stamps)
+        {
+            // Best effort: without a stamp the next check hashes again.
+            let _ = crate::write_atomic(&stamps_path, &bytes);
         }
         EntryState::Valid(Box::new(manifest))
     }
@@ -222,6 +257,7 @@ impl Cache {
             .root
             .join("tmp")
             .join(format!("{key}.trash.{}", unique_suffix()));
+        let _ = fs::remove_file(self.stamps_path(key));
         if self.entry_dir(key).exists() {
             fs::rename(self.entry_dir(key), &trash)?;
             remove_tree(&trash)?;
@@ -262,6 +298,27 @@ pub struct EntryInfo {
     pub manifest: Option<Manifest>,
     pub bytes: u64,
     pub last_used: Option<SystemTime>,
+}
+
+/// What identifies a file's state without reading it: size, inode, ctime
+/// and mtime (ns). None where the platform has no ctime.
+#[cfg(unix)]
+fn stamp(meta: &fs::Metadata) -> Option<String> {
+    use std::os::unix::fs::MetadataExt;
+    Some(format!(
+        "{}:{}:{}.{:09}:{}.{:09}",
+        meta.len(),
+        meta.ino(),
+        meta.ctime(),
+        meta.ctime_nsec(),
+        meta.mtime(),
+        meta.mtime_nsec()
+    ))
+}
+
+#[cfg(not(unix))]
+fn stamp(_: &fs::Metadata) -> Option<String> {
+    None
 }
 
 /// Deletes a tree even where files were made read-only.

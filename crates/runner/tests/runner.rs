@@ -209,8 +209,13 @@ fn a_corrupt_entry_is_detected_and_recomputed() {
     let p = load(t.path(), "p.yaml", BASIC);
     let o = options(t.path());
     run(&p, &o).unwrap();
+    // A second run hashes the entries once and stamps them; from then on
+    // only changed stat data makes a check read the files again.
+    run(&p, &o).unwrap();
     let key = &keys(&p, t.path())[1];
+    assert!(o.cache_dir.join("stamps").join(format!("{key}.json")).exists());
     let victim: PathBuf = o.cache_dir.join("entries").join(key).join("t.parquet");
+    let modified = std::fs::metadata(&victim).unwrap().modified().unwrap();
     let mut perms = std::fs::metadata(&victim).unwrap().permissions();
     #[allow(clippy::permissions_set_readonly_false)]
     perms.set_readonly(false);
@@ -219,6 +224,13 @@ fn a_corrupt_entry_is_detected_and_recomputed() {
     let mid = bytes.len() / 2;
     bytes[mid] ^= 0xff;
     std::fs::write(&victim, &bytes).unwrap();
+    // Same size, mtime set back: only the ctime tells, and it does.
+    std::fs::File::options()
+        .append(true)
+        .open(&victim)
+        .unwrap()
+        .set_modified(modified)
+        .unwrap();
 
     let plan = run(
         &p,
