@@ -213,7 +213,12 @@ fn a_corrupt_entry_is_detected_and_recomputed() {
     // only changed stat data makes a check read the files again.
     run(&p, &o).unwrap();
     let key = &keys(&p, t.path())[1];
-    assert!(o.cache_dir.join("stamps").join(format!("{key}.json")).exists());
+    assert!(
+        o.cache_dir
+            .join("stamps")
+            .join(format!("{key}.json"))
+            .exists()
+    );
     let victim: PathBuf = o.cache_dir.join("entries").join(key).join("t.parquet");
     let modified = std::fs::metadata(&victim).unwrap().modified().unwrap();
     let mut perms = std::fs::metadata(&victim).unwrap().permissions();
