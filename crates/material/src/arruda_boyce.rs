@@ -9,8 +9,8 @@
 //! inverse Langevin function. Its initial shear modulus is
 //! μ0 = μ (1 + 3/(5λm²) + 99/(175λm⁴) + 513/(875λm⁶) + 42039/(67375λm⁸)).
 
-use crate::invariants::{self, InvariantEnergy, InvariantSlopes};
-use crate::{Hyperelastic, MaterialError, Mode};
+use crate::MaterialError;
+use crate::invariants::{InvariantEnergy, InvariantSlopes};
 
 /// The series coefficients C_i.
 const C: [f64; 5] = [
@@ -74,35 +74,14 @@ impl InvariantEnergy for ArrudaBoyce {
         }
         s
     }
-}
 
-impl Hyperelastic for ArrudaBoyce {
-    fn family(&self) -> &'static str {
+    fn family_name(&self) -> &'static str {
         "arruda-boyce"
     }
-
-    fn shear_modulus_pa(&self) -> f64 {
+    fn initial_shear_modulus_pa(&self) -> f64 {
         2.0 * self.slopes_at(3.0, 3.0).w1
     }
-
-    fn energy_pa(&self, stretches: [f64; 3]) -> f64 {
-        let (i1, i2) = invariants::invariants(stretches);
-        self.energy_at(i1, i2)
-    }
-
-    fn nominal_stress_pa(&self, mode: Mode, stretch: f64) -> f64 {
-        invariants::nominal_stress(self, mode, stretch)
-    }
-
-    fn nominal_stress_slope_pa(&self, mode: Mode, stretch: f64) -> f64 {
-        invariants::nominal_stress_slope(self, mode, stretch)
-    }
-
-    fn log_strain_hessian_pa(&self, stretches: [f64; 3]) -> [[f64; 2]; 2] {
-        invariants::log_strain_hessian(self, stretches)
-    }
-
-    fn parameters(&self) -> Vec<(String, f64)> {
+    fn named_parameters(&self) -> Vec<(String, f64)> {
         vec![
             ("mu".into(), self.mu_pa),
             ("lambda_m".into(), self.lambda_m),
@@ -114,6 +93,7 @@ impl Hyperelastic for ArrudaBoyce {
 mod tests {
     use super::*;
     use crate::invariants::tests::{check_against_energy, check_small_strain};
+    use crate::{Hyperelastic, Mode};
 
     #[test]
     fn stresses_follow_the_energy_and_the_small_strain_limit() {

@@ -7,7 +7,9 @@
 //! the second derivatives of W. The Drucker stiffness is the Hessian of
 //! Ŵ(ε1, ε2) = W at log strains (ε1, ε2, −ε1 − ε2), as in [`crate::stability`].
 
-use crate::Mode;
+use std::fmt;
+
+use crate::{Hyperelastic, Mode};
 
 /// W's partial derivatives with respect to I1 and I2 at one state, Pa.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -19,12 +21,51 @@ pub struct InvariantSlopes {
     pub w22: f64,
 }
 
-/// A strain energy W(I1, I2).
-pub trait InvariantEnergy {
+/// A strain energy W(I1, I2): a family implements this and is a
+/// [`Hyperelastic`] material through the blanket impl below, with stresses
+/// and Drucker stiffness in closed form from the invariant derivatives.
+pub trait InvariantEnergy: fmt::Debug + Send + Sync {
     /// W(I1, I2), Pa.
     fn energy_at(&self, i1: f64, i2: f64) -> f64;
     /// First and second partial derivatives of W, Pa.
     fn slopes_at(&self, i1: f64, i2: f64) -> InvariantSlopes;
+    /// The family's name in the `material` table.
+    fn family_name(&self) -> &'static str;
+    /// Initial shear modulus μ0, Pa.
+    fn initial_shear_modulus_pa(&self) -> f64;
+    /// Named parameters in SI units, in the order of the `material` table.
+    fn named_parameters(&self) -> Vec<(String, f64)>;
+}
+
+impl<T: InvariantEnergy> Hyperelastic for T {
+    fn family(&self) -> &'static str {
+        self.family_name()
+    }
+
+    fn shear_modulus_pa(&self) -> f64 {
+        self.initial_shear_modulus_pa()
+    }
+
+    fn energy_pa(&self, stretches: [f64; 3]) -> f64 {
+        let (i1, i2) = invariants(stretches);
+        self.energy_at(i1, i2)
+    }
+
+    fn nominal_stress_pa(&self, mode: Mode, stretch: f64) -> f64 {
+        nominal_stress(self, mode, stretch)
+    }
+
+    fn nominal_stress_slope_pa(&self, mode: Mode, stretch: f64) -> f64 {
+        nominal_stress_slope(self, mode, stretch)
+    }
+
+    fn parameters(&self) -> Vec<(String, f64)> {
+        self.named_parameters()
+    }
+
+    fn log_strain_hessian_pa(&self, stretches: [f64; 3]) -> [[f64; 2]; 2] {
+        log_strain_hessian(self, stretches)
+    }
 }
 
 /// I1 = Σ λ², I2 = Σ λ⁻².

@@ -1,8 +1,8 @@
 //! The incompressible Mooney–Rivlin solid, W = C10 (I1 − 3) + C01 (I2 − 3),
 //! μ0 = 2 (C10 + C01) (Abaqus' parameter names).
 
-use crate::invariants::{self, InvariantEnergy, InvariantSlopes};
-use crate::{Hyperelastic, MaterialError, Mode};
+use crate::MaterialError;
+use crate::invariants::{InvariantEnergy, InvariantSlopes};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct MooneyRivlin {
@@ -33,35 +33,14 @@ impl InvariantEnergy for MooneyRivlin {
             ..Default::default()
         }
     }
-}
 
-impl Hyperelastic for MooneyRivlin {
-    fn family(&self) -> &'static str {
+    fn family_name(&self) -> &'static str {
         "mooney-rivlin"
     }
-
-    fn shear_modulus_pa(&self) -> f64 {
+    fn initial_shear_modulus_pa(&self) -> f64 {
         2.0 * (self.c10_pa + self.c01_pa)
     }
-
-    fn energy_pa(&self, stretches: [f64; 3]) -> f64 {
-        let (i1, i2) = invariants::invariants(stretches);
-        self.energy_at(i1, i2)
-    }
-
-    fn nominal_stress_pa(&self, mode: Mode, stretch: f64) -> f64 {
-        invariants::nominal_stress(self, mode, stretch)
-    }
-
-    fn nominal_stress_slope_pa(&self, mode: Mode, stretch: f64) -> f64 {
-        invariants::nominal_stress_slope(self, mode, stretch)
-    }
-
-    fn log_strain_hessian_pa(&self, stretches: [f64; 3]) -> [[f64; 2]; 2] {
-        invariants::log_strain_hessian(self, stretches)
-    }
-
-    fn parameters(&self) -> Vec<(String, f64)> {
+    fn named_parameters(&self) -> Vec<(String, f64)> {
         vec![("c10".into(), self.c10_pa), ("c01".into(), self.c01_pa)]
     }
 }
@@ -70,6 +49,7 @@ impl Hyperelastic for MooneyRivlin {
 mod tests {
     use super::*;
     use crate::invariants::tests::{check_against_energy, check_small_strain};
+    use crate::{Hyperelastic, Mode};
 
     #[test]
     fn stresses_follow_the_energy_and_the_small_strain_limit() {
