@@ -117,23 +117,29 @@ fn filter_real(field: &mut Array2<f64>, gain: impl Fn(usize, usize) -> f64 + Syn
     let fwd = planner.plan_fft_forward(nx);
     let inv = planner.plan_fft_inverse(nx);
 
-    // half[j][i]: column j of the half spectrum, contiguous along x.
+    // half[j][i]: column j of the half spectrum, contiguous along x. Rows
+    // go through their real FFTs a block at a time and are scattered into
+    // it at once, so the field and the half spectrum are the only large
+    // arrays alive (a paper-scale truth grid is ~14 000² points).
+    const BLOCK: usize = 64;
     let mut half = vec![Complex64::default(); nh * nx];
-    let mut rows: Vec<Vec<Complex64>> = field
-        .as_slice()
-        .expect("a standard-layout array")
-        .par_chunks(ny)
-        .map(|row| {
-            let mut input = row.to_vec();
-            let mut out = r2c.make_output_vec();
-            r2c.process(&mut input, &mut out)
-                .expect("sizes match the plan");
-            out
-        })
-        .collect();
-    for (i, row) in rows.iter().enumerate() {
-        for (j, v) in row.iter().enumerate() {
-            half[j * nx + i] = *v;
+    let slice = field.as_slice_mut().expect("a standard-layout array");
+    for (b, block) in slice.chunks(BLOCK * ny).enumerate() {
+        let spectra: Vec<Vec<Complex64>> = block
+            .par_chunks(ny)
+            .map(|row| {
+                let mut input = row.to_vec();
+                let mut out = r2c.make_output_vec();
+                r2c.process(&mut input, &mut out)
+                    .expect("sizes match the plan");
+                out
+            })
+            .collect();
+        for (k, row) in spectra.iter().enumerate() {
+            let i = b * BLOCK + k;
+            for (j, v) in row.iter().enumerate() {
+                half[j * nx + i] = *v;
+            }
         }
     }
     half.par_chunks_mut(nx).enumerate().for_each(|(j, column)| {
@@ -143,31 +149,22 @@ fn filter_real(field: &mut Array2<f64>, gain: impl Fn(usize, usize) -> f64 + Syn
         }
         inv.process(column);
     });
-    for (i, row) in rows.iter_mut().enumerate() {
-        for (j, v) in row.iter_mut().enumerate() {
-            *v = half[j * nx + i];
-        }
-        // The real inverse needs exactly real DC and Nyquist terms; they are
-        // real up to rounding because the gain is symmetric.
-        row[0].im = 0.0;
-        if ny % 2 == 0 {
-            row[nh - 1].im = 0.0;
-        }
-    }
-    drop(half);
-    field
-        .as_slice_mut()
-        .expect("a standard-layout array")
-        .par_chunks_mut(ny)
-        .zip(rows.par_iter_mut())
-        .for_each(|(out, spectrum)| {
-            let mut real = c2r.make_output_vec();
-            c2r.process(spectrum, &mut real)
-                .expect("sizes match the plan");
-            for (o, r) in out.iter_mut().zip(real) {
-                *o = r;
+    for (b, block) in slice.chunks_mut(BLOCK * ny).enumerate() {
+        block.par_chunks_mut(ny).enumerate().for_each(|(k, out)| {
+            let i = b * BLOCK + k;
+            let mut spectrum: Vec<Complex64> = (0..nh).map(|j| half[j * nx + i]).collect();
+            // The real inverse needs exactly real DC and Nyquist terms;
+            // they are real up to rounding because the gain is symmetric.
+            spectrum[0].im = 0.0;
+            if ny % 2 == 0 {
+                spectrum[nh - 1].im = 0.0;
             }
+            let mut real = c2r.make_output_vec();
+            c2r.process(&mut spectrum, &mut real)
+                .expect("sizes match the plan");
+            out.copy_from_slice(&real);
         });
+    }
 }
 
 #[cfg(test)]
