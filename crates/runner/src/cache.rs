@@ -101,6 +101,26 @@ impl Cache {
         self.root.join("entries").join(key)
     }
 
+    /// Records the current stat stamps of an entry's files. Only for an
+    /// entry this run has just verified or written (its files hashed in
+    /// this run), after exporting it: the hard links of the export change
+    /// the files' ctime, which would otherwise cost the next run a full hash.
+    pub fn restamp(&self, key: &str, manifest: &Manifest) {
+        let dir = self.entry_dir(key);
+        let mut stamps = BTreeMap::new();
+        for record in manifest.outputs.values() {
+            for rel in record.files.keys() {
+                let Some(s) = fs::metadata(dir.join(rel)).ok().as_ref().and_then(stamp) else {
+                    return;
+                };
+                stamps.insert(rel.clone(), s);
+            }
+        }
+        if let Ok(bytes) = serde_json::to_vec(&stamps) {
+            let _ = crate::write_atomic(&self.stamps_path(key), &bytes);
+        }
+    }
+
     fn stamps_path(&self, key: &str) -> PathBuf {
         self.root.join("stamps").join(format!("{key}.json"))
     }

@@ -293,6 +293,7 @@ pub fn run_with_hook(
                 compute_s: manifest.compute_s,
             },
         );
+        cache.restamp(&planned.key, &manifest);
         manifests.insert(planned.name.clone(), manifest);
         for input in &planned.inputs {
             let id = (input.from_stage.clone(), input.from_output.clone());
