@@ -249,13 +249,13 @@ fn check_graph(set: &TileSet, pairs: &[(usize, usize)], min_px: usize) -> Result
 }
 
 /// Least-squares positions from pair offsets, mean correction zero.
-fn solve_positions(set: &TileSet, fits: &[PairFit]) -> Option<Vec<[f64; 2]>> {
-    let n = set.heights.len();
+fn solve_positions(nominal_px: &[[f64; 2]], fits: &[PairFit]) -> Option<Vec<[f64; 2]>> {
+    let n = nominal_px.len();
     let mut out = vec![[0.0; 2]; n];
     for a in 0..2 {
         // Normal equations of Σ (P_j − P_i − m)² + (Σ (P_k − N_k))².
         let mut m = vec![1.0; n * n];
-        let sum_nominal: f64 = set.nominal_px.iter().map(|p| p[a]).sum();
+        let sum_nominal: f64 = nominal_px.iter().map(|p| p[a]).sum();
         let mut r = vec![sum_nominal; n];
         for f in fits {
             m[f.i * n + f.i] += 1.0;
@@ -271,6 +271,45 @@ fn solve_positions(set: &TileSet, fits: &[PairFit]) -> Option<Vec<[f64; 2]>> {
         }
     }
     Some(out)
+}
+
+/// Least-squares positions with outliers removed: the pair that least
+/// agrees with the joint solution goes, as long as it is off by more than
+/// `MAX_PAIR_RESIDUAL_PX` and the tiles stay connected without it; then the
+/// rest is solved again. Returns the positions and, per tile, how many of its
+/// pairs were dropped (`fits` keeps the pairs used).
+fn solve_robust(
+    nominal_px: &[[f64; 2]],
+    fits: &mut Vec<PairFit>,
+) -> Option<(Vec<[f64; 2]>, Vec<usize>)> {
+    let n = nominal_px.len();
+    let mut rejected = vec![0usize; n];
+    loop {
+        let found = solve_positions(nominal_px, fits)?;
+        let residual = |f: &PairFit| {
+            (0..2)
+                .map(|a| (found[f.j][a] - found[f.i][a] - f.offset_px[a]).abs())
+                .fold(0.0, f64::max)
+        };
+        let Some((worst, r)) = fits
+            .iter()
+            .enumerate()
+            .map(|(k, f)| (k, residual(f)))
+            .max_by(|x, y| x.1.total_cmp(&y.1))
+        else {
+            return Some((found, rejected));
+        };
+        let rest: Vec<(usize, usize)> = (0..fits.len())
+            .filter(|&k| k != worst)
+            .map(|k| (fits[k].i, fits[k].j))
+            .collect();
+        if r <= MAX_PAIR_RESIDUAL_PX || !connected(n, &rest) {
+            return Some((found, rejected));
+        }
+        let dropped = fits.remove(worst);
+        rejected[dropped.i] += 1;
+        rejected[dropped.j] += 1;
+    }
 }
 
 /// Per-tile planes (a, b, c) in metres and metres per pixel about the centre.
@@ -373,42 +412,14 @@ pub fn stitch(set: &TileSet, min_overlap_px: usize) -> Result<Mosaic, SurfaceErr
         .filter_map(|&(i, j)| register_pair(set, i, j, min_overlap_px))
         .collect();
     let mut fits = fits;
-    let mut rejected = vec![0usize; n];
-    let found = if n > 1 {
+    let (found, rejected) = if n > 1 {
         let pairs: Vec<(usize, usize)> = fits.iter().map(|f| (f.i, f.j)).collect();
         check_graph(set, &pairs, min_overlap_px)?;
-        loop {
-            let found = solve_positions(set, &fits).ok_or_else(|| {
-                SurfaceError::Input("tile positions: the least-squares system is singular".into())
-            })?;
-            // The pair that least agrees with the joint solution goes, as
-            // long as the tiles stay connected without it.
-            let residual = |f: &PairFit| {
-                (0..2)
-                    .map(|a| (found[f.j][a] - found[f.i][a] - f.offset_px[a]).abs())
-                    .fold(0.0, f64::max)
-            };
-            let Some((worst, r)) = fits
-                .iter()
-                .enumerate()
-                .map(|(k, f)| (k, residual(f)))
-                .max_by(|x, y| x.1.total_cmp(&y.1))
-            else {
-                break found;
-            };
-            let rest: Vec<(usize, usize)> = (0..fits.len())
-                .filter(|&k| k != worst)
-                .map(|k| (fits[k].i, fits[k].j))
-                .collect();
-            if r <= MAX_PAIR_RESIDUAL_PX || !connected(n, &rest) {
-                break found;
-            }
-            let dropped = fits.remove(worst);
-            rejected[dropped.i] += 1;
-            rejected[dropped.j] += 1;
-        }
+        solve_robust(&set.nominal_px, &mut fits).ok_or_else(|| {
+            SurfaceError::Input("tile positions: the least-squares system is singular".into())
+        })?
     } else {
-        set.nominal_px.clone()
+        (set.nominal_px.clone(), vec![0])
     };
     let rounded: Vec<[i64; 2]> = found
         .iter()
@@ -549,6 +560,55 @@ mod tests {
         for (b, r) in back.iter().zip([1.0, 2.0, 3.0]) {
             assert!((b - r).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn a_wrong_pair_is_dropped_and_the_rest_solved_exactly() {
+        // 2 × 2 tiles, 100 px apart nominally, each missed by a known error;
+        // all six pairs registered, the 0–3 diagonal locked onto a wrong
+        // peak 7 px off.
+        let nominal = [[0.0, 0.0], [100.0, 0.0], [0.0, 100.0], [100.0, 100.0]];
+        let error = [[0.3, -1.2], [2.0, 0.5], [-1.1, 0.0], [0.4, 2.2]];
+        let truth: Vec<[f64; 2]> = (0..4)
+            .map(|t| [nominal[t][0] + error[t][0], nominal[t][1] + error[t][1]])
+            .collect();
+        let mut fits: Vec<PairFit> = [(0, 1), (0, 2), (1, 3), (2, 3), (0, 3), (1, 2)]
+            .into_iter()
+            .map(|(i, j)| PairFit {
+                i,
+                j,
+                offset_px: [truth[j][0] - truth[i][0], truth[j][1] - truth[i][1]],
+                correlation: 1.0,
+            })
+            .collect();
+        fits[4].offset_px[0] += 7.0;
+        let (found, rejected) = solve_robust(&nominal, &mut fits).unwrap();
+        assert_eq!(rejected, [1, 0, 0, 1]);
+        assert_eq!(fits.len(), 5);
+        // Up to the gauge (mean correction zero), exactly the truth.
+        let mean_error = [0, 1].map(|a| error.iter().map(|e| e[a]).sum::<f64>() / 4.0);
+        for t in 0..4 {
+            for a in 0..2 {
+                let expected = truth[t][a] - mean_error[a];
+                assert!((found[t][a] - expected).abs() < 1e-9, "tile {t}: {found:?}");
+            }
+        }
+        // Without the rejection the wrong pair would pull every tile.
+        let plain = solve_positions(
+            &nominal,
+            &[
+                fits.clone(),
+                vec![{
+                    let mut f = fits[0].clone();
+                    f.j = 3;
+                    f.offset_px = [truth[3][0] - truth[0][0] + 7.0, truth[3][1] - truth[0][1]];
+                    f
+                }],
+            ]
+            .concat(),
+        )
+        .unwrap();
+        assert!((plain[3][0] - (truth[3][0] - mean_error[0])).abs() > 1.0);
     }
 
     #[test]
