@@ -139,16 +139,13 @@ fn register_pair(set: &TileSet, i: usize, j: usize, min_px: usize) -> Option<Pai
             .or_else(|| phase_correlate(&pa, &pb).map(|f| f.shift_px))?;
         let whole = e.map(|v| v.round() as i64);
         if whole == [0, 0] {
-            rest = Some(e);
+            rest = Some((e, correlation(&pa, &pb)));
             break;
         }
         d = [d[0] + whole[0], d[1] + whole[1]];
     }
-    let e = rest?;
+    let (e, correlation) = rest?;
     let offset_px = [d[0] as f64 + e[0], d[1] as f64 + e[1]];
-    let r = overlap(n, d, min_px)?;
-    let (pa, pb) = patches(a, b, d, r);
-    let correlation = correlation(&pa, &pb);
     Some(PairFit {
         i,
         j,
@@ -198,6 +195,11 @@ const MAX_PAIR_RESIDUAL_PX: f64 = 0.5;
 
 /// Whether the pairs connect all n tiles.
 fn connected(n: usize, pairs: &[(usize, usize)]) -> bool {
+    first_unconnected(n, pairs).is_none()
+}
+
+/// The first tile not joined to tile 0 by the pairs (union–find), if any.
+fn first_unconnected(n: usize, pairs: &[(usize, usize)]) -> Option<usize> {
     let mut parent: Vec<usize> = (0..n).collect();
     fn root(parent: &mut [usize], mut x: usize) -> usize {
         while parent[x] != x {
@@ -211,26 +213,16 @@ fn connected(n: usize, pairs: &[(usize, usize)]) -> bool {
         parent[ri] = rj;
     }
     let r0 = root(&mut parent, 0);
-    (0..n).all(|t| root(&mut parent, t) == r0)
+    (0..n).find(|&t| root(&mut parent, t) != r0)
 }
 
 /// Checks every tile overlaps another and all are connected.
 fn check_graph(set: &TileSet, pairs: &[(usize, usize)], min_px: usize) -> Result<(), SurfaceError> {
     let n = set.heights.len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn root(parent: &mut [usize], mut x: usize) -> usize {
-        while parent[x] != x {
-            parent[x] = parent[parent[x]];
-            x = parent[x];
-        }
-        x
-    }
     let mut degree = vec![0; n];
     for &(i, j) in pairs {
         degree[i] += 1;
         degree[j] += 1;
-        let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
-        parent[ri] = rj;
     }
     if let Some(t) = (0..n).find(|&t| degree[t] == 0) {
         return Err(SurfaceError::NoOverlap {
@@ -238,8 +230,7 @@ fn check_graph(set: &TileSet, pairs: &[(usize, usize)], min_px: usize) -> Result
             min_px,
         });
     }
-    let r0 = root(&mut parent, 0);
-    if let Some(t) = (0..n).find(|&t| root(&mut parent, t) != r0) {
+    if let Some(t) = first_unconnected(n, pairs) {
         return Err(SurfaceError::Disconnected {
             file: set.names[t].clone(),
             first: set.names[0].clone(),
