@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use crate::{Field, StageError, Table};
+use crate::{Field, Schema, StageError, Table};
 
 /// The kind of a product, as declared in a stage's inputs and outputs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -115,6 +115,15 @@ impl Inputs {
             Product::Table(t) => Ok(t),
             other => Err(wrong_kind(name, ProductKind::Table, other)),
         }
+    }
+
+    /// A table input read into its schema; a missing or mistyped column is
+    /// an error naming the input.
+    pub fn read<S: Schema>(&self, name: &str) -> Result<S, StageError> {
+        S::from_table(self.table(name)?).map_err(|source| StageError::InputTable {
+            input: name.to_owned(),
+            source,
+        })
     }
 
     pub fn field(&self, name: &str) -> Result<&Field, StageError> {

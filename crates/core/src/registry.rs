@@ -3,22 +3,26 @@
 use std::any::Any;
 use std::collections::BTreeMap;
 use std::fmt;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use crate::{Context, Inputs, Outputs, ParamError, Params, Stage, StageError, StageInfo};
+use crate::{
+    Checked, Context, InputPath, Inputs, Outputs, ParamSpec, ParamValue, Params, Stage, StageError,
+    StageInfo,
+};
 
-/// Type-erased parameters of some stage kind.
+/// Checked parameters of some stage kind: the only parameters the runner
+/// holds, so the only ones it can hand a stage.
 pub trait AnyParams: fmt::Debug + Send + Sync {
     fn as_any(&self) -> &dyn Any;
-    /// Canonical form: every field, defaults filled in, keys sorted.
+    /// Canonical form: every field, defaults filled in.
     fn to_json(&self) -> serde_json::Value;
-    fn check(&self) -> Result<(), ParamError>;
-    fn paths_mut(&mut self) -> Vec<&mut PathBuf>;
+    /// Every input path, with its parameter path (`path`, `files.2`).
+    fn input_paths(&self) -> Vec<(String, PathBuf)>;
     fn clone_box(&self) -> Box<dyn AnyParams>;
 }
 
-impl<P: Params> AnyParams for P {
+impl<P: Params> AnyParams for Checked<P> {
     fn as_any(&self) -> &dyn Any {
         self
     }
@@ -27,12 +31,13 @@ impl<P: Params> AnyParams for P {
         serde_json::to_value(self).expect("stage parameters serialise to JSON")
     }
 
-    fn check(&self) -> Result<(), ParamError> {
-        Params::check(self)
-    }
-
-    fn paths_mut(&mut self) -> Vec<&mut PathBuf> {
-        Params::paths_mut(self)
+    fn input_paths(&self) -> Vec<(String, PathBuf)> {
+        let mut copy: P = (**self).clone();
+        let mut paths = Vec::new();
+        copy.visit_paths("", &mut |param, path| {
+            paths.push((param.to_owned(), path.path().to_owned()))
+        });
+        paths
     }
 
     fn clone_box(&self) -> Box<dyn AnyParams> {
@@ -46,16 +51,40 @@ impl Clone for Box<dyn AnyParams> {
     }
 }
 
+/// Why parameters could not be made: a value of the wrong shape, or a failed
+/// check. `param` is the parameter's path (`weights.UT`), empty for the
+/// block as a whole (a missing required key).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{}", self.describe())]
+pub struct ParamsError {
+    pub param: String,
+    pub message: String,
+    /// True for a failed check, false for a value serde could not read.
+    pub failed_check: bool,
+}
+
+impl ParamsError {
+    fn describe(&self) -> String {
+        if self.param.is_empty() {
+            self.message.clone()
+        } else {
+            format!("parameter `{}`: {}", self.param, self.message)
+        }
+    }
+}
+
 /// A stage of any kind, as the runner sees it.
 pub trait DynStage: Send + Sync {
     fn info(&self) -> &'static StageInfo;
-    fn default_params(&self) -> serde_json::Value;
-    /// Deserialises this kind's parameters from any serde source: the YAML
-    /// stream (so errors carry line and column) or a JSON value.
-    fn deserialize_params(
+    /// The declared parameters.
+    fn params_spec(&self) -> Vec<ParamSpec>;
+    /// Typed parameters from their JSON form, input paths resolved against
+    /// `dir` (the pipeline's folder), checked.
+    fn params_from_json(
         &self,
-        de: &mut dyn erased_serde::Deserializer<'_>,
-    ) -> Result<Box<dyn AnyParams>, erased_serde::Error>;
+        value: serde_json::Value,
+        dir: &Path,
+    ) -> Result<Box<dyn AnyParams>, ParamsError>;
     fn run_dyn(
         &self,
         params: &dyn AnyParams,
@@ -69,16 +98,28 @@ impl<S: Stage> DynStage for S {
         Stage::info(self)
     }
 
-    fn default_params(&self) -> serde_json::Value {
-        S::Params::default().to_json()
+    fn params_spec(&self) -> Vec<ParamSpec> {
+        S::Params::spec()
     }
 
-    fn deserialize_params(
+    fn params_from_json(
         &self,
-        de: &mut dyn erased_serde::Deserializer<'_>,
-    ) -> Result<Box<dyn AnyParams>, erased_serde::Error> {
-        let params: S::Params = erased_serde::deserialize(de)?;
-        Ok(Box::new(params))
+        value: serde_json::Value,
+        dir: &Path,
+    ) -> Result<Box<dyn AnyParams>, ParamsError> {
+        let mut params: S::Params =
+            serde_path_to_error::deserialize(value).map_err(|e| ParamsError {
+                param: dotted(e.path()),
+                message: e.inner().to_string(),
+                failed_check: false,
+            })?;
+        params.visit_paths("", &mut |_, path: &mut InputPath| path.resolve_against(dir));
+        let checked = params.check().map_err(|e| ParamsError {
+            param: e.param,
+            message: e.message,
+            failed_check: true,
+        })?;
+        Ok(Box::new(checked))
     }
 
     fn run_dyn(
@@ -89,10 +130,24 @@ impl<S: Stage> DynStage for S {
     ) -> Result<Outputs, StageError> {
         let params = params
             .as_any()
-            .downcast_ref::<S::Params>()
+            .downcast_ref::<Checked<S::Params>>()
             .expect("the runner passes each stage its own parameter type");
         self.run(params, inputs, ctx)
     }
+}
+
+/// `weights.UT`, `files.2`: the parameter path of a deserialisation error.
+fn dotted(path: &serde_path_to_error::Path) -> String {
+    use serde_path_to_error::Segment;
+    path.iter()
+        .filter_map(|segment| match segment {
+            Segment::Map { key } => Some(key.clone()),
+            Segment::Seq { index } => Some(index.to_string()),
+            Segment::Enum { variant } => Some(variant.clone()),
+            Segment::Unknown => None,
+        })
+        .collect::<Vec<_>>()
+        .join(".")
 }
 
 /// Maps the kind names used after `uses:` to implementations.

@@ -1,15 +1,6 @@
 //! The stage interface: what a stage declares and what it computes.
 
-use crate::{Context, DType, Inputs, Outputs, Params, ProductKind, StageError};
-
-/// One parameter's documentation; its default comes from `Params::default()`.
-#[derive(Clone, Copy, Debug)]
-pub struct ParamDoc {
-    pub name: &'static str,
-    /// SI unit, or "" for dimensionless values, counts and choices.
-    pub unit: &'static str,
-    pub doc: &'static str,
-}
+use crate::{Checked, Context, DType, Inputs, Outputs, Params, ProductKind, Schema, StageError};
 
 /// One column of a table schema.
 #[derive(Clone, Copy, Debug, serde::Serialize)]
@@ -73,6 +64,41 @@ pub struct InputSpec {
     pub doc: &'static str,
 }
 
+impl InputSpec {
+    /// A table input whose required columns are those of schema `S`.
+    pub const fn table<S: Schema>(name: &'static str, arity: Arity, doc: &'static str) -> Self {
+        Self {
+            name,
+            kind: ProductKind::Table,
+            arity,
+            columns: S::COLUMNS,
+            doc,
+        }
+    }
+
+    /// A field input (a height map).
+    pub const fn field(name: &'static str, arity: Arity, doc: &'static str) -> Self {
+        Self {
+            name,
+            kind: ProductKind::Field,
+            arity,
+            columns: &[],
+            doc,
+        }
+    }
+
+    /// A files input (an image sequence, a folder's worth of files).
+    pub const fn files(name: &'static str, arity: Arity, doc: &'static str) -> Self {
+        Self {
+            name,
+            kind: ProductKind::Files,
+            arity,
+            columns: &[],
+            doc,
+        }
+    }
+}
+
 /// A declared output.
 #[derive(Clone, Copy, Debug)]
 pub struct OutputSpec {
@@ -81,6 +107,36 @@ pub struct OutputSpec {
     /// The columns a table output always has, in order.
     pub columns: &'static [ColumnSpec],
     pub doc: &'static str,
+}
+
+impl OutputSpec {
+    /// A table output with the columns of schema `S`.
+    pub const fn table<S: Schema>(name: &'static str, doc: &'static str) -> Self {
+        Self {
+            name,
+            kind: ProductKind::Table,
+            columns: S::COLUMNS,
+            doc,
+        }
+    }
+
+    pub const fn field(name: &'static str, doc: &'static str) -> Self {
+        Self {
+            name,
+            kind: ProductKind::Field,
+            columns: &[],
+            doc,
+        }
+    }
+
+    pub const fn files(name: &'static str, doc: &'static str) -> Self {
+        Self {
+            name,
+            kind: ProductKind::Files,
+            columns: &[],
+            doc,
+        }
+    }
 }
 
 /// Everything the runner and `hypercontact stages` need to know about a kind.
@@ -94,7 +150,6 @@ pub struct StageInfo {
     pub summary: &'static str,
     /// Conventions and references, shown by `hypercontact stages KIND`.
     pub doc: &'static str,
-    pub params: &'static [ParamDoc],
     pub inputs: &'static [InputSpec],
     pub outputs: &'static [OutputSpec],
 }
@@ -110,6 +165,28 @@ impl StageInfo {
 }
 
 /// A pipeline stage: a pure function of its parameters and inputs.
+///
+/// Its parameters are declared by its `Params` type (see
+/// [`macro@crate::params`]); `run` receives them only after their checks
+/// passed, so a stage never sees a value outside its declared range (a call
+/// with unchecked parameters does not compile: `tests/compile_fail/`). The
+/// check is where `poisson: 7.0` is refused:
+///
+/// ```
+/// # use hypercontact_core::{Checked, Context, Inputs, Outputs, Params, Stage, StageError, StageInfo};
+/// # #[hypercontact_core::params]
+/// # struct P { #[param(default = 0.5, range = 0.0..=0.5)] poisson: f64 }
+/// # struct S;
+/// # static INFO: StageInfo = StageInfo { kind: "s", version: 1, summary: "", doc: "", inputs: &[], outputs: &[] };
+/// # impl Stage for S {
+/// #     type Params = P;
+/// #     fn info(&self) -> &'static StageInfo { &INFO }
+/// #     fn run(&self, _: &Checked<P>, _: &Inputs, _: &Context) -> Result<Outputs, StageError> { Ok(Outputs::new()) }
+/// # }
+/// assert!(P { poisson: 7.0 }.check().is_err());
+/// let checked = P { poisson: 0.3 }.check().unwrap();
+/// S.run(&checked, &Inputs::new(), &Context::new("s")).unwrap();
+/// ```
 pub trait Stage: Send + Sync + 'static {
     type Params: Params;
 
@@ -117,7 +194,7 @@ pub trait Stage: Send + Sync + 'static {
 
     fn run(
         &self,
-        params: &Self::Params,
+        params: &Checked<Self::Params>,
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError>;

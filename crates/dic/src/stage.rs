@@ -8,16 +8,11 @@
 //! interpolated at the frame's time, over the undeformed cross-section
 //! (gauge width × thickness), as the paper's section 2 tests report it.
 
-use std::path::PathBuf;
-
-use hypercontact_core::params::{in_range, positive};
 use hypercontact_core::{
-    Arity, ColumnSpec, Context, Field, InputSpec, Inputs, OutputSpec, Outputs, ParamDoc,
-    ParamError, Params, ProductKind, Stage, StageError, StageInfo, Table,
+    Arity, Checked, Choice, ColumnSpec, Context, Field, InputPath, InputSpec, Inputs, Mode,
+    OutputSpec, Outputs, ProductKind, Stage, StageError, StageInfo, Table, params,
 };
-use hypercontact_material::Mode;
 use ndarray::Array2;
-use serde::{Deserialize, Serialize};
 
 use crate::DicError;
 use crate::icgn::IcgnSettings;
@@ -28,120 +23,77 @@ use crate::strain::{Mat2, affine_fit, gradient_field, green_lagrange, principal_
 use crate::subset_tracking::{SubsetSettings, SubsetTracker};
 
 /// How points are followed.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Choice)]
 pub enum Method {
-    /// Subset DIC (IC-GN) on a POI grid.
+    /// subset DIC (IC-GN) on a POI grid
     #[default]
     Subset,
-    /// Centroids of painted marker dots.
+    /// centroids of painted marker dots
     Markers,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// Parameters of `dic`.
+#[params]
 pub struct DicParams {
+    /// how points are followed
+    #[param(default = Method::Subset)]
     pub method: Method,
-    /// A folder with the files, instead of the `sequence` input.
-    pub dir: Option<PathBuf>,
-    /// Test mode; overrides specimen.json.
-    pub mode: Option<String>,
-    /// Region of interest [x0, y0, x1, y1] in frame-0 pixels; overrides
-    /// specimen.json.
+    /// folder with the files (instead of the `sequence` input)
+    pub dir: Option<InputPath>,
+    /// the test (default: specimen.json)
+    pub mode: Option<Mode>,
+    /// region of interest [x0, y0, x1, y1] in frame-0 pixels (default: specimen.json)
+    #[param(unit = "px")]
     pub roi_px: Option<[usize; 4]>,
+    /// subset side, odd
+    #[param(default = 31, unit = "px", range = 7..=501, check = odd)]
     pub subset_px: usize,
+    /// POI spacing
+    #[param(default = 10, unit = "px", range = 1..)]
     pub step_px: usize,
-    /// Side of the strain window, in POIs (odd).
+    /// strain window side in POIs
+    #[param(default = 5, range = 2..)]
     pub strain_window: usize,
+    /// IC-GN iteration limit
+    #[param(default = 30, range = 1..)]
     pub max_iterations: usize,
+    /// IC-GN stops when the update moves the subset less
+    #[param(default = 1e-3, unit = "px", positive)]
     pub convergence_px: f64,
+    /// POIs correlating worse are invalid
+    #[param(default = 0.9, range = -1.0..=1.0)]
     pub min_zncc: f64,
+    /// reference update threshold on |λ − 1|
+    #[param(default = 0.1, positive)]
     pub update_strain: f64,
+    /// FFT seed search radius
+    #[param(default = 64, unit = "px", range = 1..)]
     pub search_px: usize,
+    /// marker pixels are darker than this fraction of full scale
+    #[param(default = 0.07, range = 0.0..=1.0)]
     pub marker_threshold: f64,
+    /// smallest marker in frame 0
+    #[param(default = 20, unit = "px")]
     pub marker_min_area_px: usize,
+    /// largest distance from the predicted marker position
+    #[param(default = 25.0, unit = "px", positive)]
     pub marker_max_jump_px: f64,
-    /// Geometry overrides of specimen.json, metres.
+    /// gauge width (default: specimen.json)
+    #[param(unit = "m", positive)]
     pub gauge_width_m: Option<f64>,
+    /// thickness (default: specimen.json)
+    #[param(unit = "m", positive)]
     pub thickness_m: Option<f64>,
+    /// object-space pixel size (default: specimen.json)
+    #[param(unit = "m", positive)]
     pub pixel_m: Option<f64>,
 }
 
-impl Default for DicParams {
-    fn default() -> Self {
-        Self {
-            method: Method::Subset,
-            dir: None,
-            mode: None,
-            roi_px: None,
-            subset_px: 31,
-            step_px: 10,
-            strain_window: 5,
-            max_iterations: 30,
-            convergence_px: 1e-3,
-            min_zncc: 0.9,
-            update_strain: 0.1,
-            search_px: 64,
-            marker_threshold: 0.07,
-            marker_min_area_px: 20,
-            marker_max_jump_px: 25.0,
-            gauge_width_m: None,
-            thickness_m: None,
-            pixel_m: None,
-        }
-    }
-}
-
-impl Params for DicParams {
-    fn check(&self) -> Result<(), ParamError> {
-        if let Some(mode) = &self.mode
-            && Mode::from_label(mode).is_none()
-        {
-            return Err(ParamError::new(
-                "mode",
-                format!("must be UT, PT or BT, got `{mode}`"),
-            ));
-        }
-        if self.subset_px < 7 || self.subset_px.is_multiple_of(2) || self.subset_px > 501 {
-            return Err(ParamError::new(
-                "subset_px",
-                format!("must be odd, 7 … 501, got {}", self.subset_px),
-            ));
-        }
-        if self.step_px == 0 {
-            return Err(ParamError::new("step_px", "must be at least 1"));
-        }
-        if self.strain_window < 2 {
-            return Err(ParamError::new(
-                "strain_window",
-                format!("must be at least 2, got {}", self.strain_window),
-            ));
-        }
-        if self.max_iterations == 0 {
-            return Err(ParamError::new("max_iterations", "must be at least 1"));
-        }
-        positive("convergence_px", self.convergence_px)?;
-        in_range("min_zncc", self.min_zncc, -1.0, 1.0)?;
-        positive("update_strain", self.update_strain)?;
-        if self.search_px == 0 {
-            return Err(ParamError::new("search_px", "must be at least 1"));
-        }
-        in_range("marker_threshold", self.marker_threshold, 0.0, 1.0)?;
-        positive("marker_max_jump_px", self.marker_max_jump_px)?;
-        for (name, v) in [
-            ("gauge_width_m", self.gauge_width_m),
-            ("thickness_m", self.thickness_m),
-            ("pixel_m", self.pixel_m),
-        ] {
-            if let Some(v) = v {
-                positive(name, v)?;
-            }
-        }
+fn odd(n: &usize) -> Result<(), String> {
+    if n % 2 == 1 {
         Ok(())
-    }
-
-    fn paths_mut(&mut self) -> Vec<&mut PathBuf> {
-        self.dir.iter_mut().collect()
+    } else {
+        Err(format!("must be odd, got {n}"))
     }
 }
 
@@ -203,98 +155,6 @@ static INFO: StageInfo = StageInfo {
           F → principal stretches (λ along x first). Field `strain`: Green–Lagrange E_xx of the \
           last frame from strain-window fits (NaN where invalid). Force linearly interpolated \
           at frame times; nominal stress = F / (gauge width × thickness).",
-    params: &[
-        ParamDoc {
-            name: "method",
-            unit: "",
-            doc: "subset or markers",
-        },
-        ParamDoc {
-            name: "dir",
-            unit: "",
-            doc: "folder with the files (instead of the sequence input)",
-        },
-        ParamDoc {
-            name: "mode",
-            unit: "",
-            doc: "UT, PT or BT (default: specimen.json)",
-        },
-        ParamDoc {
-            name: "roi_px",
-            unit: "",
-            doc: "[x0, y0, x1, y1] frame-0 pixels (default: specimen.json)",
-        },
-        ParamDoc {
-            name: "subset_px",
-            unit: "",
-            doc: "subset side, odd (31)",
-        },
-        ParamDoc {
-            name: "step_px",
-            unit: "",
-            doc: "POI spacing (10)",
-        },
-        ParamDoc {
-            name: "strain_window",
-            unit: "",
-            doc: "strain window side in POIs (5)",
-        },
-        ParamDoc {
-            name: "max_iterations",
-            unit: "",
-            doc: "IC-GN iteration limit (30)",
-        },
-        ParamDoc {
-            name: "convergence_px",
-            unit: "",
-            doc: "IC-GN stops when the update moves the subset less (1e-3)",
-        },
-        ParamDoc {
-            name: "min_zncc",
-            unit: "",
-            doc: "POIs correlating worse are invalid (0.9)",
-        },
-        ParamDoc {
-            name: "update_strain",
-            unit: "",
-            doc: "reference update threshold on |λ − 1| (0.1)",
-        },
-        ParamDoc {
-            name: "search_px",
-            unit: "",
-            doc: "FFT seed search radius (64)",
-        },
-        ParamDoc {
-            name: "marker_threshold",
-            unit: "",
-            doc: "marker pixels are darker than this fraction of full scale (0.07)",
-        },
-        ParamDoc {
-            name: "marker_min_area_px",
-            unit: "",
-            doc: "smallest marker in frame 0 (20)",
-        },
-        ParamDoc {
-            name: "marker_max_jump_px",
-            unit: "",
-            doc: "largest distance from the predicted marker position (25)",
-        },
-        ParamDoc {
-            name: "gauge_width_m",
-            unit: "m",
-            doc: "override specimen.json",
-        },
-        ParamDoc {
-            name: "thickness_m",
-            unit: "m",
-            doc: "override specimen.json",
-        },
-        ParamDoc {
-            name: "pixel_m",
-            unit: "m",
-            doc: "override specimen.json",
-        },
-    ],
     inputs: &[InputSpec {
         name: "sequence",
         kind: ProductKind::Files,
@@ -325,7 +185,12 @@ impl Stage for Dic {
         &INFO
     }
 
-    fn run(&self, p: &DicParams, inputs: &Inputs, ctx: &Context) -> Result<Outputs, StageError> {
+    fn run(
+        &self,
+        p: &Checked<DicParams>,
+        inputs: &Inputs,
+        ctx: &Context,
+    ) -> Result<Outputs, StageError> {
         let source = match (inputs.get("sequence"), &p.dir) {
             (Some(_), Some(_)) => {
                 return Err(StageError::invalid(
@@ -338,7 +203,7 @@ impl Stage for Dic {
                 ));
             }
             (Some(_), None) => Source::Files(inputs.files("sequence")?),
-            (None, Some(dir)) => Source::Dir(dir.clone()),
+            (None, Some(dir)) => Source::Dir(dir.path().to_owned()),
         };
         let sequence = Sequence::open(source).map_err(StageError::other)?;
         let analysis = analyse(&sequence, p, ctx).map_err(StageError::other)?;
@@ -358,19 +223,27 @@ pub struct Analysis {
 }
 
 /// Runs the DIC over an opened sequence.
-pub fn analyse(sequence: &Sequence, p: &DicParams, ctx: &Context) -> Result<Analysis, DicError> {
+pub fn analyse(
+    sequence: &Sequence,
+    p: &Checked<DicParams>,
+    ctx: &Context,
+) -> Result<Analysis, DicError> {
     let specimen = &sequence.specimen;
-    let mode_label = p
-        .mode
-        .clone()
-        .or_else(|| specimen.mode.clone())
-        .ok_or_else(|| DicError::param("mode", "is needed (no `mode` in specimen.json)"))?;
-    let mode = Mode::from_label(&mode_label).ok_or_else(|| {
-        DicError::file(
-            "specimen.json",
-            format!("mode `{mode_label}` is not UT, PT or BT"),
-        )
-    })?;
+    let mode = match (p.mode, &specimen.mode) {
+        (Some(mode), _) => mode,
+        (None, Some(label)) => Mode::from_label(label).ok_or_else(|| {
+            DicError::file(
+                "specimen.json",
+                format!("mode `{label}` is not UT, PT or BT"),
+            )
+        })?,
+        (None, None) => {
+            return Err(DicError::param(
+                "mode",
+                "is needed (no `mode` in specimen.json)",
+            ));
+        }
+    };
     let need = |param: &str, v: Option<f64>| {
         v.filter(|v| *v > 0.0 && v.is_finite()).ok_or_else(|| {
             DicError::param(

@@ -2,7 +2,7 @@
 
 mod common;
 
-use hypercontact_core::{Context, Files, Inputs, Stage};
+use hypercontact_core::{Context, Files, Inputs, Params, Stage};
 use hypercontact_dic::{Dic, DicParams};
 use hypercontact_synth::tensile::{SynthTensileParams, encode_png};
 
@@ -91,7 +91,11 @@ fn a_force_log_that_ends_early_names_the_frame() {
 #[test]
 fn exactly_one_source_of_images() {
     let e = Dic
-        .run(&DicParams::default(), &Inputs::new(), &Context::new("dic"))
+        .run(
+            &DicParams::default().check().unwrap(),
+            &Inputs::new(),
+            &Context::new("dic"),
+        )
         .unwrap_err()
         .to_string();
     assert!(e.contains("`dir`") && e.contains("sequence"), "{e}");
@@ -107,9 +111,11 @@ fn reads_a_folder_of_real_files() {
     }
     let from_files = common::dic(&files, &DicParams::default()).unwrap();
     let params = DicParams {
-        dir: Some(dir.clone()),
+        dir: Some(dir.clone().into()),
         ..Default::default()
-    };
+    }
+    .check()
+    .unwrap();
     let out = Dic
         .run(&params, &Inputs::new(), &Context::new("dic"))
         .unwrap();

@@ -9,7 +9,7 @@ mod common;
 
 use std::time::Instant;
 
-use hypercontact_core::{Context, Inputs, Product, Stage, Table};
+use hypercontact_core::{Context, Inputs, Params, Product, Stage, Table};
 use hypercontact_dic::{DicParams, Method};
 use hypercontact_material::fit_stage::{MaterialFit, MaterialFitParams};
 use hypercontact_material::{Mode, presets};
@@ -19,7 +19,7 @@ use hypercontact_synth::tensile::SynthTensileParams;
 fn recovered(mode: &str) -> Table {
     let start = Instant::now();
     let (files, truth) = common::synth(&SynthTensileParams {
-        mode: mode.into(),
+        mode: Mode::from_label(mode).unwrap(),
         seed: 11,
         ..Default::default()
     });
@@ -96,7 +96,9 @@ fn synth_dic_and_fit_recover_the_generating_material() {
     let params = MaterialFitParams {
         compare: false,
         ..Default::default()
-    };
+    }
+    .check()
+    .unwrap();
     let start = Instant::now();
     let out = MaterialFit
         .run(
@@ -120,7 +122,7 @@ fn synth_dic_and_fit_recover_the_generating_material() {
 #[test]
 fn markers_and_subsets_agree() {
     let (files, _) = common::synth(&SynthTensileParams {
-        mode: "UT".into(),
+        mode: Mode::Uniaxial,
         max_stretch: Some(2.0),
         frames: 12,
         seed: 5,

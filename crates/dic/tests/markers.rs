@@ -1,6 +1,7 @@
 //! Marker centroids against the synthetic truth: each painted dot's
 //! detected centre must follow the exact map of its reference centre.
 
+use hypercontact_core::Mode;
 use hypercontact_dic::GrayImage;
 use hypercontact_dic::markers::detect;
 use hypercontact_synth::tensile::SynthTensileParams;
@@ -9,13 +10,13 @@ use hypercontact_synth::tensile::experiment::{Experiment, expose};
 #[test]
 fn marker_centroids_follow_the_map_within_0_05_px() {
     let p = SynthTensileParams {
-        mode: "UT".into(),
+        mode: Mode::Uniaxial,
         max_stretch: Some(2.0),
         frames: 12,
         seed: 5,
         ..Default::default()
     };
-    let e = Experiment::new(&p.recipe().unwrap());
+    let e = Experiment::new(&p.recipe());
     let mut worst: f64 = 0.0;
     for k in [0, 6, 11] {
         let counts = expose(&e.render_frame(k), 0.005, 16, k as u64);

@@ -8,6 +8,7 @@
 
 use std::time::Instant;
 
+use hypercontact_core::Mode;
 use hypercontact_dic::GrayImage;
 use hypercontact_dic::icgn::IcgnSettings;
 use hypercontact_dic::poi_grid::PoiGrid;
@@ -21,7 +22,7 @@ use hypercontact_synth::tensile::experiment::{Experiment, expose};
 #[ignore = "benchmark: minutes of rendering, run on demand"]
 fn sequence_2048_50_frames_step_16() {
     let params = SynthTensileParams {
-        mode: "UT".into(),
+        mode: Mode::Uniaxial,
         max_stretch: Some(1.5),
         frames: 50,
         width_px: 2048,
@@ -30,7 +31,7 @@ fn sequence_2048_50_frames_step_16() {
         markers: false,
         ..Default::default()
     };
-    let experiment = Experiment::new(&params.recipe().unwrap());
+    let experiment = Experiment::new(&params.recipe());
     let start = Instant::now();
     let frames: Vec<Vec<u16>> = (0..50)
         .map(|k| expose(&experiment.render_frame(k), 0.005, 16, k as u64))

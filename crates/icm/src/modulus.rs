@@ -3,8 +3,8 @@
 //! original (linear) model.
 //!
 //! Conventions (SPEC, "Ogden model" and "Incremental contact model"):
-//! - E0 = 2 μ0 (1 + ν); for ν = ½ this is the model's `youngs_modulus_pa`
-//!   (3 μ0), which is what is used then. E0* = E0 / (1 − ν²).
+//! - E0 = 2 μ0 (1 + ν), E0* = E0 / (1 − ν²)
+//!   ([`hypercontact_material::composite_modulus_pa`]).
 //! - Hyperelastic: E_t* = E_t(φ⁻¹(S)) / (1 − ν²) with φ the equibiaxial
 //!   nominal stress (Eq. 2) and E_t = dφ/dε (Eq. 6), at the compressive
 //!   S = −F/A ≤ 0, so ε ≤ 0. E_t(0) = 6 μ0, hence E_t*/E0* = 3 / (1 + ν)
@@ -14,19 +14,18 @@
 
 use std::sync::Arc;
 
-use hypercontact_material::{ContactLaw, Hyperelastic, MaterialError};
-use serde::{Deserialize, Serialize};
+use hypercontact_core::Choice;
+use hypercontact_material::{ContactLaw, Hyperelastic, MaterialError, composite_modulus_pa};
 
 use crate::tangent_table::TangentTable;
 
 /// Which contact law the ICM uses.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Choice)]
 pub enum Model {
-    /// The paper's: tangent modulus at the mean contact stress.
+    /// the paper's: tangent modulus at the mean contact stress
     #[default]
     Hyperelastic,
-    /// Wang's original ICM: the initial modulus E0* throughout.
+    /// Wang's original ICM: the initial modulus E0* throughout
     Linear,
 }
 
@@ -47,12 +46,7 @@ impl CompositeModulus {
         model: Model,
         poisson: f64,
     ) -> Result<Self, MaterialError> {
-        let e0_pa = if poisson == 0.5 {
-            material.youngs_modulus_pa()
-        } else {
-            2.0 * material.shear_modulus_pa() * (1.0 + poisson)
-        };
-        let e0_star_pa = e0_pa / (1.0 - poisson * poisson);
+        let e0_star_pa = composite_modulus_pa(material.shear_modulus_pa(), poisson);
         if !(e0_star_pa > 0.0 && e0_star_pa.is_finite()) {
             return Err(MaterialError::Invalid(format!(
                 "the initial composite modulus E0* is {e0_star_pa} Pa"

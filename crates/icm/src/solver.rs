@@ -17,15 +17,12 @@
 //!   constant over a step (the flat punch), and re-evaluates E_t* at the end
 //!   of the step, which is where Euler lags as the stress rises.
 
-use serde::{Deserialize, Serialize};
-
 /// The integration scheme.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, hypercontact_core::Choice)]
 pub enum Scheme {
-    /// The paper's explicit step (first order).
+    /// the paper's explicit step (first order)
     Euler,
-    /// Explicit trapezoidal predictor–corrector (second order).
+    /// explicit trapezoidal predictor–corrector (second order)
     #[default]
     Heun,
 }

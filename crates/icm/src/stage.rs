@@ -4,124 +4,61 @@
 
 use std::sync::Arc;
 
-use hypercontact_core::params::in_range;
-use hypercontact_core::product::ProductKind;
+use hypercontact_core::contact::ResponseTable;
 use hypercontact_core::{
-    Arity, ColumnSpec, Context, InputSpec, Inputs, OutputSpec, Outputs, ParamDoc, ParamError,
-    Params, Stage, StageError, StageInfo, Table,
+    Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, Schema, Stage, StageError,
+    StageInfo, params,
 };
-use serde::{Deserialize, Serialize};
+use hypercontact_material::table::MaterialTable;
+use hypercontact_truncation::stage::ProfileTable;
 
 use crate::IcmError;
 use crate::modulus::{CompositeModulus, Model};
 use crate::solver::{ProfileSlices, Scheme, solve};
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// Parameters of `icm`.
+#[params]
 pub struct IcmParams {
-    /// `hyperelastic` (tangent modulus, the paper's) or `linear` (Wang's, E0*).
+    /// contact law
+    #[param(default = Model::Hyperelastic)]
     pub model: Model,
-    /// `euler` (the paper's explicit step) or `heun` (second order).
+    /// integration scheme
+    #[param(default = Scheme::Heun)]
     pub scheme: Scheme,
-    /// Poisson's ratio ν of the composite moduli.
+    /// Poisson's ratio ν of the composite moduli
+    #[param(default = 0.5, range = 0.0..=0.5)]
     pub poisson: f64,
-}
-
-impl Default for IcmParams {
-    fn default() -> Self {
-        Self {
-            model: Model::Hyperelastic,
-            scheme: Scheme::Heun,
-            poisson: 0.5,
-        }
-    }
-}
-
-impl Params for IcmParams {
-    fn check(&self) -> Result<(), ParamError> {
-        in_range("poisson", self.poisson, 0.0, 0.5)
-    }
 }
 
 /// The `icm` stage.
 pub struct Icm;
-
-/// The profile columns the solver reads (the `truncation` stage's table).
-pub const PROFILE_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::f64("z_m", "m", "plane height, strictly decreasing"),
-    ColumnSpec::f64("area_fraction", "", "A / A0"),
-    ColumnSpec::i64("patches", "", "patch count N"),
-    ColumnSpec::f64("radius_m", "m", "equivalent patch radius r"),
-    ColumnSpec::f64("area_m2", "m²", "touched area A"),
-];
-
-/// The `response` table, shared by every contact-model stage.
-pub const RESPONSE_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::f64("z_m", "m", "plane height, as in the profile"),
-    ColumnSpec::f64("area_fraction", "", "A / A0"),
-    ColumnSpec::f64("load_n", "N", "total contact load F"),
-    ColumnSpec::f64("load_norm", "", "F / (E0* A0)"),
-    ColumnSpec::f64(
-        "mean_stress_pa",
-        "Pa",
-        "F / A (magnitude; the law is evaluated at S = −F/A)",
-    ),
-    ColumnSpec::f64("tangent_ratio", "", "E_t*(S) / E0*; 1 for the linear model"),
-];
 
 static INFO: StageInfo = StageInfo {
     kind: "icm",
     version: 1,
     summary: "Incremental contact model: load against contact area from a truncation profile",
     doc: "Integrates dF/d(-z) = 2 E_t*(S) r(z) N(z) from F(z_max) = 0 downward over the \
-          profile's planes (the paper's Eqs. 5-7). Hyperelastic: E_t* = E_t(phi^-1(S)) / \
-          (1 - nu^2) with phi the equibiaxial nominal stress of the material (Eq. 2), E_t = \
-          dphi/deps (Eq. 6), evaluated at the compressive mean stress S = -F/A (so eps < 0); \
-          E_t*/E0* = 2 at first contact for nu = 1/2. Linear (Wang's original ICM): E_t* = \
-          E0* = E0/(1 - nu^2), E0 = 2 mu0 (1 + nu). Schemes: `euler` is the paper's explicit \
-          step; `heun` the explicit trapezoidal rule (second order, using only tabulated \
-          planes; exact for a flat punch). Planes with A = 0 or N = 0 add no load. A0 is \
-          area_m2 / area_fraction of the profile. If S leaves the range where phi is \
-          invertible, the stage stops and names the plane and the stress.",
-    params: &[
-        ParamDoc {
-            name: "model",
-            unit: "",
-            doc: "hyperelastic (default) or linear",
-        },
-        ParamDoc {
-            name: "scheme",
-            unit: "",
-            doc: "heun (default) or euler (the paper's explicit step)",
-        },
-        ParamDoc {
-            name: "poisson",
-            unit: "",
-            doc: "Poisson's ratio, 0 … 0.5 (0.5)",
-        },
-    ],
+          profile's planes (the paper's Eqs. 5-7); `z_m` is the plane's height. Hyperelastic: \
+          E_t* = E_t(phi^-1(S)) / (1 - nu^2) with phi the equibiaxial nominal stress of the \
+          material (Eq. 2), E_t = dphi/deps (Eq. 6), evaluated at the compressive mean stress \
+          S = -F/A (so eps < 0); E_t*/E0* = 2 at first contact for nu = 1/2. Linear (Wang's \
+          original ICM): E_t* = E0* = E0/(1 - nu^2), E0 = 2 mu0 (1 + nu). Schemes: `euler` is \
+          the paper's explicit step; `heun` the explicit trapezoidal rule (second order, using \
+          only tabulated planes; exact for a flat punch). Planes with A = 0 or N = 0 add no \
+          load. A0 is area_m2 / area_fraction of the profile. If S leaves the range where phi \
+          is invertible, the stage stops and names the plane and the stress.",
     inputs: &[
-        InputSpec {
-            name: "profile",
-            kind: ProductKind::Table,
-            arity: Arity::One,
-            columns: PROFILE_COLUMNS,
-            doc: "the truncation profile, top down",
-        },
-        InputSpec {
-            name: "material",
-            kind: ProductKind::Table,
-            arity: Arity::One,
-            columns: hypercontact_material::table::MATERIAL_COLUMNS,
-            doc: "the material table (a preset or a fit)",
-        },
+        InputSpec::table::<ProfileTable>("profile", Arity::One, "the truncation profile, top down"),
+        InputSpec::table::<MaterialTable>(
+            "material",
+            Arity::One,
+            "the material table (a preset or a fit)",
+        ),
     ],
-    outputs: &[OutputSpec {
-        name: "response",
-        kind: ProductKind::Table,
-        columns: RESPONSE_COLUMNS,
-        doc: "one row per profile plane",
-    }],
+    outputs: &[OutputSpec::table::<ResponseTable>(
+        "response",
+        "one row per profile plane",
+    )],
 };
 
 impl Stage for Icm {
@@ -131,18 +68,16 @@ impl Stage for Icm {
         &INFO
     }
 
-    fn run(&self, p: &IcmParams, inputs: &Inputs, _ctx: &Context) -> Result<Outputs, StageError> {
-        let profile = inputs.table("profile")?;
-        let input_err = |source| StageError::InputTable {
-            input: "profile".into(),
-            source,
-        };
-        let z_m = profile.f64("z_m").map_err(input_err)?;
-        let area_fraction = profile.f64("area_fraction").map_err(input_err)?;
-        let area_m2 = profile.f64("area_m2").map_err(input_err)?;
-        let radius_m = profile.f64("radius_m").map_err(input_err)?;
-        let patches = profile.to_f64("patches").map_err(input_err)?;
-        let nominal_area_m2 = nominal_area(area_fraction, area_m2).map_err(StageError::other)?;
+    fn run(
+        &self,
+        p: &Checked<IcmParams>,
+        inputs: &Inputs,
+        _ctx: &Context,
+    ) -> Result<Outputs, StageError> {
+        let profile: ProfileTable = inputs.read("profile")?;
+        let patches: Vec<f64> = profile.patches.iter().map(|&n| n as f64).collect();
+        let nominal_area_m2 =
+            nominal_area(&profile.area_fraction, &profile.area_m2).map_err(StageError::other)?;
 
         let material = hypercontact_material::table::from_table(inputs.table("material")?)
             .map_err(|e| StageError::other(IcmError::Material(e)))?;
@@ -151,10 +86,10 @@ impl Stage for Icm {
 
         let solution = solve(
             ProfileSlices {
-                z_m,
-                area_m2,
+                z_m: &profile.z_m,
+                area_m2: &profile.area_m2,
                 patches: &patches,
-                radius_m,
+                radius_m: &profile.radius_m,
             },
             p.scheme,
             &mut |s| modulus.at_stress_pa(s).map_err(|e| e.to_string()),
@@ -162,20 +97,19 @@ impl Stage for Icm {
         .map_err(|e| StageError::other(IcmError::Solve(e)))?;
 
         let e0_star = modulus.e0_star_pa();
-        let load_norm: Vec<f64> = solution
-            .load_n
-            .iter()
-            .map(|f| f / (e0_star * nominal_area_m2))
-            .collect();
-        let tangent_ratio: Vec<f64> = solution.modulus_pa.iter().map(|e| e / e0_star).collect();
-        let response = Table::new()
-            .with("z_m", z_m.to_vec())
-            .with("area_fraction", area_fraction.to_vec())
-            .with("load_n", solution.load_n)
-            .with("load_norm", load_norm)
-            .with("mean_stress_pa", solution.mean_stress_pa)
-            .with("tangent_ratio", tangent_ratio);
-        Ok(Outputs::new().table("response", response))
+        let response = ResponseTable {
+            load_norm: solution
+                .load_n
+                .iter()
+                .map(|f| f / (e0_star * nominal_area_m2))
+                .collect(),
+            tangent_ratio: solution.modulus_pa.iter().map(|e| e / e0_star).collect(),
+            z_m: profile.z_m,
+            area_fraction: profile.area_fraction,
+            load_n: solution.load_n,
+            mean_stress_pa: solution.mean_stress_pa,
+        };
+        Ok(Outputs::new().table("response", response.into_table()))
     }
 }
 
@@ -208,7 +142,7 @@ fn nominal_area(area_fraction: &[f64], area_m2: &[f64]) -> Result<f64, IcmError>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hypercontact_core::Product;
+    use hypercontact_core::{Params, Product, Table};
     use hypercontact_material::Hyperelastic;
     use hypercontact_material::presets::paper_epdm;
     use hypercontact_material::table::to_table;
@@ -217,6 +151,10 @@ mod tests {
         Inputs::new()
             .with("profile", Product::Table(profile))
             .with("material", Product::Table(to_table(&paper_epdm())))
+    }
+
+    fn defaults() -> Checked<IcmParams> {
+        IcmParams::default().check().unwrap()
     }
 
     fn response(out: &Outputs) -> &Table {
@@ -246,16 +184,17 @@ mod tests {
     fn linear_response_is_sneddons_and_normalised_by_e0_star_a0() {
         let params: IcmParams =
             serde_json::from_str(r#"{"model": "linear", "scheme": "euler"}"#).unwrap();
-        params.check().unwrap();
+        let params = params.check().unwrap();
         let out = Icm
             .run(&params, &inputs(punch_profile()), &Context::new("t"))
             .unwrap();
         let t = response(&out);
         t.validate().unwrap();
-        t.conform(RESPONSE_COLUMNS).unwrap();
-        let names: Vec<&str> = RESPONSE_COLUMNS.iter().map(|c| c.name).collect();
+        t.conform(ResponseTable::COLUMNS).unwrap();
+        let names: Vec<&str> = ResponseTable::COLUMNS.iter().map(|c| c.name).collect();
         assert_eq!(t.column_names(), names);
-        let e0_star = paper_epdm().youngs_modulus_pa() / 0.75;
+        let e0_star =
+            hypercontact_material::composite_modulus_pa(paper_epdm().shear_modulus_pa(), 0.5);
         let load = t.f64("load_n").unwrap();
         let exact = 2.0 * e0_star * 1e-4 * 5e-6;
         assert!(
@@ -273,11 +212,7 @@ mod tests {
     #[test]
     fn hyperelastic_response_starts_at_twice_e0_star() {
         let out = Icm
-            .run(
-                &IcmParams::default(),
-                &inputs(punch_profile()),
-                &Context::new("t"),
-            )
+            .run(&defaults(), &inputs(punch_profile()), &Context::new("t"))
             .unwrap();
         let ratio = response(&out).f64("tangent_ratio").unwrap().to_vec();
         assert!((ratio[0] - 2.0).abs() < 1e-9, "{ratio:?}");
@@ -289,12 +224,13 @@ mod tests {
         // A tiny area under a huge stiffness: S far beyond φ's range.
         let profile = Table::new()
             .with("z_m", vec![1e-5, 0.0])
+            .with("z_over_sigma", vec![1.0, 0.0])
             .with("area_fraction", vec![1.0, 1.0])
             .with("patches", vec![1_i64, 1])
             .with("radius_m", vec![1.0, 1.0])
             .with("area_m2", vec![1e-12, 1e-12]);
         let e = Icm
-            .run(&IcmParams::default(), &inputs(profile), &Context::new("t"))
+            .run(&defaults(), &inputs(profile), &Context::new("t"))
             .unwrap_err()
             .to_string();
         assert!(
@@ -312,25 +248,24 @@ mod tests {
         assert_eq!(p.check().unwrap_err().param, "poisson");
         let e = serde_json::from_str::<IcmParams>(r#"{"scheme": "rk4"}"#).unwrap_err();
         assert!(e.to_string().contains("rk4"), "{e}");
-        let no_radius = Table::new().with("z_m", vec![1.0]);
+        let no_radius = Table::new()
+            .with("z_m", vec![1.0])
+            .with("z_over_sigma", vec![1.0]);
         let e = Icm
-            .run(
-                &IcmParams::default(),
-                &inputs(no_radius),
-                &Context::new("t"),
-            )
+            .run(&defaults(), &inputs(no_radius), &Context::new("t"))
             .unwrap_err()
             .to_string();
         assert!(e.contains("profile") && e.contains("area_fraction"), "{e}");
         // Row 2 (A/A0 = 1) gives A0 = 2 m²; row 1 implies 2 / 0.5 = 4 m².
         let rows = Table::new()
             .with("z_m", vec![1e-5, 5e-6, 0.0])
+            .with("z_over_sigma", vec![2.0, 1.0, 0.0])
             .with("area_fraction", vec![0.5, 0.5, 1.0])
             .with("patches", vec![1_i64, 1, 1])
             .with("radius_m", vec![1.0, 1.0, 1.0])
             .with("area_m2", vec![1.0, 2.0, 2.0]);
         let e = Icm
-            .run(&IcmParams::default(), &inputs(rows), &Context::new("t"))
+            .run(&defaults(), &inputs(rows), &Context::new("t"))
             .unwrap_err()
             .to_string();
         assert!(e.contains("row 1") && e.contains("A0"), "{e}");

@@ -23,8 +23,7 @@ fn sample_map_runs_through_truncation_and_both_icm_models() {
     let surface = ctx.read_field(&path, 2e-5, 2e-5).unwrap();
     assert_eq!((surface.nx(), surface.ny()), (256, 256));
 
-    let params = TruncationParams::default();
-    params.check().unwrap();
+    let params = TruncationParams::default().check().unwrap();
     let truncated = Truncation
         .run(
             &params,
@@ -42,7 +41,9 @@ fn sample_map_runs_through_truncation_and_both_icm_models() {
             model,
             scheme: Scheme::Heun,
             poisson: 0.5,
-        };
+        }
+        .check()
+        .unwrap();
         let inputs = Inputs::new()
             .with("profile", Product::Table(profile.clone()))
             .with("material", Product::Table(to_table(&paper_epdm())));

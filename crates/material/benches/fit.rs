@@ -8,7 +8,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use hypercontact_core::{Context, Inputs, Product, Stage};
+use hypercontact_core::{Context, Inputs, Params, Product, Stage};
 use hypercontact_material::fit_stage::{MaterialFit, MaterialFitParams};
 use hypercontact_material::sample::paper_sample;
 use hypercontact_material::{Family, FitOptions, fit};
@@ -23,7 +23,7 @@ fn ogden_6(c: &mut Criterion) {
 
 fn comparison(c: &mut Criterion) {
     let inputs = Inputs::new().with("tensile", Product::Table(paper_sample().to_table()));
-    let params = MaterialFitParams::default();
+    let params = MaterialFitParams::default().check().unwrap();
     let ctx = Context::new("bench");
     c.bench_function("material-fit stage with comparison (10 families)", |b| {
         b.iter(|| MaterialFit.run(&params, black_box(&inputs), &ctx).unwrap())

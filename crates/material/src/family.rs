@@ -16,8 +16,9 @@ use crate::{
 /// Largest Ogden order offered.
 pub const MAX_OGDEN_TERMS: usize = 6;
 
-/// A strain-energy family with its size.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+/// A strain-energy family with its size, written by its name (`ogden-6`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "String", into = "String")]
 pub enum Family {
     /// N-term Ogden, N = 1…6.
     Ogden(usize),
@@ -27,6 +28,22 @@ pub enum Family {
     Yeoh,
     ArrudaBoyce,
 }
+
+impl TryFrom<String> for Family {
+    type Error = MaterialError;
+
+    fn try_from(name: String) -> Result<Self, MaterialError> {
+        Family::parse(&name)
+    }
+}
+
+impl From<Family> for String {
+    fn from(family: Family) -> String {
+        family.name()
+    }
+}
+
+hypercontact_core::leaf_param_value!(Family, Family::names().replace(", ", " | "));
 
 impl Family {
     /// Every family, in the order the comparison lists them before ranking.

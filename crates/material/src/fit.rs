@@ -16,19 +16,17 @@
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt, TerminationReason};
 use nalgebra::storage::Owned;
 use nalgebra::{DMatrix, DVector, Dyn};
-use serde::{Deserialize, Serialize};
 
 use crate::tensile::TensileData;
 use crate::{Family, Hyperelastic, MaterialError, Mode};
 
 /// How a residual is measured.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, hypercontact_core::Choice)]
 pub enum Residual {
-    /// (T_fit − T) / max(|T|, 1 % of the mode's largest |T|): Abaqus' default.
+    /// (T_fit − T) / max(|T|, 1 % of the mode's largest |T|): Abaqus' default
     #[default]
     Relative,
-    /// (T_fit − T) in pascals.
+    /// (T_fit − T) in pascals
     Absolute,
 }
 

@@ -4,67 +4,61 @@
 //! way the paper chose its 6-term Ogden model in Abaqus.
 
 use hypercontact_core::{
-    Arity, ColumnSpec, Context, InputSpec, Inputs, OutputSpec, Outputs, ParamDoc, ParamError,
-    Params, Product, ProductKind, Stage, StageError, StageInfo, Table,
+    Arity, Checked, ColumnSpec, Context, InputSpec, Inputs, OutputSpec, Outputs, ParamError,
+    Product, ProductKind, Stage, StageError, StageInfo, Table, params,
 };
-use serde::{Deserialize, Serialize};
 
 use crate::fit::{FitOptions, FitResult, Residual, fit};
 use crate::quality::{Quality, quality};
 use crate::stability::{StabilityRange, stability_ranges};
-use crate::table::{MATERIAL_COLUMNS, to_table};
+use crate::table::{MaterialTable, to_table};
 use crate::tensile::TensileData;
-use crate::tensile_stage::TENSILE_COLUMNS;
+use crate::tensile_stage::TensilePoints;
 use crate::{Family, Hyperelastic, Mode};
 
-/// Weights of the three modes in the objective.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// Weights of the three modes in the objective; 0 leaves a mode out.
+#[params(check = some_weight_positive)]
 pub struct ModeWeights {
-    #[serde(rename = "UT")]
+    /// uniaxial
+    #[param(default = 1.0, range = 0.0.., rename = "UT")]
     pub ut: f64,
-    #[serde(rename = "PT")]
+    /// planar
+    #[param(default = 1.0, range = 0.0.., rename = "PT")]
     pub pt: f64,
-    #[serde(rename = "BT")]
+    /// equibiaxial
+    #[param(default = 1.0, range = 0.0.., rename = "BT")]
     pub bt: f64,
 }
 
-impl Default for ModeWeights {
-    fn default() -> Self {
-        Self {
-            ut: 1.0,
-            pt: 1.0,
-            bt: 1.0,
-        }
+fn some_weight_positive(w: &ModeWeights) -> Result<(), ParamError> {
+    if w.ut + w.pt + w.bt > 0.0 {
+        Ok(())
+    } else {
+        Err(ParamError::new("", "at least one weight must be positive"))
     }
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// Parameters of `material-fit`.
+#[params]
 pub struct MaterialFitParams {
-    /// ogden-1 … ogden-6, neo-hookean, mooney-rivlin, yeoh, arruda-boyce.
-    pub model: String,
+    /// the strain-energy family to fit
+    #[param(default = Family::Ogden(6))]
+    pub model: Family,
+    /// how a residual is measured (relative, as Abaqus)
+    #[param(default = Residual::Relative)]
     pub residual: Residual,
-    /// Starts for Ogden and Arruda–Boyce (deterministic).
+    /// number of starts for Ogden and Arruda–Boyce (deterministic)
+    #[param(default = 8, range = 1..=1000)]
     pub starts: usize,
+    /// mode weights in the objective
+    #[param(default = ModeWeights::default())]
     pub weights: ModeWeights,
-    /// Fit every family too and rank them.
+    /// also fit and rank every family
+    #[param(default = true)]
     pub compare: bool,
-    /// Seed of the random starts.
+    /// seed of the random starts
+    #[param(default = 1)]
     pub seed: u64,
-}
-
-impl Default for MaterialFitParams {
-    fn default() -> Self {
-        Self {
-            model: "ogden-6".into(),
-            residual: Residual::Relative,
-            starts: 8,
-            weights: ModeWeights::default(),
-            compare: true,
-            seed: 1,
-        }
-    }
 }
 
 impl MaterialFitParams {
@@ -76,38 +70,6 @@ impl MaterialFitParams {
             seed: self.seed,
             ..FitOptions::default()
         }
-    }
-}
-
-impl Params for MaterialFitParams {
-    fn check(&self) -> Result<(), ParamError> {
-        Family::parse(&self.model).map_err(|e| ParamError::new("model", e.to_string()))?;
-        if !(1..=1000).contains(&self.starts) {
-            return Err(ParamError::new(
-                "starts",
-                format!("must lie in 1 … 1000, got {}", self.starts),
-            ));
-        }
-        let w = &self.weights;
-        for (name, value) in [
-            ("weights.UT", w.ut),
-            ("weights.PT", w.pt),
-            ("weights.BT", w.bt),
-        ] {
-            if !(value >= 0.0 && value.is_finite()) {
-                return Err(ParamError::new(
-                    name,
-                    format!("must be ≥ 0 and finite, got {value}"),
-                ));
-            }
-        }
-        if w.ut + w.pt + w.bt <= 0.0 {
-            return Err(ParamError::new(
-                "weights",
-                "at least one weight must be positive",
-            ));
-        }
-        Ok(())
     }
 }
 
@@ -227,43 +189,11 @@ static INFO: StageInfo = StageInfo {
           `comparison` fits every family (ogden-1…6, neo-hookean, mooney-rivlin, yeoh, \
           arruda-boyce) to the same data and ranks them by total RMS relative error, with \
           their stable ranges, so the choice of model can be justified as the paper did.",
-    params: &[
-        ParamDoc {
-            name: "model",
-            unit: "",
-            doc: "ogden-1 … ogden-6 (default ogden-6), neo-hookean, mooney-rivlin, yeoh, arruda-boyce",
-        },
-        ParamDoc {
-            name: "residual",
-            unit: "",
-            doc: "relative (default, as Abaqus) or absolute",
-        },
-        ParamDoc {
-            name: "starts",
-            unit: "",
-            doc: "number of starts for Ogden and Arruda–Boyce (default 8)",
-        },
-        ParamDoc {
-            name: "weights",
-            unit: "",
-            doc: "mode weights {UT: 1, PT: 1, BT: 1}; 0 leaves a mode out of the fit",
-        },
-        ParamDoc {
-            name: "compare",
-            unit: "",
-            doc: "also fit and rank every family (default true)",
-        },
-        ParamDoc {
-            name: "seed",
-            unit: "",
-            doc: "seed of the random starts (default 1)",
-        },
-    ],
     inputs: &[InputSpec {
         name: "tensile",
         kind: ProductKind::Table,
         arity: Arity::Many,
-        columns: TENSILE_COLUMNS,
+        columns: <TensilePoints as hypercontact_core::Schema>::COLUMNS,
         doc: "UT/PT/BT stress–stretch data (tensile-table or the DIC stage): one table \
               (`tensile: csv`) or several fitted together (`tensile: { UT: dic-ut, PT: dic-pt }`)",
     }],
@@ -271,7 +201,7 @@ static INFO: StageInfo = StageInfo {
         OutputSpec {
             name: "material",
             kind: ProductKind::Table,
-            columns: MATERIAL_COLUMNS,
+            columns: <MaterialTable as hypercontact_core::Schema>::COLUMNS,
             doc: "the fitted model, for downstream stages (the ICM reads it)",
         },
         OutputSpec {
@@ -339,8 +269,13 @@ impl Stage for MaterialFit {
         &INFO
     }
 
-    fn run(&self, p: &Self::Params, inputs: &Inputs, ctx: &Context) -> Result<Outputs, StageError> {
-        let family = Family::parse(&p.model).map_err(StageError::other)?;
+    fn run(
+        &self,
+        p: &Checked<MaterialFitParams>,
+        inputs: &Inputs,
+        ctx: &Context,
+    ) -> Result<Outputs, StageError> {
+        let family = p.model;
         let data = gather_tensile(inputs)?;
         let options = p.options();
         let chosen = fit(&data, family, &options).map_err(StageError::other)?;
@@ -580,7 +515,7 @@ fn comparison_table(mut rows: Vec<ComparisonRow>) -> Table {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hypercontact_core::Product;
+    use hypercontact_core::{DynStage, Params, Product};
 
     fn table<'a>(out: &'a Outputs, name: &str) -> &'a Table {
         match out.get(name) {
@@ -594,11 +529,12 @@ mod tests {
         let data = crate::sample::paper_sample();
         let inputs = Inputs::new().with("tensile", Product::Table(data.to_table()));
         let p = MaterialFitParams {
-            model: "ogden-3".into(),
+            model: Family::Ogden(3),
             starts: 4,
             ..Default::default()
-        };
-        p.check().unwrap();
+        }
+        .check()
+        .unwrap();
         let out = MaterialFit.run(&p, &inputs, &Context::new("fit")).unwrap();
         for spec in INFO.outputs {
             let t = table(&out, spec.name);
@@ -634,9 +570,11 @@ mod tests {
             .with("nominal_stress_pa", vec![1e5, 2e5, 2e5]);
         let inputs = Inputs::new().with("tensile", Product::Table(t));
         let p = MaterialFitParams {
-            model: "ogden-2".into(),
+            model: Family::Ogden(2),
             ..Default::default()
-        };
+        }
+        .check()
+        .unwrap();
         let e = MaterialFit
             .run(&p, &inputs, &Context::new("fit"))
             .unwrap_err()
@@ -682,10 +620,12 @@ mod tests {
             Product::Table(crate::sample::paper_sample().to_table()),
         );
         let p = MaterialFitParams {
-            model: "mooney-rivlin".into(),
+            model: Family::MooneyRivlin,
             compare: false,
             ..Default::default()
-        };
+        }
+        .check()
+        .unwrap();
         let out = MaterialFit.run(&p, &inputs, &Context::new("fit")).unwrap();
         let c = table(&out, "comparison");
         assert_eq!(c.str("model").unwrap(), ["mooney-rivlin"]);
@@ -705,9 +645,11 @@ mod tests {
             .with("nominal_stress_pa", vec![2e5, 4e5, 2.5e5, 6e5]);
         let inputs = Inputs::new().with("tensile", Product::Table(t));
         let p = MaterialFitParams {
-            model: "neo-hookean".into(),
+            model: Family::NeoHookean,
             ..Default::default()
-        };
+        }
+        .check()
+        .unwrap();
         let out = MaterialFit.run(&p, &inputs, &Context::new("fit")).unwrap();
         let c = table(&out, "comparison");
         let status = c.str("status").unwrap();
@@ -729,13 +671,13 @@ mod tests {
     fn bad_parameters_are_named() {
         let bad = |p: MaterialFitParams| p.check().unwrap_err().param;
         let p = MaterialFitParams::default();
-        assert_eq!(
-            bad(MaterialFitParams {
-                model: "ogden-9".into(),
-                ..p.clone()
-            }),
-            "model"
-        );
+        let unknown = MaterialFit
+            .params_from_json(
+                serde_json::json!({"model": "ogden-9"}),
+                std::path::Path::new("."),
+            )
+            .unwrap_err();
+        assert_eq!(unknown.param, "model");
         assert_eq!(
             bad(MaterialFitParams {
                 starts: 0,

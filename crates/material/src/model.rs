@@ -2,67 +2,13 @@
 
 use std::fmt;
 
-use serde::{Deserialize, Serialize};
+pub use hypercontact_core::Mode;
 
-/// The homogeneous tensile tests of the paper's section 2.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-pub enum Mode {
-    /// Uniaxial tension: stretches (λ, λ^-½, λ^-½).
-    #[serde(rename = "UT")]
-    Uniaxial,
-    /// Planar tension (pure shear): stretches (λ, 1, λ^-1).
-    #[serde(rename = "PT")]
-    Planar,
-    /// Equibiaxial tension: stretches (λ, λ, λ^-2).
-    #[serde(rename = "BT")]
-    Equibiaxial,
-}
-
-impl Mode {
-    pub const ALL: [Mode; 3] = [Mode::Uniaxial, Mode::Planar, Mode::Equibiaxial];
-
-    /// The label used in tables: `UT`, `PT` or `BT`.
-    pub fn label(self) -> &'static str {
-        match self {
-            Mode::Uniaxial => "UT",
-            Mode::Planar => "PT",
-            Mode::Equibiaxial => "BT",
-        }
-    }
-
-    pub fn from_label(label: &str) -> Option<Mode> {
-        match label.trim().to_ascii_uppercase().as_str() {
-            "UT" => Some(Mode::Uniaxial),
-            "PT" | "PS" => Some(Mode::Planar),
-            "BT" | "ET" | "EB" => Some(Mode::Equibiaxial),
-            _ => None,
-        }
-    }
-
-    /// Principal stretches (λ1, λ2, λ3) of an incompressible solid in this
-    /// test at loading stretch λ.
-    pub fn stretches(self, stretch: f64) -> [f64; 3] {
-        match self {
-            Mode::Uniaxial => [stretch, stretch.powf(-0.5), stretch.powf(-0.5)],
-            Mode::Planar => [stretch, 1.0, 1.0 / stretch],
-            Mode::Equibiaxial => [stretch, stretch, stretch.powi(-2)],
-        }
-    }
-
-    /// How many loaded directions share the work dW/dλ: the nominal stress is
-    /// dW/dλ divided by this (2 for equibiaxial, 1 otherwise).
-    pub fn loaded_directions(self) -> f64 {
-        match self {
-            Mode::Equibiaxial => 2.0,
-            _ => 1.0,
-        }
-    }
-}
-
-impl fmt::Display for Mode {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.label())
-    }
+/// The initial composite modulus E0* = E0 / (1 − ν²), with E0 = 2 μ0 (1 + ν)
+/// (SPEC, "Ogden model"), Pa: the one place where ν enters the linear
+/// moduli, so every stage normalising by E0* agrees. ν = ½ gives 4 μ0.
+pub fn composite_modulus_pa(shear_modulus_pa: f64, poisson: f64) -> f64 {
+    2.0 * shear_modulus_pa * (1.0 + poisson) / (1.0 - poisson * poisson)
 }
 
 /// An incompressible isotropic hyperelastic material.

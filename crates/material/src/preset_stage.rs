@@ -1,35 +1,18 @@
 //! Stage `material-preset`: a built-in material as the `material` table.
 
 use hypercontact_core::{
-    Context, Inputs, OutputSpec, Outputs, ParamDoc, ParamError, Params, ProductKind, Stage,
-    StageError, StageInfo,
+    Checked, Context, Inputs, OutputSpec, Outputs, Stage, StageError, StageInfo, params,
 };
-use serde::{Deserialize, Serialize};
 
-use crate::presets::preset;
-use crate::table::{MATERIAL_COLUMNS, to_table};
+use crate::presets::Preset;
+use crate::table::{MaterialTable, to_table};
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// Parameters of `material-preset`.
+#[params]
 pub struct MaterialPresetParams {
-    /// The preset's name.
-    pub name: String,
-}
-
-impl Default for MaterialPresetParams {
-    fn default() -> Self {
-        Self {
-            name: "paper-epdm".into(),
-        }
-    }
-}
-
-impl Params for MaterialPresetParams {
-    fn check(&self) -> Result<(), ParamError> {
-        preset(&self.name)
-            .map(|_| ())
-            .map_err(|e| ParamError::new("name", e.to_string()))
-    }
+    /// the preset
+    #[param(default = Preset::PaperEpdm)]
+    pub name: Preset,
 }
 
 /// The `material-preset` stage.
@@ -49,18 +32,11 @@ static INFO: StageInfo = StageInfo {
           monotonically in compression. Abaqus' Drucker check holds in equibiaxial tension up \
           to λ ≈ 4.4 and fails in equibiaxial compression below λ ≈ 0.56 (ε ≈ −0.44, stresses \
           below about −15 MPa); see `material-fit`'s `stability` table.",
-    params: &[ParamDoc {
-        name: "name",
-        unit: "",
-        doc: "preset name: paper-epdm",
-    }],
     inputs: &[],
-    outputs: &[OutputSpec {
-        name: "material",
-        kind: ProductKind::Table,
-        columns: MATERIAL_COLUMNS,
-        doc: "the model: one row per parameter (model, param, value in SI)",
-    }],
+    outputs: &[OutputSpec::table::<MaterialTable>(
+        "material",
+        "the model: one row per parameter (model, param, value in SI)",
+    )],
 };
 
 impl Stage for MaterialPreset {
@@ -70,39 +46,43 @@ impl Stage for MaterialPreset {
         &INFO
     }
 
-    fn run(&self, p: &Self::Params, _: &Inputs, _: &Context) -> Result<Outputs, StageError> {
-        let model = preset(&p.name).map_err(StageError::other)?;
-        Ok(Outputs::new().table("material", to_table(model.as_ref())))
+    fn run(
+        &self,
+        p: &Checked<MaterialPresetParams>,
+        _: &Inputs,
+        _: &Context,
+    ) -> Result<Outputs, StageError> {
+        Ok(Outputs::new().table("material", to_table(p.name.model().as_ref())))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hypercontact_core::Product;
+    use hypercontact_core::{DynStage, Params, Product, Schema};
 
     #[test]
     fn emits_the_paper_preset() {
-        let p = MaterialPresetParams::default();
-        p.check().unwrap();
+        let p = MaterialPresetParams::default().check().unwrap();
         let out = MaterialPreset
             .run(&p, &Inputs::new(), &Context::new("t"))
             .unwrap();
         let Some(Product::Table(t)) = out.get("material") else {
             panic!("no material table")
         };
-        t.conform(MATERIAL_COLUMNS).unwrap();
+        t.conform(MaterialTable::COLUMNS).unwrap();
         let m = crate::table::from_table(t).unwrap();
         assert!((m.shear_modulus_pa() - 1.79e6).abs() < 0.005e6);
     }
 
     #[test]
     fn unknown_name_is_a_parameter_error() {
-        let e = MaterialPresetParams {
-            name: "nitrile".into(),
-        }
-        .check()
-        .unwrap_err();
+        let e = MaterialPreset
+            .params_from_json(
+                serde_json::json!({"name": "nitrile"}),
+                std::path::Path::new("."),
+            )
+            .unwrap_err();
         assert_eq!(e.param, "name");
         assert!(e.message.contains("paper-epdm"), "{}", e.message);
     }

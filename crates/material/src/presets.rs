@@ -2,6 +2,22 @@
 
 use crate::{Hyperelastic, MaterialError, Ogden};
 
+/// The built-in materials, by name.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, hypercontact_core::Choice)]
+pub enum Preset {
+    /// the paper's Table 1: 6-term Ogden EPDM
+    #[default]
+    PaperEpdm,
+}
+
+impl Preset {
+    pub fn model(self) -> Box<dyn Hyperelastic> {
+        match self {
+            Preset::PaperEpdm => Box::new(paper_epdm()),
+        }
+    }
+}
+
 /// Names accepted by [`preset`].
 pub const PRESETS: &[&str] = &["paper-epdm"];
 

@@ -1,42 +1,40 @@
 //! The `material` table: how a fitted or preset model travels between
 //! stages. One row per parameter: `model` (family), `param`, `value` (SI).
 
-use hypercontact_core::{ColumnSpec, Table};
+use hypercontact_core::{Schema, Table};
 
 use crate::{ArrudaBoyce, Hyperelastic, MaterialError, MooneyRivlin, NeoHookean, Ogden, Yeoh};
 
-/// The schema of the `material` table.
-pub const MATERIAL_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::str(
-        "model",
-        "model family: ogden, neo-hookean, mooney-rivlin, yeoh, arruda-boyce",
-    ),
-    ColumnSpec::str("param", "parameter name (mu_1, alpha_1, c10, ...)"),
-    ColumnSpec::f64(
-        "value",
-        "Pa or 1",
-        "parameter value in SI units (moduli in Pa)",
-    ),
-];
+/// The `material` table, one row per parameter.
+#[derive(Clone, Debug, PartialEq, Schema)]
+pub struct MaterialTable {
+    /// model family: ogden, neo-hookean, mooney-rivlin, yeoh, arruda-boyce
+    pub model: Vec<String>,
+    /// parameter name (mu_1, alpha_1, c10, ...)
+    pub param: Vec<String>,
+    /// parameter value in SI units (moduli in Pa)
+    #[column(unit = "Pa or 1")]
+    pub value: Vec<f64>,
+}
 
 /// Writes a model as a `material` table.
 pub fn to_table(model: &dyn Hyperelastic) -> Table {
     let params = model.parameters();
-    Table::new()
-        .with("model", vec![model.family(); params.len()])
-        .with(
-            "param",
-            params.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>(),
-        )
-        .with("value", params.iter().map(|(_, v)| *v).collect::<Vec<_>>())
+    MaterialTable {
+        model: vec![model.family().to_owned(); params.len()],
+        param: params.iter().map(|(n, _)| n.clone()).collect(),
+        value: params.iter().map(|(_, v)| *v).collect(),
+    }
+    .into_table()
 }
 
 /// Reads a model back from a `material` table.
 pub fn from_table(table: &Table) -> Result<Box<dyn Hyperelastic>, MaterialError> {
-    let err = |e: hypercontact_core::TableError| MaterialError::Table(e.to_string());
-    let models = table.str("model").map_err(err)?;
-    let names = table.str("param").map_err(err)?;
-    let values = table.f64("value").map_err(err)?;
+    let MaterialTable {
+        model: models,
+        param: names,
+        value: values,
+    } = MaterialTable::from_table(table).map_err(|e| MaterialError::Table(e.to_string()))?;
     let family = models
         .first()
         .ok_or_else(|| MaterialError::Table("the material table is empty".into()))?;

@@ -1,56 +1,32 @@
 //! Stage `tensile-table`: loads UT/PT/BT stress–stretch data from a CSV or
 //! Parquet file and validates it for fitting.
 
-use std::path::PathBuf;
-
 use hypercontact_core::{
-    ColumnSpec, Context, Inputs, OutputSpec, Outputs, ParamDoc, ParamError, Params, ProductKind,
-    Stage, StageError, StageInfo,
+    Checked, Context, InputPath, Inputs, OutputSpec, Outputs, Schema, Stage, StageError, StageInfo,
+    params,
 };
-use serde::{Deserialize, Serialize};
 
 use crate::tensile::normalise_table;
 
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// Parameters of `tensile-table`.
+#[params]
 pub struct TensileTableParams {
-    /// A CSV or Parquet file with columns mode, stretch, nominal_stress_pa.
-    pub path: PathBuf,
+    /// the CSV or Parquet file (columns mode, stretch, nominal_stress_pa)
+    pub path: InputPath,
 }
 
-impl Params for TensileTableParams {
-    fn check(&self) -> Result<(), ParamError> {
-        if self.path.as_os_str().is_empty() {
-            return Err(ParamError::new(
-                "path",
-                "is required (a CSV or Parquet tensile table)",
-            ));
-        }
-        Ok(())
-    }
-
-    fn paths_mut(&mut self) -> Vec<&mut PathBuf> {
-        vec![&mut self.path]
-    }
+/// The `tensile` table (the DIC stage emits the same columns).
+#[derive(Clone, Debug, PartialEq, Schema)]
+pub struct TensilePoints {
+    /// UT (uniaxial), PT (planar / pure shear) or BT (equibiaxial)
+    pub mode: Vec<String>,
+    /// loading stretch λ ≥ 1, increasing within a mode
+    #[column(unit = "1")]
+    pub stretch: Vec<f64>,
+    /// nominal (first Piola–Kirchhoff) stress: force over undeformed area
+    #[column(unit = "Pa")]
+    pub nominal_stress_pa: Vec<f64>,
 }
-
-/// The columns of the `tensile` table (the DIC stage emits the same).
-pub const TENSILE_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::str(
-        "mode",
-        "UT (uniaxial), PT (planar / pure shear) or BT (equibiaxial)",
-    ),
-    ColumnSpec::f64(
-        "stretch",
-        "1",
-        "loading stretch λ ≥ 1, increasing within a mode",
-    ),
-    ColumnSpec::f64(
-        "nominal_stress_pa",
-        "Pa",
-        "nominal (first Piola–Kirchhoff) stress: force over undeformed area",
-    ),
-];
 
 /// The `tensile-table` stage.
 pub struct TensileTable;
@@ -66,18 +42,11 @@ static INFO: StageInfo = StageInfo {
           data row (1-based, header and `#` comment lines not counted) and the column. Extra \
           columns pass through unchanged. Whether there are enough points for a model is \
           checked by `material-fit`, which knows the model.",
-    params: &[ParamDoc {
-        name: "path",
-        unit: "",
-        doc: "the CSV or Parquet file, relative to the pipeline file",
-    }],
     inputs: &[],
-    outputs: &[OutputSpec {
-        name: "tensile",
-        kind: ProductKind::Table,
-        columns: TENSILE_COLUMNS,
-        doc: "the validated data, mode labels made canonical, file order kept",
-    }],
+    outputs: &[OutputSpec::table::<TensilePoints>(
+        "tensile",
+        "the validated data, mode labels made canonical, file order kept",
+    )],
 };
 
 impl Stage for TensileTable {
@@ -87,7 +56,12 @@ impl Stage for TensileTable {
         &INFO
     }
 
-    fn run(&self, p: &Self::Params, _: &Inputs, ctx: &Context) -> Result<Outputs, StageError> {
+    fn run(
+        &self,
+        p: &Checked<TensileTableParams>,
+        _: &Inputs,
+        ctx: &Context,
+    ) -> Result<Outputs, StageError> {
         let table = ctx.read_table(&p.path)?;
         let origin = p.path.display().to_string();
         let table = normalise_table(&table, &origin).map_err(StageError::other)?;
@@ -105,7 +79,8 @@ impl Stage for TensileTable {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hypercontact_core::Product;
+    use hypercontact_core::{DynStage, Params, Product};
+    use std::path::PathBuf;
 
     fn dir() -> PathBuf {
         let dir = std::env::temp_dir().join(format!(
@@ -120,8 +95,7 @@ mod tests {
     fn run(csv: &str) -> Result<Outputs, StageError> {
         let path = dir().join("tensile.csv");
         std::fs::write(&path, csv).unwrap();
-        let p = TensileTableParams { path };
-        p.check().unwrap();
+        let p = TensileTableParams { path: path.into() }.check().unwrap();
         TensileTable.run(&p, &Inputs::new(), &Context::new("t"))
     }
 
@@ -133,7 +107,7 @@ mod tests {
         let Some(Product::Table(t)) = out.get("tensile") else {
             panic!("no tensile table")
         };
-        t.conform(TENSILE_COLUMNS).unwrap();
+        t.conform(TensilePoints::COLUMNS).unwrap();
         assert_eq!(t.str("mode").unwrap(), ["UT", "PT"]);
         assert_eq!(t.i64("frame").unwrap(), [1, 2]);
     }
@@ -158,9 +132,12 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("`stretch`") && e.contains("strain"), "{e}");
-        assert_eq!(
-            TensileTableParams::default().check().unwrap_err().param,
-            "path"
+        let missing = TensileTable
+            .params_from_json(serde_json::json!({}), std::path::Path::new("."))
+            .unwrap_err();
+        assert!(
+            missing.message.contains("missing field `path`"),
+            "{missing}"
         );
     }
 }

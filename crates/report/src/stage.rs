@@ -4,54 +4,36 @@
 
 use hypercontact_core::product::ProductKind;
 use hypercontact_core::{
-    Arity, ColumnSpec, Context, InputSpec, Inputs, OutputSpec, Outputs, ParamDoc, ParamError,
-    Params, Stage, StageError, StageInfo,
+    Arity, Checked, ColumnSpec, Context, InputSpec, Inputs, OutputSpec, Outputs, Stage, StageError,
+    StageInfo, params,
 };
-use serde::{Deserialize, Serialize};
 
 use crate::report::{ReportOptions, render_report};
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// Parameters of `report`.
+#[params]
 pub struct ReportParams {
-    /// The page title.
+    /// the page title
+    #[param(default = ReportOptions::default().title, check = not_blank)]
     pub title: String,
-    /// A/A0 values at which the summary reads F/(E0* A0).
+    /// A/A0 values at which the summary reads F/(E0* A0) (1 to 10 of them)
+    #[param(default = ReportOptions::default().area_fractions, positive, range = ..=1.0, check = one_to_ten)]
     pub area_fractions: Vec<f64>,
 }
 
-impl Default for ReportParams {
-    fn default() -> Self {
-        let o = ReportOptions::default();
-        Self {
-            title: o.title,
-            area_fractions: o.area_fractions,
-        }
+fn not_blank(title: &String) -> Result<(), String> {
+    if title.trim().is_empty() {
+        Err("must not be empty".into())
+    } else {
+        Ok(())
     }
 }
 
-impl Params for ReportParams {
-    fn check(&self) -> Result<(), ParamError> {
-        if self.title.trim().is_empty() {
-            return Err(ParamError::new("title", "must not be empty"));
-        }
-        if self.area_fractions.is_empty() || self.area_fractions.len() > 10 {
-            return Err(ParamError::new(
-                "area_fractions",
-                format!("needs 1 to 10 values, got {}", self.area_fractions.len()),
-            ));
-        }
-        if let Some(a) = self
-            .area_fractions
-            .iter()
-            .find(|a| !(**a > 0.0 && **a <= 1.0))
-        {
-            return Err(ParamError::new(
-                "area_fractions",
-                format!("every value must lie in (0, 1], got {a}"),
-            ));
-        }
+fn one_to_ten(values: &Vec<f64>) -> Result<(), String> {
+    if (1..=10).contains(&values.len()) {
         Ok(())
+    } else {
+        Err(format!("needs 1 to 10 values, got {}", values.len()))
     }
 }
 
@@ -139,18 +121,6 @@ static INFO: StageInfo = StageInfo {
           E0* = E0/(1 − ν²) with ν = ½). The summary reads F/(E0* A0) at `area_fractions` \
           by linear interpolation in A/A0 (null outside the computed range). Figures use \
           the bundled DejaVu Sans font; no system font or network is needed.",
-    params: &[
-        ParamDoc {
-            name: "title",
-            unit: "",
-            doc: "the page title",
-        },
-        ParamDoc {
-            name: "area_fractions",
-            unit: "",
-            doc: "A/A0 values (0, 1] at which the summary reads the normalised load",
-        },
-    ],
     inputs: &[
         optional_table(
             "curves",
@@ -171,7 +141,7 @@ static INFO: StageInfo = StageInfo {
         ),
         optional_table(
             "material",
-            hypercontact_material::table::MATERIAL_COLUMNS,
+            <hypercontact_material::table::MaterialTable as hypercontact_core::Schema>::COLUMNS,
             "the fitted material (model, param, value)",
         ),
         per_sample(
@@ -221,7 +191,12 @@ impl Stage for Report {
         &INFO
     }
 
-    fn run(&self, p: &ReportParams, inputs: &Inputs, ctx: &Context) -> Result<Outputs, StageError> {
+    fn run(
+        &self,
+        p: &Checked<ReportParams>,
+        inputs: &Inputs,
+        ctx: &Context,
+    ) -> Result<Outputs, StageError> {
         let options = ReportOptions {
             title: p.title.clone(),
             area_fractions: p.area_fractions.clone(),
@@ -246,6 +221,7 @@ impl Stage for Report {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use hypercontact_core::Params;
 
     #[test]
     fn bad_parameters_are_named() {
@@ -256,7 +232,7 @@ mod tests {
         }
         .check()
         .unwrap_err();
-        assert_eq!(e.param, "area_fractions");
+        assert_eq!(e.param, "area_fractions.1");
         assert!(e.message.contains("1.5"), "{}", e.message);
         let e = ReportParams {
             title: " ".into(),

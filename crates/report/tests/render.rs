@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 
 use base64::Engine;
 use common::{ALL, SAMPLES, Wiring};
-use hypercontact_core::{Context, Files, Inputs, Product, Stage, Table};
+use hypercontact_core::{Context, Files, Inputs, Params, Product, Stage, Table};
 use hypercontact_report::{Report, ReportParams};
 use quick_xml::events::Event;
 use serde_json::Value;
@@ -19,7 +19,11 @@ const LEVELS: usize = 301;
 
 fn run(inputs: &Inputs) -> Files {
     let out = Report
-        .run(&ReportParams::default(), inputs, &Context::new("report"))
+        .run(
+            &ReportParams::default().check().unwrap(),
+            inputs,
+            &Context::new("report"),
+        )
         .expect("the report renders");
     match out.get("report") {
         Some(Product::Files(files)) => files.clone(),
@@ -338,7 +342,11 @@ fn a_nan_in_a_plotted_column_names_input_column_and_row() {
         .with("tangent_ratio", bad.f64("tangent_ratio").unwrap().to_vec());
     let inputs = Inputs::new().with("responses.T2", Product::Table(bad));
     let e = Report
-        .run(&ReportParams::default(), &inputs, &Context::new("report"))
+        .run(
+            &ReportParams::default().check().unwrap(),
+            &inputs,
+            &Context::new("report"),
+        )
         .unwrap_err()
         .to_string();
     assert!(
@@ -354,7 +362,11 @@ fn a_missing_column_names_the_input() {
         Product::Table(Table::new().with("z_over_sigma", vec![0.0, 1.0])),
     );
     let e = Report
-        .run(&ReportParams::default(), &inputs, &Context::new("report"))
+        .run(
+            &ReportParams::default().check().unwrap(),
+            &inputs,
+            &Context::new("report"),
+        )
         .unwrap_err()
         .to_string();
     assert!(

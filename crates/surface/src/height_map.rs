@@ -1,54 +1,24 @@
 //! Stage `height-map`: loads one height map from a `.npy` file.
 
-use std::path::PathBuf;
-
-use hypercontact_core::params::positive;
-use hypercontact_core::product::ProductKind;
 use hypercontact_core::{
-    Context, Field, Inputs, OutputSpec, Outputs, ParamDoc, ParamError, Params, Stage, StageError,
-    StageInfo,
+    Checked, Context, Field, InputPath, Inputs, OutputSpec, Outputs, Stage, StageError, StageInfo,
+    params,
 };
-use serde::{Deserialize, Serialize};
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// Parameters of `height-map`.
+#[params]
 pub struct HeightMapParams {
-    /// The `.npy` file (2-D, float64 or float32; axis 0 = x; NaN = missing).
-    pub path: PathBuf,
-    /// Grid spacing along x, metres.
+    /// the .npy file (2-D, float64 or float32; axis 0 = x; NaN = missing)
+    pub path: InputPath,
+    /// grid spacing along x
+    #[param(unit = "m", positive)]
     pub pixel_m: f64,
-    /// Grid spacing along y, metres; the same as x when omitted.
+    /// grid spacing along y (default: pixel_m)
+    #[param(unit = "m", positive)]
     pub pixel_y_m: Option<f64>,
-    /// Factor turning the file's values into metres (1e-6 for micrometres).
+    /// factor from file units to metres (1e-6 for micrometres)
+    #[param(default = 1.0, unit = "m/unit", positive)]
     pub scale_to_m: f64,
-}
-
-impl Default for HeightMapParams {
-    fn default() -> Self {
-        Self {
-            path: PathBuf::new(),
-            pixel_m: 0.0,
-            pixel_y_m: None,
-            scale_to_m: 1.0,
-        }
-    }
-}
-
-impl Params for HeightMapParams {
-    fn check(&self) -> Result<(), ParamError> {
-        if self.path.as_os_str().is_empty() {
-            return Err(ParamError::new("path", "is required (a .npy height map)"));
-        }
-        positive("pixel_m", self.pixel_m)?;
-        if let Some(dy) = self.pixel_y_m {
-            positive("pixel_y_m", dy)?;
-        }
-        positive("scale_to_m", self.scale_to_m)
-    }
-
-    fn paths_mut(&mut self) -> Vec<&mut PathBuf> {
-        vec![&mut self.path]
-    }
 }
 
 /// The `height-map` stage.
@@ -61,35 +31,11 @@ static INFO: StageInfo = StageInfo {
     doc: "Reads a 2-D .npy array (float64 or float32) whose axis 0 is x, as the \
           SurfaceTopography package writes it. NaN marks missing points and is kept. \
           Values are multiplied by `scale_to_m`.",
-    params: &[
-        ParamDoc {
-            name: "path",
-            unit: "",
-            doc: "the .npy file, relative to the pipeline file",
-        },
-        ParamDoc {
-            name: "pixel_m",
-            unit: "m",
-            doc: "grid spacing along x",
-        },
-        ParamDoc {
-            name: "pixel_y_m",
-            unit: "m",
-            doc: "grid spacing along y (default: pixel_m)",
-        },
-        ParamDoc {
-            name: "scale_to_m",
-            unit: "m/unit",
-            doc: "factor from file units to metres",
-        },
-    ],
     inputs: &[],
-    outputs: &[OutputSpec {
-        name: "height",
-        kind: ProductKind::Field,
-        columns: &[],
-        doc: "heights in metres, NaN where not measured",
-    }],
+    outputs: &[OutputSpec::field(
+        "height",
+        "heights in metres, NaN where not measured",
+    )],
 };
 
 impl Stage for HeightMap {
@@ -99,7 +45,12 @@ impl Stage for HeightMap {
         &INFO
     }
 
-    fn run(&self, p: &HeightMapParams, _: &Inputs, ctx: &Context) -> Result<Outputs, StageError> {
+    fn run(
+        &self,
+        p: &Checked<HeightMapParams>,
+        _: &Inputs,
+        ctx: &Context,
+    ) -> Result<Outputs, StageError> {
         let dy_m = p.pixel_y_m.unwrap_or(p.pixel_m);
         let mut field: Field = ctx.read_field(&p.path, p.pixel_m, dy_m)?;
         if field.values.iter().all(|h| h.is_nan()) {
@@ -121,7 +72,9 @@ impl Stage for HeightMap {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use hypercontact_core::{DynStage, Params};
     use ndarray::array;
+    use serde_json::json;
 
     #[test]
     fn loads_and_scales_a_map() {
@@ -131,12 +84,13 @@ mod tests {
         let f = Field::new(array![[1.0, 2.0], [f64::NAN, 4.0]], 1.0, 1.0).unwrap();
         f.write_npy(std::fs::File::create(&path).unwrap()).unwrap();
         let params = HeightMapParams {
-            path: path.clone(),
+            path: path.clone().into(),
             pixel_m: 2e-5,
+            pixel_y_m: None,
             scale_to_m: 1e-6,
-            ..Default::default()
-        };
-        params.check().unwrap();
+        }
+        .check()
+        .unwrap();
         let out = HeightMap
             .run(&params, &Inputs::new(), &Context::new("t"))
             .unwrap();
@@ -151,14 +105,12 @@ mod tests {
 
     #[test]
     fn missing_path_and_spacing_are_named() {
-        let e = HeightMapParams::default().check().unwrap_err();
-        assert_eq!(e.param, "path");
-        let e = HeightMapParams {
-            path: "x.npy".into(),
-            ..Default::default()
-        }
-        .check()
-        .unwrap_err();
+        let parse = |value| HeightMap.params_from_json(value, std::path::Path::new("."));
+        let e = parse(json!({"pixel_m": 2e-5})).unwrap_err();
+        assert!(e.message.contains("missing field `path`"), "{e}");
+        let e = parse(json!({"path": "x.npy"})).unwrap_err();
+        assert!(e.message.contains("missing field `pixel_m`"), "{e}");
+        let e = parse(json!({"path": "x.npy", "pixel_m": 0.0})).unwrap_err();
         assert_eq!(e.param, "pixel_m");
     }
 }

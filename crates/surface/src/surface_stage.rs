@@ -2,16 +2,13 @@
 //! PSDs (x, y, radial), statistics and Hurst exponents.
 
 use std::f64::consts::TAU;
-use std::path::PathBuf;
 
-use hypercontact_core::params::{in_range, positive};
 use hypercontact_core::product::ProductKind;
 use hypercontact_core::{
-    Arity, ColumnSpec, Context, Field, InputSpec, Inputs, OutputSpec, Outputs, ParamDoc,
-    ParamError, Params, Stage, StageError, StageInfo, Table,
+    Arity, Checked, Choice, ColumnSpec, Context, Field, InputPath, InputSpec, Inputs, OutputSpec,
+    Outputs, ParamError, Stage, StageError, StageInfo, Table, params,
 };
 use ndarray::Array2;
-use serde::{Deserialize, Serialize};
 
 use crate::error::SurfaceError;
 use crate::hurst::{Dimension, fit_power_law};
@@ -22,99 +19,67 @@ use crate::tiles::{DirSource, FilesSource, TileSet, TileSource, read_tiles};
 use crate::{filter, plane};
 
 /// Where heights are measured from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Choice)]
 pub enum ReferenceKind {
+    /// the lowest point is z = 0 (the paper's)
     Lowest,
+    /// z = 0 at `reference_percent` of the heights
     Percentile,
 }
 
 /// What is removed before statistics and PSDs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Choice)]
 pub enum Detrend {
+    /// a least-squares plane
     Plane,
+    /// the mean height
     Mean,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// Parameters of `surface`.
+#[params(check = ordered_hurst_range)]
 pub struct SurfaceParams {
-    /// A folder with tile files and positions.csv (real data), instead of
-    /// the `tiles` input.
-    pub dir: Option<PathBuf>,
+    /// folder of tiles + positions.csv (instead of input `tiles`)
+    pub dir: Option<InputPath>,
+    /// lateral resolution and new grid spacing (0 = keep the measured grid)
+    #[param(default = 20e-6, unit = "m", range = 0.0..)]
     pub resolution_m: f64,
+    /// height reference
+    #[param(default = ReferenceKind::Lowest)]
     pub reference: ReferenceKind,
+    /// percentile for `reference: percentile`
+    #[param(default = 1.0, unit = "%", range = 0.0..=100.0)]
     pub reference_percent: f64,
+    /// removed before stats and PSDs (periodic maps: mean only)
+    #[param(default = Detrend::Plane)]
     pub detrend: Detrend,
+    /// the map is periodic: no window, and only the mean is removed
+    #[param(default = false)]
     pub periodic: bool,
+    /// log bins per decade of q
+    #[param(default = 10, range = 1..=100)]
     pub bins_per_decade: usize,
+    /// shortest wavelength of the Hurst fit (default 4·dx, 7.3·resolution_m when filtered)
+    #[param(unit = "m", positive)]
     pub hurst_lambda_min_m: Option<f64>,
+    /// longest wavelength of the Hurst fit (default L/4)
+    #[param(unit = "m", positive)]
     pub hurst_lambda_max_m: Option<f64>,
+    /// least overlap (both directions) for a tile pair
+    #[param(default = 16, unit = "px", range = 4..)]
     pub min_overlap_px: usize,
 }
 
-impl Default for SurfaceParams {
-    fn default() -> Self {
-        Self {
-            dir: None,
-            resolution_m: 20e-6,
-            reference: ReferenceKind::Lowest,
-            reference_percent: 1.0,
-            detrend: Detrend::Plane,
-            periodic: false,
-            bins_per_decade: 10,
-            hurst_lambda_min_m: None,
-            hurst_lambda_max_m: None,
-            min_overlap_px: 16,
-        }
+fn ordered_hurst_range(p: &SurfaceParams) -> Result<(), ParamError> {
+    if let (Some(lo), Some(hi)) = (p.hurst_lambda_min_m, p.hurst_lambda_max_m)
+        && lo >= hi
+    {
+        return Err(ParamError::new(
+            "hurst_lambda_min_m",
+            format!("must be below hurst_lambda_max_m ({hi} m), got {lo} m"),
+        ));
     }
-}
-
-impl Params for SurfaceParams {
-    fn check(&self) -> Result<(), ParamError> {
-        if !(self.resolution_m >= 0.0 && self.resolution_m.is_finite()) {
-            return Err(ParamError::new(
-                "resolution_m",
-                format!(
-                    "must be ≥ 0 (0 keeps the measured grid), got {}",
-                    self.resolution_m
-                ),
-            ));
-        }
-        in_range("reference_percent", self.reference_percent, 0.0, 100.0)?;
-        if !(1..=100).contains(&self.bins_per_decade) {
-            return Err(ParamError::new(
-                "bins_per_decade",
-                format!("must lie in [1, 100], got {}", self.bins_per_decade),
-            ));
-        }
-        if let Some(v) = self.hurst_lambda_min_m {
-            positive("hurst_lambda_min_m", v)?;
-        }
-        if let Some(v) = self.hurst_lambda_max_m {
-            positive("hurst_lambda_max_m", v)?;
-        }
-        if let (Some(lo), Some(hi)) = (self.hurst_lambda_min_m, self.hurst_lambda_max_m)
-            && lo >= hi
-        {
-            return Err(ParamError::new(
-                "hurst_lambda_min_m",
-                format!("must be below hurst_lambda_max_m ({hi} m), got {lo} m"),
-            ));
-        }
-        if self.min_overlap_px < 4 {
-            return Err(ParamError::new(
-                "min_overlap_px",
-                format!("must be at least 4, got {}", self.min_overlap_px),
-            ));
-        }
-        Ok(())
-    }
-
-    fn paths_mut(&mut self) -> Vec<&mut PathBuf> {
-        self.dir.iter_mut().collect()
-    }
+    Ok(())
 }
 
 /// The `surface` stage.
@@ -208,58 +173,6 @@ static INFO: StageInfo = StageInfo {
           (default 4·dx … L/4; on a map this stage filtered, from the wavelength where the \
           Gaussian still passes 90 % of the power, 3.6 cut-offs = 7.3·resolution_m, so the filter's \
           roll-off does not steepen the slope).",
-    params: &[
-        ParamDoc {
-            name: "dir",
-            unit: "",
-            doc: "folder of tiles + positions.csv (instead of input `tiles`)",
-        },
-        ParamDoc {
-            name: "resolution_m",
-            unit: "m",
-            doc: "lateral resolution and new grid spacing (0 = keep)",
-        },
-        ParamDoc {
-            name: "reference",
-            unit: "",
-            doc: "height reference: lowest | percentile",
-        },
-        ParamDoc {
-            name: "reference_percent",
-            unit: "%",
-            doc: "percentile for reference: percentile",
-        },
-        ParamDoc {
-            name: "detrend",
-            unit: "",
-            doc: "plane | mean, removed before stats and PSDs (periodic maps: mean only)",
-        },
-        ParamDoc {
-            name: "periodic",
-            unit: "",
-            doc: "the map is periodic: no window, and only the mean is removed",
-        },
-        ParamDoc {
-            name: "bins_per_decade",
-            unit: "",
-            doc: "log bins per decade of q",
-        },
-        ParamDoc {
-            name: "hurst_lambda_min_m",
-            unit: "m",
-            doc: "shortest wavelength of the Hurst fit (default 4·dx, 7.3·resolution_m when filtered)",
-        },
-        ParamDoc {
-            name: "hurst_lambda_max_m",
-            unit: "m",
-            doc: "longest wavelength of the Hurst fit (default L/4)",
-        },
-        ParamDoc {
-            name: "min_overlap_px",
-            unit: "px",
-            doc: "least overlap (both directions) for a tile pair",
-        },
-    ],
     inputs: &[
         InputSpec {
             name: "tiles",
@@ -420,7 +333,11 @@ pub struct Analysis {
 }
 
 /// Filter, detrend, reference, PSDs, statistics and Hurst exponents.
-pub fn analyse(map: Field, p: &SurfaceParams, ctx: &Context) -> Result<Analysis, StageError> {
+pub fn analyse(
+    map: Field,
+    p: &Checked<SurfaceParams>,
+    ctx: &Context,
+) -> Result<Analysis, StageError> {
     let progress = ctx.progress(3, "filter, PSD");
     let filtered = if p.resolution_m > map.dx_m.max(map.dy_m) * (1.0 + 1e-9) {
         let values = filter::gaussian_resample(&map.values, map.dx_m, map.dy_m, p.resolution_m);
@@ -544,7 +461,7 @@ impl Stage for Surface {
 
     fn run(
         &self,
-        p: &SurfaceParams,
+        p: &Checked<SurfaceParams>,
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
@@ -559,7 +476,9 @@ impl Stage for Surface {
             ));
         }
         let (map, stitch_table) = if let Some(dir) = &p.dir {
-            let set = read_tiles(&DirSource { dir: dir.clone() })?;
+            let set = read_tiles(&DirSource {
+                dir: dir.path().to_owned(),
+            })?;
             stitched(&set, p, ctx)?
         } else if inputs.get("tiles").is_some() {
             let files = inputs.files("tiles")?;

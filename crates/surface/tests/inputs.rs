@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use hypercontact_core::{Context, Field, Files, Inputs, Product, Stage, StageError};
+use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Stage, StageError};
 use hypercontact_surface::surface_stage::{ReferenceKind, Surface, SurfaceParams};
 use ndarray::Array2;
 
@@ -24,7 +24,11 @@ fn rough(n: usize, seed: f64) -> Array2<f64> {
 }
 
 fn run(params: &SurfaceParams, inputs: Inputs) -> Result<hypercontact_core::Outputs, StageError> {
-    Surface.run(params, &inputs, &Context::new("surface"))
+    let params = params
+        .clone()
+        .check()
+        .expect("the tests' parameters pass their checks");
+    Surface.run(&params, &inputs, &Context::new("surface"))
 }
 
 fn tiles(csv: &str, tiles: Vec<(&str, Array2<f64>)>) -> Inputs {
@@ -122,7 +126,7 @@ fn real_maps_give_finite_psd_and_stats() {
     for (name, nan_points) in [("sur-2", 117), ("metropro-1", 0)] {
         for resolution_m in [0.0, 20e-6] {
             let p = SurfaceParams {
-                dir: Some(reference(name)),
+                dir: Some(reference(name).into()),
                 resolution_m,
                 reference: ReferenceKind::Percentile,
                 ..Default::default()

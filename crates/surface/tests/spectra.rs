@@ -3,6 +3,7 @@
 
 use std::f64::consts::{PI, TAU};
 
+use hypercontact_core::Params;
 use hypercontact_core::{Context, Field};
 use hypercontact_surface::psd::{Window, log_bin_edges, psd_radial, psd_x};
 use hypercontact_surface::stats::sigma;
@@ -108,7 +109,10 @@ fn psd_of_a_periodic_surface_equals_its_prescribed_spectrum() {
 
 fn stats_of(h: Array2<f64>, pixel_m: f64, params: &SurfaceParams) -> hypercontact_core::Table {
     let field = Field::new(h, pixel_m, pixel_m).unwrap();
-    analyse(field, params, &Context::new("test")).unwrap().stats
+    let params = params.clone().check().unwrap();
+    analyse(field, &params, &Context::new("test"))
+        .unwrap()
+        .stats
 }
 
 #[test]

@@ -15,7 +15,9 @@ fn stitching_recovers_offsets_and_the_true_surface() {
         position_error_px: 4.0,
         seed: 7,
         ..Default::default()
-    };
+    }
+    .check()
+    .unwrap();
     let scan = synthesise(&p).unwrap();
     let files = scan.files().unwrap();
     let set = read_tiles(&FilesSource {
@@ -126,7 +128,7 @@ fn without_plane(points: &[(f64, f64, f64)]) -> Vec<f64> {
 fn synth_then_surface_stage_gives_report_tables() {
     let synth = SynthSurface
         .run(
-            &SynthSurfaceParams::default(),
+            &SynthSurfaceParams::default().check().unwrap(),
             &Inputs::new(),
             &Context::new("synth"),
         )
@@ -137,8 +139,9 @@ fn synth_then_surface_stage_gives_report_tables() {
     let params = SurfaceParams {
         resolution_m: 5e-6,
         ..Default::default()
-    };
-    params.check().unwrap();
+    }
+    .check()
+    .unwrap();
     let out = Surface
         .run(
             &params,

@@ -121,6 +121,8 @@ impl Visitor<'_> for LevelsVisitor {
     }
 }
 
+hypercontact_core::leaf_param_value!(Levels, "a whole number of planes ≥ 1, or `all`");
+
 /// Which pixels touch: the 4 edge neighbours, or the 8 edge and corner ones.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(try_from = "u8", into = "u8")]
@@ -152,6 +154,8 @@ impl Connectivity {
         }
     }
 }
+
+hypercontact_core::leaf_param_value!(Connectivity, "4 | 8");
 
 impl TryFrom<u8> for Connectivity {
     type Error = String;

@@ -1,100 +1,80 @@
 //! Stage `truncation`: a height map in, the profile-theory table out.
 
-use hypercontact_core::product::ProductKind;
 use hypercontact_core::{
-    Arity, ColumnSpec, Context, InputSpec, Inputs, OutputSpec, Outputs, ParamDoc, ParamError,
-    Params, Stage, StageError, StageInfo, Table,
+    Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, Schema, Stage, StageError,
+    StageInfo, params,
 };
-use serde::{Deserialize, Serialize};
 
 use crate::levels::{Connectivity, Levels};
 use crate::profile::{Profile, TruncationOptions, truncate};
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// Parameters of `truncation`.
+#[params]
 pub struct TruncationParams {
-    /// Number of equal steps from z_max to 0, or `all` distinct heights.
+    /// number of equal steps from z_max down to 0, or `all` distinct heights
+    #[param(default = TruncationOptions::default().levels, check = at_most_max_levels)]
     pub levels: Levels,
-    /// 8 (MATLAB's default, the paper's) or 4.
+    /// 8 (MATLAB's bwlabel, the paper's) or 4
+    #[param(default = TruncationOptions::default().connectivity)]
     pub connectivity: Connectivity,
-    /// Area fractions at which `patch_sizes` lists every patch.
+    /// area fractions at which every patch's area is listed
+    #[param(default = TruncationOptions::default().patch_fractions, positive, range = ..=1.0)]
     pub patch_fractions: Vec<f64>,
 }
 
-impl Default for TruncationParams {
-    fn default() -> Self {
-        let options = TruncationOptions::default();
-        Self {
-            levels: options.levels,
-            connectivity: options.connectivity,
-            patch_fractions: options.patch_fractions,
-        }
-    }
-}
+/// The most planes `levels: N` may ask for: each plane is a row of the
+/// profile; beyond this use `all`.
+pub const MAX_LEVELS: u32 = 100_000_000;
 
-impl Params for TruncationParams {
-    fn check(&self) -> Result<(), ParamError> {
-        match self.levels {
-            Levels::Count(0) => return Err(ParamError::new("levels", "must be at least 1")),
-            // Each plane is a row of five columns; beyond this use `all`.
-            Levels::Count(n) if n > MAX_LEVELS => {
-                return Err(ParamError::new(
-                    "levels",
-                    format!("at most {MAX_LEVELS} (or `all` distinct heights), got {n}"),
-                ));
-            }
-            _ => {}
-        }
-        if let Some(bad) = self
-            .patch_fractions
-            .iter()
-            .find(|f| !(**f > 0.0 && **f <= 1.0))
-        {
-            return Err(ParamError::new(
-                "patch_fractions",
-                format!("every fraction must lie in (0, 1], got {bad}"),
-            ));
-        }
-        Ok(())
+fn at_most_max_levels(levels: &Levels) -> Result<(), String> {
+    match *levels {
+        Levels::Count(0) => Err("must be at least 1".into()),
+        Levels::Count(n) if n > MAX_LEVELS => Err(format!(
+            "at most {MAX_LEVELS} (or `all` distinct heights), got {n}"
+        )),
+        _ => Ok(()),
     }
 }
 
 /// The `truncation` stage.
 pub struct Truncation;
 
-/// The most planes `levels: N` may ask for.
-pub const MAX_LEVELS: u32 = 100_000_000;
-
-/// The `profile` table, in column order.
-pub const PROFILE_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::f64("z_m", "m", "plane height above the lowest measured point"),
-    ColumnSpec::f64(
-        "z_over_sigma",
-        "",
-        "z / σ (σ: rms height of the measured points)",
-    ),
-    ColumnSpec::f64(
-        "area_fraction",
-        "",
-        "A / A0 (A0: measured points · dx · dy)",
-    ),
-    ColumnSpec::i64("patches", "", "connected touched patches N"),
-    ColumnSpec::f64("radius_m", "m", "Eq. (3): sqrt(A / (π N)); 0 where N = 0"),
-    ColumnSpec::f64("area_m2", "m²", "touched area A"),
-];
+/// The `profile` table: one row per plane, top down.
+#[derive(Clone, Debug, PartialEq, Schema)]
+pub struct ProfileTable {
+    /// plane height above the lowest measured point
+    #[column(unit = "m")]
+    pub z_m: Vec<f64>,
+    /// z / σ (σ: rms height of the measured points)
+    pub z_over_sigma: Vec<f64>,
+    /// A / A0 (A0: measured points · dx · dy)
+    pub area_fraction: Vec<f64>,
+    /// connected touched patches N
+    pub patches: Vec<i64>,
+    /// Eq. (3): sqrt(A / (π N)); 0 where N = 0
+    #[column(unit = "m")]
+    pub radius_m: Vec<f64>,
+    /// touched area A
+    #[column(unit = "m²")]
+    pub area_m2: Vec<f64>,
+}
 
 /// The `patch_sizes` table: one row per patch at each chosen fraction.
-pub const PATCH_SIZE_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::f64(
-        "target_area_fraction",
-        "",
-        "the fraction asked for in patch_fractions",
-    ),
-    ColumnSpec::f64("z_m", "m", "the first plane (from the top) reaching it"),
-    ColumnSpec::f64("z_over_sigma", "", "z / σ of that plane"),
-    ColumnSpec::f64("area_fraction", "", "A / A0 at that plane"),
-    ColumnSpec::f64("patch_area_m2", "m²", "area of one patch (largest first)"),
-];
+#[derive(Clone, Debug, PartialEq, Schema)]
+pub struct PatchSizeTable {
+    /// the fraction asked for in patch_fractions
+    pub target_area_fraction: Vec<f64>,
+    /// the first plane (from the top) reaching it
+    #[column(unit = "m")]
+    pub z_m: Vec<f64>,
+    /// z / σ of that plane
+    pub z_over_sigma: Vec<f64>,
+    /// A / A0 at that plane
+    pub area_fraction: Vec<f64>,
+    /// area of one patch (largest first)
+    #[column(unit = "m²")]
+    pub patch_area_m2: Vec<f64>,
+}
 
 static INFO: StageInfo = StageInfo {
     kind: "truncation",
@@ -111,43 +91,17 @@ static INFO: StageInfo = StageInfo {
           once, with a union-find (path compression, union by size); the map is never \
           relabelled per plane. `patch_sizes` lists every patch's area at the first plane \
           whose A/A0 reaches each of `patch_fractions`.",
-    params: &[
-        ParamDoc {
-            name: "levels",
-            unit: "",
-            doc: "number of equal steps from z_max down to 0 (1000), or `all` distinct heights",
-        },
-        ParamDoc {
-            name: "connectivity",
-            unit: "",
-            doc: "8 (default, MATLAB's bwlabel) or 4",
-        },
-        ParamDoc {
-            name: "patch_fractions",
-            unit: "",
-            doc: "area fractions at which every patch's area is listed (0.01, 0.1, 0.3, 0.5)",
-        },
-    ],
-    inputs: &[InputSpec {
-        name: "surface",
-        kind: ProductKind::Field,
-        arity: Arity::One,
-        columns: &[],
-        doc: "height map, metres, NaN = not measured",
-    }],
+    inputs: &[InputSpec::field(
+        "surface",
+        Arity::One,
+        "height map, metres, NaN = not measured",
+    )],
     outputs: &[
-        OutputSpec {
-            name: "profile",
-            kind: ProductKind::Table,
-            columns: PROFILE_COLUMNS,
-            doc: "one row per plane, top down",
-        },
-        OutputSpec {
-            name: "patch_sizes",
-            kind: ProductKind::Table,
-            columns: PATCH_SIZE_COLUMNS,
-            doc: "every patch's area at a few area fractions",
-        },
+        OutputSpec::table::<ProfileTable>("profile", "one row per plane, top down"),
+        OutputSpec::table::<PatchSizeTable>(
+            "patch_sizes",
+            "every patch's area at a few area fractions",
+        ),
     ],
 };
 
@@ -160,7 +114,7 @@ impl Stage for Truncation {
 
     fn run(
         &self,
-        p: &TruncationParams,
+        p: &Checked<TruncationParams>,
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
@@ -187,53 +141,48 @@ impl Stage for Truncation {
             profile.z_m[0]
         ));
         Ok(Outputs::new()
-            .table("profile", profile_table(&profile))
-            .table("patch_sizes", patch_size_table(&profile)))
+            .table("profile", profile_table(&profile).into_table())
+            .table("patch_sizes", patch_size_table(&profile).into_table()))
     }
 }
 
 /// The `profile` table of a profile.
-pub fn profile_table(p: &Profile) -> Table {
-    Table::new()
-        .with("z_m", p.z_m.clone())
-        .with(
-            "z_over_sigma",
-            p.z_m.iter().map(|z| z / p.sigma_m).collect::<Vec<_>>(),
-        )
-        .with("area_fraction", p.area_fraction.clone())
-        .with(
-            "patches",
-            p.patches.iter().map(|&n| n as i64).collect::<Vec<_>>(),
-        )
-        .with("radius_m", p.radius_m.clone())
-        .with("area_m2", p.area_m2.clone())
+pub fn profile_table(p: &Profile) -> ProfileTable {
+    ProfileTable {
+        z_m: p.z_m.clone(),
+        z_over_sigma: p.z_m.iter().map(|z| z / p.sigma_m).collect(),
+        area_fraction: p.area_fraction.clone(),
+        patches: p.patches.iter().map(|&n| n as i64).collect(),
+        radius_m: p.radius_m.clone(),
+        area_m2: p.area_m2.clone(),
+    }
 }
 
 /// The `patch_sizes` table of a profile.
-pub fn patch_size_table(p: &Profile) -> Table {
-    let (mut target, mut z, mut zs, mut frac, mut area) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+pub fn patch_size_table(p: &Profile) -> PatchSizeTable {
+    let mut t = PatchSizeTable {
+        target_area_fraction: Vec::new(),
+        z_m: Vec::new(),
+        z_over_sigma: Vec::new(),
+        area_fraction: Vec::new(),
+        patch_area_m2: Vec::new(),
+    };
     for s in &p.snapshots {
         for &a in &s.patch_areas_m2 {
-            target.push(s.target_area_fraction);
-            z.push(p.z_m[s.level]);
-            zs.push(p.z_m[s.level] / p.sigma_m);
-            frac.push(p.area_fraction[s.level]);
-            area.push(a);
+            t.target_area_fraction.push(s.target_area_fraction);
+            t.z_m.push(p.z_m[s.level]);
+            t.z_over_sigma.push(p.z_m[s.level] / p.sigma_m);
+            t.area_fraction.push(p.area_fraction[s.level]);
+            t.patch_area_m2.push(a);
         }
     }
-    Table::new()
-        .with("target_area_fraction", target)
-        .with("z_m", z)
-        .with("z_over_sigma", zs)
-        .with("area_fraction", frac)
-        .with("patch_area_m2", area)
+    t
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hypercontact_core::{Field, Product};
+    use hypercontact_core::{Field, Params, Product};
     use ndarray::array;
 
     #[test]
@@ -242,7 +191,7 @@ mod tests {
         let inputs = Inputs::new().with("surface", Product::Field(field));
         let params: TruncationParams =
             serde_json::from_str(r#"{"levels": 3, "connectivity": 4}"#).unwrap();
-        params.check().unwrap();
+        let params = params.check().unwrap();
         let out = Truncation
             .run(&params, &inputs, &Context::new("t"))
             .unwrap();
@@ -250,8 +199,8 @@ mod tests {
             panic!("no profile")
         };
         profile.validate().unwrap();
-        profile.conform(PROFILE_COLUMNS).unwrap();
-        let names: Vec<&str> = PROFILE_COLUMNS.iter().map(|c| c.name).collect();
+        profile.conform(ProfileTable::COLUMNS).unwrap();
+        let names: Vec<&str> = ProfileTable::COLUMNS.iter().map(|c| c.name).collect();
         assert_eq!(profile.column_names(), names);
         let z = profile.f64("z_m").unwrap();
         for (z, expected) in z.iter().zip([3e-6, 2e-6, 1e-6, 0.0]) {
@@ -267,7 +216,7 @@ mod tests {
             panic!("no patch_sizes")
         };
         patches.validate().unwrap();
-        patches.conform(PATCH_SIZE_COLUMNS).unwrap();
+        patches.conform(PatchSizeTable::COLUMNS).unwrap();
         // One patch at 0.01, 0.1 and 0.3 (the top plane has A/A0 = 1/3), two
         // single pixels at 0.5 (the plane z = 1 µm, A/A0 = 2/3).
         assert_eq!(
@@ -285,7 +234,7 @@ mod tests {
             patch_fractions: vec![0.5, 1.5],
             ..Default::default()
         };
-        assert_eq!(p.check().unwrap_err().param, "patch_fractions");
+        assert_eq!(p.check().unwrap_err().param, "patch_fractions.1");
         let p = TruncationParams {
             levels: Levels::Count(u32::MAX),
             ..Default::default()

@@ -9,9 +9,9 @@ use hypercontact_synth::tensile::{SynthTensile, SynthTensileParams};
 /// Runs `synth-tensile`, returning its files and truth table.
 pub fn synth(params: &SynthTensileParams) -> (Files, Table) {
     use hypercontact_core::Params;
-    params.check().unwrap();
+    let params = params.clone().check().unwrap();
     let out = SynthTensile
-        .run(params, &Inputs::new(), &Context::new("synth"))
+        .run(&params, &Inputs::new(), &Context::new("synth"))
         .unwrap();
     let Some(Product::Files(files)) = out.get("sequence") else {
         panic!("no sequence")
@@ -25,9 +25,9 @@ pub fn synth(params: &SynthTensileParams) -> (Files, Table) {
 /// Runs `dic` on a sequence.
 pub fn dic(files: &Files, params: &DicParams) -> Result<Table, hypercontact_core::StageError> {
     use hypercontact_core::Params;
-    params.check().unwrap();
+    let params = params.clone().check().unwrap();
     let inputs = Inputs::new().with("sequence", Product::Files(files.clone()));
-    let out = Dic.run(params, &inputs, &Context::new("dic"))?;
+    let out = Dic.run(&params, &inputs, &Context::new("dic"))?;
     let Some(Product::Table(t)) = out.get("tensile") else {
         panic!("no tensile table")
     };

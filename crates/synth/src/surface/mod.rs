@@ -10,125 +10,101 @@
 pub mod scan;
 pub mod self_affine;
 
-use hypercontact_core::params::{in_range, positive};
-use hypercontact_core::product::ProductKind;
 use hypercontact_core::{
-    ColumnSpec, Context, Field, Files, Inputs, OutputSpec, Outputs, ParamDoc, ParamError, Params,
-    Stage, StageError, StageInfo, Table,
+    Checked, ColumnSpec, Context, Field, Files, Inputs, OutputSpec, Outputs, ParamError,
+    ProductKind, Stage, StageError, StageInfo, Table, params,
 };
-use serde::{Deserialize, Serialize};
 
 pub use scan::{ScanPlan, ScannedTile};
 pub use self_affine::SelfAffine;
 
 /// Parameters of `synth-surface`; defaults are CI-sized (3 × 3 tiles of
 /// 256² px), the paper's scale is `tile_px: 1024, tiles_x: 10, tiles_y: 10`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[params(check = consistent)]
 pub struct SynthSurfaceParams {
+    /// Hurst exponent H
+    #[param(default = 0.8, range = 0.0..=1.0)]
     pub hurst: f64,
+    /// expected rms height of the generated surface
+    #[param(default = 5e-6, unit = "m", positive)]
     pub rms_m: f64,
+    /// short-wavelength cut-off (no power below)
+    #[param(default = 5e-6, unit = "m", positive)]
     pub lambda_min_m: f64,
+    /// long-wavelength roll-off (flat PSD above)
+    #[param(default = 200e-6, unit = "m", positive)]
     pub lambda_max_m: f64,
+    /// tile side in pixels
+    #[param(default = 256, unit = "px", range = 16..)]
     pub tile_px: usize,
+    /// pixel size (the paper's field of view, 1047.9 µm, on 1024 pixels)
+    #[param(default = 1047.9e-6 / 1024.0, unit = "m", positive)]
     pub pixel_m: f64,
+    /// tiles along x
+    #[param(default = 3, range = 1..=1000)]
     pub tiles_x: usize,
+    /// tiles along y
+    #[param(default = 3, range = 1..=1000)]
     pub tiles_y: usize,
+    /// overlap of neighbouring tiles, fraction of the side
+    #[param(default = 0.15, range = 0.0..=0.9)]
     pub overlap: f64,
+    /// std of the stage-position error
+    #[param(default = 3.0, unit = "px", range = 0.0..=1e3)]
     pub position_error_px: f64,
+    /// std of the measurement noise
+    #[param(default = 2e-9, unit = "m", range = 0.0..)]
     pub noise_m: f64,
+    /// share of dropout (NaN) pixels
+    #[param(default = 0.02, range = 0.0..=0.5)]
     pub dropout_fraction: f64,
+    /// std of each tile's tilt
+    #[param(default = 1e-3, unit = "rad", range = 0.0..=0.1)]
     pub tilt_rad: f64,
+    /// std of each tile's piston offset
+    #[param(default = 1e-6, unit = "m", range = 0.0..)]
     pub piston_m: f64,
+    /// random seed
+    #[param(default = 1)]
     pub seed: u64,
-}
-
-impl Default for SynthSurfaceParams {
-    fn default() -> Self {
-        Self {
-            hurst: 0.8,
-            rms_m: 5e-6,
-            lambda_min_m: 5e-6,
-            lambda_max_m: 200e-6,
-            tile_px: 256,
-            // The paper's field of view, 1047.9 µm, on 1024 pixels.
-            pixel_m: 1047.9e-6 / 1024.0,
-            tiles_x: 3,
-            tiles_y: 3,
-            overlap: 0.15,
-            position_error_px: 3.0,
-            noise_m: 2e-9,
-            dropout_fraction: 0.02,
-            tilt_rad: 1e-3,
-            piston_m: 1e-6,
-            seed: 1,
-        }
-    }
 }
 
 /// Largest generated grid side: the Fourier synthesis holds about three
 /// arrays of this side squared (8 bytes each) at once.
 const MAX_GRID_SIDE: usize = 20_000;
 
-impl Params for SynthSurfaceParams {
-    fn check(&self) -> Result<(), ParamError> {
-        in_range("hurst", self.hurst, 0.0, 1.0)?;
-        positive("rms_m", self.rms_m)?;
-        positive("pixel_m", self.pixel_m)?;
-        positive("lambda_min_m", self.lambda_min_m)?;
-        positive("lambda_max_m", self.lambda_max_m)?;
-        if self.lambda_min_m >= self.lambda_max_m {
-            return Err(ParamError::new(
-                "lambda_min_m",
-                format!(
-                    "must be below lambda_max_m ({} m), got {} m",
-                    self.lambda_max_m, self.lambda_min_m
-                ),
-            ));
-        }
-        if self.lambda_min_m < 2.0 * self.pixel_m {
-            return Err(ParamError::new(
-                "lambda_min_m",
-                format!(
-                    "must be at least two pixels (2 × pixel_m = {} m), got {} m",
-                    2.0 * self.pixel_m,
-                    self.lambda_min_m
-                ),
-            ));
-        }
-        if self.tile_px < 16 {
-            return Err(ParamError::new(
-                "tile_px",
-                format!("must be at least 16, got {}", self.tile_px),
-            ));
-        }
-        for (name, n) in [("tiles_x", self.tiles_x), ("tiles_y", self.tiles_y)] {
-            if n == 0 || n > 1000 {
-                return Err(ParamError::new(
-                    name,
-                    format!("must lie in [1, 1000], got {n}"),
-                ));
-            }
-        }
-        in_range("overlap", self.overlap, 0.0, 0.9)?;
-        in_range("position_error_px", self.position_error_px, 0.0, 1e3)?;
-        in_range("noise_m", self.noise_m, 0.0, f64::MAX)?;
-        in_range("dropout_fraction", self.dropout_fraction, 0.0, 0.5)?;
-        in_range("tilt_rad", self.tilt_rad, 0.0, 0.1)?;
-        in_range("piston_m", self.piston_m, 0.0, f64::MAX)?;
-        let side = self.tile_px as f64 * self.tiles_x.max(self.tiles_y) as f64;
-        if side * 1.5 > MAX_GRID_SIDE as f64 {
-            return Err(ParamError::new(
-                "tiles_x",
-                format!(
-                    "the sample would span about {side} px, more than this generator holds \
-                     ({} px with padding)",
-                    MAX_GRID_SIDE
-                ),
-            ));
-        }
-        Ok(())
+/// Checks across parameters: the band is ordered and resolved, the sample fits.
+fn consistent(p: &SynthSurfaceParams) -> Result<(), ParamError> {
+    if p.lambda_min_m >= p.lambda_max_m {
+        return Err(ParamError::new(
+            "lambda_min_m",
+            format!(
+                "must be below lambda_max_m ({} m), got {} m",
+                p.lambda_max_m, p.lambda_min_m
+            ),
+        ));
     }
+    if p.lambda_min_m < 2.0 * p.pixel_m {
+        return Err(ParamError::new(
+            "lambda_min_m",
+            format!(
+                "must be at least two pixels (2 × pixel_m = {} m), got {} m",
+                2.0 * p.pixel_m,
+                p.lambda_min_m
+            ),
+        ));
+    }
+    let side = p.tile_px as f64 * p.tiles_x.max(p.tiles_y) as f64;
+    if side * 1.5 > MAX_GRID_SIDE as f64 {
+        return Err(ParamError::new(
+            "tiles_x",
+            format!(
+                "the sample would span about {side} px, more than this generator holds \
+                 ({MAX_GRID_SIDE} px with padding)"
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The `synth-surface` stage.
@@ -152,83 +128,6 @@ static INFO: StageInfo = StageInfo {
           position of pixel [0, 0]). Ground truth: `truth` (the surface over the scanned area, no \
           noise, no tilt) and `truth_offsets`. Defaults are small; the paper's scale is tile_px: 1024, \
           tiles_x: 10, tiles_y: 10.",
-    params: &[
-        ParamDoc {
-            name: "hurst",
-            unit: "",
-            doc: "Hurst exponent H (0…1)",
-        },
-        ParamDoc {
-            name: "rms_m",
-            unit: "m",
-            doc: "expected rms height of the generated surface",
-        },
-        ParamDoc {
-            name: "lambda_min_m",
-            unit: "m",
-            doc: "short-wavelength cut-off (no power below)",
-        },
-        ParamDoc {
-            name: "lambda_max_m",
-            unit: "m",
-            doc: "long-wavelength roll-off (flat PSD above)",
-        },
-        ParamDoc {
-            name: "tile_px",
-            unit: "px",
-            doc: "tile side in pixels",
-        },
-        ParamDoc {
-            name: "pixel_m",
-            unit: "m",
-            doc: "pixel size (default 1047.9 µm / 1024)",
-        },
-        ParamDoc {
-            name: "tiles_x",
-            unit: "",
-            doc: "tiles along x",
-        },
-        ParamDoc {
-            name: "tiles_y",
-            unit: "",
-            doc: "tiles along y",
-        },
-        ParamDoc {
-            name: "overlap",
-            unit: "",
-            doc: "overlap of neighbouring tiles, fraction of the side",
-        },
-        ParamDoc {
-            name: "position_error_px",
-            unit: "px",
-            doc: "std of the stage-position error",
-        },
-        ParamDoc {
-            name: "noise_m",
-            unit: "m",
-            doc: "std of the measurement noise",
-        },
-        ParamDoc {
-            name: "dropout_fraction",
-            unit: "",
-            doc: "share of dropout (NaN) pixels",
-        },
-        ParamDoc {
-            name: "tilt_rad",
-            unit: "rad",
-            doc: "std of each tile's tilt",
-        },
-        ParamDoc {
-            name: "piston_m",
-            unit: "m",
-            doc: "std of each tile's piston offset",
-        },
-        ParamDoc {
-            name: "seed",
-            unit: "",
-            doc: "random seed",
-        },
-    ],
     inputs: &[],
     outputs: &[
         OutputSpec {
@@ -294,7 +193,7 @@ pub struct SynthScan {
 }
 
 /// Generates the sample and scans it.
-pub fn synthesise(p: &SynthSurfaceParams) -> Result<SynthScan, StageError> {
+pub fn synthesise(p: &Checked<SynthSurfaceParams>) -> Result<SynthScan, StageError> {
     let plan = ScanPlan {
         tile_px: p.tile_px,
         tiles_x: p.tiles_x,
@@ -396,7 +295,7 @@ impl Stage for SynthSurface {
 
     fn run(
         &self,
-        p: &SynthSurfaceParams,
+        p: &Checked<SynthSurfaceParams>,
         _: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
@@ -416,12 +315,12 @@ impl Stage for SynthSurface {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use hypercontact_core::Params;
     use hypercontact_core::Product;
 
     #[test]
     fn default_run_writes_tiles_positions_and_truth() {
-        let p = SynthSurfaceParams::default();
-        p.check().unwrap();
+        let p = SynthSurfaceParams::default().check().unwrap();
         let out = SynthSurface
             .run(&p, &Inputs::new(), &Context::new("t"))
             .unwrap();

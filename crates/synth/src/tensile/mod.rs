@@ -17,110 +17,122 @@ pub mod speckle;
 
 use std::io::Cursor;
 
-use hypercontact_core::params::{in_range, positive};
 use hypercontact_core::{
-    ColumnSpec, Context, Files, Inputs, OutputSpec, Outputs, ParamDoc, ParamError, Params,
-    ProductKind, Stage, StageError, StageInfo, Table,
+    Checked, ColumnSpec, Context, Files, Inputs, Mode, OutputSpec, Outputs, ParamError,
+    ProductKind, Stage, StageError, StageInfo, Table, params,
 };
-use hypercontact_material::{Mode, presets};
-use serde::{Deserialize, Serialize};
+use hypercontact_material::presets::Preset;
 
 use experiment::{Experiment, Recipe, expose, in_plane_stretches};
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// Parameters of `synth-tensile`.
+#[params(check = consistent)]
 pub struct SynthTensileParams {
-    /// `UT`, `PT` or `BT`.
-    pub mode: String,
-    /// Ground-truth material preset.
-    pub preset: String,
-    /// Final loading stretch; default UT 2.5, PT 2.0, BT 1.5.
+    /// the test
+    #[param(default = Mode::Uniaxial)]
+    pub mode: Mode,
+    /// ground-truth material preset
+    #[param(default = Preset::PaperEpdm)]
+    pub preset: Preset,
+    /// final loading stretch, in (1, 10] (default UT 2.5, PT 2.0, BT 1.5)
     pub max_stretch: Option<f64>,
+    /// number of frames
+    #[param(default = 20, range = 2..=100_000)]
     pub frames: usize,
+    /// time between frames
+    #[param(default = 0.5, unit = "s", positive)]
     pub frame_interval_s: f64,
+    /// image width (the paper's camera: 2048)
+    #[param(default = 512, unit = "px", range = 64..=16384)]
     pub width_px: usize,
+    /// image height
+    #[param(default = 512, unit = "px", range = 64..=16384)]
     pub height_px: usize,
-    /// 8 or 16.
+    /// 8 or 16
+    #[param(default = 16, check = eight_or_sixteen)]
     pub bit_depth: u32,
-    /// Camera noise, standard deviation as a fraction of full scale.
+    /// camera noise std, fraction of full scale
+    #[param(default = 0.005, range = 0.0..=0.5)]
     pub noise: f64,
+    /// mean speckle radius
+    #[param(default = 2.5, unit = "px", range = 0.5..=50.0)]
     pub speckle_radius_px: f64,
-    /// Fraction of the surface the spray covers (before overlaps).
+    /// sprayed fraction of the surface (before overlaps)
+    #[param(default = 0.5, range = 0.01..=5.0)]
     pub speckle_coverage: f64,
-    /// Sub-samples per pixel side.
+    /// sub-samples per pixel side
+    #[param(default = 4, range = 1..=16)]
     pub supersample: usize,
-    /// Paint four marker dots for the `markers` method.
+    /// paint four marker dots for the `markers` method
+    #[param(default = true)]
     pub markers: bool,
+    /// marker dot radius
+    #[param(default = 6.0, unit = "px", range = 1.0..=100.0)]
     pub marker_radius_px: f64,
-    /// Object-space size of a pixel, metres.
+    /// object-space pixel size
+    #[param(default = 2e-5, unit = "m", positive)]
     pub pixel_m: f64,
-    /// Gauge width, length and thickness; default the paper's per mode.
+    /// gauge width (default: the paper's per mode)
+    #[param(unit = "m", positive)]
     pub gauge_width_m: Option<f64>,
+    /// gauge length (default: the paper's per mode)
+    #[param(unit = "m", positive)]
     pub gauge_length_m: Option<f64>,
+    /// thickness (default: the paper's, 1.5e-3)
+    #[param(unit = "m", positive)]
     pub thickness_m: Option<f64>,
-    /// Force sensor resolution; default the paper's per mode.
+    /// force sensor resolution (default: the paper's per mode)
+    #[param(unit = "N", positive)]
     pub force_resolution_n: Option<f64>,
+    /// force sampling rate
+    #[param(default = 50.0, unit = "Hz", positive)]
     pub force_rate_hz: f64,
+    /// random seed
+    #[param(default = 1)]
     pub seed: u64,
 }
 
-impl Default for SynthTensileParams {
-    fn default() -> Self {
-        Self {
-            mode: "UT".into(),
-            preset: "paper-epdm".into(),
-            max_stretch: None,
-            frames: 20,
-            frame_interval_s: 0.5,
-            width_px: 512,
-            height_px: 512,
-            bit_depth: 16,
-            noise: 0.005,
-            speckle_radius_px: 2.5,
-            speckle_coverage: 0.5,
-            supersample: 4,
-            markers: true,
-            marker_radius_px: 6.0,
-            pixel_m: 2e-5,
-            gauge_width_m: None,
-            gauge_length_m: None,
-            thickness_m: None,
-            force_resolution_n: None,
-            force_rate_hz: 50.0,
-            seed: 1,
-        }
+fn eight_or_sixteen(bits: &u32) -> Result<(), String> {
+    match bits {
+        8 | 16 => Ok(()),
+        other => Err(format!("must be 8 or 16, got {other}")),
     }
 }
 
-impl SynthTensileParams {
-    pub fn test_mode(&self) -> Result<Mode, ParamError> {
-        Mode::from_label(&self.mode).ok_or_else(|| {
-            ParamError::new("mode", format!("must be UT, PT or BT, got `{}`", self.mode))
-        })
+fn consistent(p: &SynthTensileParams) -> Result<(), ParamError> {
+    let max_stretch = p.max_stretch();
+    if !(max_stretch > 1.0 && max_stretch <= 10.0) {
+        return Err(ParamError::new(
+            "max_stretch",
+            format!("must lie in (1, 10], got {max_stretch}"),
+        ));
     }
+    Ok(())
+}
 
-    pub fn max_stretch(&self) -> Result<f64, ParamError> {
-        Ok(self.max_stretch.unwrap_or(match self.test_mode()? {
+impl SynthTensileParams {
+    pub fn max_stretch(&self) -> f64 {
+        self.max_stretch.unwrap_or(match self.mode {
             Mode::Uniaxial => 2.5,
             Mode::Planar => 2.0,
             Mode::Equibiaxial => 1.5,
-        }))
+        })
     }
 
     /// Gauge width, length and thickness, metres.
-    pub fn geometry_m(&self) -> Result<[f64; 3], ParamError> {
-        let paper = experiment::paper_geometry_m(self.test_mode()?);
-        Ok([
+    pub fn geometry_m(&self) -> [f64; 3] {
+        let paper = experiment::paper_geometry_m(self.mode);
+        [
             self.gauge_width_m.unwrap_or(paper[0]),
             self.gauge_length_m.unwrap_or(paper[1]),
             self.thickness_m.unwrap_or(paper[2]),
-        ])
+        ]
     }
 
-    pub fn recipe(&self) -> Result<Recipe, ParamError> {
-        Ok(Recipe {
-            mode: self.test_mode()?,
-            max_stretch: self.max_stretch()?,
+    pub fn recipe(&self) -> Recipe {
+        Recipe {
+            mode: self.mode,
+            max_stretch: self.max_stretch(),
             frames: self.frames,
             frame_interval_s: self.frame_interval_s,
             width_px: self.width_px,
@@ -131,61 +143,7 @@ impl SynthTensileParams {
             markers: self.markers,
             marker_radius_px: self.marker_radius_px,
             seed: self.seed,
-        })
-    }
-}
-
-impl Params for SynthTensileParams {
-    fn check(&self) -> Result<(), ParamError> {
-        self.test_mode()?;
-        presets::preset(&self.preset).map_err(|e| ParamError::new("preset", e.to_string()))?;
-        let max_stretch = self.max_stretch()?;
-        if !(max_stretch > 1.0 && max_stretch <= 10.0) {
-            return Err(ParamError::new(
-                "max_stretch",
-                format!("must lie in (1, 10], got {max_stretch}"),
-            ));
         }
-        if !(2..=100_000).contains(&self.frames) {
-            return Err(ParamError::new(
-                "frames",
-                format!("must be 2 … 100000, got {}", self.frames),
-            ));
-        }
-        positive("frame_interval_s", self.frame_interval_s)?;
-        for (name, v) in [("width_px", self.width_px), ("height_px", self.height_px)] {
-            if !(64..=16384).contains(&v) {
-                return Err(ParamError::new(
-                    name,
-                    format!("must be 64 … 16384, got {v}"),
-                ));
-            }
-        }
-        if self.bit_depth != 8 && self.bit_depth != 16 {
-            return Err(ParamError::new(
-                "bit_depth",
-                format!("must be 8 or 16, got {}", self.bit_depth),
-            ));
-        }
-        in_range("noise", self.noise, 0.0, 0.5)?;
-        in_range("speckle_radius_px", self.speckle_radius_px, 0.5, 50.0)?;
-        in_range("speckle_coverage", self.speckle_coverage, 0.01, 5.0)?;
-        if !(1..=16).contains(&self.supersample) {
-            return Err(ParamError::new(
-                "supersample",
-                format!("must be 1 … 16, got {}", self.supersample),
-            ));
-        }
-        in_range("marker_radius_px", self.marker_radius_px, 1.0, 100.0)?;
-        positive("pixel_m", self.pixel_m)?;
-        let [w, l, t] = self.geometry_m()?;
-        positive("gauge_width_m", w)?;
-        positive("gauge_length_m", l)?;
-        positive("thickness_m", t)?;
-        if let Some(r) = self.force_resolution_n {
-            positive("force_resolution_n", r)?;
-        }
-        positive("force_rate_hz", self.force_rate_hz)
     }
 }
 
@@ -223,113 +181,6 @@ static INFO: StageInfo = StageInfo {
           cross-section (gauge width × thickness) plus sensor noise, quantised to the paper's \
           resolutions (UT 0.01 N, PT 0.1 N, BT 0.01 N). The ground truth goes to separate \
           outputs the dic stage never reads.",
-    params: &[
-        ParamDoc {
-            name: "mode",
-            unit: "",
-            doc: "UT, PT or BT",
-        },
-        ParamDoc {
-            name: "preset",
-            unit: "",
-            doc: "ground-truth material preset (paper-epdm)",
-        },
-        ParamDoc {
-            name: "max_stretch",
-            unit: "",
-            doc: "final stretch (default UT 2.5, PT 2.0, BT 1.5)",
-        },
-        ParamDoc {
-            name: "frames",
-            unit: "",
-            doc: "number of frames (20)",
-        },
-        ParamDoc {
-            name: "frame_interval_s",
-            unit: "s",
-            doc: "time between frames (0.5)",
-        },
-        ParamDoc {
-            name: "width_px",
-            unit: "",
-            doc: "image width (512; the paper's camera: 2048)",
-        },
-        ParamDoc {
-            name: "height_px",
-            unit: "",
-            doc: "image height (512)",
-        },
-        ParamDoc {
-            name: "bit_depth",
-            unit: "",
-            doc: "8 or 16 (16)",
-        },
-        ParamDoc {
-            name: "noise",
-            unit: "",
-            doc: "camera noise std, fraction of full scale (0.005)",
-        },
-        ParamDoc {
-            name: "speckle_radius_px",
-            unit: "",
-            doc: "mean speckle radius, pixels (2.5)",
-        },
-        ParamDoc {
-            name: "speckle_coverage",
-            unit: "",
-            doc: "sprayed fraction of the surface (0.5)",
-        },
-        ParamDoc {
-            name: "supersample",
-            unit: "",
-            doc: "sub-samples per pixel side (4)",
-        },
-        ParamDoc {
-            name: "markers",
-            unit: "",
-            doc: "paint four marker dots (true)",
-        },
-        ParamDoc {
-            name: "marker_radius_px",
-            unit: "",
-            doc: "marker dot radius, pixels (6)",
-        },
-        ParamDoc {
-            name: "pixel_m",
-            unit: "m",
-            doc: "object-space pixel size (2e-5)",
-        },
-        ParamDoc {
-            name: "gauge_width_m",
-            unit: "m",
-            doc: "gauge width (paper's per mode)",
-        },
-        ParamDoc {
-            name: "gauge_length_m",
-            unit: "m",
-            doc: "gauge length (paper's per mode)",
-        },
-        ParamDoc {
-            name: "thickness_m",
-            unit: "m",
-            doc: "thickness (1.5e-3)",
-        },
-        ParamDoc {
-            name: "force_resolution_n",
-            unit: "N",
-            doc: "force resolution (paper's per mode)",
-        },
-        ParamDoc {
-            name: "force_rate_hz",
-            unit: "Hz",
-            doc: "force sampling rate (50)",
-        },
-        ParamDoc {
-            name: "seed",
-            unit: "",
-            doc: "random seed",
-        },
-    ],
     inputs: &[],
     outputs: &[
         OutputSpec {
@@ -362,17 +213,15 @@ impl Stage for SynthTensile {
 
     fn run(
         &self,
-        p: &SynthTensileParams,
+        p: &Checked<SynthTensileParams>,
         _: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let invalid = |e: ParamError| StageError::invalid(e.to_string());
-        let mode = p.test_mode().map_err(invalid)?;
-        let material =
-            presets::preset(&p.preset).map_err(|e| StageError::invalid(e.to_string()))?;
-        let [width_m, length_m, thickness_m] = p.geometry_m().map_err(invalid)?;
+        let mode = p.mode;
+        let material = p.preset.model();
+        let [width_m, length_m, thickness_m] = p.geometry_m();
         let area_m2 = width_m * thickness_m;
-        let experiment = Experiment::new(&p.recipe().map_err(invalid)?);
+        let experiment = Experiment::new(&p.recipe());
 
         let digits = (p.frames.saturating_sub(1)).to_string().len().max(3);
         let mut files = Files::new();
@@ -485,18 +334,21 @@ pub fn encode_png(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use hypercontact_core::{DynStage, Params};
+    use hypercontact_material::presets;
 
     #[test]
     fn writes_the_lab_files_and_a_consistent_truth() {
         let p = SynthTensileParams {
-            mode: "PT".into(),
+            mode: Mode::Planar,
             frames: 3,
             width_px: 96,
             height_px: 80,
             supersample: 2,
             ..Default::default()
-        };
-        p.check().unwrap();
+        }
+        .check()
+        .unwrap();
         let out = SynthTensile
             .run(&p, &Inputs::new(), &Context::new("t"))
             .unwrap();
@@ -550,13 +402,13 @@ mod tests {
     #[test]
     fn bad_parameters_are_named() {
         let bad = |p: SynthTensileParams| p.check().unwrap_err().param;
-        assert_eq!(
-            bad(SynthTensileParams {
-                mode: "XT".into(),
-                ..Default::default()
-            }),
-            "mode"
-        );
+        let parse_error = |json| {
+            SynthTensile
+                .params_from_json(json, std::path::Path::new("."))
+                .unwrap_err()
+                .param
+        };
+        assert_eq!(parse_error(serde_json::json!({"mode": "XT"})), "mode");
         assert_eq!(
             bad(SynthTensileParams {
                 bit_depth: 12,
@@ -572,10 +424,7 @@ mod tests {
             "max_stretch"
         );
         assert_eq!(
-            bad(SynthTensileParams {
-                preset: "steel".into(),
-                ..Default::default()
-            }),
+            parse_error(serde_json::json!({"preset": "steel"})),
             "preset"
         );
     }
