@@ -9,14 +9,22 @@ use std::path::Path;
 use crate::{ColumnData, StageError, Table};
 
 pub fn read_csv(path: &Path) -> Result<Table, StageError> {
+    let bytes = std::fs::read(path).map_err(|e| StageError::file(path, e.to_string()))?;
+    read_csv_bytes(&bytes, &path.display().to_string())
+}
+
+/// The same from bytes already in memory (a file of a `Files` product);
+/// `display` names the file in errors. A byte-order mark is skipped, as
+/// spreadsheet programs write one.
+pub fn read_csv_bytes(bytes: &[u8], display: &str) -> Result<Table, StageError> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let mut reader = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .comment(Some(b'#'))
-        .from_path(path)
-        .map_err(|e| StageError::file(path, e.to_string()))?;
+        .from_reader(bytes);
     let header: Vec<String> = reader
         .headers()
-        .map_err(|e| StageError::file(path, e.to_string()))?
+        .map_err(|e| StageError::file(display, e.to_string()))?
         .iter()
         .map(str::to_owned)
         .collect();
@@ -24,7 +32,7 @@ pub fn read_csv(path: &Path) -> Result<Table, StageError> {
     for record in reader.records() {
         let record = record.map_err(|e| {
             let line = e.position().map_or(0, |p| p.line());
-            StageError::file(path, format!("line {line}: {e}"))
+            StageError::file(display, format!("line {line}: {e}"))
         })?;
         for (column, cell) in cells.iter_mut().zip(record.iter()) {
             column.push(cell.to_owned());
@@ -32,6 +40,12 @@ pub fn read_csv(path: &Path) -> Result<Table, StageError> {
     }
     let mut table = Table::new();
     for (name, column) in header.iter().zip(cells) {
+        if table.column(name).is_ok() {
+            return Err(StageError::file(
+                display,
+                format!("the header names column `{name}` twice"),
+            ));
+        }
         table.push(name, infer(column));
     }
     Ok(table)
@@ -80,6 +94,16 @@ mod tests {
         let s = t.f64("stretch").unwrap();
         assert!(s[1].is_nan() && s[2] == 1.5);
         assert_eq!(t.i64("frame").unwrap(), &[1, 2, 3]);
+    }
+
+    #[test]
+    fn bytes_with_a_byte_order_mark_read_alike() {
+        let t = read_csv_bytes(b"\xEF\xBB\xBFtime_s,force_n\n0,1.5\n", "force.csv").unwrap();
+        assert_eq!(t.column_names(), ["time_s", "force_n"]);
+        let e = read_csv_bytes(b"a,a\n1,2\n", "dup.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("dup.csv") && e.contains("twice"), "{e}");
     }
 
     #[test]

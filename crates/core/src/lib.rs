@@ -20,9 +20,11 @@ pub mod error;
 pub mod field;
 pub mod mode;
 pub mod param;
+pub mod png;
 pub mod product;
 pub mod registry;
 pub mod schema;
+pub mod source;
 pub mod stage;
 pub mod table;
 
@@ -35,6 +37,7 @@ pub use param::{Checked, InputPath, ParamError, ParamSpec, ParamValue, Params, c
 pub use product::{Files, Inputs, Outputs, Product, ProductKind};
 pub use registry::{AnyParams, DynStage, ParamsError, Registry};
 pub use schema::Schema;
+pub use source::FileSource;
 pub use stage::{Arity, ColumnSpec, InputSpec, OutputSpec, Stage, StageInfo};
 pub use table::{ColumnData, DType, Table, TableError};
 

@@ -1,0 +1,146 @@
+//! Where a stage's raw files come from: a `Files` product (the synthetic
+//! lab's) or a folder of real data, read alike. One implementation, so the
+//! stages that read tile sets and image sequences name files the same way in
+//! every error.
+
+use std::borrow::Cow;
+use std::path::{Path, PathBuf};
+
+use crate::{Files, InputPath, Inputs, StageError, Table};
+
+/// A set of named files.
+#[derive(Clone, Debug)]
+pub enum FileSource<'a> {
+    /// A `Files` product, bound to input `input`.
+    Files { files: &'a Files, input: String },
+    /// A folder on disk.
+    Dir(PathBuf),
+}
+
+impl<'a> FileSource<'a> {
+    /// Exactly one of the `Files` input `input` or the folder parameter
+    /// `dir_param` (its value `dir`); anything else is an error naming both.
+    pub fn input_or_dir(
+        inputs: &'a Inputs,
+        input: &str,
+        dir_param: &str,
+        dir: Option<&InputPath>,
+    ) -> Result<Self, StageError> {
+        match (inputs.get(input).is_some(), dir) {
+            (true, Some(_)) => Err(StageError::invalid(format!(
+                "give either the `{input}` input or the parameter `{dir_param}`, not both"
+            ))),
+            (false, None) => Err(StageError::invalid(format!(
+                "no files: connect the `{input}` input or set the parameter `{dir_param}`"
+            ))),
+            (true, None) => Ok(FileSource::Files {
+                files: inputs.files(input)?,
+                input: input.to_owned(),
+            }),
+            (false, Some(dir)) => Ok(FileSource::Dir(dir.path().to_owned())),
+        }
+    }
+
+    /// How errors name file `name`: `input `tiles`/positions.csv` or its path.
+    pub fn display(&self, name: &str) -> String {
+        match self {
+            FileSource::Files { input, .. } => format!("input `{input}`/{name}"),
+            FileSource::Dir(dir) => dir.join(name).display().to_string(),
+        }
+    }
+
+    pub fn exists(&self, name: &str) -> bool {
+        match self {
+            FileSource::Files { files, .. } => files.files.contains_key(name),
+            FileSource::Dir(dir) => dir.join(name).is_file(),
+        }
+    }
+
+    /// The bytes of file `name`; a missing file is an error naming it.
+    pub fn read(&self, name: &str) -> Result<Cow<'a, [u8]>, StageError> {
+        match self {
+            FileSource::Files { files, .. } => files
+                .files
+                .get(name)
+                .map(|b| Cow::Borrowed(b.as_slice()))
+                .ok_or_else(|| StageError::file(self.display(name), "no such file in the input")),
+            FileSource::Dir(dir) => std::fs::read(dir.join(name))
+                .map(Cow::Owned)
+                .map_err(|e| StageError::file(self.display(name), e.to_string())),
+        }
+    }
+
+    /// A CSV file of the source as a table (the one CSV reader,
+    /// [`crate::csv_table`]).
+    pub fn read_csv(&self, name: &str) -> Result<Table, StageError> {
+        crate::csv_table::read_csv_bytes(&self.read(name)?, &self.display(name))
+    }
+
+    /// The file names, sorted (files directly in a folder; subfolders are
+    /// not entered).
+    pub fn names(&self) -> Result<Vec<String>, StageError> {
+        match self {
+            FileSource::Files { files, .. } => Ok(files.files.keys().cloned().collect()),
+            FileSource::Dir(dir) => {
+                let entries = std::fs::read_dir(dir)
+                    .map_err(|e| StageError::file(dir.as_path(), e.to_string()))?;
+                let mut names: Vec<String> = entries
+                    .flatten()
+                    .filter(|e| e.path().is_file())
+                    .map(|e| e.file_name().to_string_lossy().into_owned())
+                    .collect();
+                names.sort();
+                Ok(names)
+            }
+        }
+    }
+
+    /// The folder, when the source is one.
+    pub fn dir(&self) -> Option<&Path> {
+        match self {
+            FileSource::Dir(dir) => Some(dir),
+            FileSource::Files { .. } => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Product;
+
+    #[test]
+    fn files_and_folders_read_alike_and_name_their_files() {
+        let files = Files::new()
+            .with("b.csv", b"x,y\n1,2.5\n".to_vec())
+            .with("a.npy", vec![0]);
+        let inputs = Inputs::new().with("tiles", Product::Files(files.clone()));
+        let from_files = FileSource::input_or_dir(&inputs, "tiles", "dir", None).unwrap();
+
+        let dir = std::env::temp_dir().join(format!("hc-source-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (name, bytes) in &files.files {
+            std::fs::write(dir.join(name), bytes).unwrap();
+        }
+        let dir_param = InputPath::new(&dir);
+        let no_inputs = Inputs::new();
+        let from_dir =
+            FileSource::input_or_dir(&no_inputs, "tiles", "dir", Some(&dir_param)).unwrap();
+
+        for source in [&from_files, &from_dir] {
+            assert_eq!(source.names().unwrap(), ["a.npy", "b.csv"]);
+            assert!(source.exists("b.csv") && !source.exists("c.csv"));
+            assert_eq!(source.read_csv("b.csv").unwrap().f64("y").unwrap(), [2.5]);
+            let e = source.read("c.csv").unwrap_err().to_string();
+            assert!(e.contains("c.csv"), "{e}");
+        }
+        assert_eq!(from_files.display("b.csv"), "input `tiles`/b.csv");
+        assert!(from_dir.display("b.csv").ends_with("b.csv"));
+
+        let both = FileSource::input_or_dir(&inputs, "tiles", "dir", Some(&dir_param));
+        assert!(both.unwrap_err().to_string().contains("not both"));
+        let neither = FileSource::input_or_dir(&no_inputs, "tiles", "dir", None);
+        assert!(neither.unwrap_err().to_string().contains("`dir`"));
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}
