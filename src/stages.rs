@@ -2,7 +2,8 @@
 //! units), inputs and output schemas.
 
 use anyhow::{Result, bail};
-use hypercontact_core::{DynStage, Registry};
+use hypercontact_core::param::TypeDoc;
+use hypercontact_core::{DynStage, ParamSpec, Registry};
 use serde_json::{Value, json};
 
 pub fn print(registry: &Registry, kind: Option<&str>, as_json: bool) -> Result<()> {
@@ -32,41 +33,88 @@ pub fn print(registry: &Registry, kind: Option<&str>, as_json: bool) -> Result<(
     }
 }
 
-fn default_text(defaults: &Value, name: &str) -> String {
-    match defaults.get(name) {
+/// The default as the text shows it: the YAML/JSON value, `(required)`,
+/// or `-` for an optional parameter without one.
+fn default_text(p: &ParamSpec) -> String {
+    match &p.default {
+        _ if p.required => "(required)".into(),
         None | Some(Value::Null) => "-".into(),
-        Some(Value::String(s)) if s.is_empty() => "(required)".into(),
-        Some(Value::Number(n)) if n.as_f64() == Some(0.0) && name.ends_with("_m") => {
-            "(required)".into()
-        }
         Some(v) => v.to_string(),
+    }
+}
+
+/// What follows the doc: the choices, the range, the kind of value when it
+/// is not a plain number, text or flag.
+fn constraints(p: &ParamSpec) -> String {
+    let mut parts = Vec::new();
+    match &p.ty {
+        TypeDoc::Number | TypeDoc::Integer | TypeDoc::Bool | TypeDoc::Text => {}
+        TypeDoc::Optional(inner)
+            if matches!(**inner, TypeDoc::Number | TypeDoc::Integer | TypeDoc::Text) => {}
+        TypeDoc::Struct(_) => {}
+        other => parts.push(other.to_string()),
+    }
+    if let Some(range) = &p.range {
+        parts.push(range.to_string());
+    }
+    if parts.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", parts.join("; "))
+    }
+}
+
+fn param_lines(out: &mut String, specs: &[ParamSpec], prefix: &str, full: bool) {
+    for p in specs {
+        let name = if prefix.is_empty() {
+            p.name.to_owned()
+        } else {
+            format!("{prefix}.{}", p.name)
+        };
+        if let TypeDoc::Struct(fields) = &p.ty {
+            out.push_str(&format!("    {name:<22}   {}\n", p.doc));
+            param_lines(out, fields, &name, full);
+            continue;
+        }
+        let unit = if p.unit.is_empty() {
+            String::new()
+        } else {
+            format!(" [{}]", p.unit)
+        };
+        out.push_str(&format!(
+            "    {name:<22} = {:<14}{unit}  {}{}\n",
+            default_text(p),
+            p.doc,
+            constraints(p)
+        ));
+        let choices = match &p.ty {
+            TypeDoc::Choice(c) => Some(*c),
+            TypeDoc::Optional(inner) => match &**inner {
+                TypeDoc::Choice(c) => Some(*c),
+                _ => None,
+            },
+            _ => None,
+        };
+        if full && let Some(choices) = choices {
+            for c in choices.iter().filter(|c| !c.doc.is_empty()) {
+                out.push_str(&format!("      {:<20}   {}\n", c.name, c.doc));
+            }
+        }
     }
 }
 
 pub fn describe_text(stage: &dyn DynStage, full: bool) -> String {
     let info = stage.info();
-    let defaults = stage.default_params();
+    let specs = stage.params_spec();
     let mut out = format!("{} (v{}) — {}\n", info.kind, info.version, info.summary);
     if full && !info.doc.is_empty() {
         for line in wrap(info.doc, 88) {
             out.push_str(&format!("  {line}\n"));
         }
     }
-    if !info.params.is_empty() {
+    if !specs.is_empty() {
         out.push_str("  params:\n");
-        for p in info.params {
-            let unit = if p.unit.is_empty() {
-                String::new()
-            } else {
-                format!(" [{}]", p.unit)
-            };
-            out.push_str(&format!(
-                "    {:<22} = {:<14}{unit}  {}\n",
-                p.name,
-                default_text(&defaults, p.name),
-                p.doc
-            ));
-        }
+        param_lines(&mut out, &specs, "", full);
     }
     if !info.inputs.is_empty() {
         out.push_str("  inputs:\n");
@@ -101,16 +149,12 @@ pub fn describe_text(stage: &dyn DynStage, full: bool) -> String {
 
 fn describe_json(stage: &dyn DynStage) -> Value {
     let info = stage.info();
-    let defaults = stage.default_params();
     json!({
         "kind": info.kind,
         "version": info.version,
         "summary": info.summary,
         "doc": info.doc,
-        "params": info.params.iter().map(|p| json!({
-            "name": p.name, "unit": p.unit, "doc": p.doc,
-            "default": defaults.get(p.name).cloned().unwrap_or(Value::Null),
-        })).collect::<Vec<_>>(),
+        "params": stage.params_spec(),
         "inputs": info.inputs.iter().map(|i| json!({
             "name": i.name, "kind": i.kind, "arity": i.arity, "doc": i.doc,
             "columns": i.columns,
@@ -141,30 +185,25 @@ fn wrap(text: &str, width: usize) -> Vec<String> {
 
 #[cfg(test)]
 mod tests {
-    /// Every documented parameter exists in the defaults and every default
-    /// is documented, so `stages` never drifts from the code.
+    use super::*;
+
+    /// Every parameter of every kind is documented, and every required one
+    /// is required by its declaration (no faked zero defaults).
     #[test]
     fn every_parameter_is_documented() {
         let registry = hypercontact::registry();
         for stage in registry.iter() {
-            let info = stage.info();
-            let defaults = stage.default_params();
-            let keys: Vec<&String> = defaults
-                .as_object()
-                .map(|o| o.keys().collect())
-                .unwrap_or_default();
-            for k in &keys {
+            for p in stage.params_spec() {
                 assert!(
-                    info.params.iter().any(|p| p.name == k.as_str()),
-                    "{}: parameter `{k}` is not documented",
-                    info.kind
+                    !p.doc.is_empty(),
+                    "{}: parameter `{}` has no doc comment",
+                    stage.info().kind,
+                    p.name
                 );
-            }
-            for p in info.params {
                 assert!(
-                    keys.iter().any(|k| k.as_str() == p.name),
-                    "{}: `{}` documented but absent",
-                    info.kind,
+                    p.required || p.default.is_some() || matches!(p.ty, TypeDoc::Optional(_)),
+                    "{}: `{}` is neither required, defaulted nor optional",
+                    stage.info().kind,
                     p.name
                 );
             }

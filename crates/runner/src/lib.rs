@@ -2,13 +2,16 @@
 //! content-addressed cache keys, runs what changed, and records provenance.
 
 pub mod cache;
+pub mod error;
 pub mod exec;
 pub mod hash;
 pub mod pipeline;
 pub mod plan;
 pub mod provenance;
+mod stage_params;
 pub mod store;
 pub mod study;
+pub mod yaml;
 
 pub use exec::{RunError, RunOptions, RunReport, run};
 pub use pipeline::{Pipeline, PipelineError};

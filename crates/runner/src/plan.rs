@@ -145,7 +145,7 @@ impl Plan {
             let decl = &pipeline.stages[index];
             let info = decl.stage.info();
             let inputs = resolve_inputs(pipeline, decl, info, &keys)?;
-            let (params, files) = keyed_params(pipeline, decl)?;
+            let (params, files) = keyed_params(decl)?;
             let material = serde_json::json!({
                 "kind": info.kind,
                 "version": info.version,
@@ -310,60 +310,42 @@ fn changed_keys(old: &serde_json::Value, new: &serde_json::Value, prefix: &str) 
     }
 }
 
+/// A value as the plan shows it: at most 40 characters, cut at a character
+/// boundary (a `µ` across the cut must not split).
 fn short(v: &serde_json::Value) -> String {
     let s = v.to_string();
-    if s.len() > 40 {
-        format!("{}…", &s[..40])
-    } else {
-        s
+    match s.char_indices().nth(40) {
+        Some((cut, _)) => format!("{}…", &s[..cut]),
+        None => s,
     }
 }
 
 /// The canonical parameters with every input path replaced by the hash of
-/// its content, and the map path → hash.
+/// its content, and the map path → hash. The paths come from the
+/// parameters' declared `InputPath`s, so no stage can leave one out.
 fn keyed_params(
-    pipeline: &Pipeline,
     decl: &StageDecl,
 ) -> Result<(serde_json::Value, BTreeMap<String, String>), PipelineError> {
-    let mut params = decl.params.clone();
+    let mut params = decl.params.to_json();
     let mut files = BTreeMap::new();
-    for path in params.paths_mut() {
-        if path.as_os_str().is_empty() {
-            continue;
-        }
+    for (param, path) in decl.params.input_paths() {
         let shown = path.display().to_string();
-        let hash = path_hash(path).map_err(|e| {
-            let param = find_param_with_value(&decl.params.to_json(), &shown);
-            let line = param
-                .as_deref()
-                .and_then(|p| pipeline.key_line(&decl.name, p))
-                .or(decl.line);
-            PipelineError::new(
-                &pipeline.file,
-                format!(
-                    "{}cannot read `{shown}`: {e}",
-                    param
-                        .map(|p| format!("parameter `{p}`: "))
-                        .unwrap_or_default()
-                ),
+        let hash = path_hash(&path).map_err(|e| {
+            decl.param_error(
+                &param,
+                format!("parameter `{param}`: cannot read `{shown}`: {e}"),
             )
-            .at(line, None)
-            .stage(&decl.name)
         })?;
-        files.insert(shown, hash.clone());
-        *path = format!("blake3:{hash}").into();
-    }
-    Ok((params.to_json(), files))
-}
-
-fn find_param_with_value(params: &serde_json::Value, value: &str) -> Option<String> {
-    params.as_object()?.iter().find_map(|(k, v)| match v {
-        serde_json::Value::String(s) if s == value => Some(k.clone()),
-        serde_json::Value::Object(_) => {
-            find_param_with_value(v, value).map(|sub| format!("{k}.{sub}"))
+        let pointer: String = param
+            .split('.')
+            .map(|key| format!("/{}", key.replace('~', "~0").replace('/', "~1")))
+            .collect();
+        if let Some(slot) = params.pointer_mut(&pointer) {
+            *slot = serde_json::Value::String(format!("blake3:{hash}"));
         }
-        _ => None,
-    })
+        files.insert(shown, hash);
+    }
+    Ok((params, files))
 }
 
 fn resolve_inputs(
@@ -380,7 +362,14 @@ fn resolve_inputs(
     let declared: Vec<&str> = info.inputs.iter().map(|i| i.name).collect();
     let mut resolved = Vec::new();
     for binding in &decl.inputs {
-        let line = pipeline.key_line(&decl.name, &binding.declared);
+        let line = pipeline
+            .locate(&[
+                "stages",
+                decl.name.as_str(),
+                "inputs",
+                binding.declared.as_str(),
+            ])
+            .map(|at| at.line);
         let spec = info.input(&binding.declared).ok_or_else(|| {
             err(
                 line,

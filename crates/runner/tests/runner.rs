@@ -129,7 +129,7 @@ impl hypercontact_core::Stage for Scale2 {
     }
     fn run(
         &self,
-        p: &Self::Params,
+        p: &hypercontact_core::Checked<Self::Params>,
         i: &hypercontact_core::Inputs,
         c: &hypercontact_core::Context,
     ) -> Result<hypercontact_core::Outputs, hypercontact_core::StageError> {
@@ -479,4 +479,153 @@ fn with_file_supplies_parameters_that_with_overrides() {
         e.contains("bad.yaml:5") && e.contains("cannot read") && e.contains("recipe.yaml"),
         "{e}"
     );
+}
+
+/// A throwaway stage whose file parameters sit in a list and in a nested
+/// struct: nothing but the declaration tells the runner about them.
+mod throwaway {
+    use hypercontact_core::{
+        Checked, Context, InputPath, Inputs, OutputSpec, Outputs, Schema, Stage, StageError,
+        StageInfo, Table, params,
+    };
+
+    /// A nested block with one file.
+    #[params]
+    pub struct Lookup {
+        /// a lookup table
+        pub table: InputPath,
+    }
+
+    /// Parameters of `count-lines`.
+    #[params]
+    pub struct CountParams {
+        /// any number of files
+        #[param(default = Vec::new())]
+        pub extra: Vec<InputPath>,
+        /// a nested file
+        pub lookup: Lookup,
+    }
+
+    /// Lines per file.
+    #[derive(Schema)]
+    pub struct Counts {
+        /// lines in the file
+        pub lines: Vec<i64>,
+    }
+
+    pub struct CountLines;
+
+    static INFO: StageInfo = StageInfo {
+        kind: "count-lines",
+        version: 1,
+        summary: "counts the lines of its files",
+        doc: "",
+        inputs: &[],
+        outputs: &[OutputSpec::table::<Counts>("counts", "one row per file")],
+    };
+
+    impl Stage for CountLines {
+        type Params = CountParams;
+
+        fn info(&self) -> &'static StageInfo {
+            &INFO
+        }
+
+        fn run(
+            &self,
+            p: &Checked<CountParams>,
+            _: &Inputs,
+            _: &Context,
+        ) -> Result<Outputs, StageError> {
+            let mut lines = Vec::new();
+            for path in p.extra.iter().chain([&p.lookup.table]) {
+                let text = std::fs::read_to_string(path)
+                    .map_err(|e| StageError::file(path, e.to_string()))?;
+                lines.push(text.lines().count() as i64);
+            }
+            let table: Table = Counts { lines }.into_table();
+            Ok(Outputs::new().table("counts", table))
+        }
+    }
+}
+
+#[test]
+fn a_declared_file_parameter_reruns_its_stage_when_the_file_changes() {
+    let t = tempfile::tempdir().unwrap();
+    let mut registry = registry();
+    registry.add(throwaway::CountLines);
+    write(t.path(), "a.txt", "1\n2\n");
+    write(t.path(), "b.txt", "1\n");
+    let lookup = write(t.path(), "lookup.txt", "x\n");
+    let path = write(
+        t.path(),
+        "p.yaml",
+        "name: files\nstages:\n  count:\n    uses: count-lines\n    with:\n      extra: [a.txt, b.txt]\n      lookup: { table: lookup.txt }\n",
+    );
+    let o = options(t.path());
+    let plan_of = || {
+        let p = Pipeline::load(&path, &registry).unwrap();
+        run(
+            &p,
+            &RunOptions {
+                dry_run: true,
+                ..o.clone()
+            },
+        )
+        .unwrap()
+        .plan
+    };
+    let first = run(&Pipeline::load(&path, &registry).unwrap(), &o).unwrap();
+    assert_eq!(first.computed(), 1);
+    assert_eq!(plan_of().stages[0].reason, Reason::Cached);
+
+    // The nested file, then an element of the list: each edit reruns it.
+    std::fs::write(&lookup, "x\ny\n").unwrap();
+    assert!(
+        matches!(&plan_of().stages[0].reason, Reason::FilesChanged(f) if f[0].ends_with("lookup.txt")),
+        "{:?}",
+        plan_of().stages[0].reason
+    );
+    run(&Pipeline::load(&path, &registry).unwrap(), &o).unwrap();
+    write(t.path(), "b.txt", "1\n2\n3\n");
+    assert!(
+        matches!(&plan_of().stages[0].reason, Reason::FilesChanged(f) if f[0].ends_with("b.txt"))
+    );
+    let again = run(&Pipeline::load(&path, &registry).unwrap(), &o).unwrap();
+    assert_eq!(again.computed(), 1);
+    assert_eq!(plan_of().stages[0].reason, Reason::Cached);
+
+    // A missing file is named with its parameter path and line.
+    std::fs::remove_file(t.path().join("b.txt")).unwrap();
+    let p = Pipeline::load(&path, &registry).unwrap();
+    let cache = Cache::open(&t.path().join("cache")).unwrap();
+    let e = Plan::build(&p, &cache, &PlanOptions::default(), None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("p.yaml:6:") && e.contains("parameter `extra.1`") && e.contains("b.txt"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_changed_value_with_multi_byte_characters_is_shown_without_panicking() {
+    let t = tempfile::tempdir().unwrap();
+    // In the plan's JSON text, `µ` (two bytes) straddles byte 40.
+    let title = format!("{}µµµµ", "a".repeat(38));
+    let text = BASIC.replace("n: 5 }", &format!("n: 5, label: \"{title}\" }}"));
+    let p = load(t.path(), "p.yaml", &text);
+    let o = options(t.path());
+    run(&p, &o).unwrap();
+    let mut q = p.clone();
+    q.set(&format!("src.label=\"{title}µ\"")).unwrap();
+    let plan = run(&q, &RunOptions { dry_run: true, ..o }).unwrap().plan;
+    let Reason::ParamsChanged(changes) = &plan.stages[0].reason else {
+        panic!("{:?}", plan.stages[0].reason)
+    };
+    assert!(
+        changes[0].starts_with("label: ") && changes[0].contains('…'),
+        "{changes:?}"
+    );
+    assert!(plan.describe().contains("params changed: label"));
 }

@@ -5,36 +5,31 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use hypercontact_core::param::NoParams;
 use hypercontact_core::product::ProductKind;
 use hypercontact_core::stage::Arity;
 use hypercontact_core::{
-    ColumnSpec, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs, ParamDoc,
-    ParamError, Params, Registry, Stage, StageError, StageInfo, Table,
+    Checked, ColumnSpec, Context, Field, Files, InputPath, InputSpec, Inputs, OutputSpec, Outputs,
+    Registry, Stage, StageError, StageInfo, Table, params,
 };
-use serde::{Deserialize, Serialize};
 
 /// How often `scale` computed, across threads.
 pub static SCALE_RUNS: AtomicUsize = AtomicUsize::new(0);
 
-#[derive(Clone, Debug, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// Parameters of the test `source`.
+#[params]
 pub struct SourceParams {
+    /// step between values
+    #[param(default = 0.0, unit = "m")]
     pub value: f64,
+    /// number of values
+    #[param(default = 0, range = ..=1_000_000)]
     pub n: u32,
-    /// Optional CSV whose `x` column is appended.
-    pub path: PathBuf,
-}
-
-impl Params for SourceParams {
-    fn check(&self) -> Result<(), ParamError> {
-        if self.n > 1_000_000 {
-            return Err(ParamError::new("n", "at most 1e6"));
-        }
-        Ok(())
-    }
-    fn paths_mut(&mut self) -> Vec<&mut PathBuf> {
-        vec![&mut self.path]
-    }
+    /// a CSV whose `x` column is appended
+    pub path: Option<InputPath>,
+    /// a free label
+    #[param(default = String::new())]
+    pub label: String,
 }
 
 pub struct Source;
@@ -43,23 +38,6 @@ static SOURCE: StageInfo = StageInfo {
     version: 1,
     summary: "test source",
     doc: "",
-    params: &[
-        ParamDoc {
-            name: "value",
-            unit: "m",
-            doc: "",
-        },
-        ParamDoc {
-            name: "n",
-            unit: "",
-            doc: "",
-        },
-        ParamDoc {
-            name: "path",
-            unit: "",
-            doc: "",
-        },
-    ],
     inputs: &[],
     outputs: &[OutputSpec {
         name: "t",
@@ -74,31 +52,30 @@ impl Stage for Source {
     fn info(&self) -> &'static StageInfo {
         &SOURCE
     }
-    fn run(&self, p: &SourceParams, _: &Inputs, ctx: &Context) -> Result<Outputs, StageError> {
+    fn run(
+        &self,
+        p: &Checked<SourceParams>,
+        _: &Inputs,
+        ctx: &Context,
+    ) -> Result<Outputs, StageError> {
         let mut x: Vec<f64> = (0..p.n).map(|i| p.value * i as f64).collect();
-        if !p.path.as_os_str().is_empty() {
-            x.extend(ctx.read_table(&p.path)?.to_f64("x")?);
+        if let Some(path) = &p.path {
+            x.extend(ctx.read_table(path)?.to_f64("x")?);
         }
         Ok(Outputs::new().table("t", Table::new().with("x", x)))
     }
 }
 
-#[derive(Clone, Debug, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+/// Parameters of the test `scale`.
+#[params]
 pub struct ScaleParams {
+    /// multiplies x
+    #[param(default = 1.0)]
     pub factor: f64,
+    /// sleeps this long first
+    #[param(default = 0, unit = "ms")]
     pub sleep_ms: u64,
 }
-
-impl Default for ScaleParams {
-    fn default() -> Self {
-        Self {
-            factor: 1.0,
-            sleep_ms: 0,
-        }
-    }
-}
-impl Params for ScaleParams {}
 
 pub struct Scale;
 static SCALE: StageInfo = StageInfo {
@@ -106,18 +83,6 @@ static SCALE: StageInfo = StageInfo {
     version: 1,
     summary: "test scale",
     doc: "",
-    params: &[
-        ParamDoc {
-            name: "factor",
-            unit: "",
-            doc: "",
-        },
-        ParamDoc {
-            name: "sleep_ms",
-            unit: "ms",
-            doc: "",
-        },
-    ],
     inputs: &[InputSpec {
         name: "t",
         kind: ProductKind::Table,
@@ -152,7 +117,12 @@ impl Stage for Scale {
     fn info(&self) -> &'static StageInfo {
         &SCALE
     }
-    fn run(&self, p: &ScaleParams, inputs: &Inputs, _: &Context) -> Result<Outputs, StageError> {
+    fn run(
+        &self,
+        p: &Checked<ScaleParams>,
+        inputs: &Inputs,
+        _: &Context,
+    ) -> Result<Outputs, StageError> {
         SCALE_RUNS.fetch_add(1, Ordering::SeqCst);
         std::thread::sleep(std::time::Duration::from_millis(p.sleep_ms));
         let x: Vec<f64> = inputs
@@ -181,7 +151,6 @@ static GATHER: StageInfo = StageInfo {
     version: 1,
     summary: "test many-input",
     doc: "",
-    params: &[],
     inputs: &[InputSpec {
         name: "parts",
         kind: ProductKind::Table,
@@ -198,11 +167,16 @@ static GATHER: StageInfo = StageInfo {
 };
 
 impl Stage for Gather {
-    type Params = hypercontact_core::params::NoParams;
+    type Params = NoParams;
     fn info(&self) -> &'static StageInfo {
         &GATHER
     }
-    fn run(&self, _: &Self::Params, inputs: &Inputs, _: &Context) -> Result<Outputs, StageError> {
+    fn run(
+        &self,
+        _: &Checked<NoParams>,
+        inputs: &Inputs,
+        _: &Context,
+    ) -> Result<Outputs, StageError> {
         let parts = inputs.labelled("parts");
         let labels: Vec<String> = parts.iter().map(|(l, _)| l.to_string()).collect();
         let n: Vec<i64> = parts
