@@ -9,8 +9,8 @@
 //! inverse Langevin function. Its initial shear modulus is
 //! μ0 = μ (1 + 3/(5λm²) + 99/(175λm⁴) + 513/(875λm⁶) + 42039/(67375λm⁸)).
 
-use crate::MaterialError;
 use crate::invariants::{InvariantEnergy, InvariantSlopes};
+use crate::{MaterialError, Parameter};
 
 /// The series coefficients C_i.
 const C: [f64; 5] = [
@@ -81,10 +81,10 @@ impl InvariantEnergy for ArrudaBoyce {
     fn initial_shear_modulus_pa(&self) -> f64 {
         2.0 * self.slopes_at(3.0, 3.0).w1
     }
-    fn named_parameters(&self) -> Vec<(String, f64)> {
+    fn named_parameters(&self) -> Vec<Parameter> {
         vec![
-            ("mu".into(), self.mu_pa),
-            ("lambda_m".into(), self.lambda_m),
+            Parameter::modulus("mu", self.mu_pa),
+            Parameter::number("lambda_m", self.lambda_m),
         ]
     }
 }

@@ -159,7 +159,7 @@ mod tests {
     #[test]
     fn initial_tangent_is_twice_youngs_modulus() {
         let law = paper();
-        let e0 = law.model().youngs_modulus_pa();
+        let e0 = crate::youngs_modulus_pa(law.model().shear_modulus_pa(), 0.5);
         assert!((law.tangent_modulus_pa(0.0) / e0 - 2.0).abs() < 1e-9);
         assert!(law.phi_pa(0.0).abs() < 1e-6);
     }

@@ -9,6 +9,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Uniform};
 
+use crate::ogden::lateral_power;
 use crate::{
     ArrudaBoyce, Hyperelastic, MaterialError, Mode, MooneyRivlin, NeoHookean, Ogden, Yeoh,
 };
@@ -229,15 +230,6 @@ impl Family {
 fn first_guess_alpha(i: usize) -> f64 {
     const GUESS: [f64; 6] = [2.0, -2.0, 5.0, 0.8, -4.0, 8.0];
     GUESS[i % GUESS.len()]
-}
-
-/// Ogden's lateral exponent c in T = Σ 2μ/α (λ^(α−1) − λ^(−cα−1)).
-fn lateral_power(mode: Mode) -> f64 {
-    match mode {
-        Mode::Uniaxial => 0.5,
-        Mode::Planar => 1.0,
-        Mode::Equibiaxial => 2.0,
-    }
 }
 
 #[cfg(test)]

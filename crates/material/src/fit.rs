@@ -354,7 +354,7 @@ mod tests {
             let r = fit(&data, Family::MooneyRivlin, &options).unwrap();
             let p = r.model.parameters();
             assert!(
-                (p[0].1 - 0.27e6).abs() < 1e-6 * 0.27e6 && p[1].1.abs() < 1e-6 * 0.27e6,
+                (p[0].value - 0.27e6).abs() < 1e-6 * 0.27e6 && p[1].value.abs() < 1e-6 * 0.27e6,
                 "{p:?}"
             );
         }

@@ -4,17 +4,20 @@
 //! way the paper chose its 6-term Ogden model in Abaqus.
 
 use hypercontact_core::{
-    Arity, Checked, ColumnSpec, Context, InputSpec, Inputs, OutputSpec, Outputs, ParamError,
-    Product, ProductKind, Stage, StageError, StageInfo, Table, params,
+    Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, ParamError, Product, Schema,
+    Stage, StageError, StageInfo, Table, params,
 };
 
-use crate::fit::{FitOptions, FitResult, Residual, fit};
-use crate::quality::{Quality, quality};
-use crate::stability::{StabilityRange, stability_ranges};
+use crate::Family;
+use crate::fit::{FitOptions, Residual, fit};
+use crate::fit_tables::ComparisonRow;
+pub use crate::fit_tables::{
+    ComparisonTable, CurvesTable, ParamsTable, QualityTable, StabilityTable,
+};
+use crate::quality::quality;
+use crate::stability::stability_ranges;
 use crate::table::{MaterialTable, to_table};
-use crate::tensile::TensileData;
-use crate::tensile_stage::TensilePoints;
-use crate::{Family, Hyperelastic, Mode};
+use crate::tensile::{TensileData, TensilePoints};
 
 /// Weights of the three modes in the objective; 0 leaves a mode out.
 #[params(check = some_weight_positive)]
@@ -59,6 +62,9 @@ pub struct MaterialFitParams {
     /// seed of the random starts
     #[param(default = 1)]
     pub seed: u64,
+    /// Poisson's ratio ν of the derived moduli e0 and e0_star
+    #[param(default = 0.5, range = 0.0..=0.5)]
+    pub poisson: f64,
 }
 
 impl MaterialFitParams {
@@ -72,89 +78,6 @@ impl MaterialFitParams {
         }
     }
 }
-
-const PARAMS_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::str("model", "the fitted family, e.g. ogden-6"),
-    ColumnSpec::i64(
-        "term",
-        "",
-        "Ogden term i (1…N); 0 for other families' parameters and derived moduli",
-    ),
-    ColumnSpec::str(
-        "param",
-        "mu_i, alpha_i (Ogden); c10, c01, c20, c30; mu, lambda_m; derived: mu0, e0, e0_star",
-    ),
-    ColumnSpec::f64("value", "Pa or 1", "the value, in the unit of `unit`"),
-    ColumnSpec::str("unit", "Pa for moduli, 1 for α_i and λm"),
-];
-
-const QUALITY_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::str("mode", "UT, PT, BT, or all"),
-    ColumnSpec::f64("r2", "1", "coefficient of determination of the stresses"),
-    ColumnSpec::f64(
-        "rms_rel_err",
-        "1",
-        "RMS of (T_fit − T)/max(|T|, 1 % of the mode's largest |T|)",
-    ),
-    ColumnSpec::f64("max_rel_err", "1", "largest relative error"),
-    ColumnSpec::i64("n_points", "", "points in the mode"),
-];
-
-const CURVES_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::str("mode", "UT, PT or BT"),
-    ColumnSpec::f64("stretch", "1", "measured stretch"),
-    ColumnSpec::f64("measured_pa", "Pa", "measured nominal stress"),
-    ColumnSpec::f64("fitted_pa", "Pa", "the fitted model's nominal stress"),
-];
-
-const STABILITY_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::str("mode", "UT, PT or BT"),
-    ColumnSpec::f64(
-        "lambda_min",
-        "1",
-        "lower end of the Drucker-stable stretch interval around λ = 1 (0.1 = stable down to 0.1)",
-    ),
-    ColumnSpec::f64(
-        "lambda_max",
-        "1",
-        "upper end of that interval (10 = stable up to 10)",
-    ),
-    ColumnSpec::f64(
-        "monotonic_min",
-        "1",
-        "lower end of the interval around λ = 1 where the nominal stress rises (dT/dλ > 0)",
-    ),
-    ColumnSpec::f64(
-        "monotonic_max",
-        "1",
-        "upper end of that interval (for BT: where the paper's φ peaks)",
-    ),
-    ColumnSpec::str("note", "where the model turns unstable, in words"),
-];
-
-const COMPARISON_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::i64(
-        "rank",
-        "",
-        "1 = smallest total RMS relative error; failed fits last",
-    ),
-    ColumnSpec::str("model", "family name as accepted by `model`"),
-    ColumnSpec::i64("n_params", "", "number of fitted parameters"),
-    ColumnSpec::f64(
-        "rms_rel_err",
-        "1",
-        "RMS relative error over all points (NaN if failed)",
-    ),
-    ColumnSpec::f64("max_rel_err", "1", "largest relative error over all points"),
-    ColumnSpec::f64("ut_lambda_min", "1", "UT stable range, lower end"),
-    ColumnSpec::f64("ut_lambda_max", "1", "UT stable range, upper end"),
-    ColumnSpec::f64("pt_lambda_min", "1", "PT stable range, lower end"),
-    ColumnSpec::f64("pt_lambda_max", "1", "PT stable range, upper end"),
-    ColumnSpec::f64("bt_lambda_min", "1", "BT stable range, lower end"),
-    ColumnSpec::f64("bt_lambda_max", "1", "BT stable range, upper end"),
-    ColumnSpec::i64("selected", "", "1 for the model chosen by `model`"),
-    ColumnSpec::str("status", "ok, or why the family could not be fitted"),
-];
 
 /// The `material-fit` stage.
 pub struct MaterialFit;
@@ -189,51 +112,31 @@ static INFO: StageInfo = StageInfo {
           `comparison` fits every family (ogden-1…6, neo-hookean, mooney-rivlin, yeoh, \
           arruda-boyce) to the same data and ranks them by total RMS relative error, with \
           their stable ranges, so the choice of model can be justified as the paper did.",
-    inputs: &[InputSpec {
-        name: "tensile",
-        kind: ProductKind::Table,
-        arity: Arity::Many,
-        columns: <TensilePoints as hypercontact_core::Schema>::COLUMNS,
-        doc: "UT/PT/BT stress–stretch data (tensile-table or the DIC stage): one table \
-              (`tensile: csv`) or several fitted together (`tensile: { UT: dic-ut, PT: dic-pt }`)",
-    }],
+    inputs: &[InputSpec::table::<TensilePoints>(
+        "tensile",
+        Arity::Many,
+        "UT/PT/BT stress–stretch data (tensile-table or the DIC stage): one table \
+         (`tensile: csv`) or several fitted together (`tensile: { UT: dic-ut, PT: dic-pt }`)",
+    )],
     outputs: &[
-        OutputSpec {
-            name: "material",
-            kind: ProductKind::Table,
-            columns: <MaterialTable as hypercontact_core::Schema>::COLUMNS,
-            doc: "the fitted model, for downstream stages (the ICM reads it)",
-        },
-        OutputSpec {
-            name: "params",
-            kind: ProductKind::Table,
-            columns: PARAMS_COLUMNS,
-            doc: "fitted parameters and the derived initial moduli",
-        },
-        OutputSpec {
-            name: "quality",
-            kind: ProductKind::Table,
-            columns: QUALITY_COLUMNS,
-            doc: "fit quality per mode and over all points",
-        },
-        OutputSpec {
-            name: "curves",
-            kind: ProductKind::Table,
-            columns: CURVES_COLUMNS,
-            doc: "measured and fitted stress at every measured stretch",
-        },
-        OutputSpec {
-            name: "stability",
-            kind: ProductKind::Table,
-            columns: STABILITY_COLUMNS,
-            doc: "Drucker-stable stretch range per mode",
-        },
-        OutputSpec {
-            name: "comparison",
-            kind: ProductKind::Table,
-            columns: COMPARISON_COLUMNS,
-            doc: "every family fitted to the same data, ranked (only the chosen one if compare: false)",
-        },
+        OutputSpec::table::<MaterialTable>(
+            "material",
+            "the fitted model, for downstream stages (the ICM reads it)",
+        ),
+        OutputSpec::table::<ParamsTable>(
+            "params",
+            "fitted parameters and the derived initial moduli",
+        ),
+        OutputSpec::table::<QualityTable>("quality", "fit quality per mode and over all points"),
+        OutputSpec::table::<CurvesTable>(
+            "curves",
+            "measured and fitted stress at every measured stretch",
+        ),
+        OutputSpec::table::<StabilityTable>("stability", "Drucker-stable stretch range per mode"),
+        OutputSpec::table::<ComparisonTable>(
+            "comparison",
+            "every family fitted to the same data, ranked (only the chosen one if compare: false)",
+        ),
     ],
 };
 
@@ -310,206 +213,18 @@ impl Stage for MaterialFit {
             }
         }
 
+        let params = ParamsTable::new(family, model, p.poisson);
         Ok(Outputs::new()
             .table("material", to_table(model))
-            .table("params", params_table(family, model))
-            .table("quality", quality_table(&qualities))
-            .table("curves", curves_table(model, &data))
-            .table("stability", stability_table(&stability))
-            .table("comparison", comparison_table(rows)))
+            .table("params", params.into_table())
+            .table("quality", QualityTable::from(&qualities[..]).into_table())
+            .table("curves", CurvesTable::new(model, &data).into_table())
+            .table(
+                "stability",
+                StabilityTable::from(&stability[..]).into_table(),
+            )
+            .table("comparison", ComparisonTable::ranked(rows).into_table()))
     }
-}
-
-fn params_table(family: Family, model: &dyn Hyperelastic) -> Table {
-    let mut term = Vec::new();
-    let mut name = Vec::new();
-    let mut value = Vec::new();
-    let mut unit = Vec::new();
-    for (param, v) in model.parameters() {
-        let index = match family {
-            Family::Ogden(_) => param
-                .rsplit('_')
-                .next()
-                .and_then(|i| i.parse::<i64>().ok())
-                .unwrap_or(0),
-            _ => 0,
-        };
-        let dimensionless = param.starts_with("alpha") || param == "lambda_m";
-        term.push(index);
-        unit.push(if dimensionless { "1" } else { "Pa" });
-        name.push(param);
-        value.push(v);
-    }
-    // E0 = 3 μ0 (ν = ½) and E0* = E0 / (1 − ν²), as the paper normalises.
-    let mu0 = model.shear_modulus_pa();
-    let e0 = model.youngs_modulus_pa();
-    for (param, v) in [("mu0", mu0), ("e0", e0), ("e0_star", e0 / 0.75)] {
-        term.push(0);
-        name.push(param.to_owned());
-        value.push(v);
-        unit.push("Pa");
-    }
-    Table::new()
-        .with("model", vec![family.name(); term.len()])
-        .with("term", term)
-        .with("param", name)
-        .with("value", value)
-        .with("unit", unit)
-}
-
-fn quality_table(qualities: &[Quality]) -> Table {
-    Table::new()
-        .with(
-            "mode",
-            qualities.iter().map(Quality::label).collect::<Vec<_>>(),
-        )
-        .with("r2", qualities.iter().map(|q| q.r2).collect::<Vec<_>>())
-        .with(
-            "rms_rel_err",
-            qualities.iter().map(|q| q.rms_rel_err).collect::<Vec<_>>(),
-        )
-        .with(
-            "max_rel_err",
-            qualities.iter().map(|q| q.max_rel_err).collect::<Vec<_>>(),
-        )
-        .with(
-            "n_points",
-            qualities
-                .iter()
-                .map(|q| q.n_points as i64)
-                .collect::<Vec<_>>(),
-        )
-}
-
-fn curves_table(model: &dyn Hyperelastic, data: &TensileData) -> Table {
-    let mut mode = Vec::new();
-    let (mut stretch, mut measured, mut fitted) = (Vec::new(), Vec::new(), Vec::new());
-    for c in &data.curves {
-        for (&l, &t) in c.stretch.iter().zip(&c.stress_pa) {
-            mode.push(c.mode.label());
-            stretch.push(l);
-            measured.push(t);
-            fitted.push(model.nominal_stress_pa(c.mode, l));
-        }
-    }
-    Table::new()
-        .with("mode", mode)
-        .with("stretch", stretch)
-        .with("measured_pa", measured)
-        .with("fitted_pa", fitted)
-}
-
-fn stability_table(ranges: &[StabilityRange]) -> Table {
-    Table::new()
-        .with(
-            "mode",
-            ranges.iter().map(|r| r.mode.label()).collect::<Vec<_>>(),
-        )
-        .with(
-            "lambda_min",
-            ranges.iter().map(|r| r.lambda_min).collect::<Vec<_>>(),
-        )
-        .with(
-            "lambda_max",
-            ranges.iter().map(|r| r.lambda_max).collect::<Vec<_>>(),
-        )
-        .with(
-            "monotonic_min",
-            ranges.iter().map(|r| r.monotonic_min).collect::<Vec<_>>(),
-        )
-        .with(
-            "monotonic_max",
-            ranges.iter().map(|r| r.monotonic_max).collect::<Vec<_>>(),
-        )
-        .with(
-            "note",
-            ranges
-                .iter()
-                .map(StabilityRange::describe)
-                .collect::<Vec<_>>(),
-        )
-}
-
-/// One family's line in the comparison.
-struct ComparisonRow {
-    family: Family,
-    rms_rel_err: f64,
-    max_rel_err: f64,
-    /// (λ_min, λ_max) for UT, PT, BT.
-    ranges: [(f64, f64); 3],
-    selected: bool,
-    status: String,
-}
-
-impl ComparisonRow {
-    fn from_fit(result: &FitResult, data: &TensileData, selected: bool) -> Self {
-        let model = result.model.as_ref();
-        let all = quality(model, data).pop();
-        let mut ranges = [(f64::NAN, f64::NAN); 3];
-        for s in stability_ranges(model) {
-            ranges[s.mode as usize] = (s.lambda_min, s.lambda_max);
-        }
-        Self {
-            family: result.family,
-            rms_rel_err: all.map_or(f64::NAN, |q| q.rms_rel_err),
-            max_rel_err: all.map_or(f64::NAN, |q| q.max_rel_err),
-            ranges,
-            selected,
-            status: "ok".into(),
-        }
-    }
-
-    fn failed(family: Family, status: String) -> Self {
-        Self {
-            family,
-            rms_rel_err: f64::NAN,
-            max_rel_err: f64::NAN,
-            ranges: [(f64::NAN, f64::NAN); 3],
-            selected: false,
-            status,
-        }
-    }
-}
-
-fn comparison_table(mut rows: Vec<ComparisonRow>) -> Table {
-    // NaN (failed) sorts last.
-    rows.sort_by(|a, b| {
-        a.rms_rel_err
-            .is_nan()
-            .cmp(&b.rms_rel_err.is_nan())
-            .then(a.rms_rel_err.total_cmp(&b.rms_rel_err))
-    });
-    let col = |f: &dyn Fn(&ComparisonRow) -> f64| rows.iter().map(f).collect::<Vec<_>>();
-    let mut t = Table::new()
-        .with("rank", (1..=rows.len() as i64).collect::<Vec<_>>())
-        .with(
-            "model",
-            rows.iter().map(|r| r.family.name()).collect::<Vec<_>>(),
-        )
-        .with(
-            "n_params",
-            rows.iter()
-                .map(|r| r.family.n_params() as i64)
-                .collect::<Vec<_>>(),
-        )
-        .with("rms_rel_err", col(&|r| r.rms_rel_err))
-        .with("max_rel_err", col(&|r| r.max_rel_err));
-    for mode in Mode::ALL {
-        let i = mode as usize;
-        let prefix = mode.label().to_ascii_lowercase();
-        t.push(&format!("{prefix}_lambda_min"), col(&|r| r.ranges[i].0));
-        t.push(&format!("{prefix}_lambda_max"), col(&|r| r.ranges[i].1));
-    }
-    t.with(
-        "selected",
-        rows.iter()
-            .map(|r| i64::from(r.selected))
-            .collect::<Vec<_>>(),
-    )
-    .with(
-        "status",
-        rows.iter().map(|r| r.status.clone()).collect::<Vec<_>>(),
-    )
 }
 
 #[cfg(test)]
@@ -668,6 +383,39 @@ mod tests {
     }
 
     #[test]
+    fn e0_and_e0_star_follow_poisson() {
+        let inputs = Inputs::new().with(
+            "tensile",
+            Product::Table(crate::sample::paper_sample().to_table()),
+        );
+        let run = |poisson: f64| {
+            let p = MaterialFitParams {
+                model: Family::NeoHookean,
+                compare: false,
+                poisson,
+                ..Default::default()
+            }
+            .check()
+            .unwrap();
+            let out = MaterialFit.run(&p, &inputs, &Context::new("fit")).unwrap();
+            let params = ParamsTable::from_table(table(&out, "params")).unwrap();
+            let row =
+                |name: &str| params.value[params.param.iter().position(|p| p == name).unwrap()];
+            (row("mu0"), row("e0"), row("e0_star"))
+        };
+        let (mu0, e0, e0_star) = run(0.5);
+        // The numbers written before ν became a parameter: E0 = 3 μ0, E0* = E0 / 0.75.
+        assert_eq!(e0, 3.0 * mu0);
+        assert_eq!(e0_star, 3.0 * mu0 / 0.75);
+        assert_eq!(e0_star, crate::composite_modulus_pa(mu0, 0.5));
+        let (mu0_03, e0, e0_star) = run(0.3);
+        assert_eq!(mu0_03, mu0);
+        assert_eq!(e0, 2.0 * mu0 * 1.3);
+        assert_eq!(e0_star, crate::composite_modulus_pa(mu0, 0.3));
+        assert!((e0_star / mu0 - 2.6 / 0.91).abs() < 1e-12, "{e0_star}");
+    }
+
+    #[test]
     fn bad_parameters_are_named() {
         let bad = |p: MaterialFitParams| p.check().unwrap_err().param;
         let p = MaterialFitParams::default();
@@ -685,6 +433,12 @@ mod tests {
             }),
             "starts"
         );
+        let poisson = |poisson| MaterialFitParams {
+            poisson,
+            ..p.clone()
+        };
+        assert_eq!(bad(poisson(0.6)), "poisson");
+        assert_eq!(bad(poisson(-0.1)), "poisson");
         let mut w = p.clone();
         w.weights.pt = -1.0;
         assert_eq!(bad(w), "weights.PT");

@@ -9,7 +9,7 @@
 
 use std::fmt;
 
-use crate::{Hyperelastic, Mode};
+use crate::{Hyperelastic, Mode, Parameter};
 
 /// W's partial derivatives with respect to I1 and I2 at one state, Pa.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -33,8 +33,8 @@ pub trait InvariantEnergy: fmt::Debug + Send + Sync {
     fn family_name(&self) -> &'static str;
     /// Initial shear modulus μ0, Pa.
     fn initial_shear_modulus_pa(&self) -> f64;
-    /// Named parameters in SI units, in the order of the `material` table.
-    fn named_parameters(&self) -> Vec<(String, f64)>;
+    /// The parameters in SI units, in the order of the `material` table.
+    fn named_parameters(&self) -> Vec<Parameter>;
 }
 
 impl<T: InvariantEnergy> Hyperelastic for T {
@@ -59,7 +59,7 @@ impl<T: InvariantEnergy> Hyperelastic for T {
         nominal_stress_slope(self, mode, stretch)
     }
 
-    fn parameters(&self) -> Vec<(String, f64)> {
+    fn parameters(&self) -> Vec<Parameter> {
         self.named_parameters()
     }
 

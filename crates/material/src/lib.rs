@@ -1,7 +1,8 @@
 //! Hyperelastic materials for hypercontact.
 //!
 //! - [`model`]: the [`Hyperelastic`] trait (strain energy, nominal stress and
-//!   its slope in UT, PT and BT) and its implementations;
+//!   its slope in UT, PT and BT, typed [`Parameter`]s) and its
+//!   implementations;
 //! - [`contact`]: the paper's Eq. (2) φ(ε), its inverse and Eq. (6) E_t,
 //!   which the incremental contact model evaluates;
 //! - [`table`]: the `material` table that carries a model between stages;
@@ -14,11 +15,13 @@ pub mod contact;
 pub mod family;
 pub mod fit;
 pub mod fit_stage;
+mod fit_tables;
 pub mod invariants;
 pub mod model;
 pub mod mooney_rivlin;
 pub mod neo_hookean;
 pub mod ogden;
+pub mod parameter;
 pub mod preset_stage;
 pub mod presets;
 pub mod quality;
@@ -33,10 +36,11 @@ pub use arruda_boyce::ArrudaBoyce;
 pub use contact::{ContactLaw, MonotonicRange};
 pub use family::Family;
 pub use fit::{FitOptions, FitResult, Residual, fit};
-pub use model::{Hyperelastic, Mode, composite_modulus_pa};
+pub use model::{Hyperelastic, Mode, composite_modulus_pa, youngs_modulus_pa};
 pub use mooney_rivlin::MooneyRivlin;
 pub use neo_hookean::NeoHookean;
 pub use ogden::Ogden;
+pub use parameter::{ParamUnit, Parameter};
 pub use tensile::TensileData;
 pub use yeoh::Yeoh;
 

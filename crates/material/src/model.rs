@@ -4,11 +4,19 @@ use std::fmt;
 
 pub use hypercontact_core::Mode;
 
-/// The initial composite modulus E0* = E0 / (1 − ν²), with E0 = 2 μ0 (1 + ν)
-/// (SPEC, "Ogden model"), Pa: the one place where ν enters the linear
-/// moduli, so every stage normalising by E0* agrees. ν = ½ gives 4 μ0.
+use crate::Parameter;
+
+/// The initial Young's modulus E0 = 2 μ0 (1 + ν) (SPEC, "Ogden model"), Pa.
+/// ν = ½ gives 3 μ0.
+pub fn youngs_modulus_pa(shear_modulus_pa: f64, poisson: f64) -> f64 {
+    2.0 * shear_modulus_pa * (1.0 + poisson)
+}
+
+/// The initial composite modulus E0* = E0 / (1 − ν²), Pa: with
+/// [`youngs_modulus_pa`] the one place where ν enters the linear moduli, so
+/// every stage normalising by E0* agrees. ν = ½ gives 4 μ0.
 pub fn composite_modulus_pa(shear_modulus_pa: f64, poisson: f64) -> f64 {
-    2.0 * shear_modulus_pa * (1.0 + poisson) / (1.0 - poisson * poisson)
+    youngs_modulus_pa(shear_modulus_pa, poisson) / (1.0 - poisson * poisson)
 }
 
 /// An incompressible isotropic hyperelastic material.
@@ -32,13 +40,8 @@ pub trait Hyperelastic: fmt::Debug + Send + Sync {
     /// dT/dλ in `mode` at loading stretch λ, Pa.
     fn nominal_stress_slope_pa(&self, mode: Mode, stretch: f64) -> f64;
 
-    /// Named parameters in SI units, in the order of the `material` table.
-    fn parameters(&self) -> Vec<(String, f64)>;
-
-    /// Initial Young's modulus E0 = 2 μ0 (1 + ν) with ν = ½, Pa.
-    fn youngs_modulus_pa(&self) -> f64 {
-        3.0 * self.shear_modulus_pa()
-    }
+    /// The parameters in SI units, in the order of the `material` table.
+    fn parameters(&self) -> Vec<Parameter>;
 
     /// The Drucker stiffness at principal stretches (λ1, λ2, λ3), Pa: the
     /// Hessian of Ŵ(ε1, ε2) = W(e^ε1, e^ε2, e^(−ε1−ε2)) in the log strains,

@@ -1,8 +1,8 @@
 //! The incompressible Mooney–Rivlin solid, W = C10 (I1 − 3) + C01 (I2 − 3),
 //! μ0 = 2 (C10 + C01) (Abaqus' parameter names).
 
-use crate::MaterialError;
 use crate::invariants::{InvariantEnergy, InvariantSlopes};
+use crate::{MaterialError, Parameter};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct MooneyRivlin {
@@ -40,8 +40,11 @@ impl InvariantEnergy for MooneyRivlin {
     fn initial_shear_modulus_pa(&self) -> f64 {
         2.0 * (self.c10_pa + self.c01_pa)
     }
-    fn named_parameters(&self) -> Vec<(String, f64)> {
-        vec![("c10".into(), self.c10_pa), ("c01".into(), self.c01_pa)]
+    fn named_parameters(&self) -> Vec<Parameter> {
+        vec![
+            Parameter::modulus("c10", self.c10_pa),
+            Parameter::modulus("c01", self.c01_pa),
+        ]
     }
 }
 

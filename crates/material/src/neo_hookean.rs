@@ -1,8 +1,8 @@
 //! The incompressible neo-Hookean solid, W = C10 (I1 − 3), μ0 = 2 C10
 //! (Abaqus' parameter name C10; Treloar's Gaussian-network energy).
 
-use crate::MaterialError;
 use crate::invariants::{InvariantEnergy, InvariantSlopes};
+use crate::{MaterialError, Parameter};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct NeoHookean {
@@ -39,8 +39,8 @@ impl InvariantEnergy for NeoHookean {
     fn initial_shear_modulus_pa(&self) -> f64 {
         2.0 * self.c10_pa
     }
-    fn named_parameters(&self) -> Vec<(String, f64)> {
-        vec![("c10".into(), self.c10_pa)]
+    fn named_parameters(&self) -> Vec<Parameter> {
+        vec![Parameter::modulus("c10", self.c10_pa)]
     }
 }
 

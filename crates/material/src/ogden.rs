@@ -1,7 +1,7 @@
 //! The Ogden model in the Abaqus convention (the paper's Eq. 1):
 //! W = Σ 2 μ_i / α_i² (λ1^α_i + λ2^α_i + λ3^α_i − 3), μ0 = Σ μ_i.
 
-use crate::{Hyperelastic, MaterialError, Mode};
+use crate::{Hyperelastic, MaterialError, Mode, Parameter};
 
 /// An N-term incompressible Ogden solid.
 #[derive(Clone, Debug, PartialEq)]
@@ -43,7 +43,7 @@ impl Ogden {
 
 /// The exponent c of the lateral stretch λ^(−c) that carries the load in
 /// each test: T = Σ 2μ/α (λ^(α−1) − λ^(−cα−1)).
-fn lateral_power(mode: Mode) -> f64 {
+pub(crate) fn lateral_power(mode: Mode) -> f64 {
     match mode {
         Mode::Uniaxial => 0.5,
         Mode::Planar => 1.0,
@@ -97,12 +97,11 @@ impl Hyperelastic for Ogden {
         h
     }
 
-    fn parameters(&self) -> Vec<(String, f64)> {
-        let n = self.mu_pa.len();
-        (0..n)
-            .map(|i| (format!("mu_{}", i + 1), self.mu_pa[i]))
-            .chain((0..n).map(|i| (format!("alpha_{}", i + 1), self.alpha[i])))
-            .collect()
+    fn parameters(&self) -> Vec<Parameter> {
+        let mu = (self.mu_pa.iter().zip(1..)).map(|(&m, i)| Parameter::modulus("mu", m).of_term(i));
+        let alpha =
+            (self.alpha.iter().zip(1..)).map(|(&a, i)| Parameter::number("alpha", a).of_term(i));
+        mu.chain(alpha).collect()
     }
 }
 
@@ -146,7 +145,7 @@ mod tests {
         let m = paper_epdm();
         // Table 1 sums to μ0 = 1.79 MPa; E0 = 3 μ0 = 5.37 MPa.
         assert!((m.shear_modulus_pa() - 1.79e6).abs() < 0.005e6);
-        assert!((m.youngs_modulus_pa() - 5.37e6).abs() < 0.015e6);
+        assert!((crate::youngs_modulus_pa(m.shear_modulus_pa(), 0.5) - 5.37e6).abs() < 0.015e6);
         // Small-strain slopes: UT 3 μ0, BT 6 μ0.
         let mu0 = m.shear_modulus_pa();
         let ut = m.nominal_stress_slope_pa(Mode::Uniaxial, 1.0);
@@ -160,6 +159,19 @@ mod tests {
         let m = Ogden::new(vec![0.63e6, 0.0012e6, -0.01e6], vec![1.3, 5.0, -2.0]).unwrap();
         crate::invariants::tests::check_against_energy(&m);
         crate::invariants::tests::check_small_strain(&m);
+    }
+
+    #[test]
+    fn parameters_know_their_term_and_unit() {
+        let m = Ogden::new(vec![0.63e6, 0.0012e6], vec![1.3, 5.0]).unwrap();
+        let p = m.parameters();
+        let names: Vec<String> = p.iter().map(Parameter::name).collect();
+        assert_eq!(names, ["mu_1", "mu_2", "alpha_1", "alpha_2"]);
+        let terms: Vec<Option<usize>> = p.iter().map(|p| p.term).collect();
+        assert_eq!(terms, [Some(1), Some(2), Some(1), Some(2)]);
+        assert_eq!(p[1].unit, crate::ParamUnit::Pa);
+        assert_eq!(p[3].unit, crate::ParamUnit::One);
+        assert_eq!(p[3].value, 5.0);
     }
 
     #[test]

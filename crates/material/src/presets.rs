@@ -1,5 +1,7 @@
 //! Built-in materials.
 
+use hypercontact_core::param::Choice;
+
 use crate::{Hyperelastic, MaterialError, Ogden};
 
 /// The built-in materials, by name.
@@ -18,9 +20,6 @@ impl Preset {
     }
 }
 
-/// Names accepted by [`preset`].
-pub const PRESETS: &[&str] = &["paper-epdm"];
-
 /// The paper's Table 1: the 6-term Ogden fit of its EPDM (μ_i given in MPa
 /// there, stored here in Pa).
 pub fn paper_epdm() -> Ogden {
@@ -30,13 +29,26 @@ pub fn paper_epdm() -> Ogden {
         .expect("Table 1 is a valid Ogden model")
 }
 
-/// A preset by name.
+/// A preset by name (the names of [`Preset`]).
 pub fn preset(name: &str) -> Result<Box<dyn Hyperelastic>, MaterialError> {
-    match name {
-        "paper-epdm" => Ok(Box::new(paper_epdm())),
-        _ => Err(MaterialError::UnknownPreset {
-            name: name.to_owned(),
-            known: PRESETS.join(", "),
-        }),
+    let preset = Preset::from_name(name).ok_or_else(|| MaterialError::UnknownPreset {
+        name: name.to_owned(),
+        known: (Preset::VARIANTS.iter().map(|v| v.name))
+            .collect::<Vec<_>>()
+            .join(", "),
+    })?;
+    Ok(preset.model())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn presets_are_found_by_their_choice_name() {
+        let m = preset("paper-epdm").unwrap();
+        assert_eq!(m.parameters(), paper_epdm().parameters());
+        let e = preset("nitrile").unwrap_err().to_string();
+        assert!(e.contains("`nitrile`") && e.contains("paper-epdm"), "{e}");
     }
 }

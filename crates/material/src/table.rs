@@ -3,7 +3,9 @@
 
 use hypercontact_core::{Schema, Table};
 
-use crate::{ArrudaBoyce, Hyperelastic, MaterialError, MooneyRivlin, NeoHookean, Ogden, Yeoh};
+use crate::{
+    ArrudaBoyce, Hyperelastic, MaterialError, MooneyRivlin, NeoHookean, Ogden, Parameter, Yeoh,
+};
 
 /// The `material` table, one row per parameter.
 #[derive(Clone, Debug, PartialEq, Schema)]
@@ -22,8 +24,8 @@ pub fn to_table(model: &dyn Hyperelastic) -> Table {
     let params = model.parameters();
     MaterialTable {
         model: vec![model.family().to_owned(); params.len()],
-        param: params.iter().map(|(n, _)| n.clone()).collect(),
-        value: params.iter().map(|(_, v)| *v).collect(),
+        param: params.iter().map(Parameter::name).collect(),
+        value: params.iter().map(|p| p.value).collect(),
     }
     .into_table()
 }

@@ -3,13 +3,26 @@
 //! it (columns `mode`, `stretch`, `nominal_stress_pa`), validated so that a
 //! fit can trust it.
 
-use hypercontact_core::{ColumnData, Table};
+use hypercontact_core::{ColumnData, Schema, Table};
 
 use crate::{MaterialError, Mode};
 
 /// Relative errors divide by max(|T|, this × the mode's largest |T|), so a
 /// point at λ ≈ 1 with T ≈ 0 does not dominate a relative fit.
 pub const RELATIVE_FLOOR: f64 = 0.01;
+
+/// The `tensile` table (the DIC stage emits the same columns).
+#[derive(Clone, Debug, PartialEq, Schema)]
+pub struct TensilePoints {
+    /// UT (uniaxial), PT (planar / pure shear) or BT (equibiaxial)
+    pub mode: Vec<String>,
+    /// loading stretch λ ≥ 1, increasing within a mode
+    #[column(unit = "1")]
+    pub stretch: Vec<f64>,
+    /// nominal (first Piola–Kirchhoff) stress: force over undeformed area
+    #[column(unit = "Pa")]
+    pub nominal_stress_pa: Vec<f64>,
+}
 
 /// One mode's curve, stretch strictly increasing from ≥ 1.
 #[derive(Clone, Debug, PartialEq)]
@@ -79,17 +92,18 @@ impl TensileData {
 
     /// The `tensile` table, modes in the order UT, PT, BT.
     pub fn to_table(&self) -> Table {
-        let mut mode = Vec::new();
-        let (mut stretch, mut stress) = (Vec::new(), Vec::new());
+        let mut points = TensilePoints {
+            mode: Vec::new(),
+            stretch: Vec::new(),
+            nominal_stress_pa: Vec::new(),
+        };
         for c in &self.curves {
-            mode.extend(std::iter::repeat_n(c.mode.label(), c.len()));
-            stretch.extend_from_slice(&c.stretch);
-            stress.extend_from_slice(&c.stress_pa);
+            let label = c.mode.label().to_owned();
+            points.mode.extend(std::iter::repeat_n(label, c.len()));
+            points.stretch.extend_from_slice(&c.stretch);
+            points.nominal_stress_pa.extend_from_slice(&c.stress_pa);
         }
-        Table::new()
-            .with("mode", mode)
-            .with("stretch", stretch)
-            .with("nominal_stress_pa", stress)
+        points.into_table()
     }
 
     /// Reads and validates a `tensile` table; `origin` (a file or an input

@@ -2,10 +2,10 @@
 //! Parquet file and validates it for fitting.
 
 use hypercontact_core::{
-    Checked, Context, InputPath, Inputs, OutputSpec, Outputs, Schema, Stage, StageError, StageInfo,
-    params,
+    Checked, Context, InputPath, Inputs, OutputSpec, Outputs, Stage, StageError, StageInfo, params,
 };
 
+pub use crate::tensile::TensilePoints;
 use crate::tensile::normalise_table;
 
 /// Parameters of `tensile-table`.
@@ -13,19 +13,6 @@ use crate::tensile::normalise_table;
 pub struct TensileTableParams {
     /// the CSV or Parquet file (columns mode, stretch, nominal_stress_pa)
     pub path: InputPath,
-}
-
-/// The `tensile` table (the DIC stage emits the same columns).
-#[derive(Clone, Debug, PartialEq, Schema)]
-pub struct TensilePoints {
-    /// UT (uniaxial), PT (planar / pure shear) or BT (equibiaxial)
-    pub mode: Vec<String>,
-    /// loading stretch λ ≥ 1, increasing within a mode
-    #[column(unit = "1")]
-    pub stretch: Vec<f64>,
-    /// nominal (first Piola–Kirchhoff) stress: force over undeformed area
-    #[column(unit = "Pa")]
-    pub nominal_stress_pa: Vec<f64>,
 }
 
 /// The `tensile-table` stage.
@@ -79,7 +66,7 @@ impl Stage for TensileTable {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hypercontact_core::{DynStage, Params, Product};
+    use hypercontact_core::{DynStage, Params, Product, Schema};
     use std::path::PathBuf;
 
     fn dir() -> PathBuf {

@@ -1,8 +1,8 @@
 //! The Yeoh solid (Abaqus' reduced polynomial with N = 3):
 //! W = C10 (I1 − 3) + C20 (I1 − 3)² + C30 (I1 − 3)³, μ0 = 2 C10.
 
-use crate::MaterialError;
 use crate::invariants::{InvariantEnergy, InvariantSlopes};
+use crate::{MaterialError, Parameter};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Yeoh {
@@ -47,11 +47,11 @@ impl InvariantEnergy for Yeoh {
     fn initial_shear_modulus_pa(&self) -> f64 {
         2.0 * self.c10_pa
     }
-    fn named_parameters(&self) -> Vec<(String, f64)> {
+    fn named_parameters(&self) -> Vec<Parameter> {
         vec![
-            ("c10".into(), self.c10_pa),
-            ("c20".into(), self.c20_pa),
-            ("c30".into(), self.c30_pa),
+            Parameter::modulus("c10", self.c10_pa),
+            Parameter::modulus("c20", self.c20_pa),
+            Parameter::modulus("c30", self.c30_pa),
         ]
     }
 }
