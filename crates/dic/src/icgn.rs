@@ -7,6 +7,8 @@
 //! iteration interpolates the deformed image (bicubic B-spline) at the warped
 //! points and updates W(p) ← W(p) ∘ W(Δp)⁻¹.
 
+use nalgebra::{Cholesky, Matrix6, U6, Vector6};
+
 use crate::bspline::BSplineImage;
 use crate::gray::GrayImage;
 
@@ -196,7 +198,7 @@ pub struct ReferenceSubset<'a> {
     sum_j_f: [f64; 6],
     sum_j: [f64; 6],
     /// Cholesky factor of the Gauss–Newton Hessian Σ J̃ᵀ J̃.
-    hessian_chol: [[f64; 6]; 6],
+    hessian_chol: Cholesky<f64, U6>,
 }
 
 impl<'a> ReferenceSubset<'a> {
@@ -281,18 +283,19 @@ impl<'a> ReferenceSubset<'a> {
         // Lower triangle of Σ J Jᵀ from the moments: for the x-block rows
         // a, b ∈ {1, dx, dy}, moment index of the product a·b.
         const PRODUCT: [[usize; 3]; 3] = [[0, 1, 3], [1, 2, 4], [3, 4, 5]];
-        let mut hessian = [[0.0; 6]; 6];
+        let mut hessian = Matrix6::zeros();
         for a in 0..3 {
             for b in 0..3 {
                 let k = PRODUCT[a][b];
                 if b <= a {
-                    hessian[a][b] = m[0][k] * inv_norm_sq;
-                    hessian[a + 3][b + 3] = m[2][k] * inv_norm_sq;
+                    hessian[(a, b)] = m[0][k] * inv_norm_sq;
+                    hessian[(a + 3, b + 3)] = m[2][k] * inv_norm_sq;
                 }
-                hessian[a + 3][b] = m[1][k] * inv_norm_sq;
+                hessian[(a + 3, b)] = m[1][k] * inv_norm_sq;
             }
         }
-        let hessian_chol = cholesky(&hessian)?;
+        // Cholesky reads the lower triangle only.
+        let hessian_chol = Cholesky::new(hessian)?;
         Some(Self {
             x0,
             y0,
@@ -398,12 +401,10 @@ impl<'a> ReferenceSubset<'a> {
             let g_norm = g_ss.sqrt();
             // Σ f̃ g = (Σ f g − f̄ Σ g)/‖f − f̄‖.
             zncc = (sum_fg - self.mean * sum_g) * self.inv_norm / g_norm;
-            let mut b = [0.0; 6];
-            for a in 0..6 {
-                b[a] = self.sum_j_f[a]
-                    - (sum_j_g[a] * self.inv_norm - g_mean * self.sum_j[a]) / g_norm;
-            }
-            let d = cholesky_solve(&self.hessian_chol, &b);
+            let b = Vector6::from_fn(|a, _| {
+                self.sum_j_f[a] - (sum_j_g[a] * self.inv_norm - g_mean * self.sum_j[a]) / g_norm
+            });
+            let d = self.hessian_chol.solve(&b);
             let increment = Warp {
                 u: -d[0],
                 ux: -d[1],
@@ -450,49 +451,6 @@ fn failed(warp: Warp, iterations: usize) -> Match {
     }
 }
 
-/// Lower Cholesky factor of a symmetric positive-definite 6 × 6 matrix whose
-/// lower triangle is filled; None if it is not positive definite.
-fn cholesky(a: &[[f64; 6]; 6]) -> Option<[[f64; 6]; 6]> {
-    let mut l = [[0.0; 6]; 6];
-    for i in 0..6 {
-        for j in 0..=i {
-            let mut s = a[i][j];
-            for (lik, ljk) in l[i][..j].iter().zip(&l[j][..j]) {
-                s -= lik * ljk;
-            }
-            if i == j {
-                if s.is_nan() || s <= 0.0 {
-                    return None;
-                }
-                l[i][i] = s.sqrt();
-            } else {
-                l[i][j] = s / l[j][j];
-            }
-        }
-    }
-    Some(l)
-}
-
-fn cholesky_solve(l: &[[f64; 6]; 6], b: &[f64; 6]) -> [f64; 6] {
-    let mut y = [0.0; 6];
-    for i in 0..6 {
-        let mut s = b[i];
-        for k in 0..i {
-            s -= l[i][k] * y[k];
-        }
-        y[i] = s / l[i][i];
-    }
-    let mut x = [0.0; 6];
-    for i in (0..6).rev() {
-        let mut s = y[i];
-        for k in i + 1..6 {
-            s -= l[k][i] * x[k];
-        }
-        x[i] = s / l[i][i];
-    }
-    x
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -510,24 +468,6 @@ mod tests {
         let id = w.compose_inverse(&w).unwrap();
         for value in [id.u, id.ux, id.uy, id.v, id.vx, id.vy] {
             assert!(value.abs() < 1e-12);
-        }
-    }
-
-    #[test]
-    fn cholesky_solves_a_spd_system() {
-        let a: [[f64; 6]; 6] = std::array::from_fn(|i| {
-            std::array::from_fn(|j| {
-                1.0 / (1.0 + (i as f64 - j as f64).abs()) + if i == j { 2.0 } else { 0.0 }
-            })
-        });
-        let x_true = [1.0, -2.0, 0.5, 3.0, -1.0, 0.25];
-        let mut b = [0.0; 6];
-        for i in 0..6 {
-            b[i] = (0..6).map(|j| a[i][j] * x_true[j]).sum();
-        }
-        let x = cholesky_solve(&cholesky(&a).unwrap(), &b);
-        for i in 0..6 {
-            assert!((x[i] - x_true[i]).abs() < 1e-12);
         }
     }
 
@@ -567,10 +507,10 @@ mod tests {
                 }
             }
         }
-        let l = subset.hessian_chol;
+        let l = subset.hessian_chol.l();
         for a in 0..6 {
             for b in 0..6 {
-                let product: f64 = (0..6).map(|k| l[a][k] * l[b][k]).sum();
+                let product: f64 = (0..6).map(|k| l[(a, k)] * l[(b, k)]).sum();
                 assert!(
                     (product - direct[a][b]).abs() < 1e-10 * direct[a][a].max(direct[b][b]),
                     "H[{a}][{b}] {product} vs {}",

@@ -6,19 +6,13 @@
 //! `roi_px`).
 
 use std::borrow::Cow;
-use std::path::PathBuf;
 
-use hypercontact_core::Files;
+use hypercontact_core::csv_table::read_csv_bytes;
+use hypercontact_core::{ColumnData, FileSource, StageError, Table};
 use serde::Deserialize;
 
 use crate::DicError;
 use crate::gray::GrayImage;
-
-/// Where the files come from.
-pub enum Source<'a> {
-    Files(&'a Files),
-    Dir(PathBuf),
-}
 
 /// One row of `frames.csv`.
 #[derive(Clone, Debug, PartialEq)]
@@ -43,7 +37,7 @@ pub struct Specimen {
 
 /// The opened test.
 pub struct Sequence<'a> {
-    source: Source<'a>,
+    source: FileSource<'a>,
     pub frames: Vec<FrameEntry>,
     /// (time_s, force_n), increasing in time.
     pub force: Vec<(f64, f64)>,
@@ -51,55 +45,33 @@ pub struct Sequence<'a> {
 }
 
 impl<'a> Sequence<'a> {
-    pub fn open(source: Source<'a>) -> Result<Self, DicError> {
-        let mut sequence = Sequence {
-            source,
-            frames: Vec::new(),
-            force: Vec::new(),
-            specimen: Specimen::default(),
-        };
-        let frames_csv = sequence.read("frames.csv")?;
-        sequence.frames = parse_frames(&csv_rows(
+    pub fn open(source: FileSource<'a>) -> Result<Self, DicError> {
+        let frames = parse_frames(&Log::read(
+            &source,
             "frames.csv",
-            &frames_csv,
             &["frame", "time_s", "file"],
         )?)?;
-        let force_csv = sequence.read("force.csv")?;
-        sequence.force = parse_force(&csv_rows("force.csv", &force_csv, &["time_s", "force_n"])?)?;
-        if sequence.exists("specimen.json") {
-            let bytes = sequence.read("specimen.json")?;
-            sequence.specimen = serde_json::from_slice(&bytes).map_err(|e| {
+        let force = parse_force(&Log::read(&source, "force.csv", &["time_s", "force_n"])?)?;
+        let mut specimen = Specimen::default();
+        if source.exists("specimen.json") {
+            specimen = serde_json::from_slice(&read(&source, "specimen.json")?).map_err(|e| {
                 DicError::file(
-                    "specimen.json",
+                    &source.display("specimen.json"),
                     format!("not a valid specimen description: {e}"),
                 )
             })?;
         }
-        Ok(sequence)
-    }
-
-    fn exists(&self, name: &str) -> bool {
-        match &self.source {
-            Source::Files(files) => files.files.contains_key(name),
-            Source::Dir(dir) => dir.join(name).is_file(),
-        }
+        Ok(Sequence {
+            source,
+            frames,
+            force,
+            specimen,
+        })
     }
 
     /// The bytes of file `name`.
     pub fn read(&self, name: &str) -> Result<Cow<'a, [u8]>, DicError> {
-        match &self.source {
-            Source::Files(files) => files
-                .files
-                .get(name)
-                .map(|b| Cow::Borrowed(b.as_slice()))
-                .ok_or_else(|| DicError::file(name, "missing from the `sequence` input")),
-            Source::Dir(dir) => {
-                let path = dir.join(name);
-                std::fs::read(&path)
-                    .map(Cow::Owned)
-                    .map_err(|e| DicError::file(&path.display().to_string(), e.to_string()))
-            }
-        }
+        read(&self.source, name)
     }
 
     /// Decodes frame `k` (index into `frames`).
@@ -115,7 +87,7 @@ impl<'a> Sequence<'a> {
         let slack = 1e-9 * (1.0 + last.abs());
         if t_s < first - slack || t_s > last + slack {
             return Err(DicError::file(
-                "force.csv",
+                &self.source.display("force.csv"),
                 format!(
                     "covers {first} … {last} s but frame {} ({}) was taken at {t_s} s",
                     frame.frame, frame.file
@@ -135,115 +107,143 @@ impl<'a> Sequence<'a> {
     }
 }
 
-/// The rows of a small CSV with a header, as the cells of the `wanted`
-/// columns (by name, any order, extra columns ignored).
-fn csv_rows(
-    name: &str,
-    bytes: &[u8],
-    wanted: &[&str],
-) -> Result<Vec<(usize, Vec<String>)>, DicError> {
-    let text = std::str::from_utf8(bytes).map_err(|_| DicError::file(name, "is not UTF-8 text"))?;
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-    let (_, header) = lines
-        .next()
-        .ok_or_else(|| DicError::file(name, "is empty"))?;
-    let header: Vec<&str> = header.split(',').map(str::trim).collect();
-    let columns: Vec<usize> = wanted
-        .iter()
-        .map(|w| {
-            header.iter().position(|h| h == w).ok_or_else(|| {
-                DicError::file(
-                    name,
-                    format!("has no column `{w}` (header: {})", header.join(", ")),
-                )
-            })
+/// File `name` of the source; a missing one is an error saying so.
+fn read<'a>(source: &FileSource<'a>, name: &str) -> Result<Cow<'a, [u8]>, DicError> {
+    if !source.exists(name) {
+        return Err(DicError::file(&source.display(name), "missing"));
+    }
+    source.read(name).map_err(from_source)
+}
+
+/// A file error of the source as the crate's error.
+fn from_source(e: StageError) -> DicError {
+    match e {
+        StageError::File { path, message } => DicError::File {
+            file: path.display().to_string(),
+            message,
+        },
+        other => DicError::Invalid(other.to_string()),
+    }
+}
+
+/// A small CSV log with a header, read by the one CSV reader: columns by
+/// name (any order, extra columns ignored), a bad cell an error naming the
+/// file and line.
+struct Log {
+    table: Table,
+    /// The file as errors show it.
+    shown: String,
+}
+
+impl Log {
+    /// CSV file `name` of the source, with the `columns` and some rows.
+    fn read(source: &FileSource, name: &str, columns: &[&str]) -> Result<Self, DicError> {
+        let shown = source.display(name);
+        let table = read_csv_bytes(&read(source, name)?, &shown).map_err(from_source)?;
+        let log = Log { table, shown };
+        if log.table.columns().is_empty() {
+            return Err(log.error("is empty".into()));
+        }
+        for column in columns {
+            log.column(column)?;
+        }
+        if log.rows() == 0 {
+            return Err(log.error("has a header but no rows".into()));
+        }
+        Ok(log)
+    }
+
+    fn rows(&self) -> usize {
+        self.table.n_rows()
+    }
+
+    fn error(&self, message: String) -> DicError {
+        DicError::file(&self.shown, message)
+    }
+
+    /// The file line of data row `row` (0-based): the header is line 1. The
+    /// CSV reader gives rows, so a comment line above a row is not counted.
+    fn line(row: usize) -> usize {
+        row + 2
+    }
+
+    fn column(&self, name: &str) -> Result<&ColumnData, DicError> {
+        self.table.column(name).map_err(|_| {
+            self.error(format!(
+                "has no column `{name}` (header: {})",
+                self.table.column_names().join(", ")
+            ))
         })
-        .collect::<Result<_, _>>()?;
-    let mut rows = Vec::new();
-    for (line, text) in lines {
-        let cells: Vec<&str> = text.split(',').map(str::trim).collect();
-        let row = columns
-            .iter()
-            .map(|&c| {
-                cells.get(c).map(|s| s.to_string()).ok_or_else(|| {
-                    DicError::file(
-                        name,
-                        format!(
-                            "line {line}: {} cells, expected {}",
-                            cells.len(),
-                            header.len()
-                        ),
-                    )
-                })
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        rows.push((line, row));
     }
-    if rows.is_empty() {
-        return Err(DicError::file(name, "has a header but no rows"));
-    }
-    Ok(rows)
-}
 
-fn number(name: &str, line: usize, column: &str, cell: &str) -> Result<f64, DicError> {
-    match cell.parse::<f64>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(DicError::file(
-            name,
-            format!("line {line}, column `{column}`: `{cell}` is not a finite number"),
-        )),
+    /// Cell `row` of column `name` as text (a number as Rust prints it).
+    fn text(&self, name: &str, row: usize) -> Result<String, DicError> {
+        Ok(match self.column(name)? {
+            ColumnData::F64(v) => v[row].to_string(),
+            ColumnData::I64(v) => v[row].to_string(),
+            ColumnData::Str(v) => v[row].clone(),
+        })
+    }
+
+    fn number(&self, name: &str, row: usize) -> Result<f64, DicError> {
+        let cell = self.text(name, row)?;
+        match cell.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(self.error(format!(
+                "line {}, column `{name}`: `{cell}` is not a finite number",
+                Self::line(row)
+            ))),
+        }
+    }
+
+    fn integer(&self, name: &str, row: usize) -> Result<i64, DicError> {
+        let cell = self.text(name, row)?;
+        cell.parse::<i64>().map_err(|_| {
+            self.error(format!(
+                "line {}, column `{name}`: `{cell}` is not an integer",
+                Self::line(row)
+            ))
+        })
     }
 }
 
-fn parse_frames(rows: &[(usize, Vec<String>)]) -> Result<Vec<FrameEntry>, DicError> {
-    let mut frames = Vec::with_capacity(rows.len());
-    for (line, cells) in rows {
-        let frame = cells[0].parse::<i64>().map_err(|_| {
-            DicError::file(
-                "frames.csv",
-                format!(
-                    "line {line}, column `frame`: `{}` is not an integer",
-                    cells[0]
-                ),
-            )
-        })?;
-        let time_s = number("frames.csv", *line, "time_s", &cells[1])?;
-        if let Some(prev) = frames.last().map(|f: &FrameEntry| f.time_s)
+fn parse_frames(log: &Log) -> Result<Vec<FrameEntry>, DicError> {
+    let mut frames: Vec<FrameEntry> = Vec::with_capacity(log.rows());
+    for row in 0..log.rows() {
+        let frame = log.integer("frame", row)?;
+        let time_s = log.number("time_s", row)?;
+        if let Some(prev) = frames.last().map(|f| f.time_s)
             && time_s <= prev
         {
-            return Err(DicError::file(
-                "frames.csv",
-                format!("line {line}: time_s = {time_s} does not increase (previous {prev})"),
-            ));
+            return Err(log.error(format!(
+                "line {}: time_s = {time_s} does not increase (previous {prev})",
+                Log::line(row)
+            )));
         }
         frames.push(FrameEntry {
             frame,
             time_s,
-            file: cells[2].clone(),
+            file: log.text("file", row)?,
         });
     }
     if frames.len() < 2 {
-        return Err(DicError::file("frames.csv", "lists fewer than 2 frames"));
+        return Err(log.error("lists fewer than 2 frames".into()));
     }
     Ok(frames)
 }
 
-fn parse_force(rows: &[(usize, Vec<String>)]) -> Result<Vec<(f64, f64)>, DicError> {
-    let mut force: Vec<(f64, f64)> = Vec::with_capacity(rows.len());
-    for (line, cells) in rows {
-        let t = number("force.csv", *line, "time_s", &cells[0])?;
-        let f = number("force.csv", *line, "force_n", &cells[1])?;
+fn parse_force(log: &Log) -> Result<Vec<(f64, f64)>, DicError> {
+    let mut force: Vec<(f64, f64)> = Vec::with_capacity(log.rows());
+    for row in 0..log.rows() {
+        let t = log.number("time_s", row)?;
+        let f = log.number("force_n", row)?;
         if let Some(&(prev, _)) = force.last()
             && t <= prev
         {
-            return Err(DicError::file(
-                "force.csv",
-                format!("line {line}: time_s = {t} does not increase (previous {prev})"),
-            ));
+            return Err(log.error(format!(
+                "line {}: time_s = {t} does not increase (previous {prev})",
+                Log::line(row)
+            )));
         }
         force.push((t, f));
     }
@@ -253,6 +253,14 @@ fn parse_force(rows: &[(usize, Vec<String>)]) -> Result<Vec<(f64, f64)>, DicErro
 #[cfg(test)]
 mod tests {
     use super::*;
+    use hypercontact_core::Files;
+
+    fn source(files: &Files) -> FileSource<'_> {
+        FileSource::Files {
+            files,
+            input: "sequence".into(),
+        }
+    }
 
     fn files(frames: &str, force: &str) -> Files {
         Files::new()
@@ -266,7 +274,7 @@ mod tests {
             "frame,time_s,file\n0,0.0,a.png\n1,0.5,b.png\n",
             "time_s,force_n\n0,0\n0.02,1\n0.52,2\n",
         );
-        let s = Sequence::open(Source::Files(&f)).unwrap();
+        let s = Sequence::open(source(&f)).unwrap();
         assert_eq!(s.frames[1].file, "b.png");
         let force = s.force_at(0.5, &s.frames[1]).unwrap();
         assert!((force - (1.0 + 0.48 / 0.5)).abs() < 1e-12);
@@ -278,20 +286,20 @@ mod tests {
             "frame,time_s,file\n0,0.0,a.png\n1,0.5,b.png\n",
             "time_s,force_n\n0,0\n0.2,1\n",
         );
-        let s = Sequence::open(Source::Files(&f)).unwrap();
+        let s = Sequence::open(source(&f)).unwrap();
         let e = s.force_at(0.5, &s.frames[1]).unwrap_err().to_string();
         assert!(e.contains("force.csv") && e.contains("b.png"), "{e}");
         let f = files(
             "frame,time_s,file\n0,0.0,a.png\n1,x,b.png\n",
             "time_s,force_n\n0,0\n",
         );
-        let e = Sequence::open(Source::Files(&f)).err().unwrap().to_string();
+        let e = Sequence::open(source(&f)).err().unwrap().to_string();
         assert!(e.contains("frames.csv") && e.contains("line 3"), "{e}");
         let f = files("frame,t,file\n0,0.0,a.png\n", "time_s,force_n\n0,0\n");
-        let e = Sequence::open(Source::Files(&f)).err().unwrap().to_string();
+        let e = Sequence::open(source(&f)).err().unwrap().to_string();
         assert!(e.contains("no column `time_s`"), "{e}");
         let f = Files::new();
-        let e = Sequence::open(Source::Files(&f)).err().unwrap().to_string();
+        let e = Sequence::open(source(&f)).err().unwrap().to_string();
         assert!(e.contains("frames.csv") && e.contains("missing"), "{e}");
     }
 }

@@ -9,8 +9,8 @@
 //! (gauge width × thickness), as the paper's section 2 tests report it.
 
 use hypercontact_core::{
-    Arity, Checked, Choice, ColumnSpec, Context, Field, InputPath, InputSpec, Inputs, Mode,
-    OutputSpec, Outputs, ProductKind, Stage, StageError, StageInfo, Table, params,
+    Arity, Checked, Choice, Context, Field, FileSource, InputPath, InputSpec, Inputs, Mode,
+    OutputSpec, Outputs, Schema, Stage, StageError, StageInfo, params,
 };
 use ndarray::Array2;
 
@@ -18,7 +18,7 @@ use crate::DicError;
 use crate::icgn::IcgnSettings;
 use crate::markers::{MarkerSettings, MarkerTracker};
 use crate::poi_grid::PoiGrid;
-use crate::sequence::{Sequence, Source};
+use crate::sequence::Sequence;
 use crate::strain::{Mat2, affine_fit, gradient_field, green_lagrange, principal_stretches};
 use crate::subset_tracking::{SubsetSettings, SubsetTracker};
 
@@ -115,30 +115,33 @@ impl DicParams {
 /// The `dic` stage.
 pub struct Dic;
 
-/// The tensile table schema, shared with `tensile-table`.
-pub const TENSILE_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::str("mode", "UT, PT or BT"),
-    ColumnSpec::i64("frame", "", "frame number from frames.csv"),
-    ColumnSpec::f64("time_s", "s", "frame time"),
-    ColumnSpec::f64(
-        "stretch",
-        "",
-        "loading stretch λ (principal, nearest the x axis)",
-    ),
-    ColumnSpec::f64("stretch_2", "", "in-plane transverse principal stretch"),
-    ColumnSpec::f64("strain", "", "engineering strain λ − 1"),
-    ColumnSpec::f64("force_n", "N", "force interpolated at the frame time"),
-    ColumnSpec::f64(
-        "nominal_stress_pa",
-        "Pa",
-        "force / undeformed cross-section",
-    ),
-    ColumnSpec::f64(
-        "valid_fraction",
-        "",
-        "share of POIs (or markers) tracked in this frame",
-    ),
-];
+/// Output `tensile`: one row per frame. `mode`, `stretch` and
+/// `nominal_stress_pa` are the columns of `tensile-table`'s table, so
+/// `material-fit` reads either.
+#[derive(Clone, Debug, Default, PartialEq, Schema)]
+pub struct DicTensileTable {
+    /// UT, PT or BT
+    pub mode: Vec<String>,
+    /// frame number from frames.csv
+    pub frame: Vec<i64>,
+    /// frame time
+    #[column(unit = "s")]
+    pub time_s: Vec<f64>,
+    /// loading stretch λ (principal, nearest the x axis)
+    pub stretch: Vec<f64>,
+    /// in-plane transverse principal stretch
+    pub stretch_2: Vec<f64>,
+    /// engineering strain λ − 1
+    pub strain: Vec<f64>,
+    /// force interpolated at the frame time
+    #[column(unit = "N")]
+    pub force_n: Vec<f64>,
+    /// force / undeformed cross-section
+    #[column(unit = "Pa")]
+    pub nominal_stress_pa: Vec<f64>,
+    /// share of POIs (or markers) tracked in this frame
+    pub valid_fraction: Vec<f64>,
+}
 
 static INFO: StageInfo = StageInfo {
     kind: "dic",
@@ -155,26 +158,17 @@ static INFO: StageInfo = StageInfo {
           F → principal stretches (λ along x first). Field `strain`: Green–Lagrange E_xx of the \
           last frame from strain-window fits (NaN where invalid). Force linearly interpolated \
           at frame times; nominal stress = F / (gauge width × thickness).",
-    inputs: &[InputSpec {
-        name: "sequence",
-        kind: ProductKind::Files,
-        arity: Arity::Optional,
-        columns: &[],
-        doc: "the synth-tensile files (or use `dir`)",
-    }],
+    inputs: &[InputSpec::files(
+        "sequence",
+        Arity::Optional,
+        "the synth-tensile files (or use `dir`)",
+    )],
     outputs: &[
-        OutputSpec {
-            name: "tensile",
-            kind: ProductKind::Table,
-            columns: TENSILE_COLUMNS,
-            doc: "one row per frame",
-        },
-        OutputSpec {
-            name: "strain",
-            kind: ProductKind::Field,
-            columns: &[],
-            doc: "Green–Lagrange E_xx of the last frame on the POI grid (markers: one gauge value)",
-        },
+        OutputSpec::table::<DicTensileTable>("tensile", "one row per frame"),
+        OutputSpec::field(
+            "strain",
+            "Green–Lagrange E_xx of the last frame on the POI grid (markers: one gauge value)",
+        ),
     ],
 };
 
@@ -191,31 +185,18 @@ impl Stage for Dic {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let source = match (inputs.get("sequence"), &p.dir) {
-            (Some(_), Some(_)) => {
-                return Err(StageError::invalid(
-                    "give either the `sequence` input or the parameter `dir`, not both",
-                ));
-            }
-            (None, None) => {
-                return Err(StageError::invalid(
-                    "no images: connect the `sequence` input or set the parameter `dir`",
-                ));
-            }
-            (Some(_), None) => Source::Files(inputs.files("sequence")?),
-            (None, Some(dir)) => Source::Dir(dir.path().to_owned()),
-        };
+        let source = FileSource::input_or_dir(inputs, "sequence", "dir", p.dir.as_ref())?;
         let sequence = Sequence::open(source).map_err(StageError::other)?;
         let analysis = analyse(&sequence, p, ctx).map_err(StageError::other)?;
         Ok(Outputs::new()
-            .table("tensile", analysis.table)
+            .table("tensile", analysis.table.into_table())
             .field("strain", analysis.strain))
     }
 }
 
 /// The stage's results.
 pub struct Analysis {
-    pub table: Table,
+    pub table: DicTensileTable,
     /// Green–Lagrange E_xx of the last frame.
     pub strain: Field,
     /// Gauge deformation gradient per frame.
@@ -359,45 +340,22 @@ pub fn analyse(
         stretch_2.push(l2);
         force.push(sequence.force_at(entry.time_s, entry)?);
     }
-    let table = Table::new()
-        .with("mode", vec![mode.label(); n_frames])
-        .with(
-            "frame",
-            sequence.frames.iter().map(|f| f.frame).collect::<Vec<_>>(),
-        )
-        .with(
-            "time_s",
-            sequence.frames.iter().map(|f| f.time_s).collect::<Vec<_>>(),
-        )
-        .with(
-            "strain",
-            stretch.iter().map(|l| l - 1.0).collect::<Vec<_>>(),
-        )
-        .with("stretch", stretch)
-        .with("stretch_2", stretch_2)
-        .with(
-            "nominal_stress_pa",
-            force.iter().map(|f| f / area_m2).collect::<Vec<_>>(),
-        )
-        .with("force_n", force)
-        .with("valid_fraction", valid_fraction);
-    let table = reorder(table);
+    let table = DicTensileTable {
+        mode: vec![mode.label().to_owned(); n_frames],
+        frame: sequence.frames.iter().map(|f| f.frame).collect(),
+        time_s: sequence.frames.iter().map(|f| f.time_s).collect(),
+        strain: stretch.iter().map(|l| l - 1.0).collect(),
+        stretch,
+        stretch_2,
+        nominal_stress_pa: force.iter().map(|f| f / area_m2).collect(),
+        force_n: force,
+        valid_fraction,
+    };
     Ok(Analysis {
         table,
         strain: strain_field,
         gradients,
     })
-}
-
-/// The columns in the order of [`TENSILE_COLUMNS`].
-fn reorder(table: Table) -> Table {
-    let mut out = Table::new();
-    for spec in TENSILE_COLUMNS {
-        if let Ok(column) = table.column(spec.name) {
-            out.push(spec.name, column.clone());
-        }
-    }
-    out
 }
 
 /// The gauge deformation gradient from all valid points.

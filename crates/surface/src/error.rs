@@ -41,6 +41,9 @@ pub enum SurfaceError {
     Disconnected { file: String, first: String },
     #[error("{0}")]
     Input(String),
+    /// Reading a file of the tile set (the error names it).
+    #[error(transparent)]
+    Source(#[from] StageError),
     #[error(
         "too few PSD points ({found}) between wavelengths {lambda_min_m} m and {lambda_max_m} m \
              to fit the Hurst exponent along {direction}; widen hurst_lambda_min_m / hurst_lambda_max_m"

@@ -11,6 +11,7 @@ pub mod register;
 pub mod stats;
 pub mod stitch;
 pub mod surface_stage;
+pub mod surface_tables;
 pub mod tiles;
 
 use hypercontact_core::Registry;

@@ -2,6 +2,7 @@
 //! of a map: the detrending applied before statistics and PSDs (the
 //! SurfaceTopography `detrend("height")` model, made NaN-aware).
 
+use nalgebra::{Matrix3, Vector3};
 use ndarray::Array2;
 
 /// Plane coefficients in pixel coordinates: h ≈ a + b·i + c·j.
@@ -18,27 +19,13 @@ impl Plane {
     }
 }
 
-/// Solves the 3 × 3 normal equations by Cramer's rule (well conditioned
-/// because coordinates are centred), None if singular.
+/// Solves the 3 × 3 normal equations m·x = r (row-major m) by LU with
+/// partial pivoting; None if m is singular.
 pub fn solve3(m: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
-    let det = |m: [[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    };
-    let d = det(m);
-    if d.abs() < 1e-300 || !d.is_finite() {
-        return None;
-    }
-    let mut out = [0.0; 3];
-    for (k, o) in out.iter_mut().enumerate() {
-        let mut mk = m;
-        for row in 0..3 {
-            mk[row][k] = r[row];
-        }
-        *o = det(mk) / d;
-    }
-    Some(out)
+    let x = Matrix3::from_fn(|i, j| m[i][j])
+        .lu()
+        .solve(&Vector3::from(r))?;
+    x.iter().all(|v| v.is_finite()).then(|| x.into())
 }
 
 /// The least-squares plane through the non-NaN points; None if they are

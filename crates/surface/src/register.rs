@@ -12,6 +12,7 @@
 
 use std::f64::consts::TAU;
 
+use nalgebra::{Matrix5, Vector5};
 use ndarray::Array2;
 use rustfft::FftPlanner;
 use rustfft::num_complex::Complex64;
@@ -307,8 +308,8 @@ pub fn refine_shift(a: &Array2<f64>, b: &Array2<f64>, start: [f64; 2]) -> Option
         if e[0].abs() > 1.5 || e[1].abs() > 1.5 {
             return None;
         }
-        let mut m = vec![0.0; 25];
-        let mut r = vec![0.0; 5];
+        let mut m = Matrix5::zeros();
+        let mut r = Vector5::zeros();
         let mut count = 0usize;
         for i in (margin..nx - margin).step_by(stride) {
             for j in (margin..ny - margin).step_by(stride) {
@@ -327,26 +328,22 @@ pub fn refine_shift(a: &Array2<f64>, b: &Array2<f64>, start: [f64; 2]) -> Option
                     continue;
                 };
                 // Residual hb − (ha + plane); unknowns δe and the plane.
-                let jac = [
+                let jac = Vector5::new(
                     xp - xm,
                     yp - ym,
                     1.0,
                     (i as f64 - cx) / scale,
                     (j as f64 - cy) / scale,
-                ];
-                for p in 0..5 {
-                    r[p] += jac[p] * (hb - ha);
-                    for q in 0..5 {
-                        m[p * 5 + q] += jac[p] * jac[q];
-                    }
-                }
+                );
+                r += jac * (hb - ha);
+                m += jac * jac.transpose();
                 count += 1;
             }
         }
         if count < 50 {
             return None;
         }
-        let step = crate::stitch::solve_dense(m, r, 5)?;
+        let step = m.lu().solve(&r)?;
         e = [e[0] + step[0], e[1] + step[1]];
         if step[0].abs().max(step[1].abs()) < 1e-5 {
             return Some(e);

@@ -19,6 +19,7 @@
 //!    resolution afterwards, and rounding avoids interpolating (smoothing)
 //!    the measured heights.
 
+use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 use ndarray::Array2;
 use rayon::prelude::*;
 
@@ -154,38 +155,6 @@ fn register_pair(set: &TileSet, i: usize, j: usize, min_px: usize) -> Option<Pai
     })
 }
 
-/// Solves a dense n × n system by Gaussian elimination with partial pivoting.
-pub(crate) fn solve_dense(mut m: Vec<f64>, mut r: Vec<f64>, n: usize) -> Option<Vec<f64>> {
-    for col in 0..n {
-        let pivot =
-            (col..n).max_by(|&x, &y| m[x * n + col].abs().total_cmp(&m[y * n + col].abs()))?;
-        if m[pivot * n + col].abs() < 1e-300 {
-            return None;
-        }
-        if pivot != col {
-            for k in 0..n {
-                m.swap(col * n + k, pivot * n + k);
-            }
-            r.swap(col, pivot);
-        }
-        for row in col + 1..n {
-            let f = m[row * n + col] / m[col * n + col];
-            if f != 0.0 {
-                for k in col..n {
-                    m[row * n + k] -= f * m[col * n + k];
-                }
-                r[row] -= f * r[col];
-            }
-        }
-    }
-    let mut x = vec![0.0; n];
-    for row in (0..n).rev() {
-        let s: f64 = (row + 1..n).map(|k| m[row * n + k] * x[k]).sum();
-        x[row] = (r[row] - s) / m[row * n + row];
-    }
-    Some(x)
-}
-
 /// A pair whose registered offset differs from the joint least-squares
 /// solution by more than this (pixels, either axis) is an outlier — a
 /// featureless or repetitive overlap that locked onto a wrong peak — and is
@@ -245,20 +214,20 @@ fn solve_positions(nominal_px: &[[f64; 2]], fits: &[PairFit]) -> Option<Vec<[f64
     let mut out = vec![[0.0; 2]; n];
     for a in 0..2 {
         // Normal equations of Σ (P_j − P_i − m)² + (Σ (P_k − N_k))².
-        let mut m = vec![1.0; n * n];
+        let mut m = DMatrix::from_element(n, n, 1.0);
         let sum_nominal: f64 = nominal_px.iter().map(|p| p[a]).sum();
-        let mut r = vec![sum_nominal; n];
+        let mut r = DVector::from_element(n, sum_nominal);
         for f in fits {
-            m[f.i * n + f.i] += 1.0;
-            m[f.j * n + f.j] += 1.0;
-            m[f.i * n + f.j] -= 1.0;
-            m[f.j * n + f.i] -= 1.0;
+            m[(f.i, f.i)] += 1.0;
+            m[(f.j, f.j)] += 1.0;
+            m[(f.i, f.j)] -= 1.0;
+            m[(f.j, f.i)] -= 1.0;
             r[f.i] -= f.offset_px[a];
             r[f.j] += f.offset_px[a];
         }
-        let p = solve_dense(m, r, n)?;
-        for (o, v) in out.iter_mut().zip(p) {
-            o[a] = v;
+        let p = m.lu().solve(&r)?;
+        for (o, v) in out.iter_mut().zip(p.iter()) {
+            o[a] = *v;
         }
     }
     Some(out)
@@ -311,11 +280,11 @@ fn level(set: &TileSet, fits: &[PairFit], positions: &[[i64; 2]]) -> Option<Vec<
     let dim = 3 * n;
     // Coordinates scaled by the tile size keep the system well conditioned.
     let scale = sx.max(sy) as f64;
-    let sums: Vec<(Vec<f64>, Vec<f64>)> = fits
+    let sums: Vec<(Matrix6<f64>, Vector6<f64>)> = fits
         .par_iter()
         .map(|f| {
-            let mut m = vec![0.0; 36];
-            let mut r = vec![0.0; 6];
+            let mut m = Matrix6::zeros();
+            let mut r = Vector6::zeros();
             let d = [
                 positions[f.j][0] - positions[f.i][0],
                 positions[f.j][1] - positions[f.i][1],
@@ -334,46 +303,42 @@ fn level(set: &TileSet, fits: &[PairFit], positions: &[[i64; 2]]) -> Option<Vec<
                         continue;
                     }
                     // ha − hb = plane_i(u, v) − plane_j(ub, vb).
-                    let basis = [
+                    let basis = Vector6::new(
                         1.0,
                         (u as f64 - cx) / scale,
                         (v as f64 - cy) / scale,
                         -1.0,
                         -(ub as f64 - cx) / scale,
                         -(vb as f64 - cy) / scale,
-                    ];
-                    for p in 0..6 {
-                        r[p] += basis[p] * (ha - hb);
-                        for q in 0..6 {
-                            m[p * 6 + q] += basis[p] * basis[q];
-                        }
-                    }
+                    );
+                    r += basis * (ha - hb);
+                    m += basis * basis.transpose();
                 }
             }
             (m, r)
         })
         .collect();
-    let mut m = vec![0.0; dim * dim];
-    let mut r = vec![0.0; dim];
+    let mut m = DMatrix::zeros(dim, dim);
+    let mut r = DVector::zeros(dim);
     for (f, (pm, pr)) in fits.iter().zip(&sums) {
         let index = |k: usize| if k < 3 { 3 * f.i + k } else { 3 * f.j + k - 3 };
         for p in 0..6 {
             r[index(p)] += pr[p];
             for q in 0..6 {
-                m[index(p) * dim + index(q)] += pm[p * 6 + q];
+                m[(index(p), index(q))] += pm[(p, q)];
             }
         }
     }
     // Gauge: Σ a = Σ b = Σ c = 0, weighted like a typical overlap.
-    let weight = m.iter().step_by(dim + 1).sum::<f64>() / dim as f64;
+    let weight = m.trace() / dim as f64;
     for k in 0..3 {
         for i in 0..n {
             for j in 0..n {
-                m[(3 * i + k) * dim + 3 * j + k] += weight;
+                m[(3 * i + k, 3 * j + k)] += weight;
             }
         }
     }
-    let x = solve_dense(m, r, dim)?;
+    let x = m.lu().solve(&r)?;
     Some(
         (0..n)
             .map(|i| [x[3 * i], x[3 * i + 1] / scale, x[3 * i + 2] / scale])
@@ -538,20 +503,6 @@ pub fn covered_region(covered: &Array2<bool>) -> [(usize, usize); 2] {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn dense_solver_solves() {
-        let m = vec![4.0, 1.0, 0.0, 1.0, 3.0, 1.0, 0.0, 1.0, 2.0];
-        let x = solve_dense(m, vec![1.0, 2.0, 3.0], 3).unwrap();
-        let back = [
-            4.0 * x[0] + x[1],
-            x[0] + 3.0 * x[1] + x[2],
-            x[1] + 2.0 * x[2],
-        ];
-        for (b, r) in back.iter().zip([1.0, 2.0, 3.0]) {
-            assert!((b - r).abs() < 1e-12);
-        }
-    }
 
     #[test]
     fn a_wrong_pair_is_dropped_and_the_rest_solved_exactly() {

@@ -3,10 +3,9 @@
 
 use std::f64::consts::TAU;
 
-use hypercontact_core::product::ProductKind;
 use hypercontact_core::{
-    Arity, Checked, Choice, ColumnSpec, Context, Field, InputPath, InputSpec, Inputs, OutputSpec,
-    Outputs, ParamError, Stage, StageError, StageInfo, Table, params,
+    Arity, Checked, Choice, Context, Field, FileSource, InputPath, InputSpec, Inputs, OutputSpec,
+    Outputs, ParamError, Schema, Stage, StageError, StageInfo, params,
 };
 use ndarray::Array2;
 
@@ -15,8 +14,10 @@ use crate::hurst::{Dimension, fit_power_law};
 use crate::psd::{Spectrum, Window, psd_radial, psd_x, psd_y};
 use crate::stats::{Reference, reference_height, rms_slope, sigma};
 use crate::stitch::{Mosaic, covered_region, stitch};
-use crate::tiles::{DirSource, FilesSource, TileSet, TileSource, read_tiles};
+use crate::tiles::{TileSet, read_tiles};
 use crate::{filter, plane};
+
+pub use crate::surface_tables::{PsdTable, StatsTable, StitchTable};
 
 /// Where heights are measured from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Choice)]
@@ -85,56 +86,6 @@ fn ordered_hurst_range(p: &SurfaceParams) -> Result<(), ParamError> {
 /// The `surface` stage.
 pub struct Surface;
 
-const PSD_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::str("direction", "x, y or radial"),
-    ColumnSpec::f64("q_per_m", "rad/m", "wavevector, mean of the bin's members"),
-    ColumnSpec::f64(
-        "c",
-        "m³ (x, y) or m⁴ (radial)",
-        "PSD, mean of the bin's members",
-    ),
-];
-
-const STATS_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::f64("sigma_m", "m", "areal rms height Sq after detrending"),
-    ColumnSpec::f64("rms_slope", "", "rms gradient √⟨|∇h|²⟩"),
-    ColumnSpec::f64("hurst_x", "", "Hurst exponent from the PSD along x"),
-    ColumnSpec::f64("hurst_y", "", "Hurst exponent from the PSD along y"),
-    ColumnSpec::f64("hurst_radial", "", "Hurst exponent from the radial PSD"),
-    ColumnSpec::i64("nx", "", "points along x"),
-    ColumnSpec::i64("ny", "", "points along y"),
-    ColumnSpec::f64("dx_m", "m", "grid spacing (x and y)"),
-    ColumnSpec::f64("nan_fraction", "", "share of unmeasured points in `height`"),
-];
-
-const STITCH_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::i64("tile", "", "the tile column of positions.csv"),
-    ColumnSpec::str("file", "tile file"),
-    ColumnSpec::f64("x_nominal_px", "px", "recorded position of pixel [0, 0], x"),
-    ColumnSpec::f64("y_nominal_px", "px", "recorded position of pixel [0, 0], y"),
-    ColumnSpec::f64("x_found_px", "px", "position found by stitching, x"),
-    ColumnSpec::f64("y_found_px", "px", "position found by stitching, y"),
-    ColumnSpec::f64("x_offset_px", "px", "found minus nominal, x"),
-    ColumnSpec::f64("y_offset_px", "px", "found minus nominal, y"),
-    ColumnSpec::f64(
-        "tilt_x_rad",
-        "rad",
-        "slope removed along x (about the tile centre)",
-    ),
-    ColumnSpec::f64("tilt_y_rad", "rad", "slope removed along y"),
-    ColumnSpec::f64("piston_m", "m", "height removed at the tile centre"),
-    ColumnSpec::f64(
-        "overlap_correlation",
-        "",
-        "mean Pearson correlation of its aligned overlaps",
-    ),
-    ColumnSpec::i64(
-        "pairs_rejected",
-        "",
-        "overlaps of this tile dropped as outliers (registered offset > 0.5 px from the joint solution)",
-    ),
-];
-
 static INFO: StageInfo = StageInfo {
     kind: "surface",
     version: 2,
@@ -174,51 +125,30 @@ static INFO: StageInfo = StageInfo {
           Gaussian still passes 90 % of the power, 3.6 cut-offs = 7.3·resolution_m, so the filter's \
           roll-off does not steepen the slope).",
     inputs: &[
-        InputSpec {
-            name: "tiles",
-            kind: ProductKind::Files,
-            arity: Arity::Optional,
-            columns: &[],
-            doc: "tile_NNN.npy + positions.csv",
-        },
-        InputSpec {
-            name: "height",
-            kind: ProductKind::Field,
-            arity: Arity::Optional,
-            columns: &[],
-            doc: "an already stitched map (skips stitching)",
-        },
+        InputSpec::files("tiles", Arity::Optional, "tile_NNN.npy + positions.csv"),
+        InputSpec::field(
+            "height",
+            Arity::Optional,
+            "an already stitched map (skips stitching)",
+        ),
     ],
     outputs: &[
-        OutputSpec {
-            name: "height",
-            kind: ProductKind::Field,
-            columns: &[],
-            doc: "stitched, filtered, detrended map from the reference height, metres (NaN = unmeasured)",
-        },
-        OutputSpec {
-            name: "psd",
-            kind: ProductKind::Table,
-            columns: PSD_COLUMNS,
-            doc: "binned PSDs",
-        },
-        OutputSpec {
-            name: "stats",
-            kind: ProductKind::Table,
-            columns: STATS_COLUMNS,
-            doc: "one row",
-        },
-        OutputSpec {
-            name: "stitch",
-            kind: ProductKind::Table,
-            columns: STITCH_COLUMNS,
-            doc: "per tile",
-        },
+        OutputSpec::field(
+            "height",
+            "stitched, filtered, detrended map from the reference height, metres (NaN = unmeasured)",
+        ),
+        OutputSpec::table::<PsdTable>("psd", "binned PSDs"),
+        OutputSpec::table::<StatsTable>("stats", "one row"),
+        OutputSpec::table::<StitchTable>("stitch", "per tile"),
     ],
 };
 
 /// The stitched map at the measured spacing and the stitch table.
-fn stitched(set: &TileSet, p: &SurfaceParams, ctx: &Context) -> Result<(Field, Table), StageError> {
+fn stitched(
+    set: &TileSet,
+    p: &SurfaceParams,
+    ctx: &Context,
+) -> Result<(Field, StitchTable), StageError> {
     let progress = ctx.progress(1, "stitch tiles");
     let Mosaic {
         heights,
@@ -230,41 +160,7 @@ fn stitched(set: &TileSet, p: &SurfaceParams, ctx: &Context) -> Result<(Field, T
     let cropped = Array2::from_shape_fn((x1 - x0, y1 - y0), |(i, j)| heights[[x0 + i, y0 + j]]);
     drop(heights);
     let field = Field::new(cropped, set.pixel_m, set.pixel_m).map_err(StageError::other)?;
-    let col =
-        |f: &dyn Fn(&crate::stitch::TileFit) -> f64| tiles.iter().map(f).collect::<Vec<f64>>();
-    let table = Table::new()
-        .with("tile", set.ids.clone())
-        .with("file", set.names.clone())
-        .with("x_nominal_px", col(&|t| t.nominal_px[0]))
-        .with("y_nominal_px", col(&|t| t.nominal_px[1]))
-        .with("x_found_px", col(&|t| t.found_px[0]))
-        .with("y_found_px", col(&|t| t.found_px[1]))
-        .with("x_offset_px", col(&|t| t.found_px[0] - t.nominal_px[0]))
-        .with("y_offset_px", col(&|t| t.found_px[1] - t.nominal_px[1]))
-        .with("tilt_x_rad", col(&|t| t.tilt_rad[0]))
-        .with("tilt_y_rad", col(&|t| t.tilt_rad[1]))
-        .with("piston_m", col(&|t| t.piston_m))
-        .with("overlap_correlation", col(&|t| t.correlation))
-        .with(
-            "pairs_rejected",
-            tiles
-                .iter()
-                .map(|t| t.pairs_rejected as i64)
-                .collect::<Vec<i64>>(),
-        );
-    Ok((field, table))
-}
-
-fn empty_stitch_table() -> Table {
-    let mut t = Table::new();
-    for c in STITCH_COLUMNS {
-        match c.dtype {
-            hypercontact_core::DType::F64 => t.push(c.name, Vec::<f64>::new()),
-            hypercontact_core::DType::I64 => t.push(c.name, Vec::<i64>::new()),
-            hypercontact_core::DType::Str => t.push(c.name, Vec::<String>::new()),
-        }
-    }
-    t
+    Ok((field, StitchTable::new(set, &tiles)))
 }
 
 /// Least PSD points a default Hurst range must hold before it gives up the
@@ -328,8 +224,8 @@ fn hurst(
 /// Everything the stage computes from a stitched map at its measured grid.
 pub struct Analysis {
     pub height: Field,
-    pub psd: Table,
-    pub stats: Table,
+    pub psd: PsdTable,
+    pub stats: StatsTable,
 }
 
 /// Filter, detrend, reference, PSDs, statistics and Hurst exponents.
@@ -425,25 +321,21 @@ pub fn analyse(
     let z0 = reference_height(&h, reference);
     h.mapv_inplace(|v| v - z0);
 
-    let mut psd = Table::new();
-    for (name, s) in [("x", &sx), ("y", &sy), ("radial", &sr)] {
-        psd.append(
-            &Table::new()
-                .with("direction", vec![name.to_owned(); s.c.len()])
-                .with("q_per_m", s.q_per_m.clone())
-                .with("c", s.c.clone()),
-        )?;
+    let mut psd = PsdTable::default();
+    for (direction, spectrum) in [("x", &sx), ("y", &sy), ("radial", &sr)] {
+        psd.push(direction, spectrum);
     }
-    let stats = Table::new()
-        .with("sigma_m", vec![sigma_m])
-        .with("rms_slope", vec![slope])
-        .with("hurst_x", vec![hurst_x])
-        .with("hurst_y", vec![hurst_y])
-        .with("hurst_radial", vec![hurst_radial])
-        .with("nx", vec![nx as i64])
-        .with("ny", vec![ny as i64])
-        .with("dx_m", vec![dx_m])
-        .with("nan_fraction", vec![nan_fraction]);
+    let stats = StatsTable {
+        sigma_m: vec![sigma_m],
+        rms_slope: vec![slope],
+        hurst_x: vec![hurst_x],
+        hurst_y: vec![hurst_y],
+        hurst_radial: vec![hurst_radial],
+        nx: vec![nx as i64],
+        ny: vec![ny as i64],
+        dx_m: vec![dx_m],
+        nan_fraction: vec![nan_fraction],
+    };
     progress.inc(1);
     Ok(Analysis {
         height: Field::new(h, dx_m, dy_m).map_err(StageError::other)?,
@@ -475,27 +367,17 @@ impl Stage for Surface {
                 "surface: give exactly one source: input `tiles`, parameter `dir` or input `height`",
             ));
         }
-        let (map, stitch_table) = if let Some(dir) = &p.dir {
-            let set = read_tiles(&DirSource {
-                dir: dir.path().to_owned(),
-            })?;
-            stitched(&set, p, ctx)?
-        } else if inputs.get("tiles").is_some() {
-            let files = inputs.files("tiles")?;
-            let source: &dyn TileSource = &FilesSource {
-                files,
-                label: "input `tiles`".into(),
-            };
-            let set = read_tiles(source)?;
-            stitched(&set, p, ctx)?
+        let (map, stitch_table) = if inputs.get("height").is_some() {
+            (inputs.field("height")?.clone(), StitchTable::default())
         } else {
-            (inputs.field("height")?.clone(), empty_stitch_table())
+            let source = FileSource::input_or_dir(inputs, "tiles", "dir", p.dir.as_ref())?;
+            stitched(&read_tiles(&source)?, p, ctx)?
         };
         let analysis = analyse(map, p, ctx)?;
         Ok(Outputs::new()
             .field("height", analysis.height)
-            .table("psd", analysis.psd)
-            .table("stats", analysis.stats)
-            .table("stitch", stitch_table))
+            .table("psd", analysis.psd.into_table())
+            .table("stats", analysis.stats.into_table())
+            .table("stitch", stitch_table.into_table()))
     }
 }

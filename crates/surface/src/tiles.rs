@@ -1,29 +1,18 @@
-//! Reading interferometer tiles: where the bytes come from (`TileSource`: a
-//! `Files` product or a folder), how a tile file becomes heights
-//! (`TileDecoder`: `.npy` now, ISO 25178-72 `.x3p` can follow), and the
-//! `positions.csv` a scanner writes (`tile, file, x_m, y_m, pixel_m`: the
+//! Reading interferometer tiles: where the bytes come from (a
+//! [`FileSource`]: a `Files` product or a folder), how a tile file becomes
+//! heights (`TileDecoder`: `.npy` now, ISO 25178-72 `.x3p` can follow), and
+//! the `positions.csv` a scanner writes (`tile, file, x_m, y_m, pixel_m`: the
 //! nominal position of each tile's pixel [0, 0]).
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
 
-use hypercontact_core::{Field, Files};
+use hypercontact_core::{ColumnData, Field, FileSource, Table};
 use ndarray::Array2;
 
 use crate::error::SurfaceError;
 
 /// The name of the positions file in a tile set.
 pub const POSITIONS: &str = "positions.csv";
-
-/// Where tile files are read from.
-pub trait TileSource {
-    /// The raw bytes of a file of the tile set.
-    fn bytes(&self, name: &str) -> Result<Vec<u8>, SurfaceError>;
-    /// The names of all files in the set.
-    fn names(&self) -> Result<Vec<String>, SurfaceError>;
-    /// How to show a file of the set in a message.
-    fn display(&self, name: &str) -> String;
-}
 
 /// Turns a tile file into heights in metres (axis 0 = x).
 pub trait TileDecoder {
@@ -52,67 +41,6 @@ pub fn decoders() -> Vec<Box<dyn TileDecoder>> {
     vec![Box::new(NpyDecoder)]
 }
 
-/// A `Files` product (e.g. from `synth-surface`).
-pub struct FilesSource<'a> {
-    pub files: &'a Files,
-    /// The input's name, for messages.
-    pub label: String,
-}
-
-impl TileSource for FilesSource<'_> {
-    fn bytes(&self, name: &str) -> Result<Vec<u8>, SurfaceError> {
-        self.files
-            .files
-            .get(name)
-            .cloned()
-            .ok_or_else(|| SurfaceError::Tile {
-                file: self.display(name),
-                message: "no such file in the tile set".into(),
-            })
-    }
-
-    fn names(&self) -> Result<Vec<String>, SurfaceError> {
-        Ok(self.files.files.keys().cloned().collect())
-    }
-
-    fn display(&self, name: &str) -> String {
-        format!("{}/{name}", self.label)
-    }
-}
-
-/// A folder holding the tile files and `positions.csv`.
-pub struct DirSource {
-    pub dir: PathBuf,
-}
-
-impl TileSource for DirSource {
-    fn bytes(&self, name: &str) -> Result<Vec<u8>, SurfaceError> {
-        std::fs::read(self.dir.join(name)).map_err(|e| SurfaceError::Tile {
-            file: self.display(name),
-            message: e.to_string(),
-        })
-    }
-
-    fn names(&self) -> Result<Vec<String>, SurfaceError> {
-        let entries = std::fs::read_dir(&self.dir).map_err(|e| SurfaceError::Tile {
-            file: self.dir.display().to_string(),
-            message: e.to_string(),
-        })?;
-        let mut names = Vec::new();
-        for entry in entries.flatten() {
-            if entry.path().is_file() {
-                names.push(entry.file_name().to_string_lossy().into_owned());
-            }
-        }
-        names.sort();
-        Ok(names)
-    }
-
-    fn display(&self, name: &str) -> String {
-        self.dir.join(name).display().to_string()
-    }
-}
-
 /// One row of `positions.csv`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Position {
@@ -123,20 +51,32 @@ pub struct Position {
     pub pixel_m: f64,
 }
 
-/// Parses `positions.csv` (header required, columns in any order, extra
-/// columns ignored); `display` names the file in errors.
-pub fn parse_positions(bytes: &[u8], display: &str) -> Result<Vec<Position>, SurfaceError> {
+/// The file line of data row `row` (0-based): the header is line 1. The
+/// CSV reader gives rows, so a comment line above a row is not counted.
+fn line_of(row: usize) -> u64 {
+    row as u64 + 2
+}
+
+/// Cell `row` of a column as text (a number as Rust prints it).
+fn cell_text(column: &ColumnData, row: usize) -> String {
+    match column {
+        ColumnData::F64(v) => v[row].to_string(),
+        ColumnData::I64(v) => v[row].to_string(),
+        ColumnData::Str(v) => v[row].clone(),
+    }
+}
+
+/// Reads `positions.csv`, already parsed into a table (header required,
+/// columns in any order, extra columns ignored); `display` names the file in
+/// errors, with the line of a bad value.
+pub fn parse_positions(table: &Table, display: &str) -> Result<Vec<Position>, SurfaceError> {
     let err = |line: u64, message: String| SurfaceError::Positions {
         file: display.to_owned(),
         line,
         message,
     };
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(bytes);
-    let header = reader.headers().map_err(|e| err(1, e.to_string()))?.clone();
     let column = |name: &str| {
-        header.iter().position(|h| h == name).ok_or_else(|| {
+        table.column(name).map_err(|_| {
             err(
                 1,
                 format!("no column `{name}` (expected tile, file, x_m, y_m, pixel_m)"),
@@ -150,58 +90,54 @@ pub fn parse_positions(bytes: &[u8], display: &str) -> Result<Vec<Position>, Sur
         column("y_m")?,
         column("pixel_m")?,
     ];
-    let mut rows = Vec::new();
-    for record in reader.records() {
-        let record =
-            record.map_err(|e| err(e.position().map_or(0, |p| p.line()), e.to_string()))?;
-        let line = record.position().map_or(0, |p| p.line());
-        let get = |i: usize, name: &str| {
-            record
-                .get(i)
-                .ok_or_else(|| err(line, format!("column `{name}` is missing")))
-        };
-        let number = |i: usize, name: &str| -> Result<f64, SurfaceError> {
-            let text = get(i, name)?;
-            let v: f64 = text
-                .parse()
-                .map_err(|_| err(line, format!("column `{name}`: `{text}` is not a number")))?;
-            if v.is_finite() {
-                Ok(v)
-            } else {
-                Err(err(
-                    line,
-                    format!("column `{name}`: `{text}` is not finite"),
-                ))
-            }
-        };
-        let tile_text = get(tile, "tile")?;
+    let rows = table.n_rows();
+    if rows == 0 {
+        return Err(err(1, "lists no tiles".into()));
+    }
+    let number = |data: &ColumnData, name: &str, row: usize| -> Result<f64, SurfaceError> {
+        let text = cell_text(data, row);
+        let v: f64 = text.parse().map_err(|_| {
+            err(
+                line_of(row),
+                format!("column `{name}`: `{text}` is not a number"),
+            )
+        })?;
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(err(
+                line_of(row),
+                format!("column `{name}`: `{text}` is not finite"),
+            ))
+        }
+    };
+    let mut positions = Vec::with_capacity(rows);
+    for row in 0..rows {
+        let tile_text = cell_text(tile, row);
         let position = Position {
             tile: tile_text.parse().map_err(|_| {
                 err(
-                    line,
+                    line_of(row),
                     format!("column `tile`: `{tile_text}` is not an integer"),
                 )
             })?,
-            file: get(file, "file")?.to_owned(),
-            x_m: number(x, "x_m")?,
-            y_m: number(y, "y_m")?,
-            pixel_m: number(pixel, "pixel_m")?,
+            file: cell_text(file, row),
+            x_m: number(x, "x_m", row)?,
+            y_m: number(y, "y_m", row)?,
+            pixel_m: number(pixel, "pixel_m", row)?,
         };
         if position.pixel_m <= 0.0 {
             return Err(err(
-                line,
+                line_of(row),
                 format!(
                     "column `pixel_m`: must be positive, got {}",
                     position.pixel_m
                 ),
             ));
         }
-        rows.push(position);
+        positions.push(position);
     }
-    if rows.is_empty() {
-        return Err(err(1, "lists no tiles".into()));
-    }
-    Ok(rows)
+    Ok(positions)
 }
 
 /// Tiles read, checked and ready to stitch.
@@ -219,9 +155,9 @@ pub struct TileSet {
 /// Reads and checks a tile set: the positions file matches the tile files
 /// (every listed file exists, no tile file is unlisted, no duplicates),
 /// tiles share one shape and one spacing, no tile is all NaN.
-pub fn read_tiles(source: &dyn TileSource) -> Result<TileSet, SurfaceError> {
+pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
     let positions_name = source.display(POSITIONS);
-    let positions = parse_positions(&source.bytes(POSITIONS)?, &positions_name)?;
+    let positions = parse_positions(&source.read_csv(POSITIONS)?, &positions_name)?;
     let decoders = decoders();
     let extension = |name: &str| {
         name.rsplit_once('.')
@@ -280,7 +216,7 @@ pub fn read_tiles(source: &dyn TileSource) -> Result<TileSet, SurfaceError> {
                 message: format!("cannot read `.{ext}` tiles (known: {})", known.join(", ")),
             })?;
         let bytes = source
-            .bytes(&p.file)
+            .read(&p.file)
             .map_err(|_| mismatch(format!("{} is listed but not in the tile set", p.file)))?;
         let heights = decoder
             .decode(&bytes)
@@ -322,6 +258,7 @@ pub fn read_tiles(source: &dyn TileSource) -> Result<TileSet, SurfaceError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use hypercontact_core::Files;
 
     fn npy(values: Array2<f64>) -> Vec<u8> {
         let mut bytes = Vec::new();
@@ -341,9 +278,9 @@ mod tests {
     }
 
     fn read(files: &Files) -> Result<TileSet, SurfaceError> {
-        read_tiles(&FilesSource {
+        read_tiles(&FileSource::Files {
             files,
-            label: "tiles".into(),
+            input: "tiles".into(),
         })
     }
 
@@ -374,13 +311,19 @@ mod tests {
             &format!("{head}0,a.npy,0,0,1e-6\n1,b.npy,3e-6,0,1e-6\n"),
             &[("a.npy", z()), ("b.npy", Array2::zeros((4, 5)))],
         );
-        assert!(m.contains("tiles/b.npy") && m.contains("shape"), "{m}");
+        assert!(
+            m.contains("input `tiles`/b.npy") && m.contains("shape"),
+            "{m}"
+        );
         // Different spacings.
         let m = message(
             &format!("{head}0,a.npy,0,0,1e-6\n1,b.npy,3e-6,0,2e-6\n"),
             &[("a.npy", z()), ("b.npy", z())],
         );
-        assert!(m.contains("tiles/b.npy") && m.contains("pixel_m"), "{m}");
+        assert!(
+            m.contains("input `tiles`/b.npy") && m.contains("pixel_m"),
+            "{m}"
+        );
         // A listed tile that is missing, and a tile that is not listed.
         let m = message(
             &format!("{head}0,a.npy,0,0,1e-6\n1,c.npy,3e-6,0,1e-6\n"),
@@ -397,7 +340,10 @@ mod tests {
             &format!("{head}0,a.npy,0,0,1e-6\n"),
             &[("a.npy", Array2::from_elem((4, 4), f64::NAN))],
         );
-        assert!(m.contains("tiles/a.npy") && m.contains("NaN"), "{m}");
+        assert!(
+            m.contains("input `tiles`/a.npy") && m.contains("NaN"),
+            "{m}"
+        );
         // A bad number, with its line, and a missing column.
         let m = message(&format!("{head}0,a.npy,zero,0,1e-6\n"), &[("a.npy", z())]);
         assert!(m.contains("line 2") && m.contains("x_m"), "{m}");

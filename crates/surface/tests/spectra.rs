@@ -3,8 +3,8 @@
 
 use std::f64::consts::{PI, TAU};
 
-use hypercontact_core::Params;
 use hypercontact_core::{Context, Field};
+use hypercontact_core::{Params, Schema};
 use hypercontact_surface::psd::{Window, log_bin_edges, psd_radial, psd_x};
 use hypercontact_surface::stats::sigma;
 use hypercontact_surface::surface_stage::{SurfaceParams, analyse};
@@ -113,6 +113,7 @@ fn stats_of(h: Array2<f64>, pixel_m: f64, params: &SurfaceParams) -> hypercontac
     analyse(field, &params, &Context::new("test"))
         .unwrap()
         .stats
+        .into_table()
 }
 
 #[test]

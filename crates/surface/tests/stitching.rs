@@ -1,10 +1,10 @@
 //! Stitching synthetic interferometer tiles against their ground truth,
 //! and the stage end to end: synth-surface → surface.
 
-use hypercontact_core::{Context, Inputs, Params, Product, Stage};
+use hypercontact_core::{Context, FileSource, Inputs, Params, Product, Stage};
 use hypercontact_surface::stitch::stitch;
 use hypercontact_surface::surface_stage::{Surface, SurfaceParams};
-use hypercontact_surface::tiles::{FilesSource, read_tiles};
+use hypercontact_surface::tiles::read_tiles;
 use hypercontact_synth::surface::{SynthSurface, SynthSurfaceParams, synthesise};
 use ndarray::Array2;
 
@@ -20,9 +20,9 @@ fn stitching_recovers_offsets_and_the_true_surface() {
     .unwrap();
     let scan = synthesise(&p).unwrap();
     let files = scan.files().unwrap();
-    let set = read_tiles(&FilesSource {
+    let set = read_tiles(&FileSource::Files {
         files: &files,
-        label: "tiles".into(),
+        input: "tiles".into(),
     })
     .unwrap();
     let mosaic = stitch(&set, 16).unwrap();
