@@ -10,15 +10,22 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use hypercontact_synth::surface::SelfAffine;
 use hypercontact_truncation::flood_fill::label_at;
-use hypercontact_truncation::self_affine::self_affine_map;
 use hypercontact_truncation::{Connectivity, Levels, TruncationOptions, truncate};
 
 const N: usize = 4096;
 const LEVELS: u32 = 1000;
 
 fn truncation_4096(c: &mut Criterion) {
-    let h = self_affine_map(N, N, 2e-5, 0.8, 1e-5, 4096);
+    // H = 0.8, rms 10 µm, power from the map's side down to two pixels.
+    let h = SelfAffine {
+        hurst: 0.8,
+        rms_m: 1e-5,
+        lambda_min_m: 2.0 * 2e-5,
+        lambda_max_m: N as f64 * 2e-5,
+    }
+    .periodic(N, N, 2e-5, 4096);
     let options = TruncationOptions {
         levels: Levels::Count(LEVELS),
         ..Default::default()

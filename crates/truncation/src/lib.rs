@@ -6,13 +6,14 @@
 //! - [`union_find`]: the disjoint sets it uses;
 //! - [`levels`]: the `levels` and `connectivity` parameters;
 //! - [`stage`]: the `truncation` stage;
-//! - [`flood_fill`]: brute-force per-plane labelling (test reference, benchmark baseline);
-//! - [`self_affine`]: Fourier-filtered synthetic maps (tests, benchmarks, sample data).
+//! - [`flood_fill`]: brute-force per-plane labelling (test reference, benchmark baseline).
+//!
+//! Benchmarks and examples draw self-affine maps from `hypercontact-synth`'s
+//! generator (a dev-dependency: the stage itself needs none).
 
 pub mod flood_fill;
 pub mod levels;
 pub mod profile;
-pub mod self_affine;
 pub mod stage;
 pub mod union_find;
 

@@ -60,7 +60,7 @@ pub struct ProfileTable {
 }
 
 /// The `patch_sizes` table: one row per patch at each chosen fraction.
-#[derive(Clone, Debug, PartialEq, Schema)]
+#[derive(Clone, Debug, Default, PartialEq, Schema)]
 pub struct PatchSizeTable {
     /// the fraction asked for in patch_fractions
     pub target_area_fraction: Vec<f64>,
@@ -80,10 +80,10 @@ static INFO: StageInfo = StageInfo {
     kind: "truncation",
     version: 1,
     summary: "Profile theory: contact area, patch count and radius of a truncated height map",
-    doc: "A plane at height z above the lowest measured point touches every pixel with \
-          h >= z (NaN pixels never touch). A(z) is the touched area, N(z) the number of \
-          connected touched patches (8-connectivity by default, like MATLAB's bwlabel, which \
-          the paper used; 4 as an option; map edges are not wrapped) and r = sqrt(A/(pi N)) \
+    doc: "A plane at height z above the lowest measured point touches every pixel with h >= z \
+          (NaN pixels never touch). A(z) is the touched area, N(z) the number of connected \
+          touched patches (8- or 4-connectivity, `connectivity`; MATLAB's bwlabel, which the \
+          paper used, joins 8 neighbours; map edges are not wrapped) and r = sqrt(A/(pi N)) \
           (the paper's Eq. 3). sigma is the rms height about the mean of the measured points; \
           A0 = (measured points) * dx * dy, so NaN holes count in neither A nor A0. Planes: \
           z_k = z_max (levels - k) / levels for k = 0..levels, top down, or every distinct \
@@ -160,13 +160,7 @@ pub fn profile_table(p: &Profile) -> ProfileTable {
 
 /// The `patch_sizes` table of a profile.
 pub fn patch_size_table(p: &Profile) -> PatchSizeTable {
-    let mut t = PatchSizeTable {
-        target_area_fraction: Vec::new(),
-        z_m: Vec::new(),
-        z_over_sigma: Vec::new(),
-        area_fraction: Vec::new(),
-        patch_area_m2: Vec::new(),
-    };
+    let mut t = PatchSizeTable::default();
     for s in &p.snapshots {
         for &a in &s.patch_areas_m2 {
             t.target_area_fraction.push(s.target_area_fraction);

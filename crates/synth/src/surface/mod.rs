@@ -11,15 +11,15 @@ pub mod scan;
 pub mod self_affine;
 
 use hypercontact_core::{
-    Checked, ColumnSpec, Context, Field, Files, Inputs, OutputSpec, Outputs, ParamError,
-    ProductKind, Stage, StageError, StageInfo, Table, params,
+    Checked, Context, Field, Files, Inputs, OutputSpec, Outputs, ParamError, Schema, Stage,
+    StageError, StageInfo, params,
 };
 
 pub use scan::{ScanPlan, ScannedTile};
 pub use self_affine::SelfAffine;
 
-/// Parameters of `synth-surface`; defaults are CI-sized (3 × 3 tiles of
-/// 256² px), the paper's scale is `tile_px: 1024, tiles_x: 10, tiles_y: 10`.
+/// Parameters of `synth-surface` (CI-sized defaults; the stage doc gives the
+/// paper's scale).
 #[params(check = consistent)]
 pub struct SynthSurfaceParams {
     /// Hurst exponent H
@@ -73,7 +73,8 @@ pub struct SynthSurfaceParams {
 /// arrays of this side squared (8 bytes each) at once.
 const MAX_GRID_SIDE: usize = 20_000;
 
-/// Checks across parameters: the band is ordered and resolved, the sample fits.
+/// Checks across parameters: the band is ordered and resolved, the sample
+/// and the grid it is generated on fit (so `synthesise` cannot fail on size).
 fn consistent(p: &SynthSurfaceParams) -> Result<(), ParamError> {
     if p.lambda_min_m >= p.lambda_max_m {
         return Err(ParamError::new(
@@ -104,11 +105,79 @@ fn consistent(p: &SynthSurfaceParams) -> Result<(), ParamError> {
             ),
         ));
     }
+    let [gx, gy] = grid_px(p, scan_plan(p).layout().2);
+    if gx.max(gy) > MAX_GRID_SIDE {
+        return Err(ParamError::new(
+            "lambda_max_m",
+            format!(
+                "the generated grid would be {gx} × {gy} px, more than {MAX_GRID_SIDE} px a \
+                 side; lower lambda_max_m or the number of tiles"
+            ),
+        ));
+    }
     Ok(())
+}
+
+/// The side of the periodic grid the surface is generated on, per axis,
+/// for a scanned area of `size` px. Padding by at least the roll-off
+/// wavelength (and a quarter of the area) decorrelates opposite edges, so
+/// the crop is not periodic; sides past `MAX_GRID_SIDE` are not rounded up.
+fn grid_px(p: &SynthSurfaceParams, size: [usize; 2]) -> [usize; 2] {
+    let pad = ((p.lambda_max_m / p.pixel_m).ceil() as usize).max(size[0].max(size[1]) / 4);
+    size.map(|n| match n.saturating_add(pad) {
+        n if n > MAX_GRID_SIDE => n,
+        n => fast_size(n),
+    })
+}
+
+fn scan_plan(p: &SynthSurfaceParams) -> ScanPlan {
+    ScanPlan {
+        tile_px: p.tile_px,
+        tiles_x: p.tiles_x,
+        tiles_y: p.tiles_y,
+        overlap: p.overlap,
+        position_error_px: p.position_error_px,
+        noise_m: p.noise_m,
+        dropout_fraction: p.dropout_fraction,
+        tilt_rad: p.tilt_rad,
+        piston_m: p.piston_m,
+        pixel_m: p.pixel_m,
+        seed: p.seed,
+    }
 }
 
 /// The `synth-surface` stage.
 pub struct SynthSurface;
+
+/// The `truth_offsets` table: one row per tile, scan order.
+#[derive(Clone, Debug, PartialEq, Schema)]
+pub struct TruthOffsets {
+    /// tile number, scan order
+    pub tile: Vec<i64>,
+    /// tile file name
+    pub file: Vec<String>,
+    /// true minus nominal position along x
+    #[column(unit = "px")]
+    pub x_offset_px: Vec<f64>,
+    /// true minus nominal position along y
+    #[column(unit = "px")]
+    pub y_offset_px: Vec<f64>,
+    /// the tile's pixel [0, 0] in `truth`, x
+    #[column(unit = "px")]
+    pub x_truth_px: Vec<i64>,
+    /// the tile's pixel [0, 0] in `truth`, y
+    #[column(unit = "px")]
+    pub y_truth_px: Vec<i64>,
+    /// added slope along x about the tile centre
+    #[column(unit = "rad")]
+    pub tilt_x_rad: Vec<f64>,
+    /// added slope along y about the tile centre
+    #[column(unit = "rad")]
+    pub tilt_y_rad: Vec<f64>,
+    /// added constant height
+    #[column(unit = "m")]
+    pub piston_m: Vec<f64>,
+}
 
 const POSITIONS_COLUMNS: &str = "tile,file,x_m,y_m,pixel_m";
 
@@ -130,42 +199,15 @@ static INFO: StageInfo = StageInfo {
           tiles_x: 10, tiles_y: 10.",
     inputs: &[],
     outputs: &[
-        OutputSpec {
-            name: "tiles",
-            kind: ProductKind::Files,
-            columns: &[],
-            doc: "tile_NNN.npy (metres, axis 0 = x, NaN dropouts) and positions.csv",
-        },
-        OutputSpec {
-            name: "truth",
-            kind: ProductKind::Field,
-            columns: &[],
-            doc: "the true surface over the scanned area (pixel [0, 0] at the smallest true tile position)",
-        },
-        OutputSpec {
-            name: "truth_offsets",
-            kind: ProductKind::Table,
-            columns: &[
-                ColumnSpec::i64("tile", "", "tile number, scan order"),
-                ColumnSpec::str("file", "tile file name"),
-                ColumnSpec::f64("x_offset_px", "px", "true minus nominal position along x"),
-                ColumnSpec::f64("y_offset_px", "px", "true minus nominal position along y"),
-                ColumnSpec::i64("x_truth_px", "px", "the tile's pixel [0, 0] in `truth`, x"),
-                ColumnSpec::i64("y_truth_px", "px", "the tile's pixel [0, 0] in `truth`, y"),
-                ColumnSpec::f64(
-                    "tilt_x_rad",
-                    "rad",
-                    "added slope along x about the tile centre",
-                ),
-                ColumnSpec::f64(
-                    "tilt_y_rad",
-                    "rad",
-                    "added slope along y about the tile centre",
-                ),
-                ColumnSpec::f64("piston_m", "m", "added constant height"),
-            ],
-            doc: "the truth about each tile",
-        },
+        OutputSpec::files(
+            "tiles",
+            "tile_NNN.npy (metres, axis 0 = x, NaN dropouts) and positions.csv",
+        ),
+        OutputSpec::field(
+            "truth",
+            "the true surface over the scanned area (pixel [0, 0] at the smallest true tile position)",
+        ),
+        OutputSpec::table::<TruthOffsets>("truth_offsets", "the truth about each tile"),
     ],
 };
 
@@ -194,30 +236,9 @@ pub struct SynthScan {
 
 /// Generates the sample and scans it.
 pub fn synthesise(p: &Checked<SynthSurfaceParams>) -> Result<SynthScan, StageError> {
-    let plan = ScanPlan {
-        tile_px: p.tile_px,
-        tiles_x: p.tiles_x,
-        tiles_y: p.tiles_y,
-        overlap: p.overlap,
-        position_error_px: p.position_error_px,
-        noise_m: p.noise_m,
-        dropout_fraction: p.dropout_fraction,
-        tilt_rad: p.tilt_rad,
-        piston_m: p.piston_m,
-        pixel_m: p.pixel_m,
-        seed: p.seed,
-    };
+    let plan = scan_plan(p);
     let (offsets, origin, size) = plan.layout();
-    // Padding by at least the roll-off wavelength (and a quarter of the
-    // sample) decorrelates opposite edges: the crop is not periodic.
-    let pad = ((p.lambda_max_m / p.pixel_m).ceil() as usize).max(size[0].max(size[1]) / 4);
-    let (gx, gy) = (fast_size(size[0] + pad), fast_size(size[1] + pad));
-    if gx.max(gy) > MAX_GRID_SIDE {
-        return Err(StageError::invalid(format!(
-            "parameter `lambda_max_m`: the generated grid would be {gx} × {gy} px, more than \
-             {MAX_GRID_SIDE} px a side; lower lambda_max_m or the number of tiles"
-        )));
-    }
+    let [gx, gy] = grid_px(p, size);
     let spectrum = SelfAffine {
         hurst: p.hurst,
         rms_m: p.rms_m,
@@ -263,26 +284,20 @@ impl SynthScan {
     }
 
     /// The `truth_offsets` table.
-    pub fn truth_table(&self) -> Table {
-        let col_f =
-            |f: &dyn Fn(&ScannedTile) -> f64| -> Vec<f64> { self.tiles.iter().map(f).collect() };
-        let col_i =
-            |f: &dyn Fn(&ScannedTile) -> i64| -> Vec<i64> { self.tiles.iter().map(f).collect() };
-        Table::new()
-            .with("tile", (0..self.tiles.len() as i64).collect::<Vec<i64>>())
-            .with(
-                "file",
-                (0..self.tiles.len())
-                    .map(tile_file)
-                    .collect::<Vec<String>>(),
-            )
-            .with("x_offset_px", col_f(&|t| t.offset_px[0] as f64))
-            .with("y_offset_px", col_f(&|t| t.offset_px[1] as f64))
-            .with("x_truth_px", col_i(&|t| t.truth_px[0] as i64))
-            .with("y_truth_px", col_i(&|t| t.truth_px[1] as i64))
-            .with("tilt_x_rad", col_f(&|t| t.tilt_rad[0]))
-            .with("tilt_y_rad", col_f(&|t| t.tilt_rad[1]))
-            .with("piston_m", col_f(&|t| t.piston_m))
+    pub fn truth_table(&self) -> TruthOffsets {
+        let column = |f: fn(&ScannedTile) -> f64| self.tiles.iter().map(f).collect();
+        let index = |f: fn(&ScannedTile) -> i64| self.tiles.iter().map(f).collect();
+        TruthOffsets {
+            tile: (0..self.tiles.len() as i64).collect(),
+            file: (0..self.tiles.len()).map(tile_file).collect(),
+            x_offset_px: column(|t| t.offset_px[0] as f64),
+            y_offset_px: column(|t| t.offset_px[1] as f64),
+            x_truth_px: index(|t| t.truth_px[0] as i64),
+            y_truth_px: index(|t| t.truth_px[1] as i64),
+            tilt_x_rad: column(|t| t.tilt_rad[0]),
+            tilt_y_rad: column(|t| t.tilt_rad[1]),
+            piston_m: column(|t| t.piston_m),
+        }
     }
 }
 
@@ -303,7 +318,7 @@ impl Stage for SynthSurface {
         let scan = synthesise(p)?;
         progress.inc(1);
         let files = scan.files()?;
-        let table = scan.truth_table();
+        let table = scan.truth_table().into_table();
         progress.inc(1);
         Ok(Outputs::new()
             .files("tiles", files)
@@ -342,8 +357,12 @@ mod tests {
         let Some(Product::Table(truth)) = out.get("truth_offsets") else {
             panic!("no truth table")
         };
-        truth.conform(INFO.outputs[2].columns).unwrap();
+        let names: Vec<&str> = TruthOffsets::COLUMNS.iter().map(|c| c.name).collect();
+        assert_eq!(truth.column_names(), names);
         assert_eq!(truth.n_rows(), 9);
+        let offsets = TruthOffsets::from_table(truth).unwrap();
+        assert_eq!(offsets.tile, (0..9).collect::<Vec<i64>>());
+        assert_eq!(offsets.file[4], "tile_004.npy");
         let Some(Product::Field(surface)) = out.get("truth") else {
             panic!("no truth field")
         };
@@ -366,6 +385,9 @@ mod tests {
         assert_eq!(bad(&|p| p.tiles_x = 0), "tiles_x");
         assert_eq!(bad(&|p| p.tile_px = 4), "tile_px");
         assert_eq!(bad(&|p| p.dropout_fraction = 0.9), "dropout_fraction");
+        // A roll-off wavelength of 5 cm pads the grid past its largest side.
+        assert_eq!(bad(&|p| p.lambda_max_m = 0.05), "lambda_max_m");
+        assert_eq!(bad(&|p| p.tile_px = 5000), "tiles_x");
     }
 
     #[test]

@@ -203,6 +203,33 @@ mod tests {
     }
 
     #[test]
+    fn rms_of_differences_scales_with_the_hurst_exponent() {
+        // For a self-affine profile the height difference over a lag δ grows
+        // as δ^H; check the exponent from lags 2 and 8 pixels along x, well
+        // inside the band (2 to 512 pixels).
+        let hurst = 0.8;
+        let n = 512;
+        let h = SelfAffine {
+            hurst,
+            rms_m: 1.0,
+            lambda_min_m: 2.0,
+            lambda_max_m: n as f64,
+        }
+        .periodic(n, n, 1.0, 11);
+        let rms_diff = |lag: usize| {
+            let mut s = 0.0;
+            for ix in 0..n - lag {
+                for iy in 0..n {
+                    s += (h[[ix + lag, iy]] - h[[ix, iy]]).powi(2);
+                }
+            }
+            (s / ((n - lag) * n) as f64).sqrt()
+        };
+        let slope = (rms_diff(8) / rms_diff(2)).ln() / 4.0_f64.ln();
+        assert!((slope - hurst).abs() < 0.1, "fitted H = {slope}");
+    }
+
+    #[test]
     fn same_seed_same_surface() {
         let a = spec(0.7).periodic(64, 64, 1e-6, 3);
         let b = spec(0.7).periodic(64, 64, 1e-6, 3);

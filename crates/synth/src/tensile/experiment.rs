@@ -14,19 +14,17 @@ use rand_distr::{Distribution, StandardNormal};
 use super::render::{AxisMap, render};
 use super::speckle::{CUTOFF_RADII, Marker, SpecklePattern};
 
-/// Gauge width, gauge length and thickness of the paper's specimens
-/// (section 2: UT dumbbell 6 × 115 × 1.5 mm, PT 40 × 10 × 1.5 mm, BT cross
-/// 40 × 12 × 1.5 mm), metres.
-pub fn paper_geometry_m(mode: Mode) -> [f64; 3] {
+/// Gauge width and gauge length of the paper's specimens (section 2: UT
+/// dumbbell 6 × 115 mm, PT 40 × 10 mm, BT cross 40 × 12 mm), metres.
+pub fn paper_gauge_m(mode: Mode) -> [f64; 2] {
     match mode {
-        Mode::Uniaxial => [6e-3, 115e-3, 1.5e-3],
-        Mode::Planar => [40e-3, 10e-3, 1.5e-3],
-        Mode::Equibiaxial => [40e-3, 12e-3, 1.5e-3],
+        Mode::Uniaxial => [6e-3, 115e-3],
+        Mode::Planar => [40e-3, 10e-3],
+        Mode::Equibiaxial => [40e-3, 12e-3],
     }
 }
 
-/// The force sensors' resolutions of section 2 (UT 0.01 N, PT 0.1 N, BT
-/// 0.01 N).
+/// The force sensors' resolutions of section 2, newtons.
 pub fn paper_force_resolution_n(mode: Mode) -> f64 {
     match mode {
         Mode::Planar => 0.1,

@@ -15,18 +15,18 @@ pub mod experiment;
 pub mod render;
 pub mod speckle;
 
-use std::io::Cursor;
-
+use hypercontact_core::png::Pixels;
 use hypercontact_core::{
-    Checked, ColumnSpec, Context, Files, Inputs, Mode, OutputSpec, Outputs, ParamError,
-    ProductKind, Stage, StageError, StageInfo, Table, params,
+    Checked, Context, Files, Inputs, Mode, OutputSpec, Outputs, Schema, Stage, StageError,
+    StageInfo, params,
 };
 use hypercontact_material::presets::Preset;
+use hypercontact_material::table::MaterialTable;
 
 use experiment::{Experiment, Recipe, expose, in_plane_stretches};
 
 /// Parameters of `synth-tensile`.
-#[params(check = consistent)]
+#[params]
 pub struct SynthTensileParams {
     /// the test
     #[param(default = Mode::Uniaxial)]
@@ -34,7 +34,8 @@ pub struct SynthTensileParams {
     /// ground-truth material preset
     #[param(default = Preset::PaperEpdm)]
     pub preset: Preset,
-    /// final loading stretch, in (1, 10] (default UT 2.5, PT 2.0, BT 1.5)
+    /// final loading stretch, in (1, 10] (default UT 2.5, PT 2, BT 1.5)
+    #[param(check = loading_stretch)]
     pub max_stretch: Option<f64>,
     /// number of frames
     #[param(default = 20, range = 2..=100_000)]
@@ -78,10 +79,10 @@ pub struct SynthTensileParams {
     /// gauge length (default: the paper's per mode)
     #[param(unit = "m", positive)]
     pub gauge_length_m: Option<f64>,
-    /// thickness (default: the paper's, 1.5e-3)
-    #[param(unit = "m", positive)]
-    pub thickness_m: Option<f64>,
-    /// force sensor resolution (default: the paper's per mode)
+    /// thickness (the paper's)
+    #[param(default = 1.5e-3, unit = "m", positive)]
+    pub thickness_m: f64,
+    /// force sensor resolution (default: the paper's, UT 0.01, PT 0.1, BT 0.01)
     #[param(unit = "N", positive)]
     pub force_resolution_n: Option<f64>,
     /// force sampling rate
@@ -99,15 +100,13 @@ fn eight_or_sixteen(bits: &u32) -> Result<(), String> {
     }
 }
 
-fn consistent(p: &SynthTensileParams) -> Result<(), ParamError> {
-    let max_stretch = p.max_stretch();
-    if !(max_stretch > 1.0 && max_stretch <= 10.0) {
-        return Err(ParamError::new(
-            "max_stretch",
-            format!("must lie in (1, 10], got {max_stretch}"),
-        ));
+/// (1, 10]: a `range` cannot leave its lower end open. The defaults per mode
+/// lie inside.
+fn loading_stretch(stretch: &Option<f64>) -> Result<(), String> {
+    match *stretch {
+        Some(l) if !(l > 1.0 && l <= 10.0) => Err(format!("must lie in (1, 10], got {l}")),
+        _ => Ok(()),
     }
-    Ok(())
 }
 
 impl SynthTensileParams {
@@ -121,12 +120,18 @@ impl SynthTensileParams {
 
     /// Gauge width, length and thickness, metres.
     pub fn geometry_m(&self) -> [f64; 3] {
-        let paper = experiment::paper_geometry_m(self.mode);
+        let paper = experiment::paper_gauge_m(self.mode);
         [
             self.gauge_width_m.unwrap_or(paper[0]),
             self.gauge_length_m.unwrap_or(paper[1]),
-            self.thickness_m.unwrap_or(paper[2]),
+            self.thickness_m,
         ]
+    }
+
+    /// The force sensor's resolution, newtons: the paper's unless given.
+    pub fn force_resolution_n(&self) -> f64 {
+        self.force_resolution_n
+            .unwrap_or(experiment::paper_force_resolution_n(self.mode))
     }
 
     pub fn recipe(&self) -> Recipe {
@@ -150,23 +155,27 @@ impl SynthTensileParams {
 /// The `synth-tensile` stage.
 pub struct SynthTensile;
 
-const TRUTH_COLUMNS: &[ColumnSpec] = &[
-    ColumnSpec::i64("frame", "", "frame index"),
-    ColumnSpec::f64("time_s", "s", "frame time"),
-    ColumnSpec::f64("stretch", "", "true loading stretch λ (along x)"),
-    ColumnSpec::f64(
-        "stretch_2",
-        "",
-        "true in-plane transverse stretch (along y)",
-    ),
-    ColumnSpec::f64(
-        "nominal_stress_pa",
-        "Pa",
-        "true nominal stress of the preset",
-    ),
-    ColumnSpec::f64("force_n", "N", "true force (noise-free)"),
-    ColumnSpec::str("mode", "UT, PT or BT"),
-];
+/// The `truth` table: one row per frame.
+#[derive(Clone, Debug, PartialEq, Schema)]
+pub struct TruthTable {
+    /// frame index
+    pub frame: Vec<i64>,
+    /// frame time
+    #[column(unit = "s")]
+    pub time_s: Vec<f64>,
+    /// true loading stretch λ (along x)
+    pub stretch: Vec<f64>,
+    /// true in-plane transverse stretch (along y)
+    pub stretch_2: Vec<f64>,
+    /// true nominal stress of the preset
+    #[column(unit = "Pa")]
+    pub nominal_stress_pa: Vec<f64>,
+    /// true force (noise-free)
+    #[column(unit = "N")]
+    pub force_n: Vec<f64>,
+    /// UT, PT or BT
+    pub mode: Vec<String>,
+}
 
 static INFO: StageInfo = StageInfo {
     kind: "synth-tensile",
@@ -177,30 +186,18 @@ static INFO: StageInfo = StageInfo {
           the inverse-mapped reference coordinate of sub-samples of every pixel (no image \
           interpolation), then adds camera noise and quantises to 8 or 16 bits. Loading is \
           along x about the image centre: UT (λ, λ^-1/2), PT (λ, 1), BT (λ, λ), λ linear in \
-          time. The force log (default 50 Hz) is the preset's nominal stress × the undeformed \
-          cross-section (gauge width × thickness) plus sensor noise, quantised to the paper's \
-          resolutions (UT 0.01 N, PT 0.1 N, BT 0.01 N). The ground truth goes to separate \
-          outputs the dic stage never reads.",
+          time. The force log (sampled at force_rate_hz) is the preset's nominal stress × the \
+          undeformed cross-section (gauge width × thickness) plus sensor noise, quantised to \
+          force_resolution_n. The ground truth goes to separate outputs the dic stage never \
+          reads.",
     inputs: &[],
     outputs: &[
-        OutputSpec {
-            name: "sequence",
-            kind: ProductKind::Files,
-            columns: &[],
-            doc: "frame_NNN.png, frames.csv, force.csv, specimen.json",
-        },
-        OutputSpec {
-            name: "truth",
-            kind: ProductKind::Table,
-            columns: TRUTH_COLUMNS,
-            doc: "the true stretches and stress per frame",
-        },
-        OutputSpec {
-            name: "material",
-            kind: ProductKind::Table,
-            columns: &[],
-            doc: "the generating material (material table: model, param, value)",
-        },
+        OutputSpec::files(
+            "sequence",
+            "frame_NNN.png, frames.csv, force.csv, specimen.json",
+        ),
+        OutputSpec::table::<TruthTable>("truth", "the true stretches and stress per frame"),
+        OutputSpec::table::<MaterialTable>("material", "the generating material"),
     ],
 };
 
@@ -243,15 +240,12 @@ impl Stage for SynthTensile {
         }
         drop(progress);
 
-        let resolution = p
-            .force_resolution_n
-            .unwrap_or(experiment::paper_force_resolution_n(mode));
         let mut force_csv = String::from("time_s,force_n\n");
         for (t, f) in experiment.force_log(
             material.as_ref(),
             area_m2,
             p.force_rate_hz,
-            resolution,
+            p.force_resolution_n(),
             p.seed,
         ) {
             // Enough digits for the resolution, no binary noise in the file.
@@ -273,33 +267,26 @@ impl Stage for SynthTensile {
             .with("force.csv", force_csv.into_bytes())
             .with("specimen.json", specimen);
 
-        let n = p.frames;
-        let stress: Vec<f64> = experiment
-            .stretches
+        let stretches = &experiment.stretches;
+        let stress: Vec<f64> = stretches
             .iter()
             .map(|&l| material.nominal_stress_pa(mode, l))
             .collect();
-        let truth = Table::new()
-            .with("frame", (0..n as i64).collect::<Vec<_>>())
-            .with("time_s", experiment.times_s.clone())
-            .with("stretch", experiment.stretches.clone())
-            .with(
-                "stretch_2",
-                experiment
-                    .stretches
-                    .iter()
-                    .map(|&l| in_plane_stretches(mode, l)[1])
-                    .collect::<Vec<_>>(),
-            )
-            .with(
-                "force_n",
-                stress.iter().map(|s| s * area_m2).collect::<Vec<_>>(),
-            )
-            .with("nominal_stress_pa", stress)
-            .with("mode", vec![mode.label(); n]);
+        let truth = TruthTable {
+            frame: (0..p.frames as i64).collect(),
+            time_s: experiment.times_s.clone(),
+            stretch: stretches.clone(),
+            stretch_2: stretches
+                .iter()
+                .map(|&l| in_plane_stretches(mode, l)[1])
+                .collect(),
+            force_n: stress.iter().map(|s| s * area_m2).collect(),
+            nominal_stress_pa: stress,
+            mode: vec![mode.label().to_owned(); p.frames],
+        };
         Ok(Outputs::new()
             .files("sequence", files)
-            .table("truth", truth)
+            .table("truth", truth.into_table())
             .table(
                 "material",
                 hypercontact_material::table::to_table(material.as_ref()),
@@ -307,28 +294,26 @@ impl Stage for SynthTensile {
     }
 }
 
-/// A grayscale PNG of 8- or 16-bit counts.
+/// A grayscale PNG of camera counts: 8-bit (counts above 255 saturate) or
+/// 16-bit, through the workspace's one encoder.
 pub fn encode_png(
     width: usize,
     height: usize,
     bit_depth: u32,
     counts: Vec<u16>,
 ) -> Result<Vec<u8>, StageError> {
-    let (w, h) = (width as u32, height as u32);
-    let image = if bit_depth == 8 {
-        let bytes: Vec<u8> = counts.into_iter().map(|c| c.min(255) as u8).collect();
-        image::ImageBuffer::<image::Luma<u8>, _>::from_raw(w, h, bytes)
-            .map(image::DynamicImage::ImageLuma8)
+    let pixels = if bit_depth == 8 {
+        Pixels::Gray8(counts.into_iter().map(|c| c.min(255) as u8).collect())
     } else {
-        image::ImageBuffer::<image::Luma<u16>, _>::from_raw(w, h, counts)
-            .map(image::DynamicImage::ImageLuma16)
-    }
-    .ok_or_else(|| StageError::invalid("image buffer size does not match width × height"))?;
-    let mut bytes = Vec::new();
-    image
-        .write_to(&mut Cursor::new(&mut bytes), image::ImageFormat::Png)
-        .map_err(|e| StageError::invalid(format!("PNG encoding failed: {e}")))?;
-    Ok(bytes)
+        Pixels::Gray16(counts)
+    };
+    let side = |n: usize| {
+        u32::try_from(n).map_err(|_| {
+            StageError::invalid(format!("an image side of {n} px is beyond PNG's limit"))
+        })
+    };
+    hypercontact_core::png::encode_png(side(width)?, side(height)?, pixels)
+        .map_err(StageError::invalid)
 }
 
 #[cfg(test)]
@@ -371,6 +356,13 @@ mod tests {
         let Some(hypercontact_core::Product::Table(truth)) = out.get("truth") else {
             panic!("no truth")
         };
+        let names: Vec<&str> = TruthTable::COLUMNS.iter().map(|c| c.name).collect();
+        assert_eq!(truth.column_names(), names);
+        assert_eq!(TruthTable::from_table(truth).unwrap().mode, ["PT"; 3]);
+        let Some(hypercontact_core::Product::Table(table)) = out.get("material") else {
+            panic!("no material")
+        };
+        table.conform(MaterialTable::COLUMNS).unwrap();
         let stretch = truth.f64("stretch").unwrap();
         assert_eq!(stretch, &[1.0, 1.5, 2.0]);
         assert_eq!(truth.f64("stretch_2").unwrap(), &[1.0, 1.0, 1.0]);
@@ -397,6 +389,35 @@ mod tests {
             (f_end - expected * area).abs() <= 0.05 + 4.0 * 0.05,
             "{f_end}"
         );
+    }
+
+    #[test]
+    fn per_mode_defaults_in_the_docs_match_the_code() {
+        let spec = SynthTensileParams::spec();
+        let doc = |name: &str| spec.iter().find(|s| s.name == name).unwrap().doc;
+        for mode in Mode::ALL {
+            let p = SynthTensileParams {
+                mode,
+                ..Default::default()
+            };
+            let label = mode.label();
+            let stretch = format!("{label} {}", p.max_stretch());
+            assert!(doc("max_stretch").contains(&stretch), "{stretch}");
+            let resolution = format!("{label} {}", p.force_resolution_n());
+            assert!(
+                doc("force_resolution_n").contains(&resolution),
+                "{resolution}"
+            );
+        }
+    }
+
+    #[test]
+    fn eight_bit_counts_saturate_and_a_wrong_size_is_an_error() {
+        let png = encode_png(3, 1, 8, vec![0, 200, 4000]).unwrap();
+        let back = image::load_from_memory(&png).unwrap();
+        assert_eq!(back.color(), image::ColorType::L8);
+        assert_eq!(back.into_luma8().into_raw(), [0, 200, 255]);
+        assert!(encode_png(3, 2, 16, vec![0; 5]).is_err());
     }
 
     #[test]
