@@ -8,11 +8,18 @@ use std::sync::Arc;
 use criterion::{Criterion, criterion_group, criterion_main};
 use hypercontact_icm::{CompositeModulus, Model, ProfileSlices, Scheme, solve};
 use hypercontact_material::presets::paper_epdm;
-use hypercontact_truncation::self_affine::self_affine_map;
+use hypercontact_synth::surface::SelfAffine;
 use hypercontact_truncation::{Levels, TruncationOptions, truncate};
 
 fn icm_100k_levels(c: &mut Criterion) {
-    let h = self_affine_map(512, 512, 2e-5, 0.8, 1e-5, 2024);
+    // H = 0.8, rms 10 µm, power from the map's side down to two pixels.
+    let h = SelfAffine {
+        hurst: 0.8,
+        rms_m: 1e-5,
+        lambda_min_m: 2.0 * 2e-5,
+        lambda_max_m: 512.0 * 2e-5,
+    }
+    .periodic(512, 512, 2e-5, 2024);
     let options = TruncationOptions {
         levels: Levels::Count(100_000),
         ..Default::default()

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use hypercontact_icm::{CompositeModulus, Model, ProfileSlices, Scheme, Solution, solve};
 use hypercontact_material::presets::paper_epdm;
-use hypercontact_truncation::self_affine::self_affine_map;
+use hypercontact_synth::surface::SelfAffine;
 use hypercontact_truncation::{Levels, Profile, TruncationOptions, truncate};
 use ndarray::Array2;
 
@@ -108,7 +108,13 @@ fn sampled_paraboloid_converges_to_profile_theorys_load() {
 
 fn sample_map(n: usize) -> Array2<f64> {
     // The shipped sample's statistics: H = 0.8, rms 10 µm, 20 µm pixels.
-    self_affine_map(n, n, 2e-5, 0.8, 1e-5, 2024)
+    SelfAffine {
+        hurst: 0.8,
+        rms_m: 1e-5,
+        lambda_min_m: 2.0 * 2e-5,
+        lambda_max_m: n as f64 * 2e-5,
+    }
+    .periodic(n, n, 2e-5, 2024)
 }
 
 #[test]

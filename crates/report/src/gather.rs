@@ -244,14 +244,17 @@ fn read_material(table: &Table) -> Result<MaterialSummary, ReportError> {
     let model = hypercontact_material::table::from_table(table)
         .map_err(|e| ReportError::Material(e.to_string()))?;
     let mu0_pa = model.shear_modulus_pa();
-    let e0_pa = model.youngs_modulus_pa();
     let nu = 0.5;
     Ok(MaterialSummary {
         model: model.family().to_owned(),
-        parameters: model.parameters(),
+        parameters: model
+            .parameters()
+            .into_iter()
+            .map(|p| (p.name(), p.value))
+            .collect(),
         mu0_pa,
-        e0_pa,
-        e0_star_pa: e0_pa / (1.0 - nu * nu),
+        e0_pa: hypercontact_material::youngs_modulus_pa(mu0_pa, nu),
+        e0_star_pa: hypercontact_material::composite_modulus_pa(mu0_pa, nu),
     })
 }
 
