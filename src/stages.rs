@@ -47,10 +47,13 @@ fn default_text(p: &ParamSpec) -> String {
 /// is not a plain number, text or flag.
 fn constraints(p: &ParamSpec) -> String {
     let mut parts = Vec::new();
-    match &p.ty {
+    // An optional parameter shows `-` as its default; its type is the inner one.
+    let ty = match &p.ty {
+        TypeDoc::Optional(inner) => inner.as_ref(),
+        ty => ty,
+    };
+    match ty {
         TypeDoc::Number | TypeDoc::Integer | TypeDoc::Bool | TypeDoc::Text => {}
-        TypeDoc::Optional(inner)
-            if matches!(**inner, TypeDoc::Number | TypeDoc::Integer | TypeDoc::Text) => {}
         TypeDoc::Struct(_) => {}
         other => parts.push(other.to_string()),
     }
@@ -186,6 +189,23 @@ fn wrap(text: &str, width: usize) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// What `hypercontact stages` prints, and each kind in full, pinned: a
+    /// change of any declaration shows up in review.
+    #[test]
+    fn stage_descriptions_are_pinned() {
+        let registry = hypercontact::registry();
+        let summary: String = registry
+            .iter()
+            .map(|s| describe_text(s.as_ref(), false))
+            .collect();
+        insta::assert_snapshot!("stages", summary);
+        let full: String = registry
+            .iter()
+            .map(|s| describe_text(s.as_ref(), true))
+            .collect();
+        insta::assert_snapshot!("stages_full", full);
+    }
 
     /// Every parameter of every kind is documented, and every required one
     /// is required by its declaration (no faked zero defaults).

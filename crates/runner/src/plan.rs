@@ -17,6 +17,7 @@ use crate::cache::{Cache, EntryState, Manifest};
 use crate::hash::{canonical_json, path_hash, text_hash};
 use crate::pipeline::{Pipeline, PipelineError, StageDecl};
 use crate::provenance::{InputRecord, Provenance, StageRecord};
+use crate::yaml::Location;
 
 /// An input resolved to an upstream product.
 #[derive(Clone, Debug, PartialEq)]
@@ -354,22 +355,21 @@ fn resolve_inputs(
     info: &StageInfo,
     keys: &HashMap<String, String>,
 ) -> Result<Vec<ResolvedInput>, PipelineError> {
-    let err = |line: Option<usize>, message: String| {
+    let stage_at = pipeline.locate(&["stages", decl.name.as_str()]);
+    let err = |at: Option<Location>, message: String| {
         PipelineError::new(&pipeline.file, message)
-            .at(line.or(decl.line), None)
+            .located(at.or(stage_at))
             .stage(&decl.name)
     };
     let declared: Vec<&str> = info.inputs.iter().map(|i| i.name).collect();
     let mut resolved = Vec::new();
     for binding in &decl.inputs {
-        let line = pipeline
-            .locate(&[
-                "stages",
-                decl.name.as_str(),
-                "inputs",
-                binding.declared.as_str(),
-            ])
-            .map(|at| at.line);
+        let line = pipeline.locate(&[
+            "stages",
+            decl.name.as_str(),
+            "inputs",
+            binding.declared.as_str(),
+        ]);
         let spec = info.input(&binding.declared).ok_or_else(|| {
             err(
                 line,

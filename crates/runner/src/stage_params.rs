@@ -105,11 +105,9 @@ impl ParamSources {
                     .zip(&path)
                     .all(|(a, b)| a == *b)
         };
-        if let Some((set, value)) = self.sets.iter().rev().find(|(set, _)| related(set)) {
-            return PipelineError::new(
-                &self.pipeline,
-                format!("{message} (set as `{}={value}`)", set.join(".")),
-            );
+        // Whoever set it (`--set`, a study) names the assignment.
+        if self.sets.iter().any(|(set, _)| related(set)) {
+            return PipelineError::new(&self.pipeline, message);
         }
         let given_in = |doc: &Located| {
             path.first()

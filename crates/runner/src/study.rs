@@ -65,26 +65,21 @@ pub fn run_study(pipeline: &Pipeline, options: &RunOptions) -> Result<StudyRepor
     let spec = pipeline.study.clone().ok_or_else(|| {
         PipelineError::new(&pipeline.file, "the pipeline has no `study:` section")
     })?;
-    for target in &spec.collect {
-        let (stage, output) = target.split_once('.').ok_or_else(|| {
-            PipelineError::new(
-                &pipeline.file,
-                format!("study.collect `{target}`: expected STAGE.OUTPUT"),
-            )
-        })?;
-        let decl = pipeline.stage(stage).ok_or_else(|| {
-            PipelineError::new(
-                &pipeline.file,
-                format!("study.collect `{target}`: no stage `{stage}`"),
-            )
-        })?;
+    for (i, target) in spec.collect.iter().enumerate() {
+        let at = pipeline.locate(&["study".to_owned(), "collect".to_owned(), i.to_string()]);
+        let err = |message: String| PipelineError::new(&pipeline.file, message).located(at);
+        let (stage, output) = target
+            .split_once('.')
+            .ok_or_else(|| err(format!("study.collect `{target}`: expected STAGE.OUTPUT")))?;
+        let decl = pipeline
+            .stage(stage)
+            .ok_or_else(|| err(format!("study.collect `{target}`: no stage `{stage}`")))?;
         match decl.stage.info().output(output) {
             Some(o) if o.kind == hypercontact_core::ProductKind::Table => {}
             _ => {
-                return Err(PipelineError::new(
-                    &pipeline.file,
-                    format!("study.collect `{target}`: `{stage}` has no table output `{output}`"),
-                )
+                return Err(err(format!(
+                    "study.collect `{target}`: `{stage}` has no table output `{output}`"
+                ))
                 .into());
             }
         }
@@ -94,11 +89,15 @@ pub fn run_study(pipeline: &Pipeline, options: &RunOptions) -> Result<StudyRepor
     for (k, variant) in all.iter().enumerate() {
         let mut p = pipeline.clone();
         for (path, value) in variant {
-            p.set_value(path, value.clone())
-                .map_err(|e| PipelineError {
+            p.set_value(path, value.clone()).map_err(|e| {
+                // A value of the grid is reported where the grid gives it.
+                let at = pipeline.locate(&["study", "grid", path.as_str()]);
+                let e = if e.line.is_none() { e.located(at) } else { e };
+                PipelineError {
                     message: format!("study variant {k} ({path} = {value}): {}", e.message),
                     ..e
-                })?;
+                }
+            })?;
         }
         let mut o = options.clone();
         o.out_dir = options.out_dir.join("variants").join(format!("{k:03}"));

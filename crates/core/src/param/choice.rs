@@ -70,7 +70,25 @@ pub fn deserialize_choice<'de, D: Deserializer<'de>, C: Choice>(d: D) -> Result<
                 E::custom(format_args!("unknown variant `{v}`, expected {expected}"))
             })
         }
+
+        // `model: 3` or `model: true` in YAML is a name that is not a variant,
+        // reported as such rather than as a type error.
+        fn visit_u64<E: de::Error>(self, v: u64) -> Result<C, E> {
+            self.visit_str(&v.to_string())
+        }
+
+        fn visit_i64<E: de::Error>(self, v: i64) -> Result<C, E> {
+            self.visit_str(&v.to_string())
+        }
+
+        fn visit_f64<E: de::Error>(self, v: f64) -> Result<C, E> {
+            self.visit_str(&v.to_string())
+        }
+
+        fn visit_bool<E: de::Error>(self, v: bool) -> Result<C, E> {
+            self.visit_str(&v.to_string())
+        }
     }
 
-    d.deserialize_str(ChoiceVisitor(PhantomData))
+    d.deserialize_any(ChoiceVisitor(PhantomData))
 }

@@ -37,6 +37,9 @@ impl ParamRange {
 /// A short, exact spelling of a bound: `0.5`, `1000`, `2e-5`.
 pub(crate) fn number(v: f64) -> String {
     let plain = format!("{v}");
+    if v.fract() == 0.0 && v.abs() < 1e15 {
+        return plain;
+    }
     let sci = format!("{v:e}");
     if sci.len() < plain.len() { sci } else { plain }
 }

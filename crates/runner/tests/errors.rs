@@ -1,0 +1,397 @@
+//! Every message the runner gives for a pipeline it refuses, pinned as a
+//! snapshot: a change of wording or of a reported location shows up in
+//! review. Each case is a small pipeline over the test stages.
+
+mod common;
+
+use std::path::Path;
+
+use common::{BASIC, registry, write};
+use hypercontact_core::Registry;
+use hypercontact_runner::cache::Cache;
+use hypercontact_runner::plan::{Plan, PlanOptions};
+use hypercontact_runner::study::run_study;
+use hypercontact_runner::{Pipeline, RunOptions, run};
+
+/// A registry with the test stages and `count-lines`, whose file
+/// parameters are nested.
+fn stages() -> Registry {
+    let mut r = registry();
+    r.add(files::CountLines);
+    r
+}
+
+mod files {
+    use hypercontact_core::{
+        Checked, Context, InputPath, Inputs, Outputs, Stage, StageError, StageInfo, params,
+    };
+
+    /// A nested block with one file.
+    #[params]
+    pub struct Lookup {
+        /// a lookup table
+        pub table: InputPath,
+    }
+
+    /// Parameters of `count-lines`.
+    #[params]
+    pub struct CountParams {
+        /// a nested file
+        pub lookup: Lookup,
+    }
+
+    pub struct CountLines;
+
+    static INFO: StageInfo = StageInfo {
+        kind: "count-lines",
+        version: 1,
+        summary: "",
+        doc: "",
+        inputs: &[],
+        outputs: &[],
+    };
+
+    impl Stage for CountLines {
+        type Params = CountParams;
+
+        fn info(&self) -> &'static StageInfo {
+            &INFO
+        }
+
+        fn run(
+            &self,
+            _: &Checked<CountParams>,
+            _: &Inputs,
+            _: &Context,
+        ) -> Result<Outputs, StageError> {
+            Ok(Outputs::new())
+        }
+    }
+}
+
+/// Loads and plans `text` as `bad.yaml` beside `files`, with `sets`
+/// applied and `force`d stages; the error, with the folder written `<dir>`.
+fn refusal(text: &str, files: &[(&str, &str)], sets: &[&str], force: &[&str]) -> String {
+    let t = tempfile::tempdir().unwrap();
+    for (name, content) in files {
+        write(t.path(), name, content);
+    }
+    let path = write(t.path(), "bad.yaml", text);
+    let result = Pipeline::load(&path, &stages()).and_then(|mut p| {
+        for s in sets {
+            p.set(s)?;
+        }
+        let cache = Cache::open(&t.path().join("cache")).unwrap();
+        let options = PlanOptions {
+            force: force.iter().map(|s| s.to_string()).collect(),
+            only: None,
+        };
+        Plan::build(&p, &cache, &options, None).map(|_| ())
+    });
+    let message = result
+        .expect_err("the pipeline should be refused")
+        .to_string();
+    redact(&message, t.path())
+}
+
+fn redact(message: &str, dir: &Path) -> String {
+    message.replace(&dir.display().to_string(), "<dir>")
+}
+
+/// A stage that depends on another's wrong output, for input errors.
+const TWO: &str = "name: two\nstages:\n  src:\n    uses: source\n    with: { n: 3 }\n  sink:\n    uses: scale\n    inputs: { t: src }\n";
+
+#[test]
+fn pipeline_refusals() {
+    let cases: Vec<(&str, String)> = vec![
+        (
+            "YAML syntax",
+            refusal("name: x\nstages: [\n", &[], &[], &[]),
+        ),
+        (
+            "duplicate key",
+            refusal("name: x\nname: y\nstages: {}\n", &[], &[], &[]),
+        ),
+        (
+            "two documents",
+            refusal("name: x\nstages: {}\n---\nname: y\n", &[], &[], &[]),
+        ),
+        (
+            "top-level typo",
+            refusal("nme: x\nstages: {}\n", &[], &[], &[]),
+        ),
+        ("no name", refusal("stages: {}\n", &[], &[], &[])),
+        (
+            "stage key typo",
+            refusal("name: x\nstages:\n  a:\n    use: source\n", &[], &[], &[]),
+        ),
+        (
+            "unknown kind",
+            refusal(&BASIC.replace("uses: scale", "uses: scael"), &[], &[], &[]),
+        ),
+        (
+            "bad stage name",
+            refusal(
+                "name: x\nstages:\n  a.b:\n    uses: source\n",
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "with not a map",
+            refusal(
+                "name: x\nstages:\n  a:\n    uses: source\n    with: 3\n",
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "unknown parameter",
+            refusal(&BASIC.replace("factor: 2", "factr: 2"), &[], &[], &[]),
+        ),
+        (
+            "wrong type",
+            refusal(&BASIC.replace("n: 5", "n: five"), &[], &[], &[]),
+        ),
+        (
+            "out of range",
+            refusal(&BASIC.replace("n: 5", "n: 5000000"), &[], &[], &[]),
+        ),
+        (
+            "missing required parameter",
+            refusal(
+                "name: x\nstages:\n  c:\n    uses: count-lines\n    with: {}\n",
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "nested unknown parameter",
+            refusal(
+                "name: x\nstages:\n  c:\n    uses: count-lines\n    with:\n      lookup:\n        tabel: a.txt\n",
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "empty path",
+            refusal(
+                "name: x\nstages:\n  c:\n    uses: count-lines\n    with:\n      lookup: { table: \"\" }\n",
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "missing input file",
+            refusal(
+                &BASIC.replace("n: 5 }", "n: 5, path: nowhere.csv }"),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "missing nested input file",
+            refusal(
+                "name: x\nstages:\n  c:\n    uses: count-lines\n    with:\n      lookup: { table: gone.txt }\n",
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "with_file missing",
+            refusal(
+                &BASIC.replace("with: { value: 2.0e-5, n: 5 }", "with_file: recipe.yaml"),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "with_file not YAML",
+            refusal(
+                &BASIC.replace("with: { value: 2.0e-5, n: 5 }", "with_file: recipe.yaml"),
+                &[("recipe.yaml", "n: [1\n")],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "with_file not a map",
+            refusal(
+                &BASIC.replace("with: { value: 2.0e-5, n: 5 }", "with_file: recipe.yaml"),
+                &[("recipe.yaml", "- 1\n- 2\n")],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "with_file value out of range",
+            refusal(
+                &BASIC.replace("with: { value: 2.0e-5, n: 5 }", "with_file: recipe.yaml"),
+                &[("recipe.yaml", "value: 1\nn: 5000000\n")],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "no such input",
+            refusal(&TWO.replace("{ t: src }", "{ tt: src }"), &[], &[], &[]),
+        ),
+        (
+            "unknown upstream stage",
+            refusal(&TWO.replace("{ t: src }", "{ t: srcc }"), &[], &[], &[]),
+        ),
+        (
+            "no such output",
+            refusal(&TWO.replace("{ t: src }", "{ t: src.nope }"), &[], &[], &[]),
+        ),
+        (
+            "wrong product kind",
+            refusal(
+                &format!("{TWO}  again:\n    uses: scale\n    inputs: {{ t: sink.map }}\n"),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "missing column",
+            refusal(
+                &format!(
+                    "{TWO}  rows:\n    uses: gather\n    inputs: {{ parts: {{ a: src }} }}\n  again:\n    uses: scale\n    inputs: {{ t: rows }}\n"
+                ),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "missing input",
+            refusal(&TWO.replace("    inputs: { t: src }\n", ""), &[], &[], &[]),
+        ),
+        (
+            "cycle",
+            refusal(
+                "name: c\nstages:\n  a:\n    uses: scale\n    inputs: { t: b }\n  b:\n    uses: scale\n    inputs: { t: a }\n",
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "force an unknown stage",
+            refusal(BASIC, &[], &[], &["nope"]),
+        ),
+        (
+            "--set without =",
+            refusal(BASIC, &[], &["double.factor"], &[]),
+        ),
+        (
+            "--set value not YAML",
+            refusal(BASIC, &[], &["double.factor=[1"], &[]),
+        ),
+        (
+            "--set unknown stage",
+            refusal(BASIC, &[], &["nostage.x=1"], &[]),
+        ),
+        (
+            "--set unknown parameter",
+            refusal(BASIC, &[], &["double.bogus=1"], &[]),
+        ),
+        (
+            "--set wrong type",
+            refusal(BASIC, &[], &["double.factor=abc"], &[]),
+        ),
+        (
+            "--set out of range",
+            refusal(BASIC, &[], &["src.n=-1"], &[]),
+        ),
+    ];
+    let text: String = cases
+        .iter()
+        .map(|(name, message)| format!("## {name}\n{message}\n\n"))
+        .collect();
+    insta::assert_snapshot!(text);
+}
+
+/// Refusals of `hypercontact study`, and a stage that fails while running.
+#[test]
+fn study_and_run_refusals() {
+    let t = tempfile::tempdir().unwrap();
+    let options = RunOptions {
+        out_dir: t.path().join("out"),
+        cache_dir: t.path().join("cache"),
+        plan: PlanOptions::default(),
+        dry_run: true,
+        quiet: true,
+        overrides: vec![],
+        export: true,
+    };
+    let study = |name: &str, text: &str| {
+        let path = write(t.path(), &format!("{name}.yaml"), text);
+        let pipeline = Pipeline::load(&path, &stages()).unwrap();
+        let message = run_study(&pipeline, &options)
+            .map(|_| ())
+            .expect_err("the study should be refused")
+            .to_string();
+        redact(&message, t.path())
+    };
+    let mut cases: Vec<(&str, String)> = vec![
+        ("no study", study("none", BASIC)),
+        (
+            "collect not STAGE.OUTPUT",
+            study("format", &format!("{BASIC}study:\n  collect: [double]\n")),
+        ),
+        (
+            "collect unknown stage",
+            study("stage", &format!("{BASIC}study:\n  collect: [triple.t]\n")),
+        ),
+        (
+            "collect not a table",
+            study(
+                "table",
+                &format!("{BASIC}study:\n  collect: [double.map]\n"),
+            ),
+        ),
+        (
+            "grid value out of range",
+            study(
+                "grid",
+                &format!(
+                    "{BASIC}study:\n  grid:\n    src.n: [1, 5000000]\n  collect: [double.t]\n"
+                ),
+            ),
+        ),
+    ];
+    // A stage that fails at run time: its CSV has no `x` column.
+    write(t.path(), "y.csv", "y\n1\n");
+    let path = write(
+        t.path(),
+        "fails.yaml",
+        &BASIC.replace("n: 5 }", "n: 5, path: y.csv }"),
+    );
+    let pipeline = Pipeline::load(&path, &stages()).unwrap();
+    let failed = run(
+        &pipeline,
+        &RunOptions {
+            dry_run: false,
+            ..options.clone()
+        },
+    )
+    .map(|_| ())
+    .expect_err("the stage fails")
+    .to_string();
+    cases.push(("stage failure", redact(&failed, t.path())));
+    let text: String = cases
+        .iter()
+        .map(|(name, message)| format!("## {name}\n{message}\n\n"))
+        .collect();
+    insta::assert_snapshot!(text);
+}
