@@ -440,3 +440,35 @@ fn the_quick_paper_pipeline_writes_the_report() {
         text(&changed)
     );
 }
+
+/// A changed title with a multi-byte character across the plan's 40-byte
+/// cut is shown, not a panic (the planner used to slice the text by bytes).
+#[test]
+fn a_multi_byte_title_change_is_planned_without_panicking() {
+    let t = tempfile::tempdir().unwrap();
+    let title = format!("{}µ-contact", "T".repeat(38));
+    let path = t.path().join("title.yaml");
+    std::fs::write(
+        &path,
+        format!("name: title\nstages:\n  report:\n    uses: report\n    with: {{ title: \"{title}\" }}\n"),
+    )
+    .unwrap();
+    let run = |extra: &[&str]| {
+        bin()
+            .arg("run")
+            .arg(&path)
+            .arg("--out")
+            .arg(t.path().join("out"))
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let first = run(&[]);
+    assert!(first.status.success(), "{}", text(&first));
+    let changed = format!("report.title=\"{title}µ\"");
+    let plan = run(&["--dry-run", "--set", &changed]);
+    let shown = text(&plan);
+    assert!(plan.status.success(), "{shown}");
+    assert!(shown.contains("params changed: title") && shown.contains('…'), "{shown}");
+    assert!(!shown.contains("panicked"), "{shown}");
+}
