@@ -469,6 +469,9 @@ fn a_multi_byte_title_change_is_planned_without_panicking() {
     let plan = run(&["--dry-run", "--set", &changed]);
     let shown = text(&plan);
     assert!(plan.status.success(), "{shown}");
-    assert!(shown.contains("params changed: title") && shown.contains('…'), "{shown}");
+    assert!(
+        shown.contains("params changed: title") && shown.contains('…'),
+        "{shown}"
+    );
     assert!(!shown.contains("panicked"), "{shown}");
 }

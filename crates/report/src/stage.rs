@@ -21,7 +21,7 @@ pub struct ReportParams {
     pub area_fractions: Vec<f64>,
 }
 
-fn not_blank(title: &String) -> Result<(), String> {
+fn not_blank(title: &str) -> Result<(), String> {
     if title.trim().is_empty() {
         Err("must not be empty".into())
     } else {
@@ -29,7 +29,7 @@ fn not_blank(title: &String) -> Result<(), String> {
     }
 }
 
-fn one_to_ten(values: &Vec<f64>) -> Result<(), String> {
+fn one_to_ten(values: &[f64]) -> Result<(), String> {
     if (1..=10).contains(&values.len()) {
         Ok(())
     } else {
