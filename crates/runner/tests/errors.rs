@@ -17,56 +17,8 @@ use hypercontact_runner::{Pipeline, RunOptions, run};
 /// parameters are nested.
 fn stages() -> Registry {
     let mut r = registry();
-    r.add(files::CountLines);
+    r.add(common::CountLines);
     r
-}
-
-mod files {
-    use hypercontact_core::{
-        Checked, Context, InputPath, Inputs, Outputs, Stage, StageError, StageInfo, params,
-    };
-
-    /// A nested block with one file.
-    #[params]
-    pub struct Lookup {
-        /// a lookup table
-        pub table: InputPath,
-    }
-
-    /// Parameters of `count-lines`.
-    #[params]
-    pub struct CountParams {
-        /// a nested file
-        pub lookup: Lookup,
-    }
-
-    pub struct CountLines;
-
-    static INFO: StageInfo = StageInfo {
-        kind: "count-lines",
-        version: 1,
-        summary: "",
-        doc: "",
-        inputs: &[],
-        outputs: &[],
-    };
-
-    impl Stage for CountLines {
-        type Params = CountParams;
-
-        fn info(&self) -> &'static StageInfo {
-            &INFO
-        }
-
-        fn run(
-            &self,
-            _: &Checked<CountParams>,
-            _: &Inputs,
-            _: &Context,
-        ) -> Result<Outputs, StageError> {
-            Ok(Outputs::new())
-        }
-    }
 }
 
 /// Loads and plans `text` as `bad.yaml` beside `files`, with `sets`

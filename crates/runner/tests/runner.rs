@@ -481,79 +481,11 @@ fn with_file_supplies_parameters_that_with_overrides() {
     );
 }
 
-/// A throwaway stage whose file parameters sit in a list and in a nested
-/// struct: nothing but the declaration tells the runner about them.
-mod throwaway {
-    use hypercontact_core::{
-        Checked, Context, InputPath, Inputs, OutputSpec, Outputs, Schema, Stage, StageError,
-        StageInfo, Table, params,
-    };
-
-    /// A nested block with one file.
-    #[params]
-    pub struct Lookup {
-        /// a lookup table
-        pub table: InputPath,
-    }
-
-    /// Parameters of `count-lines`.
-    #[params]
-    pub struct CountParams {
-        /// any number of files
-        #[param(default = Vec::new())]
-        pub extra: Vec<InputPath>,
-        /// a nested file
-        pub lookup: Lookup,
-    }
-
-    /// Lines per file.
-    #[derive(Schema)]
-    pub struct Counts {
-        /// lines in the file
-        pub lines: Vec<i64>,
-    }
-
-    pub struct CountLines;
-
-    static INFO: StageInfo = StageInfo {
-        kind: "count-lines",
-        version: 1,
-        summary: "counts the lines of its files",
-        doc: "",
-        inputs: &[],
-        outputs: &[OutputSpec::table::<Counts>("counts", "one row per file")],
-    };
-
-    impl Stage for CountLines {
-        type Params = CountParams;
-
-        fn info(&self) -> &'static StageInfo {
-            &INFO
-        }
-
-        fn run(
-            &self,
-            p: &Checked<CountParams>,
-            _: &Inputs,
-            _: &Context,
-        ) -> Result<Outputs, StageError> {
-            let mut lines = Vec::new();
-            for path in p.extra.iter().chain([&p.lookup.table]) {
-                let text = std::fs::read_to_string(path)
-                    .map_err(|e| StageError::file(path, e.to_string()))?;
-                lines.push(text.lines().count() as i64);
-            }
-            let table: Table = Counts { lines }.into_table();
-            Ok(Outputs::new().table("counts", table))
-        }
-    }
-}
-
 #[test]
 fn a_declared_file_parameter_reruns_its_stage_when_the_file_changes() {
     let t = tempfile::tempdir().unwrap();
     let mut registry = registry();
-    registry.add(throwaway::CountLines);
+    registry.add(common::CountLines);
     write(t.path(), "a.txt", "1\n2\n");
     write(t.path(), "b.txt", "1\n");
     let lookup = write(t.path(), "lookup.txt", "x\n");

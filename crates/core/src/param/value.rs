@@ -125,21 +125,35 @@ impl<T: ParamValue> ParamValue for Option<T> {
     }
 }
 
+/// Items of a list, each under its index (`files.2`).
+fn validate_items<T: ParamValue>(items: &[T], prefix: &str) -> Result<(), ParamError> {
+    items
+        .iter()
+        .enumerate()
+        .try_for_each(|(i, v)| v.validate_at(&join(prefix, &i.to_string())))
+}
+
+fn visit_items<T: ParamValue>(
+    items: &mut [T],
+    prefix: &str,
+    visit: &mut dyn FnMut(&str, &mut InputPath),
+) {
+    for (i, v) in items.iter_mut().enumerate() {
+        v.visit_paths(&join(prefix, &i.to_string()), visit);
+    }
+}
+
 impl<T: ParamValue> ParamValue for Vec<T> {
     fn type_doc() -> TypeDoc {
         TypeDoc::List(Box::new(T::type_doc()))
     }
 
     fn validate_at(&self, prefix: &str) -> Result<(), ParamError> {
-        self.iter()
-            .enumerate()
-            .try_for_each(|(i, v)| v.validate_at(&join(prefix, &i.to_string())))
+        validate_items(self, prefix)
     }
 
     fn visit_paths(&mut self, prefix: &str, visit: &mut dyn FnMut(&str, &mut InputPath)) {
-        for (i, v) in self.iter_mut().enumerate() {
-            v.visit_paths(&join(prefix, &i.to_string()), visit);
-        }
+        visit_items(self, prefix, visit);
     }
 }
 
@@ -152,15 +166,11 @@ where
     }
 
     fn validate_at(&self, prefix: &str) -> Result<(), ParamError> {
-        self.iter()
-            .enumerate()
-            .try_for_each(|(i, v)| v.validate_at(&join(prefix, &i.to_string())))
+        validate_items(self, prefix)
     }
 
     fn visit_paths(&mut self, prefix: &str, visit: &mut dyn FnMut(&str, &mut InputPath)) {
-        for (i, v) in self.iter_mut().enumerate() {
-            v.visit_paths(&join(prefix, &i.to_string()), visit);
-        }
+        visit_items(self, prefix, visit);
     }
 }
 

@@ -10,7 +10,7 @@ use hypercontact_core::product::ProductKind;
 use hypercontact_core::stage::Arity;
 use hypercontact_core::{
     Checked, ColumnSpec, Context, Field, Files, InputPath, InputSpec, Inputs, OutputSpec, Outputs,
-    Registry, Stage, StageError, StageInfo, Table, params,
+    Registry, Schema, Stage, StageError, StageInfo, Table, params,
 };
 
 /// How often `scale` computed, across threads.
@@ -214,3 +214,65 @@ stages:
     inputs: { t: src }
     with: { factor: 2 }
 ";
+
+// ---- a throwaway stage whose file parameters sit in a list and in a nested
+// struct: nothing but the declaration tells the runner about them ----
+
+/// A nested block with one file.
+#[params]
+pub struct Lookup {
+    /// a lookup table
+    pub table: InputPath,
+}
+
+/// Parameters of `count-lines`.
+#[params]
+pub struct CountParams {
+    /// any number of files
+    #[param(default = Vec::new())]
+    pub extra: Vec<InputPath>,
+    /// a nested file
+    pub lookup: Lookup,
+}
+
+/// Lines per file.
+#[derive(Schema)]
+pub struct Counts {
+    /// lines in the file
+    pub lines: Vec<i64>,
+}
+
+pub struct CountLines;
+
+static INFO: StageInfo = StageInfo {
+    kind: "count-lines",
+    version: 1,
+    summary: "counts the lines of its files",
+    doc: "",
+    inputs: &[],
+    outputs: &[OutputSpec::table::<Counts>("counts", "one row per file")],
+};
+
+impl Stage for CountLines {
+    type Params = CountParams;
+
+    fn info(&self) -> &'static StageInfo {
+        &INFO
+    }
+
+    fn run(
+        &self,
+        p: &Checked<CountParams>,
+        _: &Inputs,
+        _: &Context,
+    ) -> Result<Outputs, StageError> {
+        let mut lines = Vec::new();
+        for path in p.extra.iter().chain([&p.lookup.table]) {
+            let text =
+                std::fs::read_to_string(path).map_err(|e| StageError::file(path, e.to_string()))?;
+            lines.push(text.lines().count() as i64);
+        }
+        let table: Table = Counts { lines }.into_table();
+        Ok(Outputs::new().table("counts", table))
+    }
+}
