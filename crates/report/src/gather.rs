@@ -1,16 +1,24 @@
 //! Reads whatever upstream products are wired into typed, checked series.
 //!
 //! Every input is optional here; which figures and tables can be drawn is
-//! decided from what is present (see `plan.rs`). A table that is wired but
-//! malformed (missing column, NaN in a plotted column) is an error that names
-//! the input, the column and the row: a report silently missing a curve would
-//! look like a result.
+//! decided from what is present (see `report.rs`). Tables are read with the
+//! schemas their own stages declare, so no column is named twice. A table
+//! that is wired but malformed (missing column, NaN in a plotted column) is
+//! an error that names the input, the column and the row: a report silently
+//! missing a curve would look like a result.
 
 use std::collections::BTreeMap;
 
-use hypercontact_core::{Field, Inputs, Product, Table};
+use hypercontact_core::contact::ResponseTable;
+use hypercontact_core::{Field, Inputs, Mode, Product, Schema, Table};
+use hypercontact_material::fit_stage::{
+    ComparisonTable, CurvesTable, ParamsTable, QualityTable, StabilityTable,
+};
+use hypercontact_surface::surface_stage::{PsdTable, StatsTable};
+use hypercontact_truncation::stage::ProfileTable;
 
 use crate::ReportError;
+use crate::material::MaterialSummary;
 
 /// One tensile mode's measured and fitted nominal stress (Fig. 2).
 #[derive(Clone, Debug, PartialEq)]
@@ -48,7 +56,8 @@ pub struct SurfaceStats {
     pub hurst_radial: f64,
 }
 
-/// An ICM response: the area fraction and the two normalised quantities.
+/// A contact model's response: the area fraction and the two normalised
+/// quantities.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Response {
     /// A/A0, ascending.
@@ -57,6 +66,9 @@ pub struct Response {
     pub load_norm: Vec<f64>,
     /// E_t*/E0*.
     pub tangent_ratio: Vec<f64>,
+    /// The E0* that `load_norm` was divided by; `None` when no row carries
+    /// load.
+    pub e0_star_pa: Option<f64>,
 }
 
 /// Everything the report knows about one sample.
@@ -64,7 +76,7 @@ pub struct Response {
 pub struct Sample<'a> {
     pub label: String,
     pub height: Option<&'a Field>,
-    /// C(q) along x and y (q in 1/m, C in m³), q > 0 and C > 0 only.
+    /// C(q) along x and y as the `psd` table holds them, q > 0 and C > 0 only.
     pub psd_x: Option<Series>,
     pub psd_y: Option<Series>,
     pub stats: Option<SurfaceStats>,
@@ -74,118 +86,136 @@ pub struct Sample<'a> {
     pub response_linear: Option<Response>,
 }
 
-/// The fitted material as the `material` table holds it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MaterialSummary {
-    pub model: String,
-    /// (parameter name, value in SI) in table order.
-    pub parameters: Vec<(String, f64)>,
-    pub mu0_pa: f64,
-    pub e0_pa: f64,
-    /// E0* = E0 / (1 − ν²), ν = ½ (incompressible).
-    pub e0_star_pa: f64,
-}
-
 /// The wired inputs, read and checked.
 #[derive(Clone, Debug, Default)]
 pub struct ReportData<'a> {
     pub curves: Option<Vec<ModeCurve>>,
+    /// Shown as is (checked against its schema).
     pub quality: Option<&'a Table>,
     /// R² per mode label, from `quality`.
     pub r2_by_mode: BTreeMap<String, f64>,
+    /// Shown as is (checked against its schema and against `material`).
     pub params: Option<&'a Table>,
     pub stability: Option<Vec<StabilityRange>>,
+    /// Shown as is (checked against its schema).
     pub comparison: Option<&'a Table>,
     pub material: Option<MaterialSummary>,
     /// Samples in label order (T1, T2, ...), each with what is wired for it.
     pub samples: Vec<Sample<'a>>,
 }
 
-/// The input names of the per-sample many-inputs.
-pub const SAMPLE_INPUTS: [&str; 6] = [
-    "heights",
-    "psd",
-    "stats",
-    "profiles",
-    "responses",
-    "responses_linear",
-];
-
 impl<'a> ReportData<'a> {
-    /// Reads every wired input; absent inputs stay `None`.
-    pub fn gather(inputs: &'a Inputs) -> Result<Self, ReportError> {
-        let mut data = ReportData {
-            curves: optional_table(inputs, "curves")?
+    /// Reads every wired input; absent inputs stay `None`. Table 1's moduli
+    /// are taken at Poisson's ratio `poisson`, and every wired response must
+    /// have been normalised by that E0*.
+    pub fn gather(inputs: &'a Inputs, poisson: f64) -> Result<Self, ReportError> {
+        let quality = optional_table(inputs, "quality")?;
+        let params = optional_table(inputs, "params")?;
+        let comparison = optional_table(inputs, "comparison")?;
+        let fit_params = params
+            .map(|t| read::<ParamsTable>("params", t))
+            .transpose()?;
+        if let Some(t) = comparison {
+            read::<ComparisonTable>("comparison", t)?;
+        }
+        let data = ReportData {
+            curves: read_optional::<CurvesTable>(inputs, "curves")?
                 .map(read_curves)
                 .transpose()?,
-            quality: optional_table(inputs, "quality")?,
-            params: optional_table(inputs, "params")?,
-            stability: optional_table(inputs, "stability")?
+            quality,
+            r2_by_mode: match quality {
+                Some(t) => {
+                    let q: QualityTable = read("quality", t)?;
+                    q.mode.into_iter().zip(q.r2).collect()
+                }
+                None => BTreeMap::new(),
+            },
+            params,
+            stability: read_optional::<StabilityTable>(inputs, "stability")?
                 .map(read_stability)
                 .transpose()?,
-            comparison: optional_table(inputs, "comparison")?,
+            comparison,
             material: optional_table(inputs, "material")?
-                .map(read_material)
+                .map(|t| MaterialSummary::read(t, poisson, fit_params.as_ref()))
                 .transpose()?,
-            ..Default::default()
+            samples: read_samples(inputs)?,
         };
-        if let Some(q) = data.quality {
-            let modes = q
-                .str("mode")
-                .map_err(|e| ReportError::table("quality", e))?;
-            let r2 = q
-                .to_f64("r2")
-                .map_err(|e| ReportError::table("quality", e))?;
-            data.r2_by_mode = modes.iter().cloned().zip(r2).collect();
+        if let Some(material) = &data.material {
+            for s in &data.samples {
+                let wired = [
+                    ("responses", &s.response),
+                    ("responses_linear", &s.response_linear),
+                ];
+                for (input, response) in wired {
+                    if let Some(r) = response {
+                        material.check_normalisation(&format!("{input}.{}", s.label), r)?;
+                    }
+                }
+            }
         }
-        data.samples = read_samples(inputs)?;
         Ok(data)
     }
 }
 
-fn optional_table<'a>(inputs: &'a Inputs, name: &str) -> Result<Option<&'a Table>, ReportError> {
-    match inputs.get(name) {
-        None => Ok(None),
-        Some(Product::Table(t)) => Ok(Some(t)),
-        Some(other) => Err(ReportError::input(
-            name,
+/// The product of input `input` as a table; anything else is an error
+/// naming the input.
+fn as_table<'a>(input: &str, product: &'a Product) -> Result<&'a Table, ReportError> {
+    match product {
+        Product::Table(t) => Ok(t),
+        other => Err(ReportError::input(
+            input,
             format!("is a {}, expected a table", other.kind()),
         )),
     }
 }
 
-/// A numeric column whose every value must be finite.
-pub fn finite_column(input: &str, table: &Table, column: &str) -> Result<Vec<f64>, ReportError> {
-    let values = table
-        .to_f64(column)
-        .map_err(|e| ReportError::table(input, e))?;
-    if let Some(row) = values.iter().position(|v| !v.is_finite()) {
-        return Err(ReportError::input(
+fn optional_table<'a>(inputs: &'a Inputs, name: &str) -> Result<Option<&'a Table>, ReportError> {
+    inputs.get(name).map(|p| as_table(name, p)).transpose()
+}
+
+/// Input `input`'s table read into schema `S`; a missing or mistyped column
+/// is an error naming the input.
+fn read<S: Schema>(input: &str, table: &Table) -> Result<S, ReportError> {
+    S::from_table(table).map_err(|e| ReportError::table(input, e))
+}
+
+fn read_optional<S: Schema>(inputs: &Inputs, name: &str) -> Result<Option<S>, ReportError> {
+    optional_table(inputs, name)?
+        .map(|t| read(name, t))
+        .transpose()
+}
+
+/// Checks that every value of a plotted column is finite; the error names
+/// the column by its schema field, which is its name in the table.
+macro_rules! finite {
+    ($input:expr, $table:ident . $column:ident) => {
+        check_finite($input, stringify!($column), &$table.$column)
+    };
+}
+
+fn check_finite(input: &str, column: &str, values: &[f64]) -> Result<(), ReportError> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(row) => Err(ReportError::input(
             input,
             format!("column `{column}` row {row} is {}", values[row]),
-        ));
+        )),
+        None => Ok(()),
     }
-    Ok(values)
 }
 
 /// Sorts parallel columns by the first one (stable, so ties keep row order).
-fn sort_by_first(mut columns: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
+fn sort_by_first<const N: usize>(columns: [&[f64]; N]) -> [Vec<f64>; N] {
     let mut order: Vec<usize> = (0..columns[0].len()).collect();
     order.sort_by(|&a, &b| columns[0][a].total_cmp(&columns[0][b]));
-    for c in &mut columns {
-        *c = order.iter().map(|&i| c[i]).collect();
-    }
-    columns
+    columns.map(|c| order.iter().map(|&i| c[i]).collect())
 }
 
-fn read_curves(table: &Table) -> Result<Vec<ModeCurve>, ReportError> {
+fn read_curves(table: CurvesTable) -> Result<Vec<ModeCurve>, ReportError> {
     let input = "curves";
-    let modes = table
-        .str("mode")
-        .map_err(|e| ReportError::table(input, e))?;
-    let stretch = finite_column(input, table, "stretch")?;
-    let measured = finite_column(input, table, "measured_pa")?;
-    let fitted = finite_column(input, table, "fitted_pa")?;
+    finite!(input, table.stretch)?;
+    finite!(input, table.measured_pa)?;
+    finite!(input, table.fitted_pa)?;
+    let modes = &table.mode;
     let mut labels: Vec<&String> = Vec::new();
     for m in modes {
         if !labels.contains(&m) {
@@ -193,86 +223,65 @@ fn read_curves(table: &Table) -> Result<Vec<ModeCurve>, ReportError> {
         }
     }
     // Paper order UT, PT, BT first, anything else after.
-    labels.sort_by_key(|m| ["UT", "PT", "BT"].iter().position(|k| k == m).unwrap_or(3));
+    labels.sort_by_key(|m| Mode::from_label(m).map_or(Mode::ALL.len(), |m| m as usize));
     Ok(labels
         .into_iter()
         .map(|label| {
             let rows: Vec<usize> = (0..modes.len()).filter(|&i| &modes[i] == label).collect();
             let pick = |v: &[f64]| rows.iter().map(|&i| v[i]).collect::<Vec<_>>();
-            let sorted = sort_by_first(vec![pick(&stretch), pick(&measured), pick(&fitted)]);
-            let [s, m, f]: [Vec<f64>; 3] = sorted.try_into().expect("three columns in, three out");
+            let [stretch, measured_pa, fitted_pa] = sort_by_first([
+                &pick(&table.stretch),
+                &pick(&table.measured_pa),
+                &pick(&table.fitted_pa),
+            ]);
             ModeCurve {
                 mode: label.clone(),
-                stretch: s,
-                measured_pa: m,
-                fitted_pa: f,
+                stretch,
+                measured_pa,
+                fitted_pa,
             }
         })
         .collect())
 }
 
-fn read_stability(table: &Table) -> Result<Vec<StabilityRange>, ReportError> {
-    let input = "stability";
-    let modes = table
-        .str("mode")
-        .map_err(|e| ReportError::table(input, e))?;
+fn read_stability(table: StabilityTable) -> Result<Vec<StabilityRange>, ReportError> {
     // Unbounded limits may be stored as ±inf; NaN is not meaningful.
-    let lo = table
-        .to_f64("lambda_min")
-        .map_err(|e| ReportError::table(input, e))?;
-    let hi = table
-        .to_f64("lambda_max")
-        .map_err(|e| ReportError::table(input, e))?;
-    if let Some(row) = lo.iter().chain(&hi).position(|v| v.is_nan()) {
+    let (lo, hi) = (&table.lambda_min, &table.lambda_max);
+    if let Some(row) = lo.iter().chain(hi).position(|v| v.is_nan()) {
         return Err(ReportError::input(
-            input,
+            "stability",
             format!("row {} holds a NaN limit", row % lo.len().max(1)),
         ));
     }
-    Ok(modes
-        .iter()
-        .zip(lo.iter().zip(&hi))
-        .map(|(m, (&l, &h))| StabilityRange {
-            mode: m.clone(),
-            lambda_min: l,
-            lambda_max: h,
+    Ok(table
+        .mode
+        .into_iter()
+        .zip(lo.iter().zip(hi))
+        .map(|(mode, (&lambda_min, &lambda_max))| StabilityRange {
+            mode,
+            lambda_min,
+            lambda_max,
         })
         .collect())
 }
 
-fn read_material(table: &Table) -> Result<MaterialSummary, ReportError> {
-    let model = hypercontact_material::table::from_table(table)
-        .map_err(|e| ReportError::Material(e.to_string()))?;
-    let mu0_pa = model.shear_modulus_pa();
-    let nu = 0.5;
-    Ok(MaterialSummary {
-        model: model.family().to_owned(),
-        parameters: model
-            .parameters()
-            .into_iter()
-            .map(|p| (p.name(), p.value))
-            .collect(),
-        mu0_pa,
-        e0_pa: hypercontact_material::youngs_modulus_pa(mu0_pa, nu),
-        e0_star_pa: hypercontact_material::composite_modulus_pa(mu0_pa, nu),
-    })
-}
-
-fn labelled_tables<'a>(
+/// The products of a many-input by label, each read by `read` under its
+/// input name (`psd.T1`).
+fn labelled<'a, T>(
     inputs: &'a Inputs,
     name: &str,
-) -> Result<Vec<(&'a str, &'a Table)>, ReportError> {
+    read: impl Fn(&str, &'a Product) -> Result<T, ReportError>,
+) -> Result<Vec<(&'a str, T)>, ReportError> {
     inputs
         .labelled(name)
         .into_iter()
-        .map(|(label, p)| match p {
-            Product::Table(t) => Ok((label, t)),
-            other => Err(ReportError::input(
-                &format!("{name}.{label}"),
-                format!("is a {}, expected a table", other.kind()),
-            )),
-        })
+        .map(|(label, p)| Ok((label, read(&format!("{name}.{label}"), p)?)))
         .collect()
+}
+
+/// A per-sample table read into schema `S`.
+fn sample_table<S: Schema>(input: &str, product: &Product) -> Result<S, ReportError> {
+    read(input, as_table(input, product)?)
 }
 
 fn read_samples(inputs: &Inputs) -> Result<Vec<Sample<'_>>, ReportError> {
@@ -283,35 +292,42 @@ fn read_samples(inputs: &Inputs) -> Result<Vec<Sample<'_>>, ReportError> {
             ..Default::default()
         })
     }
-    for (label, p) in inputs.labelled("heights") {
-        match p {
-            Product::Field(f) => slot(&mut map, label).height = Some(f),
-            other => {
-                return Err(ReportError::input(
-                    &format!("heights.{label}"),
-                    format!("is a {}, expected a field", other.kind()),
-                ));
-            }
-        }
+    let heights = labelled(inputs, "heights", |input, p| match p {
+        Product::Field(f) => Ok(f),
+        other => Err(ReportError::input(
+            input,
+            format!("is a {}, expected a field", other.kind()),
+        )),
+    })?;
+    for (label, f) in heights {
+        slot(&mut map, label).height = Some(f);
     }
-    for (label, t) in labelled_tables(inputs, "psd")? {
-        let (x, y) = read_psd(&format!("psd.{label}"), t)?;
+    let psd = labelled(inputs, "psd", |input, p| {
+        read_psd(input, sample_table(input, p)?)
+    })?;
+    for (label, (x, y)) in psd {
         let s = slot(&mut map, label);
         s.psd_x = x;
         s.psd_y = y;
     }
-    for (label, t) in labelled_tables(inputs, "stats")? {
-        slot(&mut map, label).stats = Some(read_stats(&format!("stats.{label}"), t)?);
+    let stats = labelled(inputs, "stats", |input, p| {
+        read_stats(input, sample_table(input, p)?)
+    })?;
+    for (label, stats) in stats {
+        slot(&mut map, label).stats = Some(stats);
     }
-    for (label, t) in labelled_tables(inputs, "profiles")? {
-        slot(&mut map, label).profile = Some(read_profile(&format!("profiles.{label}"), t)?);
+    let profiles = labelled(inputs, "profiles", |input, p| {
+        read_profile(input, sample_table(input, p)?)
+    })?;
+    for (label, profile) in profiles {
+        slot(&mut map, label).profile = Some(profile);
     }
-    for (label, t) in labelled_tables(inputs, "responses")? {
-        slot(&mut map, label).response = Some(read_response(&format!("responses.{label}"), t)?);
+    let response = |input: &str, p: &Product| read_response(input, sample_table(input, p)?);
+    for (label, r) in labelled(inputs, "responses", response)? {
+        slot(&mut map, label).response = Some(r);
     }
-    for (label, t) in labelled_tables(inputs, "responses_linear")? {
-        slot(&mut map, label).response_linear =
-            Some(read_response(&format!("responses_linear.{label}"), t)?);
+    for (label, r) in labelled(inputs, "responses_linear", response)? {
+        slot(&mut map, label).response_linear = Some(r);
     }
     let mut samples: Vec<Sample<'_>> = map.into_values().collect();
     samples.sort_by_key(|s| natural_key(&s.label));
@@ -325,12 +341,14 @@ fn natural_key(label: &str) -> (String, u64, String) {
     (head.to_owned(), tail.parse().unwrap_or(0), label.to_owned())
 }
 
-fn read_psd(input: &str, table: &Table) -> Result<(Option<Series>, Option<Series>), ReportError> {
-    let direction = table
-        .str("direction")
-        .map_err(|e| ReportError::table(input, e))?;
-    let q = finite_column(input, table, "q_per_m")?;
-    let c = finite_column(input, table, "c")?;
+fn read_psd(input: &str, table: PsdTable) -> Result<(Option<Series>, Option<Series>), ReportError> {
+    finite!(input, table.q_per_m)?;
+    finite!(input, table.c)?;
+    let PsdTable {
+        direction,
+        q_per_m: q,
+        c,
+    } = table;
     // Log–log axes: q = 0 (the mean) and C = 0 cannot be drawn and carry no slope.
     let series = |dir: &str| -> Option<Series> {
         let rows: Vec<usize> = (0..q.len())
@@ -339,63 +357,64 @@ fn read_psd(input: &str, table: &Table) -> Result<(Option<Series>, Option<Series
         if rows.is_empty() {
             return None;
         }
-        let sorted = sort_by_first(vec![
-            rows.iter().map(|&i| q[i]).collect(),
-            rows.iter().map(|&i| c[i]).collect(),
-        ]);
-        let [x, y]: [Vec<f64>; 2] = sorted.try_into().expect("two columns in, two out");
+        let pick = |v: &[f64]| rows.iter().map(|&i| v[i]).collect::<Vec<_>>();
+        let [x, y] = sort_by_first([&pick(&q), &pick(&c)]);
         Some(Series { x, y })
     };
     Ok((series("x"), series("y")))
 }
 
-fn read_stats(input: &str, table: &Table) -> Result<SurfaceStats, ReportError> {
-    if table.n_rows() == 0 {
+fn read_stats(input: &str, table: StatsTable) -> Result<SurfaceStats, ReportError> {
+    if table.sigma_m.is_empty() {
         return Err(ReportError::input(input, "the statistics table has no row"));
     }
     // A statistic the upstream could not estimate may be NaN: it is shown as
     // "n/a" and written as null, never as a number.
-    let first = |column: &str| -> Result<f64, ReportError> {
-        table
-            .to_f64(column)
-            .map(|v| v[0])
-            .map_err(|e| ReportError::table(input, e))
-    };
     Ok(SurfaceStats {
-        sigma_m: first("sigma_m")?,
-        rms_slope: first("rms_slope")?,
-        hurst_x: first("hurst_x")?,
-        hurst_y: first("hurst_y")?,
-        hurst_radial: first("hurst_radial")?,
+        sigma_m: table.sigma_m[0],
+        rms_slope: table.rms_slope[0],
+        hurst_x: table.hurst_x[0],
+        hurst_y: table.hurst_y[0],
+        hurst_radial: table.hurst_radial[0],
     })
 }
 
-fn read_profile(input: &str, table: &Table) -> Result<Series, ReportError> {
-    let z = finite_column(input, table, "z_over_sigma")?;
-    let a = finite_column(input, table, "area_fraction")?;
-    let sorted = sort_by_first(vec![z, a]);
-    let [x, y]: [Vec<f64>; 2] = sorted.try_into().expect("two columns in, two out");
+fn read_profile(input: &str, table: ProfileTable) -> Result<Series, ReportError> {
+    finite!(input, table.z_over_sigma)?;
+    finite!(input, table.area_fraction)?;
+    let [x, y] = sort_by_first([&table.z_over_sigma, &table.area_fraction]);
     Ok(Series { x, y })
 }
 
-fn read_response(input: &str, table: &Table) -> Result<Response, ReportError> {
-    let a = finite_column(input, table, "area_fraction")?;
-    let f = finite_column(input, table, "load_norm")?;
-    let t = finite_column(input, table, "tangent_ratio")?;
-    let sorted = sort_by_first(vec![a, f, t]);
-    let [area_fraction, load_norm, tangent_ratio]: [Vec<f64>; 3] =
-        sorted.try_into().expect("three columns in, three out");
+/// A response table, sorted by A/A0, with the E0* behind its `load_norm`.
+pub(crate) fn read_response(input: &str, table: ResponseTable) -> Result<Response, ReportError> {
+    finite!(input, table.area_fraction)?;
+    finite!(input, table.load_norm)?;
+    finite!(input, table.tangent_ratio)?;
+    let [area_fraction, load_norm, tangent_ratio] =
+        sort_by_first([&table.area_fraction, &table.load_norm, &table.tangent_ratio]);
     Ok(Response {
         area_fraction,
         load_norm,
         tangent_ratio,
+        e0_star_pa: normalising_modulus_pa(&table),
     })
+}
+
+/// The E0* of `load_norm` = F/(E0* A0), from the table's own columns:
+/// `mean_stress_pa` · `area_fraction` = F/A · A/A0 = F/A0, so E0* is that
+/// over `load_norm`. Read at the most loaded row, where rounding matters
+/// least; no profile is needed, so every contact model's table is checked.
+fn normalising_modulus_pa(table: &ResponseTable) -> Option<f64> {
+    let row = (0..table.load_norm.len())
+        .max_by(|&i, &j| table.load_norm[i].total_cmp(&table.load_norm[j]))?;
+    let (a, f) = (table.area_fraction[row], table.load_norm[row]);
+    (f > 0.0 && a > 0.0).then(|| table.mean_stress_pa[row] * a / f)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hypercontact_core::Product;
 
     #[test]
     fn samples_come_in_natural_order() {
@@ -411,7 +430,7 @@ mod tests {
             .with("stretch", vec![1.5, 2.0, 1.2, 1.1])
             .with("measured_pa", vec![3.0, 2.0, 1.0, 0.5])
             .with("fitted_pa", vec![3.1, 2.1, 1.1, 0.6]);
-        let curves = read_curves(&t).unwrap();
+        let curves = read_curves(read("curves", &t).unwrap()).unwrap();
         let modes: Vec<&str> = curves.iter().map(|c| c.mode.as_str()).collect();
         assert_eq!(modes, ["UT", "PT", "BT"]);
         assert_eq!(curves[0].stretch, [1.2, 2.0]);
@@ -425,21 +444,28 @@ mod tests {
             .with("direction", vec!["x", "x", "y", "radial", "x"])
             .with("q_per_m", vec![0.0, 2e3, 1e3, 1e3, 1e3])
             .with("c", vec![1.0, 1e-20, 2e-20, 3e-20, 0.0]);
-        let (x, y) = read_psd("psd.T1", &t).unwrap();
+        let (x, y) = read_psd("psd.T1", read("psd.T1", &t).unwrap()).unwrap();
         assert_eq!(x.unwrap().x, [2e3]);
         assert_eq!(y.unwrap().y, [2e-20]);
     }
 
     #[test]
     fn nan_limits_and_wrong_kinds_are_named() {
+        // The monotonic range and note are the rest of the `stability`
+        // schema; the report does not draw them.
         let t = Table::new()
             .with("mode", vec!["UT"])
             .with("lambda_min", vec![f64::NAN])
-            .with("lambda_max", vec![2.0]);
-        let e = read_stability(&t).unwrap_err().to_string();
+            .with("lambda_max", vec![2.0])
+            .with("monotonic_min", vec![0.5])
+            .with("monotonic_max", vec![2.0])
+            .with("note", vec![""]);
+        let e = read_stability(read("stability", &t).unwrap())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("stability") && e.contains("NaN"), "{e}");
         let inputs = Inputs::new().with("heights.T1", Product::Table(Table::new()));
-        let e = ReportData::gather(&inputs).unwrap_err().to_string();
+        let e = ReportData::gather(&inputs, 0.5).unwrap_err().to_string();
         assert!(
             e.contains("heights.T1") && e.contains("expected a field"),
             "{e}"
@@ -447,14 +473,15 @@ mod tests {
     }
 
     #[test]
-    fn material_gives_the_initial_moduli() {
-        let t = Table::new()
-            .with("model", vec!["ogden"; 4])
-            .with("param", vec!["mu_1", "alpha_1", "mu_2", "alpha_2"])
-            .with("value", vec![1.0e6, 2.0, 0.5e6, -2.0]);
-        let m = read_material(&t).unwrap();
-        assert_eq!(m.mu0_pa, 1.5e6);
-        assert!((m.e0_pa - 4.5e6).abs() < 1e-6);
-        assert!((m.e0_star_pa - 6.0e6).abs() < 1e-6);
+    fn a_response_without_load_has_no_normalisation() {
+        let zero = ResponseTable {
+            z_m: vec![1.0, 0.0],
+            area_fraction: vec![0.0, 0.5],
+            load_n: vec![0.0; 2],
+            load_norm: vec![0.0; 2],
+            mean_stress_pa: vec![0.0; 2],
+            tangent_ratio: vec![1.0; 2],
+        };
+        assert_eq!(normalising_modulus_pa(&zero), None);
     }
 }

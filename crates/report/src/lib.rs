@@ -2,7 +2,10 @@
 //! and 8 as PNG and SVG), its Table 1, the model comparison and a
 //! per-sample summary, in one self-contained HTML page plus `summary.json`.
 //!
-//! - [`gather`]: reads and checks whatever inputs are wired;
+//! - [`gather`]: reads and checks whatever inputs are wired, with the
+//!   upstream stages' own table schemas;
+//! - [`material`]: Table 1's moduli at the report's ν, held to the E0* of
+//!   the responses;
 //! - [`figures`]: one file per figure, shared plotting helpers;
 //! - [`summary`], [`html`]: the numbers and the page;
 //! - [`report`]: decides what can be drawn and assembles the files;
@@ -16,6 +19,7 @@ pub mod figures;
 pub mod gather;
 pub mod html;
 pub mod interp;
+pub mod material;
 pub mod powerlaw;
 pub mod report;
 pub mod stage;

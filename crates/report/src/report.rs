@@ -3,6 +3,7 @@
 //! and writes `index.html`, `figN.png`, `figN.svg` and `summary.json`.
 
 use hypercontact_core::{Files, Inputs};
+use hypercontact_material::ParamUnit;
 use serde_json::Value;
 
 use crate::ReportError;
@@ -13,6 +14,7 @@ use crate::figures::fig8::Fig8;
 use crate::figures::{Rendered, render};
 use crate::gather::ReportData;
 use crate::html::{escape, fmt_sig, generic_table, page, provenance_section, simple_table};
+use crate::material::MaterialSummary;
 use crate::summary::{FigureStatus, Summary};
 
 /// What the report shows beyond its inputs.
@@ -21,6 +23,9 @@ pub struct ReportOptions {
     pub title: String,
     /// A/A0 at which the summary reads F/(E0* A0).
     pub area_fractions: Vec<f64>,
+    /// Poisson's ratio ν of Table 1's E0 and E0*; the responses must have
+    /// been normalised by the same E0*.
+    pub poisson: f64,
 }
 
 impl Default for ReportOptions {
@@ -28,6 +33,8 @@ impl Default for ReportOptions {
         ReportOptions {
             title: "hypercontact — rough-surface contact of a hyperelastic rubber".into(),
             area_fractions: vec![0.1, 0.5, 0.9],
+            // Incompressible rubber, as the paper takes it.
+            poisson: 0.5,
         }
     }
 }
@@ -40,7 +47,7 @@ pub fn render_report(
     options: &ReportOptions,
     provenance: Option<&Value>,
 ) -> Result<Files, ReportError> {
-    let data = ReportData::gather(inputs)?;
+    let data = ReportData::gather(inputs, options.poisson)?;
     build_report(&data, options, provenance)
 }
 
@@ -258,48 +265,80 @@ fn figure_html(outcome: &Outcome) -> String {
     }
 }
 
+/// Table 1: the fitted parameters, one row per Ogden term when every
+/// parameter belongs to a term, otherwise one row per parameter (SI).
+fn parameter_table(m: &MaterialSummary) -> String {
+    let by_term = !m.parameters.is_empty() && m.parameters.iter().all(|p| p.term.is_some());
+    if !by_term {
+        let rows: Vec<Vec<String>> = m
+            .parameters
+            .iter()
+            .map(|p| vec![escape(&p.name()), fmt_sig(p.value, 6)])
+            .collect();
+        return simple_table(
+            &format!("Table 1. Fitted {} parameters (SI units)", m.model),
+            &["parameter".into(), "value".into()],
+            &rows,
+        );
+    }
+    // Columns: the symbols in table order, each with its unit.
+    let mut columns: Vec<(&str, ParamUnit)> = Vec::new();
+    for p in &m.parameters {
+        if !columns.iter().any(|(s, _)| *s == p.symbol) {
+            columns.push((p.symbol, p.unit));
+        }
+    }
+    let mut terms: Vec<usize> = m.parameters.iter().filter_map(|p| p.term).collect();
+    terms.sort_unstable();
+    terms.dedup();
+    let mut header = vec!["i".to_owned()];
+    header.extend(columns.iter().map(|(symbol, unit)| match unit {
+        ParamUnit::Pa => format!("{}<sub>i</sub> (MPa)", symbol_html(symbol)),
+        ParamUnit::One => format!("{}<sub>i</sub>", symbol_html(symbol)),
+    }));
+    let rows: Vec<Vec<String>> = terms
+        .iter()
+        .map(|&i| {
+            let mut row = vec![i.to_string()];
+            row.extend(columns.iter().map(|(symbol, unit)| {
+                let value = m
+                    .parameters
+                    .iter()
+                    .find(|p| p.term == Some(i) && p.symbol == *symbol)
+                    .map(|p| p.value);
+                match (value, unit) {
+                    (None, _) => "n/a".into(),
+                    (Some(v), ParamUnit::Pa) => fmt_sig(v / 1e6, 6),
+                    (Some(v), ParamUnit::One) => fmt_sig(v, 4),
+                }
+            }));
+            row
+        })
+        .collect();
+    simple_table(
+        &format!("Table 1. Fitted {} parameters (Abaqus convention)", m.model),
+        &header,
+        &rows,
+    )
+}
+
+/// A parameter symbol as the paper writes it.
+fn symbol_html(symbol: &str) -> String {
+    match symbol {
+        "mu" => "μ".into(),
+        "alpha" => "α".into(),
+        other => escape(other),
+    }
+}
+
 fn material_tables(data: &ReportData<'_>) -> String {
     let mut html = String::new();
     match &data.material {
         Some(m) => {
             let mpa = |v: f64| fmt_sig(v / 1e6, 6);
-            let mut rows: Vec<Vec<String>> = Vec::new();
-            let mus: Vec<&(String, f64)> = m
-                .parameters
-                .iter()
-                .filter(|(n, _)| n.starts_with("mu_"))
-                .collect();
-            if m.model == "ogden" && !mus.is_empty() {
-                for (name, mu) in &mus {
-                    let i = name.trim_start_matches("mu_");
-                    let alpha = m
-                        .parameters
-                        .iter()
-                        .find(|(n, _)| n == &format!("alpha_{i}"))
-                        .map_or("n/a".into(), |(_, a)| fmt_sig(*a, 4));
-                    rows.push(vec![i.to_owned(), mpa(*mu), alpha]);
-                }
-                html.push_str(&simple_table(
-                    &format!("Table 1. Fitted {} parameters (Abaqus convention)", m.model),
-                    &[
-                        "i".into(),
-                        "μ<sub>i</sub> (MPa)".into(),
-                        "α<sub>i</sub>".into(),
-                    ],
-                    &rows,
-                ));
-            } else {
-                for (name, value) in &m.parameters {
-                    rows.push(vec![escape(name), fmt_sig(*value, 6)]);
-                }
-                html.push_str(&simple_table(
-                    &format!("Table 1. Fitted {} parameters (SI units)", m.model),
-                    &["parameter".into(), "value".into()],
-                    &rows,
-                ));
-            }
+            html.push_str(&parameter_table(m));
             html.push_str(&simple_table(
-                "Initial moduli (ν = 0.5)",
+                &format!("Initial moduli (ν = {})", fmt_sig(m.poisson, 6)),
                 &["modulus".into(), "value (MPa)".into()],
                 &[
                     vec!["μ<sub>0</sub> = Σ μ<sub>i</sub>".into(), mpa(m.mu0_pa)],
@@ -497,4 +536,32 @@ pub fn build_report(
         }
     }
     Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hypercontact_material::table::to_table;
+    use hypercontact_material::{Ogden, Yeoh};
+
+    #[test]
+    fn table_1_has_a_row_per_ogden_term_and_a_row_per_other_parameter() {
+        let ogden = Ogden::new(vec![0.55e6, 0.02e6], vec![1.8, -2.5]).unwrap();
+        let m = MaterialSummary::read(&to_table(&ogden), 0.5, None).unwrap();
+        let html = parameter_table(&m);
+        assert!(
+            html.contains(
+                "<th>i</th><th>μ<sub>i</sub> (MPa)</th><th>α<sub>i</sub></th></tr></thead>"
+            ),
+            "{html}"
+        );
+        assert!(html.contains("<tr><td>1</td><td>0.55</td><td>1.8</td></tr>"));
+        assert!(html.contains("<tr><td>2</td><td>0.02</td><td>-2.5</td></tr>"));
+        let yeoh = Yeoh::new(0.2e6, -0.01e6, 0.001e6).unwrap();
+        let m = MaterialSummary::read(&to_table(&yeoh), 0.5, None).unwrap();
+        let html = parameter_table(&m);
+        assert!(
+            html.contains("(SI units)") && html.contains("<tr><td>c20</td><td>-10000</td></tr>")
+        );
+    }
 }

@@ -2,11 +2,17 @@
 //! comparison and a per-sample summary, as one `Files` product `report`
 //! (`index.html`, `figN.png`, `figN.svg`, `summary.json`).
 
-use hypercontact_core::product::ProductKind;
+use hypercontact_core::contact::ResponseTable;
 use hypercontact_core::{
-    Arity, Checked, ColumnSpec, Context, InputSpec, Inputs, OutputSpec, Outputs, Stage, StageError,
-    StageInfo, params,
+    Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, Stage, StageError, StageInfo,
+    params,
 };
+use hypercontact_material::fit_stage::{
+    ComparisonTable, CurvesTable, ParamsTable, QualityTable, StabilityTable,
+};
+use hypercontact_material::table::MaterialTable;
+use hypercontact_surface::surface_stage::{PsdTable, StatsTable};
+use hypercontact_truncation::stage::ProfileTable;
 
 use crate::report::{ReportOptions, render_report};
 
@@ -19,6 +25,10 @@ pub struct ReportParams {
     /// A/A0 values at which the summary reads F/(E0* A0) (1 to 10 of them)
     #[param(default = ReportOptions::default().area_fractions, positive, range = ..=1.0, check = one_to_ten)]
     pub area_fractions: Vec<f64>,
+    /// Poisson's ratio ν of Table 1's E0 and E0*: that of the contact model
+    /// whose responses are wired
+    #[param(default = ReportOptions::default().poisson, range = 0.0..=0.5)]
+    pub poisson: f64,
 }
 
 fn not_blank(title: &str) -> Result<(), String> {
@@ -40,75 +50,9 @@ fn one_to_ten(values: &[f64]) -> Result<(), String> {
 /// The `report` stage.
 pub struct Report;
 
-const CURVES: &[ColumnSpec] = &[
-    ColumnSpec::str("mode", "UT, PT or BT"),
-    ColumnSpec::f64("stretch", "", "stretch λ"),
-    ColumnSpec::f64("measured_pa", "Pa", "measured nominal stress"),
-    ColumnSpec::f64("fitted_pa", "Pa", "fitted nominal stress"),
-];
-const QUALITY: &[ColumnSpec] = &[
-    ColumnSpec::str("mode", "UT, PT or BT"),
-    ColumnSpec::f64("r2", "", "coefficient of determination"),
-];
-const STABILITY: &[ColumnSpec] = &[
-    ColumnSpec::str("mode", "UT, PT or BT"),
-    ColumnSpec::f64("lambda_min", "", "lowest Drucker-stable stretch"),
-    ColumnSpec::f64("lambda_max", "", "highest Drucker-stable stretch"),
-];
-const PSD: &[ColumnSpec] = &[
-    ColumnSpec::str("direction", "x, y or radial"),
-    ColumnSpec::f64("q_per_m", "1/m", "wavevector"),
-    ColumnSpec::f64("c", "m^3 (1-D)", "power spectral density"),
-];
-const STATS: &[ColumnSpec] = &[
-    ColumnSpec::f64("sigma_m", "m", "rms height"),
-    ColumnSpec::f64("rms_slope", "", "rms slope"),
-    ColumnSpec::f64("hurst_x", "", "Hurst exponent along x"),
-    ColumnSpec::f64("hurst_y", "", "Hurst exponent along y"),
-    ColumnSpec::f64("hurst_radial", "", "Hurst exponent, radial PSD"),
-];
-const PROFILE: &[ColumnSpec] = &[
-    ColumnSpec::f64("z_over_sigma", "", "truncation height over σ"),
-    ColumnSpec::f64("area_fraction", "", "A/A0"),
-];
-const RESPONSE: &[ColumnSpec] = &[
-    ColumnSpec::f64("area_fraction", "", "A/A0"),
-    ColumnSpec::f64("load_norm", "", "F/(E0* A0)"),
-    ColumnSpec::f64("tangent_ratio", "", "E_t*/E0*"),
-];
-
-const fn optional_table(
-    name: &'static str,
-    columns: &'static [ColumnSpec],
-    doc: &'static str,
-) -> InputSpec {
-    InputSpec {
-        name,
-        kind: ProductKind::Table,
-        arity: Arity::Optional,
-        columns,
-        doc,
-    }
-}
-
-const fn per_sample(
-    name: &'static str,
-    kind: ProductKind,
-    columns: &'static [ColumnSpec],
-    doc: &'static str,
-) -> InputSpec {
-    InputSpec {
-        name,
-        kind,
-        arity: Arity::Many,
-        columns,
-        doc,
-    }
-}
-
 static INFO: StageInfo = StageInfo {
     kind: "report",
-    version: 1,
+    version: 2,
     summary: "HTML report with the paper's Figs. 2, 4, 7, 8 (PNG + SVG), Table 1 and a summary",
     doc: "Every input is optional: a figure whose inputs are not wired is skipped and the \
           page says why (e.g. a pipeline without the tensile branch still gets Figs. 4, 7 \
@@ -117,71 +61,53 @@ static INFO: StageInfo = StageInfo {
           `quality`, limits from `stability`); Fig. 4 any of `heights`, `psd`, `profiles` \
           (the H of the drawn power law comes from `stats` when wired, otherwise from a \
           log-log least-squares fit); Fig. 7 `responses` and/or `responses_linear`; Fig. 8 \
-          `responses`. Table 1 decodes `material` (μ0 = Σ μ_i, E0 = 3 μ0, \
-          E0* = E0/(1 − ν²) with ν = ½). The summary reads F/(E0* A0) at `area_fractions` \
-          by linear interpolation in A/A0 (null outside the computed range). Figures use \
-          the bundled DejaVu Sans font; no system font or network is needed.",
+          `responses`. Table 1 decodes `material` and gives its initial moduli μ0, E0 and \
+          E0* at Poisson's ratio `poisson`. One E0* on the page: each wired response must \
+          have been normalised by Table 1's (its E0* is mean_stress_pa · area_fraction / \
+          load_norm, from the response alone), and a wired `params` must be the fit of \
+          `material` at the same ν; otherwise the stage stops and names the input, so set \
+          `poisson` to the contact model's (and the fit's). The summary reads F/(E0* A0) \
+          at `area_fractions` by linear interpolation in A/A0 (null outside the computed \
+          range). Figures use the bundled DejaVu Sans font; no system font or network is \
+          needed.",
     inputs: &[
-        optional_table(
+        InputSpec::table::<CurvesTable>(
             "curves",
-            CURVES,
+            Arity::Optional,
             "material fit: measured and fitted stress per mode",
         ),
-        optional_table("quality", QUALITY, "material fit: quality per mode"),
-        optional_table("params", &[], "material fit: parameter table (shown as is)"),
-        optional_table(
+        InputSpec::table::<QualityTable>(
+            "quality",
+            Arity::Optional,
+            "material fit: quality per mode (shown as is)",
+        ),
+        InputSpec::table::<ParamsTable>(
+            "params",
+            Arity::Optional,
+            "material fit: parameter table (shown as is)",
+        ),
+        InputSpec::table::<StabilityTable>(
             "stability",
-            STABILITY,
+            Arity::Optional,
             "material fit: Drucker-stable stretch ranges",
         ),
-        optional_table(
+        InputSpec::table::<ComparisonTable>(
             "comparison",
-            &[],
+            Arity::Optional,
             "material fit: model ranking (shown as is)",
         ),
-        optional_table(
-            "material",
-            <hypercontact_material::table::MaterialTable as hypercontact_core::Schema>::COLUMNS,
-            "the fitted material (model, param, value)",
-        ),
-        per_sample(
-            "heights",
-            ProductKind::Field,
-            &[],
-            "height map per sample, m",
-        ),
-        per_sample("psd", ProductKind::Table, PSD, "PSD per sample"),
-        per_sample(
-            "stats",
-            ProductKind::Table,
-            STATS,
-            "surface statistics per sample",
-        ),
-        per_sample(
-            "profiles",
-            ProductKind::Table,
-            PROFILE,
-            "truncation profile per sample",
-        ),
-        per_sample(
-            "responses",
-            ProductKind::Table,
-            RESPONSE,
-            "hyperelastic ICM per sample",
-        ),
-        per_sample(
-            "responses_linear",
-            ProductKind::Table,
-            RESPONSE,
-            "linear ICM per sample",
-        ),
+        InputSpec::table::<MaterialTable>("material", Arity::Optional, "the fitted material"),
+        InputSpec::field("heights", Arity::Many, "height map per sample"),
+        InputSpec::table::<PsdTable>("psd", Arity::Many, "PSD per sample"),
+        InputSpec::table::<StatsTable>("stats", Arity::Many, "surface statistics per sample"),
+        InputSpec::table::<ProfileTable>("profiles", Arity::Many, "truncation profile per sample"),
+        InputSpec::table::<ResponseTable>("responses", Arity::Many, "hyperelastic ICM per sample"),
+        InputSpec::table::<ResponseTable>("responses_linear", Arity::Many, "linear ICM per sample"),
     ],
-    outputs: &[OutputSpec {
-        name: "report",
-        kind: ProductKind::Files,
-        columns: &[],
-        doc: "index.html, figN.png, figN.svg, summary.json",
-    }],
+    outputs: &[OutputSpec::files(
+        "report",
+        "index.html, figN.png, figN.svg, summary.json",
+    )],
 };
 
 impl Stage for Report {
@@ -200,6 +126,7 @@ impl Stage for Report {
         let options = ReportOptions {
             title: p.title.clone(),
             area_fractions: p.area_fractions.clone(),
+            poisson: p.poisson,
         };
         let progress = ctx.progress(1, "figures and page");
         let files = render_report(inputs, &options, ctx.upstream())?;

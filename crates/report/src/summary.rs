@@ -27,6 +27,8 @@ pub struct Summary {
 pub struct MaterialJson {
     pub model: String,
     pub parameters: Vec<NamedValue>,
+    /// Poisson's ratio ν of `e0_pa` and `e0_star_pa`.
+    pub poisson: f64,
     pub mu0_pa: f64,
     pub e0_pa: f64,
     pub e0_star_pa: f64,
@@ -36,6 +38,8 @@ pub struct MaterialJson {
 pub struct NamedValue {
     pub param: String,
     pub value: f64,
+    /// `Pa` or `1`.
+    pub unit: &'static str,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -108,11 +112,13 @@ impl Summary {
                 parameters: m
                     .parameters
                     .iter()
-                    .map(|(param, value)| NamedValue {
-                        param: param.clone(),
-                        value: *value,
+                    .map(|p| NamedValue {
+                        param: p.name(),
+                        value: p.value,
+                        unit: p.unit.label(),
                     })
                     .collect(),
+                poisson: m.poisson,
                 mu0_pa: m.mu0_pa,
                 e0_pa: m.e0_pa,
                 e0_star_pa: m.e0_star_pa,

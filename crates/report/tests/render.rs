@@ -9,7 +9,8 @@ use std::collections::BTreeMap;
 
 use base64::Engine;
 use common::{ALL, SAMPLES, Wiring};
-use hypercontact_core::{Context, Files, Inputs, Params, Product, Stage, Table};
+use hypercontact_core::contact::ResponseTable;
+use hypercontact_core::{Context, Files, Inputs, Params, Product, Schema, Stage, Table};
 use hypercontact_report::{Report, ReportParams};
 use quick_xml::events::Event;
 use serde_json::Value;
@@ -18,15 +19,19 @@ const MAP_N: usize = 96;
 const LEVELS: usize = 301;
 
 fn run(inputs: &Inputs) -> Files {
+    run_with(&ReportParams::default(), inputs).expect("the report renders")
+}
+
+fn run_with(params: &ReportParams, inputs: &Inputs) -> Result<Files, String> {
     let out = Report
         .run(
-            &ReportParams::default().check().unwrap(),
+            &params.clone().check().unwrap(),
             inputs,
             &Context::new("report"),
         )
-        .expect("the report renders");
+        .map_err(|e| e.to_string())?;
     match out.get("report") {
-        Some(Product::Files(files)) => files.clone(),
+        Some(Product::Files(files)) => Ok(files.clone()),
         other => panic!("no `report` files output: {other:?}"),
     }
 }
@@ -333,14 +338,10 @@ fn no_inputs_at_all_still_give_a_page() {
 
 #[test]
 fn a_nan_in_a_plotted_column_names_input_column_and_row() {
-    let mut bad = common::response(21, 0.3, false);
-    let mut load = bad.f64("load_norm").unwrap().to_vec();
-    load[3] = f64::NAN;
-    bad = Table::new()
-        .with("area_fraction", bad.f64("area_fraction").unwrap().to_vec())
-        .with("load_norm", load)
-        .with("tangent_ratio", bad.f64("tangent_ratio").unwrap().to_vec());
-    let inputs = Inputs::new().with("responses.T2", Product::Table(bad));
+    // Every other column of the response schema stays as the fixture has it.
+    let mut bad = ResponseTable::from_table(&common::response(21, 0.3, false)).unwrap();
+    bad.load_norm[3] = f64::NAN;
+    let inputs = Inputs::new().with("responses.T2", Product::Table(bad.into_table()));
     let e = Report
         .run(
             &ReportParams::default().check().unwrap(),
@@ -357,9 +358,15 @@ fn a_nan_in_a_plotted_column_names_input_column_and_row() {
 
 #[test]
 fn a_missing_column_names_the_input() {
+    // The profile schema reads z_m, z_over_sigma, then area_fraction: with
+    // the first two present, area_fraction is the column found missing.
     let inputs = Inputs::new().with(
         "profiles.T1",
-        Product::Table(Table::new().with("z_over_sigma", vec![0.0, 1.0])),
+        Product::Table(
+            Table::new()
+                .with("z_m", vec![1e-5, 0.0])
+                .with("z_over_sigma", vec![0.0, 1.0]),
+        ),
     );
     let e = Report
         .run(
@@ -397,4 +404,46 @@ fn provenance_record_is_rendered_when_given() {
     let html = text(&files, "index.html");
     assert!(html.contains("<td>pipeline</td><td>paper.yaml</td>"));
     assert!(!html.contains("No provenance record"));
+}
+
+/// Table 1's E0* and the E0* behind the plotted F/(E0* A0) are one number:
+/// responses normalised at ν = 0.4 are refused by a report at its default
+/// ν = ½ (which would show E0* = 4 μ0) and accepted at ν = 0.4, where
+/// Table 1 shows exactly the E0* they were divided by.
+#[test]
+fn table_1_shows_the_e0_star_the_responses_were_normalised_by() {
+    let poisson = 0.4;
+    let inputs = common::inputs_at(ALL, 16, 51, poisson);
+    let e = run_with(&ReportParams::default(), &inputs).unwrap_err();
+    assert!(e.contains("params") && e.contains("poisson = 0.5"), "{e}");
+    // Without the fit's params table the responses are what disagrees.
+    let responses_only = Inputs::new()
+        .with("material", Product::Table(common::material()))
+        .with(
+            "responses_linear.T2",
+            Product::Table(common::response_at(51, 0.3, true, poisson)),
+        );
+    let e = run_with(&ReportParams::default(), &responses_only).unwrap_err();
+    assert!(
+        e.contains("responses_linear.T2") && e.contains("`poisson`"),
+        "{e}"
+    );
+
+    let at_04 = ReportParams {
+        poisson,
+        ..Default::default()
+    };
+    for inputs in [&inputs, &responses_only] {
+        let files = run_with(&at_04, inputs).unwrap();
+        let summary: Value = serde_json::from_slice(&files.files["summary.json"]).unwrap();
+        let shown = summary["material"]["e0_star_pa"].as_f64().unwrap();
+        assert_eq!(summary["material"]["poisson"].as_f64(), Some(poisson));
+        // E0* from the response's own load: F / (load_norm · A0).
+        let r = ResponseTable::from_table(&common::response_at(51, 0.3, true, poisson)).unwrap();
+        let used = r.load_n[50] / (r.load_norm[50] * common::A0_M2);
+        assert!(close(shown, used), "Table 1 {shown} vs plotted {used}");
+        assert!(!close(shown, common::e0_star_pa(0.5)));
+        let html = text(&files, "index.html");
+        assert!(html.contains("Initial moduli (ν = 0.4)"));
+    }
 }

@@ -5,6 +5,7 @@
 
 use std::collections::BTreeMap;
 
+use hypercontact_core::Mode;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -192,9 +193,9 @@ enum Symbol {
 
 impl Symbol {
     fn of(mode: &str) -> Symbol {
-        match mode {
-            "PT" => Symbol::Square,
-            "BT" => Symbol::Triangle,
+        match Mode::from_label(mode) {
+            Some(Mode::Planar) => Symbol::Square,
+            Some(Mode::Equibiaxial) => Symbol::Triangle,
             _ => Symbol::Circle,
         }
     }

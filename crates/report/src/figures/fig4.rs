@@ -17,13 +17,22 @@ use super::plotting::{
 use crate::ReportError;
 use crate::gather::{Sample, Series};
 use crate::powerlaw::PowerLaw;
-use hypercontact_core::Field;
+use hypercontact_core::{Field, Schema};
+use hypercontact_surface::surface_stage::PsdTable;
 
 const WIDTH_PX: u32 = 1600;
 const ROW_PX: u32 = 400;
 const MAP_COLUMN_PX: u32 = 430;
 const PLOT_COLUMN_PX: u32 = 390;
 const TICK_PX: f64 = 27.0;
+
+/// The unit of q as the `psd` table declares it.
+fn q_unit() -> &'static str {
+    PsdTable::COLUMNS
+        .iter()
+        .find(|c| c.name == "q_per_m")
+        .map_or("", |c| c.unit)
+}
 
 pub struct Fig4<'a> {
     /// (sample, its colour index).
@@ -344,7 +353,8 @@ fn draw_psd<'r, DB: DrawingBackend + 'r>(
         &mut chart,
         figure,
         sizes,
-        "q (m⁻¹)",
+        &format!("q ({})", q_unit()),
+        // The x and y PSDs drawn here are 1-D: C in m³.
         "C(q) (m³)",
         &|v| tick_decade(*v),
         &|v| tick_decade(*v),
@@ -441,6 +451,12 @@ fn draw_profile<DB: DrawingBackend>(
 mod tests {
     use super::*;
     use ndarray::Array2;
+
+    #[test]
+    fn the_q_axis_has_the_psd_tables_unit() {
+        // Empty if the surface stage renamed its column.
+        assert!(!q_unit().is_empty());
+    }
 
     #[test]
     fn block_means_keep_the_mean_and_put_y_up() {

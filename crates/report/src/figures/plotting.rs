@@ -9,10 +9,11 @@
 //! URI `<image>` in the SVG, so a 500 × 500 map does not become 250 000
 //! rectangles.
 
-use std::io::Cursor;
 use std::sync::OnceLock;
 
 use base64::Engine;
+use hypercontact_core::Mode;
+use hypercontact_core::png::Pixels;
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{KeyPointHint, Ranged, ValueFormatter};
 use plotters::element::DashedPathElement;
@@ -94,13 +95,14 @@ pub fn sample_colour(index: usize) -> RGBColor {
     PALETTE[index % PALETTE.len()]
 }
 
-/// Colour of a tensile mode in Fig. 2.
+/// Colour of a tensile mode in Fig. 2 (a label that is no mode gets a
+/// sample colour).
 pub fn mode_colour(mode: &str, index: usize) -> RGBColor {
-    match mode {
-        "UT" => RGBColor(0, 114, 178),
-        "PT" => RGBColor(213, 94, 0),
-        "BT" => RGBColor(0, 158, 115),
-        _ => sample_colour(index + 3),
+    match Mode::from_label(mode) {
+        Some(Mode::Uniaxial) => RGBColor(0, 114, 178),
+        Some(Mode::Planar) => RGBColor(213, 94, 0),
+        Some(Mode::Equibiaxial) => RGBColor(0, 158, 115),
+        None => sample_colour(index + 3),
     }
 }
 
@@ -423,18 +425,14 @@ pub fn render(figure: &impl Figure) -> Result<Rendered, ReportError> {
     Ok(Rendered { name, png, svg })
 }
 
-pub fn encode_png(name: &str, w: u32, h: u32, rgb: Vec<u8>) -> Result<Vec<u8>, ReportError> {
-    let img = image::RgbImage::from_raw(w, h, rgb).ok_or_else(|| ReportError::Encode {
-        name: name.to_owned(),
-        message: "buffer size does not match the image size".into(),
-    })?;
-    let mut png = Vec::new();
-    img.write_to(&mut Cursor::new(&mut png), image::ImageFormat::Png)
-        .map_err(|e| ReportError::Encode {
+/// RGB pixels as PNG (the core's encoder); an error names the file.
+fn encode_png(name: &str, w: u32, h: u32, rgb: Vec<u8>) -> Result<Vec<u8>, ReportError> {
+    hypercontact_core::png::encode_png(w, h, Pixels::Rgb8(rgb)).map_err(|message| {
+        ReportError::Encode {
             name: name.to_owned(),
-            message: e.to_string(),
-        })?;
-    Ok(png)
+            message,
+        }
+    })
 }
 
 /// Inserts the rasters as `<image>` elements right after the background

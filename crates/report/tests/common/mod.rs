@@ -2,10 +2,14 @@
 //! Ogden tensile curves, power-law PSDs, a smoothed random height map with
 //! missing points, Gaussian truncation curves and monotone ICM responses.
 //! Everything is a closed form or seeded, so expected numbers are known.
+//! Each table has every column of its stage's schema, and the moduli agree
+//! across tables as the report checks (one ν, one E0*, one A0).
 
 #![allow(dead_code)]
 
-use hypercontact_core::{Field, Inputs, Product, Table};
+use hypercontact_core::{Field, Inputs, Product, Schema, Table};
+use hypercontact_material::fit_stage::ParamsTable;
+use hypercontact_material::{Family, Hyperelastic, Ogden, composite_modulus_pa};
 use ndarray::Array2;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -13,6 +17,22 @@ use rand_chacha::ChaCha8Rng;
 /// Ogden terms (μ_i in Pa, α_i) of the synthetic material.
 pub const MU_PA: [f64; 2] = [0.55e6, 0.02e6];
 pub const ALPHA: [f64; 2] = [1.8, -2.5];
+
+/// Poisson's ratio of the synthetic fit and responses, unless a test asks
+/// for another: the report's default.
+pub const POISSON: f64 = 0.5;
+
+/// Nominal area A0 of the synthetic profiles and responses, m².
+pub const A0_M2: f64 = 1e-4;
+
+pub fn ogden() -> Ogden {
+    Ogden::new(MU_PA.to_vec(), ALPHA.to_vec()).unwrap()
+}
+
+/// E0* of the synthetic material at Poisson's ratio `poisson`.
+pub fn e0_star_pa(poisson: f64) -> f64 {
+    composite_modulus_pa(ogden().shear_modulus_pa(), poisson)
+}
 
 /// Nominal stress of the Ogden model in the spec's closed forms
 /// (Abaqus convention): UT exponent −α/2 − 1, PT −α − 1, BT −2α − 1.
@@ -74,22 +94,37 @@ pub fn stability() -> Table {
         .with("mode", vec!["UT", "PT", "BT"])
         .with("lambda_min", vec![0.45, 0.55, 0.7])
         .with("lambda_max", vec![f64::INFINITY, 2.9, 1.8])
+        .with("monotonic_min", vec![0.4, 0.5, 0.6])
+        .with("monotonic_max", vec![f64::INFINITY, 3.0, 1.9])
+        .with("note", vec!["stable in compression", "", ""])
 }
 
-pub fn params() -> Table {
-    Table::new()
-        .with("param", vec!["mu_1", "alpha_1", "mu_2", "alpha_2"])
-        .with("value", vec![MU_PA[0], ALPHA[0], MU_PA[1], ALPHA[1]])
+/// The fit's `params` table for the synthetic material at `poisson`.
+pub fn params(poisson: f64) -> Table {
+    ParamsTable::new(Family::Ogden(2), &ogden(), poisson).into_table()
 }
 
+/// The full `comparison` schema plus a column it does not declare (shown
+/// as is all the same).
 pub fn comparison() -> Table {
+    let nan = f64::NAN;
     Table::new()
+        .with("rank", vec![1_i64, 2, 3, 4])
         .with(
             "model",
             vec!["ogden-2", "yeoh", "mooney-rivlin", "neo-hookean"],
         )
         .with("n_params", vec![4_i64, 3, 2, 1])
         .with("rms_rel_err", vec![0.018, 0.034, 0.081, 0.12])
+        .with("max_rel_err", vec![0.05, 0.09, 0.2, 0.3])
+        .with("ut_lambda_min", vec![0.45, 0.5, 0.3, nan])
+        .with("ut_lambda_max", vec![f64::INFINITY, 6.0, 8.0, nan])
+        .with("pt_lambda_min", vec![0.55, 0.6, 0.4, nan])
+        .with("pt_lambda_max", vec![2.9, 5.0, 7.0, nan])
+        .with("bt_lambda_min", vec![0.7, 0.75, 0.6, nan])
+        .with("bt_lambda_max", vec![1.8, 3.0, 4.0, nan])
+        .with("selected", vec![1_i64, 0, 0, 0])
+        .with("status", vec!["ok", "ok", "ok", "ok"])
         .with("r2_min", vec![0.996, 0.989, 0.95, 0.91])
 }
 
@@ -212,7 +247,10 @@ pub fn profile(levels: usize, sigma_m: f64) -> Table {
             "radius_m",
             area.iter().map(|a| 1e-4 * a.sqrt()).collect::<Vec<_>>(),
         )
-        .with("area_m2", area.iter().map(|a| a * 1e-4).collect::<Vec<_>>())
+        .with(
+            "area_m2",
+            area.iter().map(|a| a * A0_M2).collect::<Vec<_>>(),
+        )
 }
 
 /// The area fractions of the response rows: non-uniform in A/A0, so the
@@ -224,8 +262,14 @@ pub fn response_area(levels: usize) -> Vec<f64> {
 }
 
 /// Hyperelastic: F/(E0* A0) = s a^1.5, E_t*/E0* = 3 − 1.6 a + 1.2 a²;
-/// linear: F/(E0* A0) = s a / 2 (exactly linear), ratio 1.
+/// linear: F/(E0* A0) = s a / 2 (exactly linear), ratio 1; normalised at
+/// [`POISSON`].
 pub fn response(levels: usize, scale: f64, linear: bool) -> Table {
+    response_at(levels, scale, linear, POISSON)
+}
+
+/// [`response`] of a contact model that normalised by E0* at `poisson`.
+pub fn response_at(levels: usize, scale: f64, linear: bool, poisson: f64) -> Table {
     let a = response_area(levels);
     let load: Vec<f64> = a
         .iter()
@@ -247,6 +291,7 @@ pub fn response(levels: usize, scale: f64, linear: bool) -> Table {
             }
         })
         .collect();
+    let e0_star = e0_star_pa(poisson);
     Table::new()
         .with(
             "z_m",
@@ -255,14 +300,14 @@ pub fn response(levels: usize, scale: f64, linear: bool) -> Table {
         .with("area_fraction", a.clone())
         .with(
             "load_n",
-            load.iter().map(|f| f * 7e6 * 1e-4).collect::<Vec<_>>(),
+            load.iter().map(|f| f * e0_star * A0_M2).collect::<Vec<_>>(),
         )
         .with("load_norm", load.clone())
         .with(
             "mean_stress_pa",
             load.iter()
                 .zip(&a)
-                .map(|(f, a)| if *a > 0.0 { f / a * 7e6 } else { 0.0 })
+                .map(|(f, a)| if *a > 0.0 { f / a * e0_star } else { 0.0 })
                 .collect::<Vec<_>>(),
         )
         .with("tangent_ratio", ratio)
@@ -286,12 +331,17 @@ pub const ALL: Wiring = Wiring {
 
 /// Inputs as the runner would hand them: many-inputs as `name.label`.
 pub fn inputs(wiring: Wiring, map_n: usize, levels: usize) -> Inputs {
+    inputs_at(wiring, map_n, levels, POISSON)
+}
+
+/// [`inputs`] of a fit and contact models run at Poisson's ratio `poisson`.
+pub fn inputs_at(wiring: Wiring, map_n: usize, levels: usize, poisson: f64) -> Inputs {
     let mut inputs = Inputs::new();
     let table = |t: Table| std::sync::Arc::new(Product::Table(t));
     if wiring.tensile {
         inputs.insert("curves", table(curves(60)));
         inputs.insert("quality", table(quality()));
-        inputs.insert("params", table(params()));
+        inputs.insert("params", table(params(poisson)));
         inputs.insert("stability", table(stability()));
         inputs.insert("comparison", table(comparison()));
         inputs.insert("material", table(material()));
@@ -309,13 +359,13 @@ pub fn inputs(wiring: Wiring, map_n: usize, levels: usize) -> Inputs {
         if wiring.responses {
             inputs.insert(
                 &format!("responses.{label}"),
-                table(response(levels, *scale, false)),
+                table(response_at(levels, *scale, false, poisson)),
             );
         }
         if wiring.linear {
             inputs.insert(
                 &format!("responses_linear.{label}"),
-                table(response(levels, *scale, true)),
+                table(response_at(levels, *scale, true, poisson)),
             );
         }
     }
