@@ -9,6 +9,7 @@ use hypercontact_core::{
     Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, Schema, Stage, StageError,
     StageInfo, params,
 };
+use hypercontact_material::Poisson;
 use hypercontact_material::table::MaterialTable;
 use hypercontact_truncation::stage::ProfileTable;
 
@@ -26,8 +27,8 @@ pub struct IcmParams {
     #[param(default = Scheme::Heun)]
     pub scheme: Scheme,
     /// Poisson's ratio ν of the composite moduli
-    #[param(default = 0.5, range = 0.0..=0.5)]
-    pub poisson: f64,
+    #[param(default = Poisson::INCOMPRESSIBLE)]
+    pub poisson: Poisson,
 }
 
 /// The `icm` stage.
@@ -81,7 +82,7 @@ impl Stage for Icm {
 
         let material = hypercontact_material::table::from_table(inputs.table("material")?)
             .map_err(|e| StageError::other(IcmError::Material(e)))?;
-        let modulus = CompositeModulus::new(Arc::from(material), p.model, p.poisson)
+        let modulus = CompositeModulus::new(Arc::from(material), p.model, p.poisson.0)
             .map_err(|e| StageError::other(IcmError::Material(e)))?;
 
         let solution = solve(
@@ -242,7 +243,7 @@ mod tests {
     #[test]
     fn bad_inputs_and_params_are_named() {
         let p = IcmParams {
-            poisson: 0.6,
+            poisson: Poisson(0.6),
             ..Default::default()
         };
         assert_eq!(p.check().unwrap_err().param, "poisson");

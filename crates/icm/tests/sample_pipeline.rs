@@ -40,7 +40,7 @@ fn sample_map_runs_through_truncation_and_both_icm_models() {
         let params = IcmParams {
             model,
             scheme: Scheme::Heun,
-            poisson: 0.5,
+            poisson: hypercontact_material::Poisson::INCOMPRESSIBLE,
         }
         .check()
         .unwrap();

@@ -8,7 +8,6 @@ use hypercontact_core::{
     Stage, StageError, StageInfo, Table, params,
 };
 
-use crate::Family;
 use crate::fit::{FitOptions, Residual, fit};
 use crate::fit_tables::ComparisonRow;
 pub use crate::fit_tables::{
@@ -18,6 +17,7 @@ use crate::quality::quality;
 use crate::stability::stability_ranges;
 use crate::table::{MaterialTable, to_table};
 use crate::tensile::{TensileData, TensilePoints};
+use crate::{Family, Poisson};
 
 /// Weights of the three modes in the objective; 0 leaves a mode out.
 #[params(check = some_weight_positive)]
@@ -63,8 +63,8 @@ pub struct MaterialFitParams {
     #[param(default = 1)]
     pub seed: u64,
     /// Poisson's ratio ν of the derived moduli e0 and e0_star
-    #[param(default = 0.5, range = 0.0..=0.5)]
-    pub poisson: f64,
+    #[param(default = Poisson::INCOMPRESSIBLE)]
+    pub poisson: Poisson,
 }
 
 impl MaterialFitParams {
@@ -213,7 +213,7 @@ impl Stage for MaterialFit {
             }
         }
 
-        let params = ParamsTable::new(family, model, p.poisson);
+        let params = ParamsTable::new(family, model, p.poisson.0);
         Ok(Outputs::new()
             .table("material", to_table(model))
             .table("params", params.into_table())
@@ -392,7 +392,7 @@ mod tests {
             let p = MaterialFitParams {
                 model: Family::NeoHookean,
                 compare: false,
-                poisson,
+                poisson: Poisson(poisson),
                 ..Default::default()
             }
             .check()
@@ -434,7 +434,7 @@ mod tests {
             "starts"
         );
         let poisson = |poisson| MaterialFitParams {
-            poisson,
+            poisson: Poisson(poisson),
             ..p.clone()
         };
         assert_eq!(bad(poisson(0.6)), "poisson");

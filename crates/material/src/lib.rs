@@ -36,7 +36,7 @@ pub use arruda_boyce::ArrudaBoyce;
 pub use contact::{ContactLaw, MonotonicRange};
 pub use family::Family;
 pub use fit::{FitOptions, FitResult, Residual, fit};
-pub use model::{Hyperelastic, Mode, composite_modulus_pa, youngs_modulus_pa};
+pub use model::{Hyperelastic, Mode, Poisson, composite_modulus_pa, youngs_modulus_pa};
 pub use mooney_rivlin::MooneyRivlin;
 pub use neo_hookean::NeoHookean;
 pub use ogden::Ogden;

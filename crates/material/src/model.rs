@@ -3,6 +3,36 @@
 use std::fmt;
 
 pub use hypercontact_core::Mode;
+use hypercontact_core::param::{ParamRange, TypeDoc, check_range};
+use hypercontact_core::{InputPath, ParamError, ParamValue};
+
+/// Poisson's ratio ν of the linear moduli, as a parameter: its range
+/// 0 ≤ ν ≤ ½ and its usual value, ½ (incompressible, the paper's), are
+/// declared here once for every stage that takes one.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(transparent)]
+pub struct Poisson(pub f64);
+
+impl Poisson {
+    /// ½: an incompressible solid (the paper's rubber).
+    pub const INCOMPRESSIBLE: Poisson = Poisson(0.5);
+    const RANGE: ParamRange = ParamRange {
+        lo: std::ops::Bound::Included(0.0),
+        hi: std::ops::Bound::Included(0.5),
+    };
+}
+
+impl ParamValue for Poisson {
+    fn type_doc() -> TypeDoc {
+        TypeDoc::Custom(format!("number in {}", Poisson::RANGE))
+    }
+
+    fn validate_at(&self, prefix: &str) -> Result<(), ParamError> {
+        check_range(prefix, &self.0, &Poisson::RANGE)
+    }
+
+    fn visit_paths(&mut self, _: &str, _: &mut dyn FnMut(&str, &mut InputPath)) {}
+}
 
 use crate::Parameter;
 

@@ -34,7 +34,7 @@ impl Default for ReportOptions {
             title: "hypercontact — rough-surface contact of a hyperelastic rubber".into(),
             area_fractions: vec![0.1, 0.5, 0.9],
             // Incompressible rubber, as the paper takes it.
-            poisson: 0.5,
+            poisson: hypercontact_material::Poisson::INCOMPRESSIBLE.0,
         }
     }
 }

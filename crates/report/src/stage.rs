@@ -14,6 +14,8 @@ use hypercontact_material::table::MaterialTable;
 use hypercontact_surface::surface_stage::{PsdTable, StatsTable};
 use hypercontact_truncation::stage::ProfileTable;
 
+use hypercontact_material::Poisson;
+
 use crate::report::{ReportOptions, render_report};
 
 /// Parameters of `report`.
@@ -27,8 +29,8 @@ pub struct ReportParams {
     pub area_fractions: Vec<f64>,
     /// Poisson's ratio ν of Table 1's E0 and E0*: that of the contact model
     /// whose responses are wired
-    #[param(default = ReportOptions::default().poisson, range = 0.0..=0.5)]
-    pub poisson: f64,
+    #[param(default = Poisson::INCOMPRESSIBLE)]
+    pub poisson: Poisson,
 }
 
 fn not_blank(title: &str) -> Result<(), String> {
@@ -126,7 +128,7 @@ impl Stage for Report {
         let options = ReportOptions {
             title: p.title.clone(),
             area_fractions: p.area_fractions.clone(),
-            poisson: p.poisson,
+            poisson: p.poisson.0,
         };
         let progress = ctx.progress(1, "figures and page");
         let files = render_report(inputs, &options, ctx.upstream())?;

@@ -13,7 +13,7 @@ use hypercontact_report::{Report, ReportParams};
 fn icm(model: Model, poisson: f64, profile: &Table) -> Table {
     let params = IcmParams {
         model,
-        poisson,
+        poisson: hypercontact_material::Poisson(poisson),
         ..Default::default()
     };
     let inputs = Inputs::new()
@@ -30,7 +30,7 @@ fn icm(model: Model, poisson: f64, profile: &Table) -> Table {
 
 fn report(poisson: f64, inputs: &Inputs) -> Result<serde_json::Value, String> {
     let params = ReportParams {
-        poisson,
+        poisson: hypercontact_material::Poisson(poisson),
         ..Default::default()
     };
     let out = Report

@@ -430,7 +430,7 @@ fn table_1_shows_the_e0_star_the_responses_were_normalised_by() {
     );
 
     let at_04 = ReportParams {
-        poisson,
+        poisson: hypercontact_material::Poisson(poisson),
         ..Default::default()
     };
     for inputs in [&inputs, &responses_only] {
