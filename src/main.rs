@@ -105,7 +105,7 @@ enum CacheAction {
         #[arg(long, value_name = "PIPELINE")]
         keep: Vec<PathBuf>,
         /// Remove entries unused for this many days (default 30 without --keep).
-        #[arg(long)]
+        #[arg(long, value_parser = parse_days)]
         older_than_days: Option<f64>,
     },
     /// Remove the whole cache.
@@ -208,7 +208,12 @@ fn cache_command(action: CacheAction, registry: &hypercontact_core::Registry) ->
     match action {
         CacheAction::Ls { at } => {
             let dir = cache_dir(&at, registry)?;
-            let cache = Cache::open(&dir).with_context(|| format!("opening {}", dir.display()))?;
+            let Some(cache) =
+                Cache::open_existing(&dir).with_context(|| format!("opening {}", dir.display()))?
+            else {
+                println!("no cache at {}", dir.display());
+                return Ok(());
+            };
             let entries = cache.list()?;
             let mut total = 0;
             for e in &entries {
@@ -238,7 +243,10 @@ fn cache_command(action: CacheAction, registry: &hypercontact_core::Registry) ->
             older_than_days,
         } => {
             let dir = cache_dir(&at, registry)?;
-            let cache = Cache::open(&dir)?;
+            let Some(cache) = Cache::open_existing(&dir)? else {
+                println!("no cache at {}: nothing to remove", dir.display());
+                return Ok(());
+            };
             let mut keys = std::collections::HashSet::new();
             for p in &keep {
                 let pipeline = Pipeline::load(p, registry)?;
@@ -271,7 +279,7 @@ fn cache_command(action: CacheAction, registry: &hypercontact_core::Registry) ->
                     freed += e.bytes;
                 }
             }
-            let debris = cache.clean_tmp(3600)?;
+            let debris = cache.clean_debris()?;
             println!(
                 "removed {removed} entries ({}) and {debris} leftovers of interrupted runs",
                 human_bytes(freed)
@@ -286,6 +294,19 @@ fn cache_command(action: CacheAction, registry: &hypercontact_core::Registry) ->
         }
     }
     Ok(())
+}
+
+/// A number of days for `--older-than-days`: finite, 0 … 100 years.
+fn parse_days(text: &str) -> Result<f64, String> {
+    let days: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a number of days"))?;
+    if (0.0..=36_525.0).contains(&days) {
+        Ok(days)
+    } else {
+        Err(format!("{text} days: give a number from 0 to 36525"))
+    }
 }
 
 fn human_bytes(n: u64) -> String {

@@ -14,12 +14,10 @@ pub enum StageError {
         expected: ProductKind,
         found: ProductKind,
     },
-    #[error("input `{input}`: {source}")]
-    InputTable {
-        input: String,
-        #[source]
-        source: TableError,
-    },
+    // The cause is in the message, so it is not also the error's source:
+    // a printed chain would say it twice.
+    #[error("input `{input}`: {cause}")]
+    InputTable { input: String, cause: TableError },
     #[error(transparent)]
     Table(#[from] TableError),
     #[error("{}: {message}", path.display())]

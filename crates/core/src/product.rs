@@ -120,9 +120,9 @@ impl Inputs {
     /// A table input read into its schema; a missing or mistyped column is
     /// an error naming the input.
     pub fn read<S: Schema>(&self, name: &str) -> Result<S, StageError> {
-        S::from_table(self.table(name)?).map_err(|source| StageError::InputTable {
+        S::from_table(self.table(name)?).map_err(|cause| StageError::InputTable {
             input: name.to_owned(),
-            source,
+            cause,
         })
     }
 

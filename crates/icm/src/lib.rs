@@ -20,9 +20,16 @@ pub enum IcmError {
     #[error("input `profile`: {0}")]
     Profile(String),
     #[error("input `material`: {0}")]
-    Material(#[from] hypercontact_material::MaterialError),
+    Material(hypercontact_material::MaterialError),
     #[error(transparent)]
     Solve(#[from] SolveError),
+}
+
+// Not `#[from]`: the message holds the cause, so it is not also the source.
+impl From<hypercontact_material::MaterialError> for IcmError {
+    fn from(e: hypercontact_material::MaterialError) -> Self {
+        IcmError::Material(e)
+    }
 }
 
 /// Registers this crate's stage kinds.

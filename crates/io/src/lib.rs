@@ -12,12 +12,26 @@ use polars::prelude::*;
 
 #[derive(Debug, thiserror::Error)]
 pub enum IoError {
+    // Messages hold their causes, so these are not also `source()` (a
+    // printed chain would repeat them): hence the plain `From` impls.
     #[error("parquet: {0}")]
-    Polars(#[from] PolarsError),
+    Polars(PolarsError),
     #[error("column `{name}` has type {dtype}, which hypercontact does not read")]
     Unsupported { name: String, dtype: String },
     #[error("table: {0}")]
-    Table(#[from] hypercontact_core::TableError),
+    Table(hypercontact_core::TableError),
+}
+
+impl From<PolarsError> for IoError {
+    fn from(e: PolarsError) -> Self {
+        IoError::Polars(e)
+    }
+}
+
+impl From<hypercontact_core::TableError> for IoError {
+    fn from(e: hypercontact_core::TableError) -> Self {
+        IoError::Table(e)
+    }
 }
 
 fn to_frame(table: &Table) -> Result<DataFrame, IoError> {

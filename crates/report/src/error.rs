@@ -6,12 +6,8 @@ use hypercontact_core::{StageError, TableError};
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {
     /// An input table lacks a column or holds the wrong type.
-    #[error("input `{input}`: {source}")]
-    Table {
-        input: String,
-        #[source]
-        source: TableError,
-    },
+    #[error("input `{input}`: {cause}")]
+    Table { input: String, cause: TableError },
     /// An input holds a value the report cannot draw (NaN, wrong label, ...).
     #[error("input `{input}`: {message}")]
     Input { input: String, message: String },
@@ -34,10 +30,10 @@ impl ReportError {
         }
     }
 
-    pub fn table(input: &str, source: TableError) -> Self {
+    pub fn table(input: &str, cause: TableError) -> Self {
         ReportError::Table {
             input: input.to_owned(),
-            source,
+            cause,
         }
     }
 
@@ -52,7 +48,7 @@ impl ReportError {
 impl From<ReportError> for StageError {
     fn from(e: ReportError) -> Self {
         match e {
-            ReportError::Table { input, source } => StageError::InputTable { input, source },
+            ReportError::Table { input, cause } => StageError::InputTable { input, cause },
             other => StageError::other(other),
         }
     }

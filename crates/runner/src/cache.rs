@@ -8,7 +8,10 @@
 //!   `tmp/`, never a half-written entry (the scheme ruff uses for its cache:
 //!   write a temporary file, then rename);
 //! - `locks/<key>.lock`: an exclusive file lock held while an entry is
-//!   computed, so two runs sharing the cache compute it once.
+//!   computed or removed, so two runs sharing the cache compute it once.
+//!   Removing an entry removes its lock file; a locker checks after locking
+//!   that the file it locked is still the one at that path, so an unlinked
+//!   lock never lets two processes in.
 //!
 //! - `stamps/<key>.json`: for each file of an entry, the file's size, inode,
 //!   ctime and mtime when its hash last matched.
@@ -91,6 +94,16 @@ impl Cache {
         Ok(Self {
             root: root.to_owned(),
         })
+    }
+
+    /// The cache at `root` if there is one; `None` rather than creating it
+    /// (for commands that only look: `cache ls`, `cache gc`).
+    pub fn open_existing(root: &Path) -> io::Result<Option<Self>> {
+        if root.join("entries").is_dir() {
+            Self::open(root).map(Some)
+        } else {
+            Ok(None)
+        }
     }
 
     pub fn root(&self) -> &Path {
@@ -188,16 +201,67 @@ impl Cache {
         EntryState::Valid(Box::new(manifest))
     }
 
+    fn lock_path(&self, key: &str) -> PathBuf {
+        self.root.join("locks").join(format!("{key}.lock"))
+    }
+
     /// Blocks until this process holds the entry's lock.
     pub fn lock(&self, key: &str) -> io::Result<EntryLock> {
-        let path = self.root.join("locks").join(format!("{key}.lock"));
-        let file = fs::OpenOptions::new()
+        loop {
+            let file = self.open_lock(key)?;
+            file.lock()?;
+            if self.still_linked(key, &file) {
+                return Ok(EntryLock { _file: file });
+            }
+            // The file was removed (with its entry) while we waited: lock
+            // the one now at the path instead.
+        }
+    }
+
+    /// The entry's lock if no one holds it now, without waiting.
+    pub fn try_lock(&self, key: &str) -> io::Result<Option<EntryLock>> {
+        let file = self.open_lock(key)?;
+        match file.try_lock() {
+            Ok(()) if self.still_linked(key, &file) => Ok(Some(EntryLock { _file: file })),
+            Ok(()) | Err(fs::TryLockError::WouldBlock) => Ok(None),
+            Err(fs::TryLockError::Error(e)) => Err(e),
+        }
+    }
+
+    fn open_lock(&self, key: &str) -> io::Result<fs::File> {
+        fs::OpenOptions::new()
             .create(true)
             .truncate(false)
             .write(true)
-            .open(path)?;
-        file.lock()?;
-        Ok(EntryLock { _file: file })
+            .open(self.lock_path(key))
+    }
+
+    /// Whether `file` is still the lock file at the entry's path.
+    #[cfg(unix)]
+    fn still_linked(&self, key: &str, file: &fs::File) -> bool {
+        use std::os::unix::fs::MetadataExt;
+        match (file.metadata(), fs::metadata(self.lock_path(key))) {
+            (Ok(held), Ok(at_path)) => held.ino() == at_path.ino() && held.dev() == at_path.dev(),
+            _ => false,
+        }
+    }
+
+    #[cfg(not(unix))]
+    fn still_linked(&self, _: &str, _: &fs::File) -> bool {
+        true
+    }
+
+    /// Removes staging folders of entry `key` left by writers that are gone.
+    /// Call with the entry's lock held: no live process is writing it then.
+    pub fn clear_staging(&self, key: &str) {
+        let Ok(entries) = fs::read_dir(self.root.join("tmp")) else {
+            return;
+        };
+        for entry in entries.flatten() {
+            if entry_key(&entry.file_name().to_string_lossy()) == key {
+                let _ = remove_tree(&entry.path());
+            }
+        }
     }
 
     /// A fresh temporary folder for writing an entry.
@@ -270,7 +334,7 @@ impl Cache {
         Ok(out)
     }
 
-    /// Removes one entry (with its lock file).
+    /// Removes one entry, its stamps and its lock file.
     pub fn remove(&self, key: &str) -> io::Result<()> {
         let _lock = self.lock(key)?;
         let trash = self
@@ -282,23 +346,51 @@ impl Cache {
             fs::rename(self.entry_dir(key), &trash)?;
             remove_tree(&trash)?;
         }
+        self.clear_staging(key);
+        // Unlinked while held: a process waiting on this file sees that it is
+        // gone once it gets it, and locks the new one (see `lock`).
+        fs::remove_file(self.lock_path(key))?;
         Ok(())
     }
 
-    /// Removes leftovers of interrupted runs from `tmp/` older than
-    /// `min_age_s` (their writers are gone); returns how many.
-    pub fn clean_tmp(&self, min_age_s: u64) -> io::Result<usize> {
+    /// Removes leftovers of interrupted runs: staging and trash folders in
+    /// `tmp/` whose entry no process holds locked (their writers are gone),
+    /// half-written stamp files older than a minute, and lock files of
+    /// entries that no longer exist and no one holds. Returns how many.
+    pub fn clean_debris(&self) -> io::Result<usize> {
         let mut n = 0;
         for entry in fs::read_dir(self.root.join("tmp"))? {
             let entry = entry?;
-            let age = entry
+            let key = entry_key(&entry.file_name().to_string_lossy()).to_owned();
+            if self.try_lock(&key)?.is_some() {
+                remove_tree(&entry.path())?;
+                n += 1;
+            }
+        }
+        for entry in fs::read_dir(self.root.join("stamps"))? {
+            let entry = entry?;
+            let name = entry.file_name().to_string_lossy().into_owned();
+            let age_s = entry
                 .metadata()?
                 .modified()
                 .ok()
                 .and_then(|t| t.elapsed().ok())
                 .map_or(0, |d| d.as_secs());
-            if age >= min_age_s {
-                remove_tree(&entry.path())?;
+            if name.ends_with(".tmp") && age_s >= 60 {
+                fs::remove_file(entry.path())?;
+                n += 1;
+            }
+        }
+        for entry in fs::read_dir(self.root.join("locks"))? {
+            let entry = entry?;
+            let name = entry.file_name().to_string_lossy().into_owned();
+            let Some(key) = name.strip_suffix(".lock") else {
+                continue;
+            };
+            if !self.entry_dir(key).exists()
+                && let Some(_held) = self.try_lock(key)?
+            {
+                fs::remove_file(entry.path())?;
                 n += 1;
             }
         }
@@ -309,6 +401,12 @@ impl Cache {
     pub fn clean(&self) -> io::Result<()> {
         remove_tree(&self.root)
     }
+}
+
+/// The key a `tmp/` name belongs to: `<key>.<pid>.<ns>` or
+/// `<key>.trash.<pid>.<ns>` (keys are hex, without dots).
+fn entry_key(name: &str) -> &str {
+    name.split('.').next().unwrap_or(name)
 }
 
 /// An entry as listed by `cache ls`.

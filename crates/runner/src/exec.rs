@@ -60,13 +60,14 @@ pub fn default_cache_dir(pipeline: &Pipeline) -> PathBuf {
 pub enum RunError {
     #[error(transparent)]
     Pipeline(#[from] PipelineError),
-    #[error("{file}: stage `{stage}` ({kind}) failed: {source}", file = file.display())]
+    // Causes are part of these messages, so they are not also `source()`:
+    // the CLI prints the chain, which would repeat them.
+    #[error("{file}: stage `{stage}` ({kind}) failed: {cause}", file = file.display())]
     Stage {
         file: PathBuf,
         stage: String,
         kind: String,
-        #[source]
-        source: Box<hypercontact_core::StageError>,
+        cause: Box<hypercontact_core::StageError>,
     },
     #[error("stage `{stage}` ({kind}) broke its output contract: {message}")]
     Contract {
@@ -74,10 +75,10 @@ pub enum RunError {
         kind: String,
         message: String,
     },
-    #[error("cache at {}: {source}", path.display())]
+    #[error("cache at {}: {cause}", path.display())]
     Cache {
         path: PathBuf,
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     #[error(transparent)]
     Store(#[from] StoreError),
@@ -152,9 +153,9 @@ pub fn run_with_hook(
 ) -> Result<RunReport, RunError> {
     let started = Instant::now();
     let started_unix_s = unix_now();
-    let cache = Cache::open(&options.cache_dir).map_err(|source| RunError::Cache {
+    let cache = Cache::open(&options.cache_dir).map_err(|cause| RunError::Cache {
         path: options.cache_dir.clone(),
-        source,
+        cause,
     })?;
     let provenance_path = options.out_dir.join("provenance.json");
     let previous = Provenance::read(&provenance_path);
@@ -202,11 +203,12 @@ pub fn run_with_hook(
         }
     }
     let mut manifests: HashMap<String, Manifest> = HashMap::new();
+    let mut dropped: Vec<String> = Vec::new();
 
     for planned in &plan.stages {
         overall.set_message(planned.name.clone());
         let t0 = Instant::now();
-        if matches!(planned.reason, Reason::NotSelected) {
+        if matches!(planned.reason, Reason::NotSelected | Reason::TempNotNeeded) {
             overall.inc(1);
             continue;
         }
@@ -225,8 +227,10 @@ pub fn run_with_hook(
         if manifest.is_none() {
             let _lock = cache.lock(&planned.key).map_err(|source| RunError::Cache {
                 path: cache.root().to_owned(),
-                source,
+                cause: source,
             })?;
+            // Staging folders of this entry are debris of killed runs now.
+            cache.clear_staging(&planned.key);
             // Another run may have finished this entry while we waited.
             if !forced && let EntryState::Valid(m) = cache.check(&planned.key) {
                 manifest = Some(*m);
@@ -242,7 +246,7 @@ pub fn run_with_hook(
                         file: pipeline.file.clone(),
                         stage: planned.name.clone(),
                         kind: planned.kind.clone(),
-                        source: Box::new(source),
+                        cause: Box::new(source),
                     })?;
                 let compute_s = t_compute.elapsed().as_secs_f64();
                 check_contract(planned, decl.stage.info(), &outputs)?;
@@ -267,7 +271,7 @@ pub fn run_with_hook(
         }
 
         let mut exported = BTreeMap::new();
-        if options.export {
+        if options.export && !planned.temp {
             let stage_dir = options.out_dir.join(&planned.name);
             let entry = cache.entry_dir(&planned.key);
             for (output, record) in &manifest.outputs {
@@ -291,10 +295,12 @@ pub fn run_with_hook(
                 cache: use_,
                 wall_s: t0.elapsed().as_secs_f64(),
                 compute_s: manifest.compute_s,
+                temp: planned.temp,
             },
         );
         cache.restamp(&planned.key, &manifest);
         manifests.insert(planned.name.clone(), manifest);
+        drop_finished_temps(&plan, &cache, &manifests, &mut dropped)?;
         for input in &planned.inputs {
             let id = (input.from_stage.clone(), input.from_output.clone());
             if let Some(n) = readers.get_mut(&id) {
@@ -323,12 +329,39 @@ pub fn run_with_hook(
         }
         provenance
             .write(&provenance_path)
-            .map_err(|source| RunError::Cache {
+            .map_err(|cause| RunError::Cache {
                 path: provenance_path.clone(),
-                source,
+                cause,
             })?;
     }
     Ok(RunReport { plan, provenance })
+}
+
+/// Removes the entry of every temporary stage of this run whose readers all
+/// have their entries now (each in `manifests`): nothing in this run needs
+/// it any more, and a later run recomputes it from its key if one does.
+fn drop_finished_temps(
+    plan: &Plan,
+    cache: &Cache,
+    manifests: &HashMap<String, Manifest>,
+    dropped: &mut Vec<String>,
+) -> Result<(), RunError> {
+    for temp in plan.stages.iter().filter(|s| s.temp) {
+        if dropped.contains(&temp.name) || !manifests.contains_key(&temp.name) {
+            continue;
+        }
+        if plan
+            .consumers(&temp.name)
+            .all(|c| manifests.contains_key(&c.name))
+        {
+            cache.remove(&temp.key).map_err(|cause| RunError::Cache {
+                path: cache.entry_dir(&temp.key),
+                cause,
+            })?;
+            dropped.push(temp.name.clone());
+        }
+    }
+    Ok(())
 }
 
 /// Loads the products a stage needs, from this run's memory or the cache.
@@ -414,9 +447,9 @@ fn write_entry(
     compute_s: f64,
     after_file: AfterFile,
 ) -> Result<Manifest, RunError> {
-    let cache_err = |source| RunError::Cache {
+    let cache_err = |cause| RunError::Cache {
         path: cache.root().to_owned(),
-        source,
+        cause,
     };
     let staging = cache.staging_dir(&planned.key).map_err(cache_err)?;
     let mut records: BTreeMap<String, OutputRecord> = BTreeMap::new();

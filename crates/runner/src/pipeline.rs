@@ -41,6 +41,10 @@ pub struct StageDecl {
     pub inputs: Vec<InputBinding>,
     /// Line of the stage's name in the pipeline file.
     pub line: Option<usize>,
+    /// `temp: true`: the entry is dropped once every stage that reads it has
+    /// its own entry, and recomputed from its key if a later run needs it
+    /// (Snakemake's temporary files); its outputs are not exported.
+    pub temp: bool,
     pub(crate) sources: ParamSources,
 }
 
@@ -113,6 +117,8 @@ struct RawStage {
     with_file: Option<PathBuf>,
     #[serde(default)]
     inputs: IndexMap<String, RawInput>,
+    #[serde(default)]
+    temp: bool,
     /// Free text for the reader of the pipeline.
     #[serde(default, rename = "doc")]
     _doc: Option<String>,
@@ -176,6 +182,18 @@ impl Pipeline {
         let doc = Located::parse(source)
             .map_err(|e| PipelineError::new(file, e.message).located(e.at))?;
         let raw: RawPipeline = located_deserialize(file, &doc, doc.value.clone())?;
+        // The name becomes the default output folder `runs/<name>`: a name
+        // that is a path (`../../x`) would write elsewhere.
+        if let Err(why) = check_name(&raw.name) {
+            return Err(
+                PipelineError::new(file, format!("pipeline name `{}` {why}", raw.name))
+                    .located(doc.locate(&["name"])),
+            );
+        }
+        if raw.stages.is_empty() {
+            return Err(PipelineError::new(file, "the pipeline has no stages")
+                .located(doc.locate(&["stages"])));
+        }
         let dir = match file.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
             _ => PathBuf::from("."),
@@ -191,11 +209,8 @@ impl Pipeline {
             let locate = |message: String, at: Option<Location>| {
                 PipelineError::new(file, message).located(at).stage(name)
             };
-            if name.is_empty() || name.contains(['.', '/', ' ']) {
-                return Err(locate(
-                    "stage names may not be empty or contain `.`, `/` or spaces".into(),
-                    at(&[]),
-                ));
+            if let Err(why) = check_name(name) {
+                return Err(locate(format!("the stage name {why}"), at(&[])));
             }
             let stage = registry
                 .get(&rs.uses)
@@ -245,10 +260,20 @@ impl Pipeline {
                 params,
                 inputs: bindings(&rs.inputs),
                 line: at(&[]).map(|l| l.line),
+                temp: rs.temp,
                 sources,
             });
         }
 
+        if let Some(study) = &raw.study
+            && let Some((param, _)) = study.grid.iter().find(|(_, values)| values.is_empty())
+        {
+            return Err(PipelineError::new(
+                file,
+                format!("study.grid `{param}` lists no values (a grid needs at least one)"),
+            )
+            .located(doc.locate(&["study", "grid", param.as_str()])));
+        }
         let study = raw.study.map(|s| StudySpec {
             grid: s.grid,
             cases: s.cases,
@@ -358,6 +383,21 @@ fn bindings(inputs: &IndexMap<String, RawInput>) -> Vec<InputBinding> {
         }
     }
     out
+}
+
+/// Pipeline and stage names become folder names and `stage.output`
+/// references: letters, digits, `-` and `_` only.
+fn check_name(name: &str) -> Result<(), &'static str> {
+    if name.is_empty() {
+        Err("is empty")
+    } else if !name
+        .chars()
+        .all(|c| c.is_alphanumeric() || c == '-' || c == '_')
+    {
+        Err("may hold only letters, digits, `-` and `_`")
+    } else {
+        Ok(())
+    }
 }
 
 fn unknown_kind(kind: &str, registry: &Registry) -> String {

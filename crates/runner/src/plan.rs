@@ -48,6 +48,9 @@ pub enum Reason {
     NotInCache(String),
     /// Not needed for `--only`.
     NotSelected,
+    /// A temporary stage whose entry is gone and whose readers are all
+    /// cached: nothing needs it.
+    TempNotNeeded,
 }
 
 impl fmt::Display for Reason {
@@ -63,6 +66,9 @@ impl fmt::Display for Reason {
             Reason::FilesChanged(p) => write!(f, "input file changed: {}", p.join(", ")),
             Reason::NotInCache(why) => write!(f, "not in cache ({why})"),
             Reason::NotSelected => f.write_str("skipped (not needed for --only)"),
+            Reason::TempNotNeeded => {
+                f.write_str("temporary, not needed (every stage that reads it is cached)")
+            }
         }
     }
 }
@@ -79,6 +85,8 @@ pub struct PlannedStage {
     pub inputs: Vec<ResolvedInput>,
     pub runs: bool,
     pub reason: Reason,
+    /// `temp: true` in the pipeline.
+    pub temp: bool,
     /// The verified entry when the plan found one, so the run need not hash
     /// its files a second time.
     pub manifest: Option<Manifest>,
@@ -183,13 +191,22 @@ impl Plan {
                 inputs,
                 runs: run,
                 reason,
+                temp: decl.temp,
                 manifest: match &state {
                     EntryState::Valid(m) => Some((**m).clone()),
                     _ => None,
                 },
             });
         }
+        skip_unneeded_temps(&mut stages);
         Ok(Plan { stages })
+    }
+
+    /// The stages that read `name`'s outputs.
+    pub fn consumers<'a>(&'a self, name: &'a str) -> impl Iterator<Item = &'a PlannedStage> + 'a {
+        self.stages
+            .iter()
+            .filter(move |s| s.inputs.iter().any(|i| i.from_stage == name))
     }
 
     pub fn stage(&self, name: &str) -> Option<&PlannedStage> {
@@ -198,13 +215,24 @@ impl Plan {
 
     /// The plan as a human reads it: one line per stage.
     pub fn describe(&self) -> String {
-        let width = self.stages.iter().map(|s| s.name.len()).max().unwrap_or(0);
-        let kind_width = self.stages.iter().map(|s| s.kind.len()).max().unwrap_or(0);
+        // Widths in characters, as `{:<w$}` pads: a `µ` is one column.
+        let width = self
+            .stages
+            .iter()
+            .map(|s| s.name.chars().count())
+            .max()
+            .unwrap_or(0);
+        let kind_width = self
+            .stages
+            .iter()
+            .map(|s| s.kind.chars().count())
+            .max()
+            .unwrap_or(0);
         let mut out = String::new();
         for s in &self.stages {
             let verb = match s.reason {
                 Reason::Cached => "cached",
-                Reason::NotSelected => "skip",
+                Reason::NotSelected | Reason::TempNotNeeded => "skip",
                 _ => "RUN",
             };
             out.push_str(&format!(
@@ -216,6 +244,29 @@ impl Plan {
             ));
         }
         out
+    }
+}
+
+/// A temporary stage need not run when no stage of this run will read it:
+/// each reader is cached, skipped, or itself a temporary stage not needed.
+/// Readers come later in the order, so one pass from the end settles chains.
+fn skip_unneeded_temps(stages: &mut [PlannedStage]) {
+    for i in (0..stages.len()).rev() {
+        let s = &stages[i];
+        if !s.temp || !s.runs || s.reason == Reason::Forced {
+            continue;
+        }
+        let needed = stages[i + 1..].iter().any(|c| {
+            c.inputs.iter().any(|input| input.from_stage == s.name)
+                && !matches!(
+                    c.reason,
+                    Reason::Cached | Reason::NotSelected | Reason::TempNotNeeded
+                )
+        });
+        if !needed {
+            stages[i].reason = Reason::TempNotNeeded;
+            stages[i].runs = false;
+        }
     }
 }
 

@@ -45,6 +45,10 @@ pub struct StageRecord {
     pub wall_s: f64,
     /// Wall time of the computation that made the entry, seconds.
     pub compute_s: f64,
+    /// A temporary stage: not exported, its entry dropped once its readers
+    /// had theirs.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub temp: bool,
 }
 
 /// The record of one run.

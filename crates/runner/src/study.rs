@@ -112,11 +112,10 @@ pub fn run_study(pipeline: &Pipeline, options: &RunOptions) -> Result<StudyRepor
         });
     }
 
-    let cache =
-        crate::cache::Cache::open(&options.cache_dir).map_err(|source| RunError::Cache {
-            path: options.cache_dir.clone(),
-            source,
-        })?;
+    let cache = crate::cache::Cache::open(&options.cache_dir).map_err(|cause| RunError::Cache {
+        path: options.cache_dir.clone(),
+        cause,
+    })?;
     let mut tables = Vec::new();
     for target in &spec.collect {
         let (stage, output) = target.split_once('.').expect("checked above");
@@ -149,9 +148,9 @@ pub fn run_study(pipeline: &Pipeline, options: &RunOptions) -> Result<StudyRepor
         hypercontact_io::write_parquet(&gathered, &mut bytes).map_err(|e| {
             PipelineError::new(&pipeline.file, format!("study.collect `{target}`: {e}"))
         })?;
-        crate::write_atomic(&path, &bytes).map_err(|source| RunError::Cache {
+        crate::write_atomic(&path, &bytes).map_err(|cause| RunError::Cache {
             path: path.clone(),
-            source,
+            cause,
         })?;
         tables.push((target.clone(), path));
     }
@@ -173,9 +172,9 @@ pub fn run_study(pipeline: &Pipeline, options: &RunOptions) -> Result<StudyRepor
         .collect();
     let json = serde_json::to_vec_pretty(&records).expect("records serialise");
     let study_json = options.out_dir.join("study.json");
-    crate::write_atomic(&study_json, &json).map_err(|source| RunError::Cache {
+    crate::write_atomic(&study_json, &json).map_err(|cause| RunError::Cache {
         path: study_json,
-        source,
+        cause,
     })?;
     Ok(StudyReport { runs, tables })
 }
