@@ -4,9 +4,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, SystemTime};
 
-use anyhow::{Context as _, Result};
+use anyhow::{Context as _, Result, bail};
 use clap::{Parser, Subcommand};
-use hypercontact_runner::cache::Cache;
+use hypercontact_runner::cache::{Cache, EntryState};
 use hypercontact_runner::exec::default_cache_dir;
 use hypercontact_runner::{Pipeline, PlanOptions, RunOptions};
 
@@ -108,6 +108,13 @@ enum CacheAction {
         #[arg(long, value_parser = parse_days)]
         older_than_days: Option<f64>,
     },
+    /// Hash every file of every entry against its manifest; list corrupt
+    /// entries (exit 1 if any; `gc` removes unreadable ones, a run
+    /// recomputes the others).
+    Verify {
+        #[command(flatten)]
+        at: CacheWhere,
+    },
     /// Remove the whole cache.
     Clean {
         #[command(flatten)]
@@ -137,8 +144,12 @@ fn dispatch(cli: Cli) -> Result<()> {
                 print!("{}", report.plan.describe());
             } else if !args.quiet {
                 print!("{}", report.summary());
+                let temps = match report.temps_not_needed() {
+                    0 => String::new(),
+                    n => format!(", {n} temporary not needed"),
+                };
                 println!(
-                    "{} ran, {} cached in {:.2} s; outputs in {}",
+                    "{} ran, {} cached{temps} in {:.2} s; outputs in {}",
                     report.computed(),
                     report.hits(),
                     report.provenance.wall_s,
@@ -284,6 +295,34 @@ fn cache_command(action: CacheAction, registry: &hypercontact_core::Registry) ->
                 "removed {removed} entries ({}) and {debris} leftovers of interrupted runs",
                 human_bytes(freed)
             );
+        }
+        CacheAction::Verify { at } => {
+            let dir = cache_dir(&at, registry)?;
+            let Some(cache) = Cache::open_existing(&dir)? else {
+                println!("no cache at {}", dir.display());
+                return Ok(());
+            };
+            let entries = cache.list()?;
+            let mut corrupt = 0;
+            for e in &entries {
+                match cache.verify(&e.key) {
+                    EntryState::Valid(_) => {}
+                    EntryState::Corrupt(why) => {
+                        corrupt += 1;
+                        println!("corrupt  {}  {why}", e.key);
+                    }
+                    // Removed by a concurrent `gc` or a dropped temporary.
+                    EntryState::Missing => {}
+                }
+            }
+            println!(
+                "{} entries checked, {corrupt} corrupt, in {}",
+                entries.len(),
+                dir.display()
+            );
+            if corrupt > 0 {
+                bail!("{corrupt} corrupt cache entries in {}", dir.display());
+            }
         }
         CacheAction::Clean { at } => {
             let dir = cache_dir(&at, registry)?;

@@ -139,8 +139,18 @@ impl Cache {
     }
 
     /// Checks an entry: manifest readable, every file present with its size
-    /// and hash.
+    /// and hash (a file whose stamp is unchanged since its last check is
+    /// trusted without hashing).
     pub fn check(&self, key: &str) -> EntryState {
+        self.check_with(key, true)
+    }
+
+    /// [`Cache::check`] hashing every file, stamps or not (`cache verify`).
+    pub fn verify(&self, key: &str) -> EntryState {
+        self.check_with(key, false)
+    }
+
+    fn check_with(&self, key: &str, trust_stamps: bool) -> EntryState {
         let dir = self.entry_dir(key);
         if !dir.exists() {
             return EntryState::Missing;
@@ -177,6 +187,7 @@ impl Cache {
                 };
                 let stamp = stamp(&meta);
                 if let Some(unchanged) = &stamp
+                    && trust_stamps
                     && old_stamps.get(rel) == Some(unchanged)
                 {
                     stamps.insert(rel.clone(), unchanged.clone());

@@ -33,6 +33,9 @@ pub struct RunOptions {
     pub overrides: Vec<String>,
     /// Export outputs into `out_dir` and write `provenance.json` there.
     pub export: bool,
+    /// Keep the entries of temporary stages (a study drops them once every
+    /// variant has run, so variants sharing a temporary entry reuse it).
+    pub keep_temps: bool,
 }
 
 impl RunOptions {
@@ -47,6 +50,7 @@ impl RunOptions {
             quiet: true,
             overrides: Vec::new(),
             export: true,
+            keep_temps: false,
         }
     }
 }
@@ -80,8 +84,17 @@ pub enum RunError {
         path: PathBuf,
         cause: std::io::Error,
     },
+    #[error("writing {}: {cause}", path.display())]
+    Output {
+        path: PathBuf,
+        cause: std::io::Error,
+    },
     #[error(transparent)]
     Store(#[from] StoreError),
+    /// The entry of a temporary stage this run planned to read was dropped
+    /// by a concurrent run; [`run`] plans again and regenerates it.
+    #[error("the entry of temporary stage `{stage}` was removed by another run")]
+    TempGone { stage: String },
 }
 
 /// What a run did.
@@ -94,6 +107,15 @@ pub struct RunReport {
 impl RunReport {
     pub fn hits(&self) -> usize {
         self.count(CacheUse::Hit)
+    }
+
+    /// Temporary stages this run did not need (see [`Reason::TempNotNeeded`]).
+    pub fn temps_not_needed(&self) -> usize {
+        self.plan
+            .stages
+            .iter()
+            .filter(|s| s.reason == Reason::TempNotNeeded)
+            .count()
     }
 
     pub fn computed(&self) -> usize {
@@ -121,15 +143,16 @@ impl RunReport {
                 CacheUse::Forced => "forced",
                 CacheUse::Skipped => "skipped",
             };
+            let seconds = match r.cache {
+                CacheUse::Hit => format!("{:>8.2} s", r.compute_s),
+                // Not part of this run: its time is an earlier run's.
+                CacheUse::Skipped => format!("{:>10}", "-"),
+                CacheUse::Miss | CacheUse::Forced => format!("{:>8.2} s", r.wall_s),
+            };
             out.push_str(&format!(
-                "{status:>8}  {:<16} {:<16} {:>8.2} s  {}\n",
+                "{status:>8}  {:<16} {:<16} {seconds}  {}\n",
                 s.name,
                 s.kind,
-                if r.cache == CacheUse::Hit {
-                    r.compute_s
-                } else {
-                    r.wall_s
-                },
                 r.outputs.keys().cloned().collect::<Vec<_>>().join(" ")
             ));
         }
@@ -146,7 +169,26 @@ pub fn run(pipeline: &Pipeline, options: &RunOptions) -> Result<RunReport, RunEr
 }
 
 /// [`run`] with a hook after every cache file written (crash tests).
+///
+/// A concurrent run may drop a temporary entry between this run's plan and
+/// its read; then the run plans again (stages finished meanwhile are cache
+/// hits) and regenerates the entry, a few times at most.
 pub fn run_with_hook(
+    pipeline: &Pipeline,
+    options: &RunOptions,
+    after_file: AfterFile,
+) -> Result<RunReport, RunError> {
+    const ATTEMPTS: usize = 4;
+    let mut attempt = 1;
+    loop {
+        match run_once(pipeline, options, after_file) {
+            Err(RunError::TempGone { .. }) if attempt < ATTEMPTS => attempt += 1,
+            result => return result,
+        }
+    }
+}
+
+fn run_once(
     pipeline: &Pipeline,
     options: &RunOptions,
     after_file: AfterFile,
@@ -235,7 +277,7 @@ pub fn run_with_hook(
             if !forced && let EntryState::Valid(m) = cache.check(&planned.key) {
                 manifest = Some(*m);
             } else {
-                let inputs = gather_inputs(planned, &cache, &manifests, &mut products)?;
+                let inputs = gather_inputs(&plan, planned, &cache, &manifests, &mut products)?;
                 let ctx = Context::with(&planned.name, multi.as_ref(), &reader)
                     .with_upstream(upstream_record(pipeline, &plan, planned, &provenance));
                 let t_compute = Instant::now();
@@ -300,7 +342,9 @@ pub fn run_with_hook(
         );
         cache.restamp(&planned.key, &manifest);
         manifests.insert(planned.name.clone(), manifest);
-        drop_finished_temps(&plan, &cache, &manifests, &mut dropped)?;
+        if !options.keep_temps {
+            drop_finished_temps(&plan, &cache, &manifests, &mut dropped)?;
+        }
         for input in &planned.inputs {
             let id = (input.from_stage.clone(), input.from_output.clone());
             if let Some(n) = readers.get_mut(&id) {
@@ -329,7 +373,7 @@ pub fn run_with_hook(
         }
         provenance
             .write(&provenance_path)
-            .map_err(|cause| RunError::Cache {
+            .map_err(|cause| RunError::Output {
                 path: provenance_path.clone(),
                 cause,
             })?;
@@ -352,7 +396,7 @@ fn drop_finished_temps(
         }
         if plan
             .consumers(&temp.name)
-            .all(|c| manifests.contains_key(&c.name))
+            .all(|c| manifests.contains_key(&c.name) || c.reason == Reason::TempNotNeeded)
         {
             cache.remove(&temp.key).map_err(|cause| RunError::Cache {
                 path: cache.entry_dir(&temp.key),
@@ -364,8 +408,22 @@ fn drop_finished_temps(
     Ok(())
 }
 
+/// Removes the entries of every temporary stage of a finished run.
+pub fn drop_temps(plan: &Plan, cache: &Cache) -> Result<(), RunError> {
+    for temp in plan.stages.iter().filter(|s| s.temp) {
+        if cache.entry_dir(&temp.key).exists() {
+            cache.remove(&temp.key).map_err(|cause| RunError::Cache {
+                path: cache.entry_dir(&temp.key),
+                cause,
+            })?;
+        }
+    }
+    Ok(())
+}
+
 /// Loads the products a stage needs, from this run's memory or the cache.
 fn gather_inputs(
+    plan: &Plan,
     planned: &PlannedStage,
     cache: &Cache,
     manifests: &HashMap<String, Manifest>,
@@ -388,7 +446,18 @@ fn gather_inputs(
                         message: format!("its cache entry has no output `{}`", input.from_output),
                     })?;
             let dir = cache.entry_dir(&input.upstream_key);
-            let product = store::read_product(&dir, &input.from_output, record)?;
+            let product = match store::read_product(&dir, &input.from_output, record) {
+                Ok(product) => product,
+                Err(_)
+                    if plan.stage(&input.from_stage).is_some_and(|s| s.temp)
+                        && !matches!(cache.check(&input.upstream_key), EntryState::Valid(_)) =>
+                {
+                    return Err(RunError::TempGone {
+                        stage: input.from_stage.clone(),
+                    });
+                }
+                Err(e) => return Err(e.into()),
+            };
             products.insert(id.clone(), Arc::new(product));
         }
         inputs.insert(&input.input, products[&id].clone());

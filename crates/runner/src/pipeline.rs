@@ -335,7 +335,17 @@ impl Pipeline {
         let dir = self.dir.clone();
         let (stage_name, param_path) = path
             .split_once('.')
-            .ok_or_else(|| PipelineError::new(&file, format!("`{path}` should be STAGE.PARAM")))?;
+            .filter(|(stage, param)| {
+                !stage.is_empty() && !param.is_empty() && param.split('.').all(|p| !p.is_empty())
+            })
+            .ok_or_else(|| {
+                PipelineError::new(
+                    &file,
+                    format!(
+                        "`{path}` should be STAGE.PARAM (names not empty; PARAM may be dotted)"
+                    ),
+                )
+            })?;
         let known = self
             .stages
             .iter()

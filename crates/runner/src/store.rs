@@ -25,16 +25,17 @@ pub struct OutputRecord {
 
 #[derive(Debug, thiserror::Error)]
 pub enum StoreError {
-    #[error("{}: {source}", path.display())]
-    Io { path: PathBuf, source: io::Error },
+    // The cause is in the message, so not also `source()` (printed twice).
+    #[error("{}: {cause}", path.display())]
+    Io { path: PathBuf, cause: io::Error },
     #[error("{}: {message}", path.display())]
     Format { path: PathBuf, message: String },
 }
 
 fn io_err(path: &Path) -> impl FnOnce(io::Error) -> StoreError + '_ {
-    move |source| StoreError::Io {
+    move |cause| StoreError::Io {
         path: path.to_owned(),
-        source,
+        cause,
     }
 }
 
@@ -214,4 +215,30 @@ fn same_file(a: &Path, b: &Path) -> bool {
 #[cfg(not(unix))]
 fn same_file(_: &Path, _: &Path) -> bool {
     false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The message with its `source()` chain, as the CLI prints it (`{:#}`).
+    fn chain(e: &dyn std::error::Error) -> String {
+        let mut text = e.to_string();
+        let mut next = e.source();
+        while let Some(cause) = next {
+            text.push_str(&format!(": {cause}"));
+            next = cause.source();
+        }
+        text
+    }
+
+    #[test]
+    fn an_io_error_is_printed_once() {
+        // Issue 12: "ro/surf: Permission denied (os error 13): Permission
+        // denied (os error 13)".
+        let e = io_err(Path::new("ro/surf"))(io::Error::from(io::ErrorKind::PermissionDenied));
+        let text = chain(&e);
+        assert_eq!(text.matches("denied").count(), 1, "{text}");
+        assert!(text.starts_with("ro/surf: "), "{text}");
+    }
 }

@@ -74,6 +74,13 @@ pub fn run_study(pipeline: &Pipeline, options: &RunOptions) -> Result<StudyRepor
         let decl = pipeline
             .stage(stage)
             .ok_or_else(|| err(format!("study.collect `{target}`: no stage `{stage}`")))?;
+        if decl.temp {
+            return Err(err(format!(
+                "study.collect `{target}`: `{stage}` is temporary (`temp: true`), its entries are \
+                 dropped; collect a stage that reads it, or make it permanent"
+            ))
+            .into());
+        }
         match decl.stage.info().output(output) {
             Some(o) if o.kind == hypercontact_core::ProductKind::Table => {}
             _ => {
@@ -102,6 +109,8 @@ pub fn run_study(pipeline: &Pipeline, options: &RunOptions) -> Result<StudyRepor
         let mut o = options.clone();
         o.out_dir = options.out_dir.join("variants").join(format!("{k:03}"));
         o.overrides = variant.iter().map(|(p, v)| format!("{p}={v}")).collect();
+        // Variants may share a temporary entry: drop them after the last.
+        o.keep_temps = true;
         let report = run(&p, &o)?;
         runs.push((variant.clone(), report));
     }
@@ -148,7 +157,7 @@ pub fn run_study(pipeline: &Pipeline, options: &RunOptions) -> Result<StudyRepor
         hypercontact_io::write_parquet(&gathered, &mut bytes).map_err(|e| {
             PipelineError::new(&pipeline.file, format!("study.collect `{target}`: {e}"))
         })?;
-        crate::write_atomic(&path, &bytes).map_err(|cause| RunError::Cache {
+        crate::write_atomic(&path, &bytes).map_err(|cause| RunError::Output {
             path: path.clone(),
             cause,
         })?;
@@ -170,9 +179,12 @@ pub fn run_study(pipeline: &Pipeline, options: &RunOptions) -> Result<StudyRepor
             cached: report.hits(),
         })
         .collect();
+    for (_, report) in &runs {
+        crate::exec::drop_temps(&report.plan, &cache)?;
+    }
     let json = serde_json::to_vec_pretty(&records).expect("records serialise");
     let study_json = options.out_dir.join("study.json");
-    crate::write_atomic(&study_json, &json).map_err(|cause| RunError::Cache {
+    crate::write_atomic(&study_json, &json).map_err(|cause| RunError::Output {
         path: study_json,
         cause,
     })?;

@@ -46,9 +46,18 @@ const MAX_DEPTH: usize = 128;
 impl Located {
     /// Parses one YAML document (an empty text is `null`).
     pub fn parse(text: &str) -> Result<Self, YamlError> {
-        let docs = MarkedYaml::load_from_str(text).map_err(|e| YamlError {
-            at: Some(location(e.marker())),
-            message: e.info().to_owned(),
+        let docs = MarkedYaml::load_from_str(text).map_err(|e| {
+            let at = location(e.marker());
+            let message = match (e.info(), key_at(text, at)) {
+                ("duplicated key in mapping", Some(key)) => {
+                    format!("duplicate key `{key}` (each key may appear once in a map)")
+                }
+                (info, _) => info.to_owned(),
+            };
+            YamlError {
+                at: Some(at),
+                message,
+            }
         })?;
         let mut located = Located::default();
         match docs.as_slice() {
@@ -189,6 +198,19 @@ fn scalar_value(scalar: &Scalar) -> Result<serde_json::Value, String> {
         }
         Scalar::String(s) => Value::String(s.to_string()),
     })
+}
+
+/// The plain key that starts at `at` (1-based line and column, in
+/// characters), as a reader would name it in a message.
+fn key_at(text: &str, at: Location) -> Option<String> {
+    let line = text.lines().nth(at.line.checked_sub(1)?)?;
+    let key: String = line
+        .chars()
+        .skip(at.column.saturating_sub(1))
+        .take_while(|&c| !matches!(c, ':' | ',' | '{' | '}'))
+        .collect();
+    let key = key.trim().trim_matches(|c| c == '"' || c == '\'');
+    (!key.is_empty() && key.chars().count() <= 64).then(|| key.to_owned())
 }
 
 #[cfg(test)]

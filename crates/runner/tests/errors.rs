@@ -265,6 +265,52 @@ fn pipeline_refusals() {
             "--set out of range",
             refusal(BASIC, &[], &["src.n=-1"], &[]),
         ),
+        // Issue 12: accepted silently, or with an empty name in the message.
+        (
+            "duplicate stage name",
+            refusal(
+                &format!("{BASIC}  double:\n    uses: scale\n    inputs: {{ t: src }}\n"),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "duplicate input key",
+            refusal(
+                &BASIC.replace("inputs: { t: src }", "inputs:\n      t: src\n      t: src"),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        ("no stages", refusal("name: x\nstages: {}\n", &[], &[], &[])),
+        (
+            "pipeline name escapes the output folder",
+            refusal(
+                &BASIC.replace("name: basic", "name: ../../escaped"),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "pipeline name with a space",
+            refusal(&BASIC.replace("name: basic", "name: my run"), &[], &[], &[]),
+        ),
+        (
+            "stage name with a slash",
+            refusal(&BASIC.replace("  double:", "  a/b:"), &[], &[], &[]),
+        ),
+        (
+            "--set empty stage name",
+            refusal(BASIC, &[], &[".factor=1"], &[]),
+        ),
+        (
+            "--set empty parameter name",
+            refusal(BASIC, &[], &["double.=1"], &[]),
+        ),
+        ("--set empty path", refusal(BASIC, &[], &["=1"], &[])),
     ];
     let text: String = cases
         .iter()
@@ -285,14 +331,18 @@ fn study_and_run_refusals() {
         quiet: true,
         overrides: vec![],
         export: true,
+        keep_temps: false,
     };
     let study = |name: &str, text: &str| {
         let path = write(t.path(), &format!("{name}.yaml"), text);
-        let pipeline = Pipeline::load(&path, &stages()).unwrap();
-        let message = run_study(&pipeline, &options)
-            .map(|_| ())
-            .expect_err("the study should be refused")
-            .to_string();
+        // Refused when loaded, or when the study runs.
+        let message = match Pipeline::load(&path, &stages()) {
+            Err(e) => e.to_string(),
+            Ok(pipeline) => run_study(&pipeline, &options)
+                .map(|_| ())
+                .expect_err("the study should be refused")
+                .to_string(),
+        };
         redact(&message, t.path())
     };
     let mut cases: Vec<(&str, String)> = vec![
@@ -310,6 +360,30 @@ fn study_and_run_refusals() {
             study(
                 "table",
                 &format!("{BASIC}study:\n  collect: [double.map]\n"),
+            ),
+        ),
+        (
+            "grid value is an empty list",
+            study(
+                "empty",
+                &format!("{BASIC}study:\n  grid:\n    src.n: []\n  collect: [double.t]\n"),
+            ),
+        ),
+        (
+            "grid names an unknown stage",
+            study(
+                "unknown",
+                &format!("{BASIC}study:\n  grid:\n    triple.n: [1]\n  collect: [double.t]\n"),
+            ),
+        ),
+        (
+            "collect a temporary stage",
+            study(
+                "temp",
+                &format!(
+                    "{}study:\n  collect: [src.t]\n",
+                    BASIC.replace("uses: source", "uses: source\n    temp: true")
+                ),
             ),
         ),
         (

@@ -21,6 +21,7 @@ fn options(dir: &Path) -> RunOptions {
         quiet: true,
         overrides: vec![],
         export: true,
+        keep_temps: false,
     }
 }
 
@@ -439,6 +440,20 @@ fn set_errors_name_the_assignment() {
     assert!(e.contains("no stage `nostage`"), "{e}");
     let e = p.set("double.bogus=1").unwrap_err().to_string();
     assert!(e.contains("unknown field `bogus`"), "{e}");
+    // Issue 12: empty names were reported as "no stage ``" / "unknown field ``".
+    for empty in [
+        ".factor=1",
+        "double.=1",
+        "=1",
+        "double..factor=1",
+        "double.factor.=1",
+    ] {
+        let e = p.set(empty).unwrap_err().to_string();
+        assert!(
+            e.contains("should be STAGE.PARAM") && !e.contains("``"),
+            "{empty}: {e}"
+        );
+    }
     p.set("double.factor=5").unwrap();
 }
 
@@ -560,4 +575,189 @@ fn a_changed_value_with_multi_byte_characters_is_shown_without_panicking() {
         "{changes:?}"
     );
     assert!(plan.describe().contains("params changed: label"));
+}
+
+/// `src` temporary, read by `double` and by `triple` (two consumers).
+const TEMP: &str = "\
+name: temp
+stages:
+  src:
+    uses: source
+    temp: true
+    with: { value: 2.0e-5, n: 5 }
+  double:
+    uses: scale
+    inputs: { t: src }
+    with: { factor: 2 }
+  triple:
+    uses: scale
+    inputs: { t: src }
+    with: { factor: 3 }
+";
+
+fn entry_exists(dir: &Path, key: &str) -> bool {
+    Cache::open(&dir.join("cache"))
+        .unwrap()
+        .entry_dir(key)
+        .exists()
+}
+
+#[test]
+fn a_temporary_entry_is_dropped_once_its_readers_have_theirs_and_regenerated_when_needed() {
+    let t = tempfile::tempdir().unwrap();
+    let p = load(t.path(), "p.yaml", TEMP);
+    let o = options(t.path());
+    let first = run(&p, &o).unwrap();
+    assert_eq!(first.computed(), 3);
+    let src_key = first.plan.stage("src").unwrap().key.clone();
+    assert!(
+        !entry_exists(t.path(), &src_key),
+        "dropped after both readers"
+    );
+    assert!(entry_exists(
+        t.path(),
+        &first.plan.stage("double").unwrap().key
+    ));
+    assert!(
+        !o.out_dir.join("src").exists(),
+        "a temporary stage is not exported"
+    );
+    assert!(first.provenance.stages["src"].temp);
+    let double = std::fs::read(o.out_dir.join("double/t.parquet")).unwrap();
+
+    // Warm: the readers are cached, so the temporary stage is not rerun.
+    let warm = run(&p, &o).unwrap();
+    assert_eq!(warm.computed(), 0);
+    assert_eq!(
+        warm.plan.stage("src").unwrap().reason,
+        Reason::TempNotNeeded
+    );
+    assert!(warm.plan.describe().contains("temporary, not needed"));
+    assert!(!entry_exists(t.path(), &src_key));
+
+    // A reader's parameter changes: the temporary entry comes back from its
+    // key (same bytes for `double`), then goes again.
+    let changed = load(t.path(), "q.yaml", &TEMP.replace("factor: 3", "factor: 4"));
+    let again = run(&changed, &o).unwrap();
+    assert_eq!(again.computed(), 2, "src and triple");
+    assert_eq!(again.plan.stage("src").unwrap().key, src_key);
+    assert!(!entry_exists(t.path(), &src_key));
+    assert_eq!(
+        std::fs::read(o.out_dir.join("double/t.parquet")).unwrap(),
+        double
+    );
+}
+
+#[test]
+fn a_temporary_entry_stays_while_a_reader_is_not_part_of_the_run() {
+    let t = tempfile::tempdir().unwrap();
+    let p = load(t.path(), "p.yaml", TEMP);
+    let o = RunOptions {
+        plan: PlanOptions {
+            only: Some("double".into()),
+            ..PlanOptions::default()
+        },
+        ..options(t.path())
+    };
+    let report = run(&p, &o).unwrap();
+    let src_key = report.plan.stage("src").unwrap().key.clone();
+    assert!(entry_exists(t.path(), &src_key), "`triple` will read it");
+    let all = run(&p, &options(t.path())).unwrap();
+    assert_eq!(all.computed(), 1, "only `triple`");
+    assert!(!entry_exists(t.path(), &src_key));
+}
+
+#[test]
+fn a_study_keeps_temporary_entries_until_its_last_variant_and_refuses_to_collect_them() {
+    let t = tempfile::tempdir().unwrap();
+    let text =
+        format!("{TEMP}study:\n  grid:\n    double.factor: [1, 2, 5]\n  collect: [double.t]\n");
+    let p = load(t.path(), "p.yaml", &text);
+    let report = hypercontact_runner::study::run_study(&p, &options(t.path())).unwrap();
+    let computed: usize = report.runs.iter().map(|(_, r)| r.computed()).sum();
+    assert_eq!(computed, 3 + 2, "src once, triple once, three doubles");
+    let src_key = &report.runs[0].1.plan.stage("src").unwrap().key;
+    assert!(!entry_exists(t.path(), src_key));
+
+    let bad = load(
+        t.path(),
+        "bad.yaml",
+        &text.replace("collect: [double.t]", "collect: [src.t]"),
+    );
+    let err = hypercontact_runner::study::run_study(&bad, &options(t.path()))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("`src` is temporary"), "{err}");
+}
+
+#[test]
+fn a_temporary_entry_dropped_by_a_concurrent_run_is_regenerated() {
+    let t = tempfile::tempdir().unwrap();
+    let text = "\
+name: race
+stages:
+  a:
+    uses: source
+    with: { value: 1.0, n: 3 }
+  b:
+    uses: scale
+    inputs: { t: a }
+    with: { factor: 2 }
+  src:
+    uses: source
+    temp: true
+    with: { value: 2.0, n: 4 }
+  triple:
+    uses: scale
+    inputs: { t: src }
+    with: { factor: 3 }
+";
+    let p = load(t.path(), "p.yaml", text);
+    let keep = RunOptions {
+        keep_temps: true,
+        ..options(t.path())
+    };
+    run(&p, &keep).unwrap();
+    let changed = load(
+        t.path(),
+        "q.yaml",
+        &text
+            .replace("factor: 2", "factor: 5")
+            .replace("factor: 3", "factor: 6"),
+    );
+    let src_key = run(
+        &changed,
+        &RunOptions {
+            dry_run: true,
+            ..options(t.path())
+        },
+    )
+    .unwrap()
+    .plan
+    .stage("src")
+    .unwrap()
+    .key
+    .clone();
+    assert!(entry_exists(t.path(), &src_key));
+    // While `b` writes (after the plan found `src` cached), another run
+    // drops `src`: `triple` cannot read it, and the run plans again.
+    let cache = Cache::open(&t.path().join("cache")).unwrap();
+    let mut fired = false;
+    let report =
+        hypercontact_runner::exec::run_with_hook(&changed, &options(t.path()), &mut |_| {
+            if !fired {
+                fired = true;
+                cache.remove(&src_key).unwrap();
+            }
+        })
+        .unwrap();
+    assert!(fired);
+    assert_eq!(
+        report.provenance.stages["b"].cache,
+        CacheUse::Hit,
+        "kept from the first try"
+    );
+    assert_eq!(report.provenance.stages["src"].cache, CacheUse::Miss);
+    assert_eq!(report.provenance.stages["triple"].cache, CacheUse::Miss);
+    assert!(!entry_exists(t.path(), &src_key));
 }
