@@ -375,3 +375,21 @@ fn ago(t: SystemTime) -> String {
         _ => format!("{} days ago", s / 86_400),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn days_are_finite_and_in_range() {
+        // Issue 12: NaN, inf, -1 and 1e300 reached `Duration::from_secs_f64`
+        // and panicked.
+        for bad in ["NaN", "inf", "-inf", "-1", "1e300", "36526", "x", ""] {
+            assert!(parse_days(bad).is_err(), "{bad}");
+        }
+        for (good, days) in [("0", 0.0), ("0.5", 0.5), ("30", 30.0), ("36525", 36525.0)] {
+            assert_eq!(parse_days(good), Ok(days));
+            let _ = Duration::from_secs_f64(days * 86_400.0);
+        }
+    }
+}

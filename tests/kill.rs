@@ -166,7 +166,7 @@ fn runs_killed_at_random_moments_leave_a_cache_that_gives_the_reference_bytes() 
     assert!(
         !text(&again)
             .lines()
-            .any(|l| l.trim_start().starts_with("run ")),
+            .any(|l| l.trim_start().starts_with("RUN ")),
         "after gc, stages would rerun:\n{}",
         text(&again)
     );

@@ -761,3 +761,87 @@ stages:
     assert_eq!(report.provenance.stages["triple"].cache, CacheUse::Miss);
     assert!(!entry_exists(t.path(), &src_key));
 }
+
+#[test]
+fn removing_an_entry_removes_its_lock_and_stamps_and_gc_removes_debris() {
+    let t = tempfile::tempdir().unwrap();
+    let p = load(t.path(), "p.yaml", BASIC);
+    let report = run(&p, &options(t.path())).unwrap();
+    // A second run checks the entries and stamps them.
+    run(&p, &options(t.path())).unwrap();
+    let root = t.path().join("cache");
+    let cache = Cache::open(&root).unwrap();
+    let key = report.plan.stage("src").unwrap().key.clone();
+    assert!(root.join("locks").join(format!("{key}.lock")).exists());
+    assert!(root.join("stamps").join(format!("{key}.json")).exists());
+    cache.remove(&key).unwrap();
+    // Issue 12: 28 lock files remained after `gc` removed 28 entries.
+    assert!(!root.join("locks").join(format!("{key}.lock")).exists());
+    assert!(!root.join("stamps").join(format!("{key}.json")).exists());
+    assert!(!cache.entry_dir(&key).exists());
+
+    // Debris of killed runs: a staging folder, a half-written stamp, an
+    // orphan lock; and a staging folder whose writer still holds the lock.
+    let dead = "0123456789abcdef0123456789abcdef";
+    let live = report.plan.stage("double").unwrap().key.clone();
+    std::fs::create_dir_all(root.join("tmp").join(format!("{dead}.77.1"))).unwrap();
+    std::fs::create_dir_all(root.join("tmp").join(format!("{live}.78.1"))).unwrap();
+    let half = root.join("stamps").join(format!("{dead}.json.5.tmp"));
+    std::fs::write(&half, "{").unwrap();
+    let old = std::time::SystemTime::now() - std::time::Duration::from_secs(120);
+    std::fs::File::options()
+        .write(true)
+        .open(&half)
+        .unwrap()
+        .set_modified(old)
+        .unwrap();
+    std::fs::write(root.join("locks").join(format!("{dead}.lock")), "").unwrap();
+    let held = cache.lock(&live).unwrap();
+    let n = cache.clean_debris().unwrap();
+    assert_eq!(n, 3, "staging, stamp and orphan lock of the dead writer");
+    assert!(
+        root.join("tmp").join(format!("{live}.78.1")).exists(),
+        "its writer holds the lock"
+    );
+    assert!(!half.exists());
+    drop(held);
+    assert_eq!(cache.clean_debris().unwrap(), 1);
+    assert_eq!(std::fs::read_dir(root.join("tmp")).unwrap().count(), 0);
+    assert!(
+        root.join("locks").join(format!("{live}.lock")).exists(),
+        "its entry exists"
+    );
+}
+
+#[test]
+fn opening_a_missing_cache_to_look_creates_nothing() {
+    let t = tempfile::tempdir().unwrap();
+    let missing = t.path().join("nowhere/cache");
+    assert!(Cache::open_existing(&missing).unwrap().is_none());
+    assert!(!t.path().join("nowhere").exists());
+}
+
+#[test]
+fn the_dry_run_aligns_multi_byte_names() {
+    let t = tempfile::tempdir().unwrap();
+    let text = BASIC
+        .replace("  src:", "  µ-src:")
+        .replace("{ t: src }", "{ t: µ-src }");
+    let p = load(t.path(), "p.yaml", &text);
+    let cache = Cache::open(&t.path().join("cache")).unwrap();
+    let plan = Plan::build(&p, &cache, &PlanOptions::default(), None).unwrap();
+    let describe = plan.describe();
+    // The kind starts in the same column (in characters) on every line.
+    let columns: Vec<usize> = describe
+        .lines()
+        .map(|l| {
+            let kind = if l.contains("source") {
+                "source"
+            } else {
+                "scale"
+            };
+            l[..l.find(kind).unwrap()].chars().count()
+        })
+        .collect();
+    assert!(columns.windows(2).all(|w| w[0] == w[1]), "{describe}");
+}
