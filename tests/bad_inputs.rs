@@ -1,0 +1,741 @@
+//! The bad-input catalog of issue #12: every input the fault campaign fed the
+//! release binary, each pinned to the message `hypercontact` prints for it.
+//!
+//! A case is a few files written into a fresh folder (a pipeline, a CSV,
+//! `.npy` bytes, images), the command line, and the exit status it must end
+//! with: 1 for a refused input (a panic, 101, or an abort by signal fails the
+//! case by name), 2 where clap refuses an argument before the program runs,
+//! 0 for the few inputs that must simply not crash. Each case is one snapshot,
+//! `tests/snapshots/bad_inputs__<case>.snap`: the command and its input files,
+//! then how the process ended and what it printed, with the folder written
+//! `<dir>`, so a reviewer reads input and message together.
+//!
+//! Beyond the snapshot every refusal is held to the issue's bar: an
+//! `error:` line that names what the case says it must (file, line, stage,
+//! parameter), no empty name (``` `` ```), no cause printed twice, and none
+//! of a case's known misleading wordings.
+
+use std::path::Path;
+use std::process::{Command, ExitStatus};
+
+/// A command line to run in a fresh folder, with the files it needs.
+struct Case {
+    /// `<dir>` in an argument stands for the case's folder.
+    args: Vec<String>,
+    files: Vec<(String, Vec<u8>)>,
+    /// Commands that must succeed first (to fill a cache, say).
+    before: Vec<Vec<String>>,
+    /// The folder (under the case's) the command runs in.
+    cwd: Option<&'static str>,
+    exit: i32,
+    /// Folders made read-only before the command runs.
+    read_only: Vec<&'static str>,
+    /// Paths (under the case's folder) that must not exist afterwards.
+    absent: Vec<&'static str>,
+    /// Text the output must hold exactly once.
+    once: Vec<&'static str>,
+    /// What the message must name (file, line, stage, parameter).
+    mentions: Vec<&'static str>,
+    /// Text the message must not hold (a misleading cause).
+    lacks: Vec<&'static str>,
+}
+
+impl Case {
+    fn new(args: &[&str]) -> Self {
+        Self {
+            args: args.iter().map(|a| a.to_string()).collect(),
+            files: Vec::new(),
+            before: Vec::new(),
+            cwd: None,
+            exit: 1,
+            read_only: Vec::new(),
+            absent: Vec::new(),
+            once: Vec::new(),
+            mentions: Vec::new(),
+            lacks: Vec::new(),
+        }
+    }
+
+    /// `hypercontact run <dir>/p.yaml` into `<dir>/out` with its own cache,
+    /// quiet (no timings), plus `extra`.
+    fn run(pipeline: &str, extra: &[&str]) -> Self {
+        Self::command("run", pipeline, extra)
+    }
+
+    /// The same for `hypercontact study`.
+    fn study(pipeline: &str, extra: &[&str]) -> Self {
+        Self::command("study", pipeline, extra)
+    }
+
+    fn command(verb: &str, pipeline: &str, extra: &[&str]) -> Self {
+        let mut args = vec![
+            verb,
+            "<dir>/p.yaml",
+            "--out",
+            "<dir>/out",
+            "--cache",
+            "<dir>/cache",
+            "-q",
+        ];
+        args.extend_from_slice(extra);
+        Self::new(&args).file("p.yaml", pipeline)
+    }
+
+    fn file(mut self, name: &str, content: impl AsRef<[u8]>) -> Self {
+        self.files
+            .push((name.to_owned(), content.as_ref().to_vec()));
+        self
+    }
+
+    fn before(mut self, args: &[&str]) -> Self {
+        self.before
+            .push(args.iter().map(|a| a.to_string()).collect());
+        self
+    }
+
+    fn exit(mut self, code: i32) -> Self {
+        self.exit = code;
+        self
+    }
+
+    fn cwd(mut self, dir: &'static str) -> Self {
+        self.cwd = Some(dir);
+        self
+    }
+
+    fn read_only(mut self, dir: &'static str) -> Self {
+        self.read_only.push(dir);
+        self
+    }
+
+    fn absent(mut self, path: &'static str) -> Self {
+        self.absent.push(path);
+        self
+    }
+
+    fn once(mut self, text: &'static str) -> Self {
+        self.once.push(text);
+        self
+    }
+
+    fn mentions(mut self, texts: &[&'static str]) -> Self {
+        self.mentions.extend_from_slice(texts);
+        self
+    }
+
+    fn lacks(mut self, text: &'static str) -> Self {
+        self.lacks.push(text);
+        self
+    }
+}
+
+fn bin() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_hypercontact"));
+    // The panic message without a backtrace, whatever the caller's setting.
+    c.env("RUST_BACKTRACE", "0");
+    c
+}
+
+fn args_in(args: &[String], dir: &Path) -> Vec<String> {
+    args.iter()
+        .map(|a| a.replace("<dir>", &dir.display().to_string()))
+        .collect()
+}
+
+/// How the process ended, as a reviewer wants to read it.
+fn ending(status: ExitStatus) -> String {
+    use std::os::unix::process::ExitStatusExt;
+    match (status.code(), status.signal()) {
+        (Some(101), _) => "exit 101 (panic)".into(),
+        (Some(code), _) => format!("exit {code}"),
+        (None, Some(6)) => "killed by signal 6 (abort)".into(),
+        (None, Some(signal)) => format!("killed by signal {signal}"),
+        (None, None) => "unknown ending".into(),
+    }
+}
+
+/// The output with everything that differs from run to run or machine to
+/// machine replaced: the case's folder, the panicking thread's id, where
+/// cargo keeps the crates' sources, and cache keys.
+fn normalise(text: &str, dir: &Path) -> String {
+    let mut text = text.replace(&dir.display().to_string(), "<dir>");
+    if let Ok(real) = dir.canonicalize() {
+        text = text.replace(&real.display().to_string(), "<dir>");
+    }
+    // `panicked at /home/x/.cargo/registry/src/index.crates.io-…/nalgebra-0.34.2/…`
+    text = text
+        .lines()
+        .map(
+            |line| match (line.find(" at /"), line.find("/registry/src/")) {
+                (Some(at), Some(registry)) if at < registry => {
+                    let rest = &line[registry + "/registry/src/".len()..];
+                    let krate = rest.find('/').map_or(rest, |slash| &rest[slash + 1..]);
+                    format!("{} at <registry>/{krate}\n", &line[..at])
+                }
+                _ => format!("{line}\n"),
+            },
+        )
+        .collect::<String>();
+    // Rust ≥ 1.89 prints `thread 'main' (12345) panicked at`.
+    let mut from = 0;
+    while let Some(found) = text[from..].find("thread 'main' (") {
+        let open = from + found + "thread 'main' (".len();
+        let digits = text[open..].bytes().take_while(u8::is_ascii_digit).count();
+        if digits > 0 {
+            text.replace_range(open..open + digits, "<tid>");
+        }
+        from = open;
+    }
+    text.split_inclusive(|c: char| !c.is_ascii_alphanumeric())
+        .map(|word| {
+            let (body, tail) = word.split_at(
+                word.trim_end_matches(|c: char| !c.is_ascii_alphanumeric())
+                    .len(),
+            );
+            let is_key = body.len() == 12
+                && body
+                    .bytes()
+                    .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
+                && body.bytes().any(|b| b.is_ascii_digit());
+            if is_key {
+                format!("<key>{tail}")
+            } else {
+                word.to_owned()
+            }
+        })
+        .collect()
+}
+
+/// The command and its input files, heading the snapshot: text (up to 24
+/// lines), binary by size.
+fn describe(case: &Case) -> String {
+    let mut out = format!("$ hypercontact {}\n", case.args.join(" "));
+    for b in &case.before {
+        out.push_str(&format!("(after `hypercontact {}`)\n", b.join(" ")));
+    }
+    for (name, bytes) in &case.files {
+        match std::str::from_utf8(bytes) {
+            Ok(text) if !text.contains('\0') => {
+                out.push_str(&format!("--- {name}\n"));
+                let lines: Vec<&str> = text.lines().collect();
+                for line in lines.iter().take(24) {
+                    out.push_str(&format!("{line}\n"));
+                }
+                if lines.len() > 24 {
+                    out.push_str(&format!("… ({} lines in all)\n", lines.len()));
+                } else if !text.is_empty() && !text.ends_with('\n') {
+                    out.push_str("⏎ (no final newline)\n");
+                }
+            }
+            _ => {
+                out.push_str(&format!("--- {name}: {} bytes", bytes.len()));
+                if let Some(header) = npy_header(bytes) {
+                    out.push_str(&format!(", header {header}"));
+                }
+                out.push('\n');
+            }
+        }
+    }
+    out
+}
+
+/// The header of a `.npy` file, if `bytes` start like one.
+fn npy_header(bytes: &[u8]) -> Option<String> {
+    let rest = bytes.strip_prefix(b"\x93NUMPY\x01\x00")?;
+    let len = usize::from(u16::from_le_bytes([*rest.first()?, *rest.get(1)?]));
+    let header = rest.get(2..2 + len)?;
+    Some(String::from_utf8_lossy(header).trim_end().to_owned())
+}
+
+/// Whether the current user can write into a read-only folder (root can).
+fn writes_despite_mode(dir: &Path) -> bool {
+    let probe = dir.join(".probe");
+    let wrote = std::fs::write(&probe, b"").is_ok();
+    let _ = std::fs::remove_file(probe);
+    wrote
+}
+
+fn set_mode(dir: &Path, mode: u32) {
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(dir, std::fs::Permissions::from_mode(mode)).unwrap();
+}
+
+/// Runs `case` and checks it: the snapshot, then the exit status and the
+/// message's shape.
+fn check(name: &str, case: Case) {
+    let t = tempfile::tempdir().unwrap();
+    let dir = t.path();
+    for (file, bytes) in &case.files {
+        let path = dir.join(file);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, bytes).unwrap();
+    }
+    let cwd = case.cwd.map_or(dir.to_path_buf(), |c| dir.join(c));
+    std::fs::create_dir_all(&cwd).unwrap();
+    for before in &case.before {
+        let o = bin()
+            .args(args_in(before, dir))
+            .current_dir(&cwd)
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "case `{name}`: the preparing command `{}` failed:\n{}",
+            before.join(" "),
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    for ro in &case.read_only {
+        let path = dir.join(ro);
+        std::fs::create_dir_all(&path).unwrap();
+        set_mode(&path, 0o555);
+        if writes_despite_mode(&path) {
+            set_mode(&path, 0o755);
+            eprintln!("case `{name}` skipped: this user writes into read-only folders (root)");
+            return;
+        }
+    }
+    let output = bin()
+        .args(args_in(&case.args, dir))
+        .current_dir(&cwd)
+        .output()
+        .unwrap();
+    for ro in &case.read_only {
+        set_mode(&dir.join(ro), 0o755);
+    }
+    let stdout = normalise(&String::from_utf8_lossy(&output.stdout), dir);
+    let stderr = normalise(&String::from_utf8_lossy(&output.stderr), dir);
+    let ended = ending(output.status);
+    let mut shown = format!("{}=== {ended}\n--- stderr\n{stderr}", describe(&case));
+    if !stdout.is_empty() {
+        shown.push_str(&format!("--- stdout\n{stdout}"));
+    }
+    insta::with_settings!({ omit_expression => true }, {
+        insta::assert_snapshot!(name, shown);
+    });
+
+    assert_eq!(
+        output.status.code(),
+        Some(case.exit),
+        "case `{name}`: expected exit {}, got {ended}:\n{stderr}{stdout}",
+        case.exit
+    );
+    assert!(
+        !stderr.contains("``"),
+        "case `{name}`: an empty name (of a stage, a parameter, a column):\n{stderr}"
+    );
+    if case.exit == 1 {
+        assert!(
+            stderr.starts_with("error: "),
+            "case `{name}`: no `error:` message:\n{stderr}"
+        );
+        assert_eq!(
+            repeated_cause(&stderr),
+            None,
+            "case `{name}`: a cause is printed twice:\n{stderr}"
+        );
+    }
+    for text in &case.mentions {
+        assert!(
+            stderr.contains(text),
+            "case `{name}`: the message does not name `{text}`:\n{stderr}"
+        );
+    }
+    for text in &case.lacks {
+        assert!(
+            !stderr.contains(text),
+            "case `{name}`: the message holds the misleading `{text}`:\n{stderr}"
+        );
+    }
+    for text in &case.once {
+        assert_eq!(
+            stderr.matches(text).count(),
+            1,
+            "case `{name}`: `{text}` should appear once:\n{stderr}"
+        );
+    }
+    for path in &case.absent {
+        assert!(
+            !dir.join(path).exists(),
+            "case `{name}`: `{path}` was created"
+        );
+    }
+}
+
+/// A part of a `a: b: c` chain of causes (of some length) that comes twice.
+fn repeated_cause(message: &str) -> Option<String> {
+    let parts: Vec<&str> = message
+        .lines()
+        .flat_map(|line| line.split(": "))
+        .map(str::trim)
+        .filter(|p| p.len() >= 16)
+        .collect();
+    parts
+        .iter()
+        .enumerate()
+        .find(|(i, p)| parts[i + 1..].contains(p))
+        .map(|(_, p)| p.to_string())
+}
+
+// ---------------------------------------------------------------- inputs
+
+/// A `.npy` file: the version 1.0 header for `descr` and `shape` (Python
+/// syntax), padded as numpy pads it, then `data`.
+fn npy(descr: &str, shape: &str, data: &[u8]) -> Vec<u8> {
+    let mut header = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut out = b"\x93NUMPY\x01\x00".to_vec();
+    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    out.extend_from_slice(header.as_bytes());
+    out.extend_from_slice(data);
+    out
+}
+
+fn f64_bytes(values: impl IntoIterator<Item = f64>) -> Vec<u8> {
+    values.into_iter().flat_map(f64::to_le_bytes).collect()
+}
+
+/// An `n` × `n` map of uneven heights up to 10 `scale`.
+fn uneven_map(n: u32, scale: f64) -> Vec<u8> {
+    npy(
+        "<f8",
+        &format!("({n}, {n})"),
+        &f64_bytes((0..n * n).map(|k| f64::from((k * 37 + k / 7) % 11) * scale)),
+    )
+}
+
+/// An 8 × 8 map of heights in metres, not flat.
+fn small_map() -> Vec<u8> {
+    uneven_map(8, 1e-6)
+}
+
+/// A gray 64 × 64 PNG (a plain gradient).
+fn png() -> Vec<u8> {
+    let img = image::GrayImage::from_fn(64, 64, |x, y| image::Luma([((x + y) * 2) as u8]));
+    let mut bytes = Vec::new();
+    img.write_to(
+        &mut std::io::Cursor::new(&mut bytes),
+        image::ImageFormat::Png,
+    )
+    .unwrap();
+    bytes
+}
+
+/// A height map (`map.npy`, 20 µm pixels) into truncation.
+const MAP: &str = "\
+name: map
+stages:
+  surf:
+    uses: height-map
+    with: { path: map.npy, pixel_m: 20.0e-6 }
+  trunc:
+    uses: truncation
+    inputs: { surface: surf }
+    with: { levels: 10 }
+";
+
+/// A height map through `surface` (no stitching, kept at its grid).
+const SURFACE: &str = "\
+name: flat
+stages:
+  surf:
+    uses: height-map
+    with: { path: map.npy, pixel_m: 20.0e-6 }
+  stats:
+    uses: surface
+    inputs: { height: surf }
+    with: { resolution_m: 0 }
+";
+
+/// A tensile CSV (`t.csv`) into a one-term Ogden fit.
+const TENSILE: &str = "\
+name: tensile
+stages:
+  tensile:
+    uses: tensile-table
+    with: { path: t.csv }
+  fit:
+    uses: material-fit
+    inputs: { tensile: tensile }
+    with: { model: ogden-1, compare: false, starts: 1 }
+";
+
+/// Three UT rows.
+const CSV: &str = "mode,stretch,nominal_stress_pa\nUT,1.1,1.0e5\nUT,1.2,1.9e5\nUT,1.3,2.7e5\n";
+
+/// data/tensile/epdm.csv (UT, PT and BT, 150 rows) with `first` as its
+/// first data row.
+fn epdm_with_first_row(first: &str) -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/tensile/epdm.csv");
+    let sample = std::fs::read_to_string(path).unwrap();
+    let rows: Vec<&str> = sample
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("mode,"))
+        .collect();
+    format!(
+        "mode,stretch,nominal_stress_pa\n{first}\n{}\n",
+        rows.join("\n")
+    )
+}
+
+/// A DIC stage over the folder `seq/` (frames.csv, force.csv,
+/// specimen.json, and the images the case adds).
+const DIC: &str = "\
+name: dic
+stages:
+  ut:
+    uses: dic
+    with: { dir: seq }
+";
+
+fn dic_folder(case: Case) -> Case {
+    case.file(
+        "seq/frames.csv",
+        "frame,time_s,file\n0,0.0,frame_000.png\n1,0.5,frame_001.png\n",
+    )
+    .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n0.5,1.0\n")
+    .file(
+        "seq/specimen.json",
+        r#"{"mode": "UT", "gauge_width_m": 0.01, "thickness_m": 0.0015, "pixel_m": 2.0e-5, "roi_px": [8, 8, 56, 56]}"#,
+    )
+}
+
+/// A pipeline with a study over `grid` (a YAML map, indented 4).
+fn study_over(grid: &str) -> String {
+    format!("{TENSILE}study:\n  grid:\n{grid}  collect: [fit.params]\n")
+}
+
+// ----------------------------------------------------------------- cases
+
+macro_rules! cases {
+    ($($(#[$attr:meta])* $name:ident: $case:expr;)*) => {
+        $( $(#[$attr])* #[test] fn $name() { check(stringify!($name), $case); } )*
+    };
+}
+
+cases! {
+    // --- the pipeline file
+    pipeline_file_missing: Case::new(&["run", "<dir>/nowhere.yaml", "-q"]);
+    pipeline_is_a_folder: Case::new(&["run", "<dir>/folder", "-q"]).file("folder/x", "");
+    yaml_unclosed_flow: Case::run("name: x\nstages: {\n  a: { uses: tensile-table\n", &[])
+        .mentions(&["<dir>/p.yaml:4:1"]);
+    yaml_bad_indentation: Case::run("name: x\nstages:\n  a:\n    uses: tensile-table\n   with: {}\n", &[])
+        .mentions(&["<dir>/p.yaml:5:"]);
+    yaml_tab_indentation: Case::run("name: x\nstages:\n\ta:\n\t\tuses: tensile-table\n", &[])
+        .mentions(&["<dir>/p.yaml:3:"]);
+    yaml_not_a_map: Case::run("- name: x\n- stages: {}\n", &[]);
+    yaml_empty_file: Case::run("", &[]);
+    missing_name: Case::run(&TENSILE.replace("name: tensile\n", ""), &[]);
+    missing_stages: Case::run("name: x\n", &[]);
+    unknown_top_level_key: Case::run(&format!("{TENSILE}stagse: {{}}\n"), &[]);
+    unknown_stage_key: Case::run(&TENSILE.replace("    with: { path: t.csv }", "    wiht: { path: t.csv }"), &[]);
+    missing_uses: Case::run("name: x\nstages:\n  tensile:\n    with: { path: t.csv }\n", &[]);
+    unknown_stage_kind: Case::run(&TENSILE.replace("uses: material-fit", "uses: material-fitt"), &[]);
+    bad_stage_name_slash: Case::run(&TENSILE.replace("  fit:", "  fit/ogden:"), &[]).file("t.csv", CSV);
+    bad_stage_name_dotdot: Case::run(&TENSILE.replace("  fit:", "  ..:"), &[]).file("t.csv", CSV);
+    pipeline_name_escapes: Case::new(&["run", "<dir>/p.yaml", "-q"])
+        .file("p.yaml", TENSILE.replace("name: tensile", "name: ../../escaped"))
+        .file("t.csv", CSV)
+        .cwd("work")
+        .absent("escaped");
+    duplicate_stage_name: Case::run(&format!("{TENSILE}  tensile:\n    uses: tensile-table\n    with: {{ path: other.csv }}\n"), &[]).file("t.csv", CSV)
+        .mentions(&["<dir>/p.yaml:10:3"]);
+    duplicate_input_key: Case::run(&TENSILE.replace("inputs: { tensile: tensile }", "inputs: { tensile: tensile, tensile: tensile }"), &[]).file("t.csv", CSV)
+        .mentions(&["<dir>/p.yaml:8:"]);
+    duplicate_input_label: Case::run(&TENSILE.replace("inputs: { tensile: tensile }", "inputs:\n      tensile:\n        UT: tensile\n        UT: tensile"), &[]).file("t.csv", CSV)
+        .mentions(&["<dir>/p.yaml:11:"]);
+    empty_stages: Case::run("name: x\nstages: {}\n", &[]);
+    cycle: Case::run("name: c\nstages:\n  a:\n    uses: truncation\n    inputs: { surface: b }\n  b:\n    uses: surface\n    inputs: { height: a.profile }\n", &[]);
+    input_names_missing_stage: Case::run(&TENSILE.replace("{ tensile: tensile }", "{ tensile: tensil }"), &[]).file("t.csv", CSV);
+    input_names_missing_output: Case::run(&TENSILE.replace("{ tensile: tensile }", "{ tensile: tensile.table }"), &[]).file("t.csv", CSV);
+    unknown_input: Case::run(&TENSILE.replace("{ tensile: tensile }", "{ tensile: tensile, extra: tensile }"), &[]).file("t.csv", CSV);
+    missing_input: Case::run(&TENSILE.replace("    inputs: { tensile: tensile }\n", ""), &[]).file("t.csv", CSV);
+    type_mismatch_table_for_field: Case::run(&format!("{TENSILE}  trunc:\n    uses: truncation\n    inputs: {{ surface: tensile }}\n"), &[]).file("t.csv", CSV);
+    type_mismatch_missing_columns: Case::run(&format!("{TENSILE}  contact:\n    uses: icm\n    inputs: {{ profile: tensile, material: fit.material }}\n"), &[]).file("t.csv", CSV);
+
+    // --- parameters
+    param_wrong_type: Case::run(&TENSILE.replace("starts: 1", "starts: many"), &[]).file("t.csv", CSV)
+        .mentions(&["`fit`", "`starts`"]);
+    param_out_of_range: Case::run(&TENSILE.replace("starts: 1", "starts: 0"), &[]).file("t.csv", CSV)
+        .mentions(&["`fit`", "`starts`"]);
+    param_nan: Case::run(&MAP.replace("pixel_m: 20.0e-6", "pixel_m: .nan"), &[]).file("map.npy", small_map())
+        .mentions(&["`surf`", "`pixel_m`"]);
+    param_infinite: Case::run(&MAP.replace("pixel_m: 20.0e-6", "pixel_m: .inf"), &[]).file("map.npy", small_map())
+        .mentions(&["`surf`", "`pixel_m`"]);
+    param_zero_for_positive: Case::run(&MAP.replace("pixel_m: 20.0e-6", "pixel_m: 0"), &[]).file("map.npy", small_map())
+        .mentions(&["`surf`", "`pixel_m`"]);
+    param_negative_for_positive: Case::run(&MAP.replace("pixel_m: 20.0e-6", "pixel_m: -2.0e-5"), &[]).file("map.npy", small_map())
+        .mentions(&["`surf`", "`pixel_m`"]);
+    param_unknown_choice: Case::run(&TENSILE.replace("model: ogden-1", "model: ogden-7"), &[]).file("t.csv", CSV)
+        .mentions(&["`fit`", "`model`"]);
+    param_unknown: Case::run(&TENSILE.replace("starts: 1", "start: 1"), &[]).file("t.csv", CSV)
+        .mentions(&["`fit`", "`start`"]);
+    param_nested_out_of_range: Case::run(&TENSILE.replace("starts: 1", "weights: { UT: -1 }"), &[]).file("t.csv", CSV)
+        .mentions(&["`fit`", "`weights.UT`"]);
+    param_list_out_of_range: Case::run(&MAP.replace("levels: 10", "patch_fractions: [0.5, 1.5]"), &[]).file("map.npy", small_map())
+        .mentions(&["`trunc`", "`patch_fractions.1`"]);
+    param_poisson_out_of_range: Case::run(&format!("{TENSILE}  contact:\n    uses: icm\n    inputs: {{ profile: tensile, material: fit.material }}\n    with: {{ poisson: 0.7 }}\n"), &[]).file("t.csv", CSV)
+        .mentions(&["`contact`", "`poisson`"]);
+    param_missing_required: Case::run(&MAP.replace("path: map.npy, ", ""), &[])
+        .mentions(&["`surf`", "`path`"]);
+    param_missing_file: Case::run(TENSILE, &[])
+        .mentions(&["`tensile`", "`path`"]);
+    param_file_is_a_folder: Case::run(TENSILE, &[]).file("t.csv/x", "")
+        .mentions(&["<dir>/t.csv", "`tensile`"]);
+    with_file_missing: Case::run(&TENSILE.replace("with: { path: t.csv }", "with_file: recipe.yaml"), &[]);
+
+    // --- `--set`
+    set_without_equals: Case::run(TENSILE, &["--set", "fit.starts"]).file("t.csv", CSV)
+        .mentions(&["--set"]);
+    set_without_param: Case::run(TENSILE, &["--set", "fit=3"]).file("t.csv", CSV)
+        .mentions(&["--set"]);
+    set_empty_stage: Case::run(TENSILE, &["--set", ".starts=3"]).file("t.csv", CSV)
+        .mentions(&["--set"]);
+    set_empty_param: Case::run(TENSILE, &["--set", "fit.=3"]).file("t.csv", CSV)
+        .mentions(&["--set"]);
+    set_empty_path: Case::run(TENSILE, &["--set", "=3"]).file("t.csv", CSV)
+        .mentions(&["--set"]);
+    set_unknown_stage: Case::run(TENSILE, &["--set", "fitt.starts=3"]).file("t.csv", CSV)
+        .mentions(&["--set"]);
+    set_unknown_param: Case::run(TENSILE, &["--set", "fit.startz=3"]).file("t.csv", CSV)
+        .mentions(&["`fit`", "`startz`"]);
+    set_wrong_type: Case::run(TENSILE, &["--set", "fit.starts=three"]).file("t.csv", CSV)
+        .mentions(&["`fit`", "`starts`"]);
+    set_out_of_range: Case::run(TENSILE, &["--set", "fit.starts=0"]).file("t.csv", CSV)
+        .mentions(&["`fit`", "`starts`"]);
+    set_value_not_yaml: Case::run(TENSILE, &["--set", "fit.starts=[1"]).file("t.csv", CSV)
+        .mentions(&["--set"]);
+    set_multibyte_unknown_choice: Case::run(TENSILE, &["--set", "fit.model=ögden-1"]).file("t.csv", CSV)
+        .mentions(&["`fit`", "`model`"]);
+    set_multibyte_wrong_type: Case::run(TENSILE, &["--set", "fit.starts=🦀🦀🦀"]).file("t.csv", CSV)
+        .mentions(&["`fit`", "`starts`"]);
+    set_multibyte_missing_file: Case::run(TENSILE, &["--set", "tensile.path=données-été.csv"]).file("t.csv", CSV)
+        .mentions(&["`tensile`", "`path`", "--set"]);
+    set_multibyte_stage_name: Case::run(TENSILE, &["--set", "fït.starts=2"]).file("t.csv", CSV)
+        .mentions(&["--set"]);
+    // 38 letters, then `€` (3 bytes) across byte 40 of the changed value,
+    // with or without the quote the dry run shows it in. Must not panic.
+    set_multibyte_at_byte_40_dry_run: Case::run(
+        "name: r\nstages:\n  report:\n    uses: report\n    with: { title: plain }\n",
+        &["--dry-run", "--set", &format!("report.title={}€€€ and more after it", "a".repeat(38))],
+    )
+    .before(&["run", "<dir>/p.yaml", "--out", "<dir>/out", "--cache", "<dir>/cache", "-q"])
+    .exit(0);
+    // Dry-run columns stay aligned past a multi-byte stage name.
+    dry_run_multibyte_stage_name: Case::run(
+        &MAP.replace("  surf:", "  höhe:").replace("{ surface: surf }", "{ surface: höhe }"),
+        &["--dry-run"],
+    )
+        .file("map.npy", small_map())
+        .exit(0);
+    force_unknown_stage: Case::run(TENSILE, &["--force", "fitt"]).file("t.csv", CSV);
+    only_unknown_stage: Case::run(TENSILE, &["--only", "fitt"]).file("t.csv", CSV);
+
+    // --- studies
+    study_grid_empty_values: Case::study(&study_over("    fit.starts: []\n"), &[]).file("t.csv", CSV)
+        .mentions(&["`fit.starts`"]);
+    study_grid_unknown_param: Case::study(&study_over("    fit.startz: [1, 2]\n"), &[]).file("t.csv", CSV)
+        .mentions(&["`fit`", "`startz`"]);
+    study_grid_unknown_stage: Case::study(&study_over("    fitt.starts: [1, 2]\n"), &[]).file("t.csv", CSV);
+    study_grid_value_out_of_range: Case::study(&study_over("    fit.starts: [1, 0]\n"), &[]).file("t.csv", CSV)
+        .mentions(&["`fit`", "`starts`"]);
+    study_grid_not_a_list: Case::study(&study_over("    fit.starts: 3\n"), &[]).file("t.csv", CSV)
+        .mentions(&["fit.starts"]);
+    study_missing: Case::study(TENSILE, &[]).file("t.csv", CSV);
+
+    // --- the cache commands (clap refuses the days before the program runs)
+    cache_gc_days_nan: Case::new(&["cache", "gc", "--cache", "<dir>/cache", "--older-than-days", "NaN"]).exit(2);
+    cache_gc_days_inf: Case::new(&["cache", "gc", "--cache", "<dir>/cache", "--older-than-days", "inf"]).exit(2);
+    cache_gc_days_negative: Case::new(&["cache", "gc", "--cache", "<dir>/cache", "--older-than-days=-1"]).exit(2);
+    cache_gc_days_huge: Case::new(&["cache", "gc", "--cache", "<dir>/cache", "--older-than-days", "1e300"]).exit(2);
+    cache_gc_days_text: Case::new(&["cache", "gc", "--cache", "<dir>/cache", "--older-than-days", "ten"]).exit(2);
+    // Listing a cache that is not there says so and creates nothing.
+    cache_ls_missing_dir: Case::new(&["cache", "ls", "--cache", "<dir>/missing/dir"])
+        .exit(0)
+        .absent("missing");
+    cache_gc_missing_dir: Case::new(&["cache", "gc", "--cache", "<dir>/missing/dir"])
+        .exit(0)
+        .absent("missing");
+
+    // --- tensile CSV
+    csv_empty: Case::run(TENSILE, &[]).file("t.csv", "")
+        .mentions(&["<dir>/t.csv", "`tensile`"])
+        .lacks("(the table has: )");
+    csv_header_only: Case::run(TENSILE, &[]).file("t.csv", "mode,stretch,nominal_stress_pa\n")
+        .mentions(&["<dir>/t.csv", "`tensile`"])
+        .lacks("holds str values");
+    csv_text_in_number: Case::run(TENSILE, &[]).file("t.csv", "mode,stretch,nominal_stress_pa\nUT,1.1,1.0e5\nUT,1.2,abc\nUT,1.3,2.7e5\n")
+        .mentions(&["<dir>/t.csv", "`tensile`", "line 3", "nominal_stress_pa"]);
+    // The bad cell is on line 6 of the file, after three comment lines.
+    csv_text_in_number_after_comments: Case::run(TENSILE, &[]).file("t.csv", "# a comment\n# another\nmode,stretch,nominal_stress_pa\n# units: 1, Pa\nUT,1.1,1.0e5\nUT,1.2x,1.9e5\nUT,1.3,2.7e5\n")
+        .mentions(&["<dir>/t.csv", "`tensile`", "line 6", "stretch"]);
+    csv_wrong_columns: Case::run(TENSILE, &[]).file("t.csv", "mode,lambda,stress\nUT,1.1,1.0e5\nUT,1.2,1.9e5\n")
+        .mentions(&["<dir>/t.csv", "`tensile`"]);
+    csv_ragged_row: Case::run(TENSILE, &[]).file("t.csv", "mode,stretch,nominal_stress_pa\nUT,1.1,1.0e5\nUT,1.2\nUT,1.3,2.7e5\n")
+        .mentions(&["<dir>/t.csv", "`tensile`"]);
+    csv_unknown_mode: Case::run(TENSILE, &[]).file("t.csv", "mode,stretch,nominal_stress_pa\nUT,1.1,1.0e5\nXT,1.2,1.9e5\n")
+        .mentions(&["<dir>/t.csv", "`tensile`"]);
+    csv_stretch_not_increasing: Case::run(TENSILE, &[]).file("t.csv", "mode,stretch,nominal_stress_pa\nUT,1.1,1.0e5\nUT,1.3,2.7e5\nUT,1.2,1.9e5\n")
+        .mentions(&["<dir>/t.csv", "`tensile`"]);
+    csv_negative_stress_in_tension: Case::run(TENSILE, &[]).file("t.csv", "mode,stretch,nominal_stress_pa\nUT,1.1,1.0e5\nUT,1.2,-1.9e5\nUT,1.3,2.7e5\n")
+        .mentions(&["<dir>/t.csv", "`tensile`"]);
+    csv_not_utf8: Case::run(TENSILE, &[]).file("t.csv", b"mode,stretch,nominal_stress_pa\nUT,1.1,1.0e5\nUT,1.2,\xff\xfe\n")
+        .mentions(&["<dir>/t.csv", "`tensile`"]);
+
+    // --- material-fit
+    // The paper's data with `UT,1.0,0` in front: `Singular value was NaN`
+    // in the Ogden-6 fit, alone or within the comparison.
+    fit_first_ut_row_zero_stress: Case::run(&TENSILE.replace("{ model: ogden-1, compare: false, starts: 1 }", "{ model: ogden-6, compare: true }"), &[]).file("t.csv", epdm_with_first_row("UT,1.0,0"))
+        .mentions(&["`fit`"]);
+    fit_first_ut_row_zero_stress_compare: Case::run(&TENSILE.replace("{ model: ogden-1, compare: false, starts: 1 }", "{ model: neo-hookean, compare: true }"), &[]).file("t.csv", epdm_with_first_row("UT,1.0,0"))
+        .mentions(&["`fit`"]);
+    fit_too_few_points: Case::run(&TENSILE.replace("model: ogden-1", "model: ogden-6"), &[]).file("t.csv", CSV);
+
+    // --- .npy height maps
+    npy_garbage: Case::run(MAP, &[]).file("map.npy", "this is not a numpy file at all\n")
+        .mentions(&["<dir>/map.npy", "`surf`"]);
+    npy_truncated: Case::run(MAP, &[]).file("map.npy", &small_map()[..300])
+        .mentions(&["<dir>/map.npy", "`surf`"]);
+    npy_huge_shape: Case::run(MAP, &[]).file("map.npy", npy("<f8", "(1000000, 1000000)", &f64_bytes([1e-6; 64])))
+        .mentions(&["<dir>/map.npy", "`surf`"]);
+    npy_wrong_dtype: Case::run(MAP, &[]).file("map.npy", npy("<i8", "(8, 8)", &[0u8; 512]))
+        .mentions(&["<dir>/map.npy", "`surf`"]);
+    npy_3d: Case::run(MAP, &[]).file("map.npy", npy("<f8", "(2, 4, 8)", &f64_bytes([1e-6; 64])))
+        .mentions(&["<dir>/map.npy", "`surf`"]);
+    npy_1d: Case::run(MAP, &[]).file("map.npy", npy("<f8", "(64,)", &f64_bytes([1e-6; 64])))
+        .mentions(&["<dir>/map.npy", "`surf`"]);
+    npy_missing_file: Case::run(MAP, &[])
+        .mentions(&["`surf`", "`path`"]);
+    // Heights near 1e301 m overflow the PSD; the message must not send the
+    // user to the Hurst range.
+    surface_overflowing_heights: Case::run(SURFACE, &[])
+        .file("map.npy", uneven_map(32, 1e300))
+        .mentions(&["`stats`"])
+        .lacks("hurst_lambda");
+    surface_flat_map: Case::run(SURFACE, &[]).file("map.npy", npy("<f8", "(32, 32)", &f64_bytes([1e-6; 1024])))
+        .mentions(&["`stats`"]);
+
+    // --- images of a DIC folder
+    dic_garbage_png: dic_folder(Case::run(DIC, &[]))
+        .file("seq/frame_000.png", "not a png\n")
+        .file("seq/frame_001.png", "not a png\n");
+    dic_truncated_png: dic_folder(Case::run(DIC, &[]))
+        .file("seq/frame_000.png", &png()[..60])
+        .file("seq/frame_001.png", png());
+    dic_missing_image: dic_folder(Case::run(DIC, &[])).file("seq/frame_000.png", png());
+    dic_text_in_frames_csv: Case::run(DIC, &[])
+        .file("seq/frames.csv", "frame,time_s,file\n0,0.0,frame_000.png\n1,half,frame_001.png\n")
+        .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n0.5,1.0\n");
+
+    // --- where the products go
+    out_dir_not_writable: Case::new(&["run", "<dir>/p.yaml", "--out", "<dir>/locked/out", "--cache", "<dir>/cache", "-q"])
+        .file("p.yaml", TENSILE)
+        .file("t.csv", CSV)
+        .read_only("locked")
+        .once("Permission denied");
+    out_dir_is_a_file: Case::run(TENSILE, &[]).file("t.csv", CSV).file("out", "a file, not a folder\n")
+        .mentions(&["<dir>/out"]);
+}
