@@ -51,6 +51,9 @@ pub enum Arity {
     /// Any number, labelled: `inputs: { responses: { T1: icm1, T2: icm2 } }`;
     /// the stage sees them as `responses.T1`, `responses.T2`.
     Many,
+    /// At least one: a single product (`tensile: csv`) or labelled ones as
+    /// for [`Arity::Many`]; the plan refuses none.
+    OneOrMore,
 }
 
 /// A declared input.

@@ -114,7 +114,7 @@ static INFO: StageInfo = StageInfo {
           their stable ranges, so the choice of model can be justified as the paper did.",
     inputs: &[InputSpec::table::<TensilePoints>(
         "tensile",
-        Arity::Many,
+        Arity::OneOrMore,
         "UT/PT/BT stress–stretch data (tensile-table or the DIC stage): one table \
          (`tensile: csv`) or several fitted together (`tensile: { UT: dic-ut, PT: dic-pt }`)",
     )],

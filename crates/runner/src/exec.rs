@@ -84,6 +84,8 @@ pub enum RunError {
         path: PathBuf,
         cause: std::io::Error,
     },
+    #[error("stage `{stage}`: exporting its outputs: {cause}")]
+    Export { stage: String, cause: StoreError },
     #[error("writing {}: {cause}", path.display())]
     Output {
         path: PathBuf,
@@ -319,7 +321,12 @@ fn run_once(
             for (output, record) in &manifest.outputs {
                 for (rel, file) in &record.files {
                     let name = store::export_name(output, record, rel);
-                    store::place(&entry.join(rel), &stage_dir.join(&name))?;
+                    store::place(&entry.join(rel), &stage_dir.join(&name)).map_err(|cause| {
+                        RunError::Export {
+                            stage: planned.name.clone(),
+                            cause,
+                        }
+                    })?;
                     exported.insert(format!("{}/{name}", planned.name), file.blake3.clone());
                 }
             }

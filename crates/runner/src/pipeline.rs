@@ -151,11 +151,20 @@ pub(crate) fn located_deserialize<T: serde::de::DeserializeOwned>(
 ) -> Result<T, PipelineError> {
     serde_path_to_error::deserialize(value).map_err(|e| {
         let path: Vec<String> = e.path().iter().filter_map(segment).collect();
-        let err = PipelineError::new(file, e.inner().to_string()).located(doc.locate(&path));
+        let message = e.inner().to_string();
         match path.as_slice() {
-            [stages, stage, ..] if stages == "stages" => err.stage(stage),
-            _ => err,
+            [stages, stage, ..] if stages == "stages" => {
+                PipelineError::new(file, message).stage(stage)
+            }
+            // Outside the stages, name the key the value belongs to (unless
+            // the message does: "unknown field `stagse`").
+            [] => PipelineError::new(file, message),
+            [.., last] if message.contains(&format!("`{last}`")) => {
+                PipelineError::new(file, message)
+            }
+            _ => PipelineError::new(file, format!("`{}`: {message}", path.join("."))),
         }
+        .located(doc.locate(&path))
     })
 }
 
@@ -181,6 +190,20 @@ impl Pipeline {
     pub fn parse(file: &Path, source: &str, registry: &Registry) -> Result<Self, PipelineError> {
         let doc = Located::parse(source)
             .map_err(|e| PipelineError::new(file, e.message).located(e.at))?;
+        let found = match &doc.value {
+            serde_json::Value::Object(_) => None,
+            serde_json::Value::Null => Some("nothing"),
+            serde_json::Value::Array(_) => Some("a list"),
+            serde_json::Value::String(_) => Some("text"),
+            serde_json::Value::Number(_) => Some("a number"),
+            serde_json::Value::Bool(_) => Some("a boolean"),
+        };
+        if let Some(found) = found {
+            return Err(PipelineError::new(
+                file,
+                format!("a pipeline is a map with `name:` and `stages:`; the file holds {found}"),
+            ));
+        }
         let raw: RawPipeline = located_deserialize(file, &doc, doc.value.clone())?;
         // The name becomes the default output folder `runs/<name>`: a name
         // that is a path (`../../x`) would write elsewhere.
@@ -322,29 +345,33 @@ impl Pipeline {
                 ))
             })?
             .value;
-        self.set_value(path.trim(), value)
-            .map_err(|e| PipelineError {
-                message: format!("--set `{assignment}`: {}", e.message),
-                ..e
-            })
+        self.set_value(path.trim(), value, &format!("--set `{assignment}`"))
     }
 
-    /// Sets `stage.param[.sub...]` to a JSON value and re-checks.
-    pub fn set_value(&mut self, path: &str, value: serde_json::Value) -> Result<(), PipelineError> {
+    /// Sets `stage.param[.sub...]` to a JSON value and re-checks; `origin`
+    /// (`--set \`a.b=1\``, a study variant) prefixes every message about it,
+    /// now or when the plan reads its files.
+    pub fn set_value(
+        &mut self,
+        path: &str,
+        value: serde_json::Value,
+        origin: &str,
+    ) -> Result<(), PipelineError> {
         let file = self.file.clone();
         let dir = self.dir.clone();
+        let err = |message: String| PipelineError::new(&file, format!("{origin}: {message}"));
+        if path.is_empty() {
+            return Err(err("give STAGE.PARAM before `=`".into()));
+        }
         let (stage_name, param_path) = path
             .split_once('.')
             .filter(|(stage, param)| {
                 !stage.is_empty() && !param.is_empty() && param.split('.').all(|p| !p.is_empty())
             })
             .ok_or_else(|| {
-                PipelineError::new(
-                    &file,
-                    format!(
-                        "`{path}` should be STAGE.PARAM (names not empty; PARAM may be dotted)"
-                    ),
-                )
+                err(format!(
+                    "`{path}` should be STAGE.PARAM (names not empty; PARAM may be dotted)"
+                ))
             })?;
         let known = self
             .stages
@@ -356,11 +383,13 @@ impl Pipeline {
             .stages
             .iter_mut()
             .find(|s| s.name == stage_name)
-            .ok_or_else(|| {
-                PipelineError::new(&file, format!("no stage `{stage_name}` (stages: {known})"))
-            })?;
+            .ok_or_else(|| err(format!("no stage `{stage_name}` (stages: {known})")))?;
         let mut sources = decl.sources.clone();
-        sources.set(param_path.split('.').map(str::to_owned).collect(), value);
+        sources.set(
+            param_path.split('.').map(str::to_owned).collect(),
+            value,
+            origin,
+        );
         let (raw_params, params) = sources.parse(decl.stage.as_ref(), &dir, stage_name)?;
         decl.sources = sources;
         decl.raw_params = raw_params;

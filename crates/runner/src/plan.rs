@@ -519,7 +519,7 @@ fn resolve_inputs(
             .filter(|b| b.declared == spec.name)
             .count();
         match spec.arity {
-            Arity::One if given != 1 => {
+            Arity::One | Arity::OneOrMore if given == 0 => {
                 return Err(err(
                     None,
                     format!(
@@ -528,7 +528,7 @@ fn resolve_inputs(
                     ),
                 ));
             }
-            Arity::Optional if given > 1 => {
+            Arity::One | Arity::Optional if given > 1 => {
                 return Err(err(
                     None,
                     format!("input `{}` takes at most one product", spec.name),

@@ -19,8 +19,9 @@ pub(crate) struct ParamSources {
     with_at: Option<Location>,
     /// The `with_file:` recipe: its path and content.
     file: Option<(PathBuf, Located)>,
-    /// Values set from the command line or a study, by parameter path.
-    sets: Vec<(Vec<String>, serde_json::Value)>,
+    /// Values set from the command line or a study, by parameter path, with
+    /// who set them (`--set \`a.b=1\``) for messages.
+    sets: Vec<(Vec<String>, serde_json::Value, String)>,
 }
 
 impl ParamSources {
@@ -40,9 +41,9 @@ impl ParamSources {
     }
 
     /// Sets the parameter at `path` (nested keys allowed), over the rest.
-    pub fn set(&mut self, path: Vec<String>, value: serde_json::Value) {
-        self.sets.retain(|(p, _)| *p != path);
-        self.sets.push((path, value));
+    pub fn set(&mut self, path: Vec<String>, value: serde_json::Value, origin: &str) {
+        self.sets.retain(|(p, _, _)| *p != path);
+        self.sets.push((path, value, origin.to_owned()));
     }
 
     /// The parameters as given: the recipe, `with:` keys over it, then the
@@ -58,7 +59,7 @@ impl ParamSources {
                 base.insert(k.clone(), v.clone());
             }
         }
-        for (path, value) in &self.sets {
+        for (path, value, _) in &self.sets {
             let mut slot = &mut merged;
             for key in path {
                 if !slot.is_object() {
@@ -106,8 +107,8 @@ impl ParamSources {
                     .all(|(a, b)| a == *b)
         };
         // Whoever set it (`--set`, a study) names the assignment.
-        if self.sets.iter().any(|(set, _)| related(set)) {
-            return PipelineError::new(&self.pipeline, message);
+        if let Some((_, _, origin)) = self.sets.iter().rev().find(|(set, _, _)| related(set)) {
+            return PipelineError::new(&self.pipeline, format!("{origin}: {message}"));
         }
         let given_in = |doc: &Located| {
             path.first()

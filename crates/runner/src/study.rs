@@ -96,14 +96,11 @@ pub fn run_study(pipeline: &Pipeline, options: &RunOptions) -> Result<StudyRepor
     for (k, variant) in all.iter().enumerate() {
         let mut p = pipeline.clone();
         for (path, value) in variant {
-            p.set_value(path, value.clone()).map_err(|e| {
+            let origin = format!("study variant {k} ({path} = {value})");
+            p.set_value(path, value.clone(), &origin).map_err(|e| {
                 // A value of the grid is reported where the grid gives it.
                 let at = pipeline.locate(&["study", "grid", path.as_str()]);
-                let e = if e.line.is_none() { e.located(at) } else { e };
-                PipelineError {
-                    message: format!("study variant {k} ({path} = {value}): {}", e.message),
-                    ..e
-                }
+                if e.line.is_none() { e.located(at) } else { e }
             })?;
         }
         let mut o = options.clone();

@@ -135,7 +135,9 @@ fn convert(
         return Err(fail(format!("nested more than {MAX_DEPTH} levels deep")));
     }
     Ok(match &node.data {
-        YamlData::Value(scalar) => scalar_value(scalar).map_err(fail)?,
+        YamlData::Value(scalar) => {
+            scalar_value(scalar).map_err(|message| fail(format!("{}{message}", where_(path))))?
+        }
         YamlData::Sequence(items) => {
             let mut out = Vec::with_capacity(items.len());
             for (i, item) in items.iter().enumerate() {
@@ -182,6 +184,20 @@ fn convert(
             ));
         }
     })
+}
+
+/// Names a value's place for a message: `stage \`s\`: parameter \`p.q\`: `
+/// inside a stage's `with:`, else its dotted path.
+fn where_(path: &[String]) -> String {
+    match path {
+        [] => String::new(),
+        [stages, stage, with, param @ ..]
+            if stages == "stages" && with == "with" && !param.is_empty() =>
+        {
+            format!("stage `{stage}`: parameter `{}`: ", param.join("."))
+        }
+        _ => format!("`{}`: ", path.join(".")),
+    }
 }
 
 fn scalar_value(scalar: &Scalar) -> Result<serde_json::Value, String> {
