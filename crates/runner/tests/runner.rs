@@ -450,7 +450,7 @@ fn set_errors_name_the_assignment() {
     ] {
         let e = p.set(empty).unwrap_err().to_string();
         assert!(
-            e.contains("should be STAGE.PARAM") && !e.contains("``"),
+            e.contains("STAGE.PARAM") && !e.contains("``"),
             "{empty}: {e}"
         );
     }
