@@ -2,7 +2,10 @@
 //! A4 text width, no external resources), tables, number formatting and the
 //! provenance section.
 
+use std::collections::BTreeMap;
+
 use hypercontact_core::{ColumnData, Table};
+use serde_json::{Map, Value};
 
 /// Escapes text for HTML element content and attribute values.
 pub fn escape(text: &str) -> String {
@@ -96,17 +99,99 @@ pub fn generic_table(caption: &str, table: &Table) -> String {
     simple_table(caption, &header, &rows)
 }
 
+/// Entries of a provenance record that change from run to run while the
+/// results do not: wall and compute times. `provenance.json` keeps them; the
+/// page leaves them out so that it is the same to the byte on every run.
+const RUN_DEPENDENT_KEYS: [&str; 2] = ["compute_s", "wall_s"];
+
+/// The record as the page shows it: without [`RUN_DEPENDENT_KEYS`], and with
+/// each input file (`files_blake3`, path → hash, and the parameter that
+/// names it) shown by its file name only: the folder it was read from
+/// depends on where the pipeline was run from, and its content hash
+/// already identifies it.
+fn reproducible_record(record: &Value) -> Value {
+    reproducible(record, &BTreeMap::new())
+}
+
+/// `value` made reproducible inside a record whose input files are shown
+/// under the names in `shown_as` (path → name).
+fn reproducible(value: &Value, shown_as: &BTreeMap<String, String>) -> Value {
+    match value {
+        Value::Object(object) => {
+            let files = object.get("files_blake3").and_then(Value::as_object);
+            let with_these;
+            let shown_as = match files {
+                Some(files) => {
+                    with_these = shown_as
+                        .clone()
+                        .into_iter()
+                        .chain(file_names(files))
+                        .collect();
+                    &with_these
+                }
+                None => shown_as,
+            };
+            Value::Object(
+                object
+                    .iter()
+                    .filter(|(key, _)| !RUN_DEPENDENT_KEYS.contains(&key.as_str()))
+                    .map(|(key, value)| {
+                        let value = match (key.as_str(), files) {
+                            ("files_blake3", Some(files)) => Value::Object(
+                                files
+                                    .iter()
+                                    .map(|(path, hash)| (shown_as[path].clone(), hash.clone()))
+                                    .collect(),
+                            ),
+                            _ => reproducible(value, shown_as),
+                        };
+                        (key.clone(), value)
+                    })
+                    .collect(),
+            )
+        }
+        Value::Array(items) => Value::Array(
+            items
+                .iter()
+                .map(|item| reproducible(item, shown_as))
+                .collect(),
+        ),
+        Value::String(text) => Value::String(shown_as.get(text).unwrap_or(text).clone()),
+        other => other.clone(),
+    }
+}
+
+/// The name each input file is shown under: its file name; the second
+/// file of one name (from another folder) is `name #2`, and so on.
+fn file_names(files: &Map<String, Value>) -> Vec<(String, String)> {
+    let mut names: Vec<(String, String)> = Vec::new();
+    for path in files.keys() {
+        let name = std::path::Path::new(path)
+            .file_name()
+            .map_or_else(|| path.clone(), |n| n.to_string_lossy().into_owned());
+        let name = (1..)
+            .map(|n| match n {
+                1 => name.clone(),
+                n => format!("{name} #{n}"),
+            })
+            .find(|candidate| names.iter().all(|(_, taken)| taken != candidate))
+            .expect("an unused name among unboundedly many");
+        names.push((path.clone(), name));
+    }
+    names
+}
+
 /// The provenance section at the bottom of the page: the record the runner
-/// hands the stage (versions, parameters, keys, input-file hashes, compute
-/// times of every upstream stage), or a placeholder when the report is
-/// rendered outside a run.
+/// hands the stage (versions, parameters, keys, input-file hashes of every
+/// upstream stage, without what differs from run to run), or a placeholder
+/// when the report is rendered outside a run.
 pub fn provenance_section(provenance: Option<&serde_json::Value>) -> String {
     let mut html = String::from("<section id=\"provenance\">\n<h2>Provenance</h2>\n");
-    match provenance {
+    match provenance.map(reproducible_record) {
         None => html.push_str(
             "<p class=\"note\">No provenance record was passed to the report stage \
-             (versions, parameters, input hashes and timings of the run). The runner's \
-             record of this run lists them.</p>\n",
+             (versions, parameters and input hashes of the run). The runner's \
+             record of this run lists them, with its timings.</p>\n",
         ),
         Some(value) => {
             if let Some(object) = value.as_object() {
@@ -132,7 +217,7 @@ pub fn provenance_section(provenance: Option<&serde_json::Value>) -> String {
             if let Some(upstream) = value.get("upstream").and_then(|u| u.as_object()) {
                 html.push_str(&upstream_table(upstream));
             }
-            let pretty = serde_json::to_string_pretty(value).unwrap_or_else(|_| value.to_string());
+            let pretty = serde_json::to_string_pretty(&value).unwrap_or_else(|_| value.to_string());
             html.push_str(&format!(
                 "<details><summary>Full record (JSON)</summary>\n<pre>{}</pre>\n</details>\n",
                 escape(&pretty)
@@ -167,10 +252,6 @@ fn upstream_table(upstream: &serde_json::Map<String, serde_json::Value>) -> Stri
                         .join(", ")
                 })
                 .unwrap_or_default();
-            let compute_s = r
-                .get("compute_s")
-                .and_then(|v| v.as_f64())
-                .unwrap_or(f64::NAN);
             vec![
                 escape(name),
                 escape(&format!(
@@ -179,7 +260,6 @@ fn upstream_table(upstream: &serde_json::Map<String, serde_json::Value>) -> Stri
                     text(r.get("version"))
                 )),
                 format!("<code>{}</code>", escape(&key[..key.len().min(12)])),
-                format!("{compute_s:.2}"),
                 escape(&text(r.get("params"))),
                 escape(&files),
             ]
@@ -189,7 +269,6 @@ fn upstream_table(upstream: &serde_json::Map<String, serde_json::Value>) -> Stri
         "stage",
         "kind",
         "cache key",
-        "compute s",
         "parameters",
         "input files (BLAKE3)",
     ]
@@ -266,5 +345,52 @@ mod tests {
         let html = provenance_section(Some(&record));
         assert!(html.contains("<td>version</td><td>0.1.0</td>"), "{html}");
         assert!(html.contains("&quot;ms&quot;: 12"), "{html}");
+    }
+
+    /// The runner's record for one upstream stage, as computed in `folder`
+    /// in `compute_s` seconds.
+    fn record(folder: &str, compute_s: f64) -> serde_json::Value {
+        serde_json::json!({
+            "pipeline": "quick",
+            "key": "a1b2c3",
+            "wall_s": compute_s * 3.0,
+            "upstream": {
+                "fit": {
+                    "kind": "material-fit",
+                    "version": 1,
+                    "key": "0123456789abcdef",
+                    "params": {"model": "ogden-6", "csv": format!("{folder}/data/tensile.csv")},
+                    "files_blake3": {
+                        format!("{folder}/data/tensile.csv"): "77aa",
+                        format!("{folder}/other/tensile.csv"): "88bb99cc",
+                    },
+                    "compute_s": compute_s,
+                }
+            }
+        })
+    }
+
+    #[test]
+    fn provenance_section_is_the_same_for_any_timing_and_folder() {
+        let first = provenance_section(Some(&record("/tmp/.tmpAbC123", 0.23)));
+        let second = provenance_section(Some(&record("/home/me/study", 1.5)));
+        assert_eq!(first, second);
+        assert!(
+            !first.contains("compute") && !first.contains("wall_s"),
+            "{first}"
+        );
+        assert!(
+            !first.contains("/tmp") && !first.contains("0.23"),
+            "{first}"
+        );
+        // The files stay identified by name and content hash.
+        assert!(first.contains("tensile.csv (77aa)"), "{first}");
+        assert!(first.contains("tensile.csv #2 (88bb99cc)"), "{first}");
+        // The parameter naming the file shows the same name.
+        assert!(
+            first.contains("&quot;csv&quot;:&quot;tensile.csv&quot;"),
+            "{first}"
+        );
+        assert!(first.contains("<td>fit</td>"), "{first}");
     }
 }

@@ -5,6 +5,7 @@ pub mod error;
 pub mod filter;
 pub mod height_map;
 pub mod hurst;
+mod ordered_reduce;
 pub mod plane;
 pub mod psd;
 pub mod register;

@@ -27,6 +27,8 @@ use realfft::RealFftPlanner;
 use rustfft::FftPlanner;
 use rustfft::num_complex::Complex64;
 
+use crate::ordered_reduce::{add_into, tree_reduce};
+
 /// The window applied before the Fourier transform.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Window {
@@ -119,7 +121,20 @@ fn hann_radial(nx: usize, ny: usize, dx_m: f64, dy_m: f64) -> Array2<f64> {
 
 /// Columns (axis 1) gathered into contiguous buffers per block when
 /// transforming along axis 0: enough to read whole cache lines of each row.
+/// Blocks are also the units whose power sums are added in a fixed order
+/// (`tree_reduce`), so the PSD does not depend on the thread count.
 const BLOCK: usize = 16;
+
+/// Contiguous profiles summed in one piece before the fixed-order merge.
+const PROFILES_PER_BLOCK: usize = 32;
+
+/// Room for BLOCK gathered columns of length n, and the FFT's scratch.
+fn column_buffers(n: usize, scratch_len: usize) -> (Vec<Complex64>, Vec<Complex64>) {
+    (
+        vec![Complex64::default(); BLOCK * n],
+        vec![Complex64::default(); scratch_len],
+    )
+}
 
 /// Profile-averaged 1-D PSD of the contiguous profiles of length n in
 /// `profiles`, k = 0 … n/2 − 1, unbinned.
@@ -131,34 +146,33 @@ fn mean_profile_psd(profiles: &[f64], n: usize, spacing_m: f64, window: Window) 
         Window::None => None,
     };
     let half = n / 2;
-    let power = profiles
-        .par_chunks(n)
-        .fold(
-            || (vec![0.0; half], vec![0.0; n], fft.make_output_vec()),
-            |(mut acc, mut input, mut out), profile| {
-                match &w {
-                    Some(w) => input
-                        .iter_mut()
-                        .zip(profile.iter().zip(w))
-                        .for_each(|(o, (h, w))| *o = h * w),
-                    None => input.copy_from_slice(profile),
-                }
-                fft.process(&mut input, &mut out)
-                    .expect("buffer sizes match the plan");
-                for (a, v) in acc.iter_mut().zip(&out) {
-                    *a += v.norm_sqr();
-                }
-                (acc, input, out)
-            },
-        )
-        .map(|(acc, _, _)| acc)
-        .reduce(
-            || vec![0.0; half],
-            |mut a, b| {
-                a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
-                a
-            },
-        );
+    let block_len = PROFILES_PER_BLOCK * n;
+    let block_power = |(input, out): &mut (Vec<f64>, Vec<Complex64>), block: usize| {
+        let mut acc = vec![0.0; half];
+        let end = profiles.len().min((block + 1) * block_len);
+        for profile in profiles[block * block_len..end].chunks_exact(n) {
+            match &w {
+                Some(w) => input
+                    .iter_mut()
+                    .zip(profile.iter().zip(w))
+                    .for_each(|(o, (h, w))| *o = h * w),
+                None => input.copy_from_slice(profile),
+            }
+            fft.process(input, out)
+                .expect("buffer sizes match the plan");
+            for (a, v) in acc.iter_mut().zip(out.iter()) {
+                *a += v.norm_sqr();
+            }
+        }
+        acc
+    };
+    let power = tree_reduce(
+        n_profiles.div_ceil(PROFILES_PER_BLOCK),
+        || vec![0.0; half],
+        || (vec![0.0; n], fft.make_output_vec()),
+        block_power,
+        add_into,
+    );
     let l_m = n as f64 * spacing_m;
     let norm = spacing_m * spacing_m / l_m / n_profiles as f64;
     Spectrum {
@@ -186,45 +200,34 @@ pub fn profile_psd_x(h: &Array2<f64>, dx_m: f64, window: Window) -> Spectrum {
         Window::None => None,
     };
     let n_pairs = ny.div_ceil(2);
-    let power = (0..n_pairs.div_ceil(BLOCK))
-        .into_par_iter()
-        .fold(
-            || {
-                (
-                    vec![0.0; nx],
-                    vec![Complex64::default(); BLOCK * nx],
-                    vec![Complex64::default(); fft.get_inplace_scratch_len()],
-                )
-            },
-            |(mut acc, mut buf, mut scratch), block| {
-                let first = block * BLOCK;
-                let width = BLOCK.min(n_pairs - first);
-                let columns = &mut buf[..width * nx];
-                for (i, row) in data.chunks_exact(ny).enumerate() {
-                    let wi = w.as_ref().map_or(1.0, |w| w[i]);
-                    for c in 0..width {
-                        let col = 2 * (first + c);
-                        let im = if col + 1 < ny { row[col + 1] } else { 0.0 };
-                        columns[c * nx + i] = Complex64::new(row[col] * wi, im * wi);
-                    }
-                }
-                fft.process_with_scratch(columns, &mut scratch);
-                for spectrum in columns.chunks_exact(nx) {
-                    for (a, v) in acc.iter_mut().zip(spectrum) {
-                        *a += v.norm_sqr();
-                    }
-                }
-                (acc, buf, scratch)
-            },
-        )
-        .map(|(acc, _, _)| acc)
-        .reduce(
-            || vec![0.0; nx],
-            |mut a, b| {
-                a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
-                a
-            },
-        );
+    let block_power = |(buffer, scratch): &mut (Vec<Complex64>, Vec<Complex64>), block: usize| {
+        let first = block * BLOCK;
+        let width = BLOCK.min(n_pairs - first);
+        let columns = &mut buffer[..width * nx];
+        for (i, row) in data.chunks_exact(ny).enumerate() {
+            let wi = w.as_ref().map_or(1.0, |w| w[i]);
+            for c in 0..width {
+                let col = 2 * (first + c);
+                let im = if col + 1 < ny { row[col + 1] } else { 0.0 };
+                columns[c * nx + i] = Complex64::new(row[col] * wi, im * wi);
+            }
+        }
+        fft.process_with_scratch(columns, scratch);
+        let mut acc = vec![0.0; nx];
+        for spectrum in columns.chunks_exact(nx) {
+            for (a, v) in acc.iter_mut().zip(spectrum) {
+                *a += v.norm_sqr();
+            }
+        }
+        acc
+    };
+    let power = tree_reduce(
+        n_pairs.div_ceil(BLOCK),
+        || vec![0.0; nx],
+        || column_buffers(nx, fft.get_inplace_scratch_len()),
+        block_power,
+        add_into,
+    );
     let l_m = nx as f64 * dx_m;
     let norm = dx_m * dx_m / l_m / ny as f64;
     Spectrum {
@@ -325,7 +328,9 @@ pub fn psd_radial(
     let r2c = RealFftPlanner::<f64>::new().plan_fft_forward(ny);
     let hann = HannRadial::new(nx, ny, dx_m, dy_m);
     let mut rows = vec![Complex64::default(); nx * nh];
-    let sum_w2: f64 = rows
+    // Per-row window sums, added in row order (a parallel sum would not be
+    // the same on every thread count).
+    let row_sums_w2: Vec<f64> = rows
         .par_chunks_mut(nh)
         .zip(data.par_chunks(ny))
         .enumerate()
@@ -348,7 +353,8 @@ pub fn psd_radial(
                 sum_w2
             },
         )
-        .sum();
+        .collect();
+    let sum_w2: f64 = row_sums_w2.iter().sum();
     let window_scale2 = match window {
         Window::Hann => (nx * ny) as f64 / sum_w2,
         Window::None => 1.0,
@@ -361,53 +367,45 @@ pub fn psd_radial(
     let edges = log_bin_edges(q_min, q_max, per_decade);
     let fft = FftPlanner::<f64>::new().plan_fft_forward(nx);
     let wrap = |k: usize, n: usize| if k > n / 2 { n - k } else { k } as f64;
-    let mut sums = (0..nh.div_ceil(BLOCK))
-        .into_par_iter()
-        .fold(
-            || {
-                (
-                    vec![[0.0; 3]; edges.len()],
-                    vec![Complex64::default(); BLOCK * nx],
-                    vec![Complex64::default(); fft.get_inplace_scratch_len()],
-                )
-            },
-            |(mut sums, mut buf, mut scratch): (BinSums, _, _), block| {
-                let first = block * BLOCK;
-                let width = BLOCK.min(nh - first);
-                let columns = &mut buf[..width * nx];
-                for (i, row) in rows.chunks_exact(nh).enumerate() {
-                    for (c, v) in row[first..first + width].iter().enumerate() {
-                        columns[c * nx + i] = *v;
-                    }
+    let block_sums = |(buffer, scratch): &mut (Vec<Complex64>, Vec<Complex64>), block: usize| {
+        let first = block * BLOCK;
+        let width = BLOCK.min(nh - first);
+        let columns = &mut buffer[..width * nx];
+        for (i, row) in rows.chunks_exact(nh).enumerate() {
+            for (c, v) in row[first..first + width].iter().enumerate() {
+                columns[c * nx + i] = *v;
+            }
+        }
+        fft.process_with_scratch(columns, scratch);
+        let mut sums: BinSums = vec![[0.0; 3]; edges.len()];
+        for (c, column) in columns.chunks_exact(nx).enumerate() {
+            let j = first + c;
+            bin_column(
+                &mut sums,
+                &edges,
+                column,
+                j,
+                ny,
+                TAU / lx,
+                TAU / ly * wrap(j, ny),
+            );
+        }
+        sums
+    };
+    let mut sums = tree_reduce(
+        nh.div_ceil(BLOCK),
+        || vec![[0.0; 3]; edges.len()],
+        || column_buffers(nx, fft.get_inplace_scratch_len()),
+        block_sums,
+        |mut a: BinSums, b: BinSums| {
+            for (x, y) in a.iter_mut().zip(b) {
+                for k in 0..3 {
+                    x[k] += y[k];
                 }
-                fft.process_with_scratch(columns, &mut scratch);
-                for (c, column) in columns.chunks_exact(nx).enumerate() {
-                    let j = first + c;
-                    bin_column(
-                        &mut sums,
-                        &edges,
-                        column,
-                        j,
-                        ny,
-                        TAU / lx,
-                        TAU / ly * wrap(j, ny),
-                    );
-                }
-                (sums, buf, scratch)
-            },
-        )
-        .map(|(sums, _, _)| sums)
-        .reduce(
-            || vec![[0.0; 3]; edges.len()],
-            |mut a, b| {
-                for (x, y) in a.iter_mut().zip(b) {
-                    for k in 0..3 {
-                        x[k] += y[k];
-                    }
-                }
-                a
-            },
-        );
+            }
+            a
+        },
+    );
     let norm = (dx_m * dy_m).powi(2) / (lx * ly) * window_scale2;
     for s in &mut sums {
         s[2] *= norm;
@@ -566,6 +564,41 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         })
+    }
+
+    #[test]
+    fn spectra_have_the_same_bits_on_any_number_of_threads() {
+        // Big enough that every parallel loop splits into many blocks, odd
+        // sizes so the last blocks are partial.
+        let h = noise(301, 389, 11);
+        let all = || {
+            [Window::None, Window::Hann].map(|window| {
+                [
+                    psd_x(&h, 1e-6, window, 10),
+                    psd_y(&h, 1e-6, window, 10),
+                    psd_radial(&h, 1e-6, 1.2e-6, window, 10),
+                ]
+            })
+        };
+        let in_pool = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(all)
+        };
+        let bits = |spectra: [[Spectrum; 3]; 2]| -> Vec<Vec<u64>> {
+            spectra
+                .iter()
+                .flatten()
+                .flat_map(|s| [&s.q_per_m, &s.c])
+                .map(|v| v.iter().map(|x| x.to_bits()).collect())
+                .collect()
+        };
+        let one = bits(in_pool(1));
+        for threads in [2, 4] {
+            assert!(bits(in_pool(threads)) == one, "{threads} threads");
+        }
     }
 
     /// |Σ_i Σ_j v_ij e^{−2πi(k i/nx + l j/ny)}|² by direct summation.

@@ -1,0 +1,115 @@
+//! Every product of a run is the same to the byte whatever the thread count
+//! and however the threads are scheduled (issue 12): the quick paper
+//! pipeline once on one thread and twice on two, each into a fresh cache,
+//! must export identical files. Only `provenance.json` may differ: it
+//! records wall times and cache use, which belong to the run.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+
+/// Files of a run that record the run itself rather than its results.
+const RUN_RECORDS: [&str; 1] = ["provenance.json"];
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Starts `run pipelines/quick.yaml` into `dir`/out with its own cache in
+/// `dir`/cache on `threads` rayon threads.
+fn start_quick(dir: &Path, threads: usize) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_hypercontact"))
+        .arg("run")
+        .arg(repo().join("pipelines/quick.yaml"))
+        .arg("--out")
+        .arg(dir.join("out"))
+        .arg("--cache")
+        .arg(dir.join("cache"))
+        .arg("--quiet")
+        .env("RAYON_NUM_THREADS", threads.to_string())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+/// Every file under `root` by its path relative to `root`, with its bytes.
+fn products(root: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut files = BTreeMap::new();
+    let mut folders = vec![root.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                folders.push(path);
+                continue;
+            }
+            let name = path
+                .strip_prefix(root)
+                .unwrap()
+                .to_string_lossy()
+                .replace('\\', "/");
+            if !RUN_RECORDS.contains(&name.as_str()) {
+                files.insert(name, std::fs::read(&path).unwrap());
+            }
+        }
+    }
+    files
+}
+
+/// The files that differ between two runs' products (present in one only,
+/// or with other bytes).
+fn differing(a: &BTreeMap<String, Vec<u8>>, b: &BTreeMap<String, Vec<u8>>) -> Vec<String> {
+    let mut names: Vec<&String> = a.keys().chain(b.keys()).collect();
+    names.sort();
+    names.dedup();
+    names
+        .into_iter()
+        .filter(|name| a.get(*name) != b.get(*name))
+        .cloned()
+        .collect()
+}
+
+#[test]
+fn the_quick_pipeline_is_byte_identical_on_one_and_two_threads() {
+    let runs = [("1 thread", 1), ("2 threads", 2), ("2 threads again", 2)];
+    let dirs: Vec<tempfile::TempDir> = runs.iter().map(|_| tempfile::tempdir().unwrap()).collect();
+    // At the same time, so the two-thread runs also compete for the cores
+    // and their work stealing differs from one run to the other.
+    let children: Vec<Child> = runs
+        .iter()
+        .zip(&dirs)
+        .map(|((_, threads), dir)| start_quick(dir.path(), *threads))
+        .collect();
+    for ((label, _), child) in runs.iter().zip(children) {
+        let out = child.wait_with_output().unwrap();
+        assert!(
+            out.status.success(),
+            "{label}: {}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+
+    let reference = products(&dirs[0].path().join("out"));
+    assert!(
+        reference.len() > 100,
+        "only {} products: {:?}",
+        reference.len(),
+        reference.keys().collect::<Vec<_>>()
+    );
+    let mut failures = Vec::new();
+    for ((label, _), dir) in runs.iter().zip(&dirs).skip(1) {
+        let files = differing(&reference, &products(&dir.path().join("out")));
+        if !files.is_empty() {
+            failures.push(format!(
+                "{label} vs {}: {} of {} files differ:\n  {}",
+                runs[0].0,
+                files.len(),
+                reference.len(),
+                files.join("\n  ")
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
