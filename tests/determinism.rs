@@ -92,8 +92,10 @@ fn the_quick_pipeline_is_byte_identical_on_one_and_two_threads() {
     }
 
     let reference = products(&dirs[0].path().join("out"));
+    // 61 since the synthetic raw data are temporary (not exported): every
+    // stage's products from DIC and stitching on.
     assert!(
-        reference.len() > 100,
+        reference.len() >= 60,
         "only {} products: {:?}",
         reference.len(),
         reference.keys().collect::<Vec<_>>()

@@ -281,7 +281,7 @@ fn run_once(
             } else {
                 let inputs = gather_inputs(&plan, planned, &cache, &manifests, &mut products)?;
                 let ctx = Context::with(&planned.name, multi.as_ref(), &reader)
-                    .with_upstream(upstream_record(pipeline, &plan, planned, &provenance));
+                    .with_upstream(upstream_record(&plan, planned, pipeline));
                 let t_compute = Instant::now();
                 let outputs = decl
                     .stage
@@ -549,15 +549,11 @@ fn write_entry(
 }
 
 /// What a stage may know of the stages it depends on, transitively: kind,
-/// version, key, parameters, input-file hashes and the compute time of the
-/// entry. Only what the upstream keys determine (no wall times of this run,
-/// no cache use), so a cached downstream result never shows a stale record.
-fn upstream_record(
-    pipeline: &Pipeline,
-    plan: &Plan,
-    planned: &PlannedStage,
-    provenance: &Provenance,
-) -> serde_json::Value {
+/// version, key, parameters and input-file hashes, from the plan. Only what
+/// the keys determine (no times, no cache use, nothing about which stages
+/// this run executed), so the same key always gets the same record and a
+/// product that shows it (the report) is the same bytes on every run.
+fn upstream_record(plan: &Plan, planned: &PlannedStage, pipeline: &Pipeline) -> serde_json::Value {
     let by_name: HashMap<&str, &PlannedStage> =
         plan.stages.iter().map(|s| (s.name.as_str(), s)).collect();
     let mut seen = std::collections::BTreeSet::new();
@@ -576,16 +572,15 @@ fn upstream_record(
     let stages: serde_json::Map<String, serde_json::Value> = seen
         .iter()
         .filter_map(|name| {
-            let r = provenance.stages.get(name)?;
+            let s = by_name.get(name.as_str())?;
             Some((
                 name.clone(),
                 serde_json::json!({
-                    "kind": r.kind,
-                    "version": r.version,
-                    "key": r.key,
-                    "params": r.params,
-                    "files_blake3": r.files,
-                    "compute_s": r.compute_s,
+                    "kind": s.kind,
+                    "version": s.version,
+                    "key": s.key,
+                    "params": s.params,
+                    "files_blake3": s.files,
                 }),
             ))
         })
