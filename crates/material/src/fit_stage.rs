@@ -329,6 +329,25 @@ mod tests {
     }
 
     #[test]
+    fn a_first_ut_row_at_the_reference_state_fits_and_compares() {
+        // `UT,1.0,0` (λ = 1, T = 0) leading the table once made ogden-6,
+        // and with it the whole comparison, panic in the SVD.
+        let mut data = crate::sample::paper_sample();
+        data.curves[0].stretch.insert(0, 1.0);
+        data.curves[0].stress_pa.insert(0, 0.0);
+        let inputs = Inputs::new().with("tensile", Product::Table(data.to_table()));
+        let p = MaterialFitParams::default().check().unwrap();
+        let out = MaterialFit.run(&p, &inputs, &Context::new("fit")).unwrap();
+        let c = table(&out, "comparison");
+        assert!(
+            c.str("status").unwrap().iter().all(|s| s == "ok"),
+            "{:?}",
+            c.str("status").unwrap()
+        );
+        assert_eq!(table(&out, "curves").n_rows(), 151);
+    }
+
+    #[test]
     fn compare_false_gives_one_comparison_row() {
         let inputs = Inputs::new().with(
             "tensile",
