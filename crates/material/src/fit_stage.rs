@@ -84,7 +84,7 @@ pub struct MaterialFit;
 
 static INFO: StageInfo = StageInfo {
     kind: "material-fit",
-    version: 1,
+    version: 2,
     summary: "Fit a hyperelastic model to UT, PT and BT data at once; quality, stability, comparison",
     doc: "Fits one strain-energy family to all modes simultaneously by Levenberg–Marquardt \
           (MINPACK-style, the `levenberg-marquardt` crate). Residuals are relative errors \

@@ -6,7 +6,8 @@
 
 use std::collections::BTreeMap;
 
-use hypercontact_core::{ColumnData, Field, FileSource, Table};
+use hypercontact_core::csv_table::{CsvTable, RowPlace};
+use hypercontact_core::{ColumnData, Field, FileSource};
 use ndarray::Array2;
 
 use crate::error::SurfaceError;
@@ -51,12 +52,6 @@ pub struct Position {
     pub pixel_m: f64,
 }
 
-/// The file line of data row `row` (0-based): the header is line 1. The
-/// CSV reader gives rows, so a comment line above a row is not counted.
-fn line_of(row: usize) -> u64 {
-    row as u64 + 2
-}
-
 /// Cell `row` of a column as text (a number as Rust prints it).
 fn cell_text(column: &ColumnData, row: usize) -> String {
     match column {
@@ -66,19 +61,24 @@ fn cell_text(column: &ColumnData, row: usize) -> String {
     }
 }
 
-/// Reads `positions.csv`, already parsed into a table (header required,
-/// columns in any order, extra columns ignored); `display` names the file in
-/// errors, with the line of a bad value.
-pub fn parse_positions(table: &Table, display: &str) -> Result<Vec<Position>, SurfaceError> {
+/// Reads `positions.csv`, already parsed into a table with the file line of
+/// each row (header required, columns in any order, extra columns ignored);
+/// `display` names the file in errors, with the line of a bad value.
+pub fn parse_positions(csv: &CsvTable, display: &str) -> Result<Vec<Position>, SurfaceError> {
+    let table = &csv.table;
     let err = |line: u64, message: String| SurfaceError::Positions {
         file: display.to_owned(),
         line,
         message,
     };
+    let line_of = |row: usize| match csv.lines.place(row) {
+        RowPlace::Line(line) => line,
+        RowPlace::Row(row) => row as u64 + csv.header_line,
+    };
     let column = |name: &str| {
         table.column(name).map_err(|_| {
             err(
-                1,
+                csv.header_line,
                 format!("no column `{name}` (expected tile, file, x_m, y_m, pixel_m)"),
             )
         })
@@ -92,7 +92,7 @@ pub fn parse_positions(table: &Table, display: &str) -> Result<Vec<Position>, Su
     ];
     let rows = table.n_rows();
     if rows == 0 {
-        return Err(err(1, "lists no tiles".into()));
+        return Err(err(csv.header_line, "lists no tiles".into()));
     }
     let number = |data: &ColumnData, name: &str, row: usize| -> Result<f64, SurfaceError> {
         let text = cell_text(data, row);
@@ -157,7 +157,7 @@ pub struct TileSet {
 /// tiles share one shape and one spacing, no tile is all NaN.
 pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
     let positions_name = source.display(POSITIONS);
-    let positions = parse_positions(&source.read_csv(POSITIONS)?, &positions_name)?;
+    let positions = parse_positions(&source.read_csv_with_lines(POSITIONS)?, &positions_name)?;
     let decoders = decoders();
     let extension = |name: &str| {
         name.rsplit_once('.')
@@ -297,6 +297,31 @@ mod tests {
         assert_eq!(s.names, ["a.npy", "b.npy"]);
         assert!((s.nominal_px[1][0] - 3.0).abs() < 1e-9);
         assert_eq!(s.heights[1][[0, 0]], 1.0);
+    }
+
+    #[test]
+    fn positions_errors_name_the_line_as_the_file_has_it() {
+        let z = || Array2::<f64>::zeros((4, 4));
+        let message = |csv: &str| {
+            read(&set(csv, &[("a.npy", z()), ("b.npy", z())]))
+                .unwrap_err()
+                .to_string()
+        };
+        let m = message(
+            "# scanner export\n\ntile,file,x_m,y_m,pixel_m\n0,a.npy,0,0,1e-6\n# row 2\n\n\
+             1,b.npy,zero,0,1e-6\n",
+        );
+        assert!(
+            m.contains("positions.csv") && m.contains("line 7") && m.contains("`x_m`"),
+            "{m}"
+        );
+        let m = message("# scanner export\ntile,file,x_m,pixel_m\n0,a.npy,0,1e-6\n");
+        assert!(m.contains("line 2") && m.contains("`y_m`"), "{m}");
+        let m = message("tile,file,x_m,y_m,pixel_m\n");
+        assert!(
+            m.contains("positions.csv") && m.contains("no data rows"),
+            "{m}"
+        );
     }
 
     #[test]
