@@ -41,6 +41,18 @@ pub enum SurfaceError {
     Disconnected { file: String, first: String },
     #[error("{0}")]
     Input(String),
+    #[error(
+        "{map} is flat: its rms height after detrending is {sigma_m:e} m, rounding noise \
+         against heights up to {largest_m:e} m (under {:e} of them); a constant or planar map \
+         has no roughness to analyse (a fill value, or a failed export?)",
+        crate::surface_stage::FLAT_RELATIVE
+    )]
+    Flat {
+        /// Where the map came from (an input, a folder).
+        map: String,
+        sigma_m: f64,
+        largest_m: f64,
+    },
     /// Reading a file of the tile set (the error names it).
     #[error(transparent)]
     Source(#[from] StageError),
