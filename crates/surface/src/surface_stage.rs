@@ -303,6 +303,18 @@ pub fn analyse_named(
         }
     }
     let sigma_m = sigma(&h);
+    let slope = rms_slope(&h, dx_m, dy_m);
+    let overflow = |quantity| SurfaceError::Overflow {
+        map: source.to_owned(),
+        largest_m,
+        quantity,
+    };
+    if !(largest_m.is_finite() && sigma_m.is_finite()) {
+        return Err(overflow("its mean square (σ²)").into());
+    }
+    if !slope.is_finite() {
+        return Err(overflow("its mean square slope").into());
+    }
     if !(sigma_m > FLAT_RELATIVE * largest_m) {
         return Err(SurfaceError::Flat {
             map: source.to_owned(),
@@ -311,7 +323,6 @@ pub fn analyse_named(
         }
         .into());
     }
-    let slope = rms_slope(&h, dx_m, dy_m);
 
     // NaN left after filtering enters the FFT at the (zero) mean height.
     let filled = h.mapv(|v| if v.is_nan() { 0.0 } else { v });
@@ -325,6 +336,14 @@ pub fn analyse_named(
     let sy = psd_y(&filled, dy_m, window, per_decade);
     let sr = psd_radial(&filled, dx_m, dy_m, window, per_decade);
     drop(filled);
+    // Inf in a spectrum would be dropped by the Hurst fit, which would
+    // then blame its wavelength range.
+    if [&sx, &sy, &sr]
+        .iter()
+        .any(|s| s.c.iter().any(|c| !c.is_finite()))
+    {
+        return Err(overflow("its power spectrum").into());
+    }
     progress.inc(1);
     let (lx, ly) = (nx as f64 * dx_m, ny as f64 * dy_m);
     let fits = [

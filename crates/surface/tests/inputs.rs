@@ -231,3 +231,27 @@ fn a_flat_map_is_refused_naming_its_source() {
     let field = Field::new(offset, 1e-6, 1e-6).unwrap();
     run(&p, Inputs::new().with("height", Product::Field(field))).unwrap();
 }
+
+#[test]
+fn overflowing_heights_are_named_not_blamed_on_the_hurst_range() {
+    let p = SurfaceParams {
+        resolution_m: 0.0,
+        ..Default::default()
+    };
+    // σ² overflows from 1e154 on; the PSD (dx·dy times that) a bit later,
+    // where it used to say "too few PSD points (10) … widen
+    // hurst_lambda_min_m / hurst_lambda_max_m".
+    for scale in [1e155, 1e160, 1e200] {
+        let field = Field::new(rough(64, 0.0).mapv(|h| h * scale), 1e-6, 1e-6).unwrap();
+        let m = run(&p, Inputs::new().with("height", Product::Field(field)))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            m.contains("input `height`") && m.contains("overflow") && !m.contains("Hurst"),
+            "{m}"
+        );
+    }
+    // Large but representable heights still go through.
+    let field = Field::new(rough(64, 0.0).mapv(|h| h * 1e140), 1e-6, 1e-6).unwrap();
+    run(&p, Inputs::new().with("height", Product::Field(field))).unwrap();
+}
