@@ -15,6 +15,12 @@ use crate::error::SurfaceError;
 /// The name of the positions file in a tile set.
 pub const POSITIONS: &str = "positions.csv";
 
+/// Farthest a tile may sit from the origin, in pixels: a kilometre of
+/// micrometre pixels. Beyond it a position is a unit mistake, and pixel
+/// arithmetic on it would leave i64 (a tile at −1e300 m once made the
+/// stitcher index out of bounds).
+pub const MAX_POSITION_PX: f64 = 1e9;
+
 /// Turns a tile file into heights in metres (axis 0 = x).
 pub trait TileDecoder {
     /// Lower-case extensions this decoder reads, without the dot.
@@ -134,6 +140,19 @@ pub fn parse_positions(csv: &CsvTable, display: &str) -> Result<Vec<Position>, S
                     position.pixel_m
                 ),
             ));
+        }
+        for (name, value) in [("x_m", position.x_m), ("y_m", position.y_m)] {
+            let px = value / position.pixel_m;
+            if !(px.abs() <= MAX_POSITION_PX) {
+                return Err(err(
+                    line_of(row),
+                    format!(
+                        "column `{name}`: {value} m is {px:e} pixels of {} m from the origin, \
+                         beyond any scan ({MAX_POSITION_PX:e} pixels; a unit mistake?)",
+                        position.pixel_m
+                    ),
+                ));
+            }
         }
         positions.push(position);
     }
@@ -322,6 +341,29 @@ mod tests {
             m.contains("positions.csv") && m.contains("no data rows"),
             "{m}"
         );
+    }
+
+    #[test]
+    fn positions_beyond_any_scan_are_refused_with_their_line() {
+        let z = || Array2::<f64>::zeros((4, 4));
+        for (csv, column) in [
+            (
+                "tile,file,x_m,y_m,pixel_m\n0,a.npy,0,0,1e-6\n1,b.npy,-1e300,0,1e-6\n",
+                "x_m",
+            ),
+            (
+                "tile,file,x_m,y_m,pixel_m\n0,a.npy,0,0,1e-6\n1,b.npy,0,3e-6,1e-300\n",
+                "y_m",
+            ),
+        ] {
+            let m = read(&set(csv, &[("a.npy", z()), ("b.npy", z())]))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                m.contains("positions.csv, line 3") && m.contains(column) && m.contains("pixels"),
+                "{m}"
+            );
+        }
     }
 
     #[test]
