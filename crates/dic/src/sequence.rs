@@ -20,6 +20,8 @@ pub struct FrameEntry {
     pub frame: i64,
     pub time_s: f64,
     pub file: String,
+    /// Where frames.csv lists it (`line 3`).
+    pub listed: RowPlace,
 }
 
 /// `specimen.json`; every field may be overridden by a parameter.
@@ -76,7 +78,14 @@ impl<'a> Sequence<'a> {
 
     /// Decodes frame `k` (index into `frames`).
     pub fn image(&self, k: usize) -> Result<GrayImage, DicError> {
-        let name = &self.frames[k].file;
+        let entry = &self.frames[k];
+        let name = &entry.file;
+        if !self.source.exists(name) {
+            return Err(DicError::file(
+                &self.source.display(name),
+                format!("missing (frames.csv lists it on {})", entry.listed),
+            ));
+        }
         GrayImage::decode(name, &self.read(name)?)
     }
 
@@ -220,10 +229,18 @@ fn parse_frames(log: &Log) -> Result<Vec<FrameEntry>, DicError> {
                 log.line(row)
             )));
         }
+        let file = log.text("file", row)?;
+        if file.is_empty() {
+            return Err(log.error(format!(
+                "{}, column `file`: no image file named",
+                log.line(row)
+            )));
+        }
         frames.push(FrameEntry {
             frame,
             time_s,
-            file: log.text("file", row)?,
+            file,
+            listed: log.line(row),
         });
     }
     if frames.len() < 2 {
@@ -318,6 +335,29 @@ mod tests {
         let e = Sequence::open(source(&f)).err().unwrap().to_string();
         assert!(
             e.contains("force.csv: line 5, column `force_n`: `1 N`"),
+            "{e}"
+        );
+        let f = files(
+            "frame,time_s,file\n0,0.0,a.png\n1,0.5,\n",
+            "time_s,force_n\n0,0\n",
+        );
+        let e = Sequence::open(source(&f)).err().unwrap().to_string();
+        assert!(
+            e.contains("frames.csv: line 3, column `file`: no image file"),
+            "{e}"
+        );
+        // A listed image that is not there: the listing line too.
+        let f = files(
+            "# rig\nframe,time_s,file\n0,0.0,a.png\n1,0.5,b.png\n",
+            "time_s,force_n\n0,0\n",
+        );
+        let e = Sequence::open(source(&f))
+            .unwrap()
+            .image(1)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("b.png: missing (frames.csv lists it on line 4)"),
             "{e}"
         );
         let f = files("frame,time_s,file\n", "time_s,force_n\n0,0\n");

@@ -127,7 +127,15 @@ pub fn parse_positions(csv: &CsvTable, display: &str) -> Result<Vec<Position>, S
                     format!("column `tile`: `{tile_text}` is not an integer"),
                 )
             })?,
-            file: cell_text(file, row),
+            file: match cell_text(file, row) {
+                name if name.is_empty() => {
+                    return Err(err(
+                        line_of(row),
+                        "column `file`: no tile file named".into(),
+                    ));
+                }
+                name => name,
+            },
             x_m: number(x, "x_m", row)?,
             y_m: number(y, "y_m", row)?,
             pixel_m: number(pixel, "pixel_m", row)?,
@@ -336,6 +344,11 @@ mod tests {
         );
         let m = message("# scanner export\ntile,file,x_m,pixel_m\n0,a.npy,0,1e-6\n");
         assert!(m.contains("line 2") && m.contains("`y_m`"), "{m}");
+        let m = message("tile,file,x_m,y_m,pixel_m\n0,a.npy,0,0,1e-6\n# b\n1,,0,0,1e-6\n");
+        assert!(
+            m.contains("line 4") && m.contains("no tile file named"),
+            "{m}"
+        );
         let m = message("tile,file,x_m,y_m,pixel_m\n");
         assert!(
             m.contains("positions.csv") && m.contains("no data rows"),
