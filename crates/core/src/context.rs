@@ -5,6 +5,7 @@ use std::time::Duration;
 
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::csv_table::RowLines;
 use crate::{Field, StageError, Table};
 
 /// Reads the files a loader stage is pointed at. The runner's I/O edge
@@ -12,6 +13,17 @@ use crate::{Field, StageError, Table};
 pub trait ProductReader: Send + Sync {
     fn read_table(&self, path: &Path) -> Result<Table, StageError>;
     fn read_field(&self, path: &Path, dx_m: f64, dy_m: f64) -> Result<Field, StageError>;
+
+    /// The table with the file line of each row, so a stage checking the
+    /// values can name the line of a bad one: CSV by the one CSV reader;
+    /// other formats (no lines) by [`ProductReader::read_table`], their
+    /// rows numbered.
+    fn read_table_with_lines(&self, path: &Path) -> Result<(Table, RowLines), StageError> {
+        match extension(path).as_str() {
+            "csv" => crate::csv_table::read_csv_with_lines(path).map(|csv| (csv.table, csv.lines)),
+            _ => Ok((self.read_table(path)?, RowLines::default())),
+        }
+    }
 }
 
 /// Reads CSV tables and `.npy` fields; Parquet needs the runner's reader.
@@ -129,6 +141,11 @@ impl<'a> Context<'a> {
 
     pub fn read_table(&self, path: &Path) -> Result<Table, StageError> {
         self.reader.read_table(path)
+    }
+
+    /// [`ProductReader::read_table_with_lines`].
+    pub fn read_table_with_lines(&self, path: &Path) -> Result<(Table, RowLines), StageError> {
+        self.reader.read_table_with_lines(path)
     }
 
     pub fn read_field(&self, path: &Path, dx_m: f64, dy_m: f64) -> Result<Field, StageError> {

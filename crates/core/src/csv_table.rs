@@ -2,53 +2,254 @@
 //!
 //! A column whose every cell is an integer becomes `i64`, one whose cells are
 //! numbers (empty or `NaN` cells included, read as NaN) becomes `f64`, and
-//! anything else `str`. Errors name the file and line.
+//! anything else `str`. Lines starting with `#` are comments and blank lines
+//! are skipped. Every data row keeps the line it stands on in the file (as an
+//! editor numbers it: the header, comments and blank lines counted), so
+//! errors here and in the stages that check the values name the file and
+//! that line.
 
+use std::fmt;
 use std::path::Path;
 
 use crate::{ColumnData, StageError, Table};
 
+/// A CSV file read as a table, with where its rows stand in the file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CsvTable {
+    pub table: Table,
+    /// The line of the header row (1-based).
+    pub header_line: u64,
+    /// The line of each data row.
+    pub lines: RowLines,
+}
+
+/// Where the rows of a table stand in the file they were read from: file
+/// lines for a text file, 1-based row numbers for a table that has no lines
+/// (Parquet, another stage's output).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RowLines(Option<Vec<u64>>);
+
+impl RowLines {
+    /// The 1-based file line of every row.
+    pub fn from_lines(lines: Vec<u64>) -> Self {
+        RowLines(Some(lines))
+    }
+
+    /// Where row `row` (0-based) stands, as messages name it.
+    pub fn place(&self, row: usize) -> RowPlace {
+        match self.0.as_ref().and_then(|lines| lines.get(row)) {
+            Some(&line) => RowPlace::Line(line),
+            None => RowPlace::Row(row + 1),
+        }
+    }
+}
+
+/// One row's place: `line 7` of a file, or `row 3` of a table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RowPlace {
+    /// 1-based file line.
+    Line(u64),
+    /// 1-based data row.
+    Row(usize),
+}
+
+impl fmt::Display for RowPlace {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RowPlace::Line(line) => write!(f, "line {line}"),
+            RowPlace::Row(row) => write!(f, "row {row}"),
+        }
+    }
+}
+
 pub fn read_csv(path: &Path) -> Result<Table, StageError> {
+    read_csv_with_lines(path).map(|csv| csv.table)
+}
+
+/// [`read_csv`] with the line of every row.
+pub fn read_csv_with_lines(path: &Path) -> Result<CsvTable, StageError> {
     let bytes = std::fs::read(path).map_err(|e| StageError::file(path, e.to_string()))?;
-    read_csv_bytes(&bytes, &path.display().to_string())
+    read_csv_bytes_with_lines(&bytes, &path.display().to_string())
 }
 
 /// The same from bytes already in memory (a file of a `Files` product);
 /// `display` names the file in errors. A byte-order mark is skipped, as
 /// spreadsheet programs write one.
 pub fn read_csv_bytes(bytes: &[u8], display: &str) -> Result<Table, StageError> {
+    read_csv_bytes_with_lines(bytes, display).map(|csv| csv.table)
+}
+
+/// [`read_csv_bytes`] with the line of every row. A file with no header
+/// (empty, or only blank and comment lines) or with a header and no data
+/// rows is an error saying so.
+pub fn read_csv_bytes_with_lines(bytes: &[u8], display: &str) -> Result<CsvTable, StageError> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    let fail = |message: String| StageError::file(display, message);
+    let lines = LineIndex::new(bytes);
+    // The csv crate's positions skip the bytes of comment lines it drops,
+    // so comments are blanked here instead (same length, so every offset
+    // stays the file's) and its blank-line skipping drops them.
+    let blanked = blank_comments(bytes);
     let mut reader = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
-        .comment(Some(b'#'))
-        .from_reader(bytes);
-    let header: Vec<String> = reader
-        .headers()
-        .map_err(|e| StageError::file(display, e.to_string()))?
-        .iter()
-        .map(str::to_owned)
-        .collect();
-    let mut cells: Vec<Vec<String>> = vec![Vec::new(); header.len()];
-    for record in reader.records() {
-        let record = record.map_err(|e| {
-            let line = e.position().map_or(0, |p| p.line());
-            StageError::file(display, format!("line {line}: {e}"))
-        })?;
-        for (column, cell) in cells.iter_mut().zip(record.iter()) {
-            column.push(cell.to_owned());
+        .has_headers(false)
+        .from_reader(blanked.as_slice());
+    // A record's position is where the reader stood before it: the blank
+    // lines above it lie in between.
+    let line_of = |position: Option<&csv::Position>| {
+        let mut offset = position.map_or(0, |p| p.byte() as usize);
+        while matches!(blanked.get(offset), Some(b'\r' | b'\n')) {
+            offset += 1;
         }
+        lines.line(offset)
+    };
+    let error = |e: csv::Error| match e.kind() {
+        csv::ErrorKind::UnequalLengths {
+            pos,
+            expected_len,
+            len,
+        } => fail(format!(
+            "line {}: {len} fields, the header has {expected_len}",
+            line_of(pos.as_ref())
+        )),
+        _ => fail(format!("line {}: {e}", line_of(e.position()))),
+    };
+    let mut records = reader.byte_records();
+    let Some(header) = records.next() else {
+        return Err(fail(if bytes.is_empty() {
+            "is empty".into()
+        } else {
+            "is empty: no header line, only blank or comment lines".into()
+        }));
+    };
+    let header = header.map_err(error)?;
+    let header_line = line_of(header.position());
+    let header: Vec<String> = header
+        .iter()
+        .enumerate()
+        .map(|(i, name)| {
+            String::from_utf8(name.to_vec()).map_err(|_| {
+                fail(format!(
+                    "line {header_line}: the name of column {} is not UTF-8 text",
+                    i + 1
+                ))
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    let mut cells: Vec<Vec<String>> = vec![Vec::new(); header.len()];
+    let mut row_lines = Vec::new();
+    for record in records {
+        let record = record.map_err(error)?;
+        let line = line_of(record.position());
+        for ((column, cell), name) in cells.iter_mut().zip(record.iter()).zip(&header) {
+            let text = std::str::from_utf8(cell).map_err(|_| {
+                fail(format!(
+                    "line {line}, column `{name}`: the cell is not UTF-8 text"
+                ))
+            })?;
+            column.push(text.to_owned());
+        }
+        row_lines.push(line);
+    }
+    if row_lines.is_empty() {
+        return Err(fail(format!(
+            "no data rows (the header, line {header_line}, is all there is)"
+        )));
     }
     let mut table = Table::new();
     for (name, column) in header.iter().zip(cells) {
         if table.column(name).is_ok() {
-            return Err(StageError::file(
-                display,
-                format!("the header names column `{name}` twice"),
-            ));
+            return Err(fail(format!(
+                "line {header_line}: the header names column `{name}` twice"
+            )));
         }
         table.push(name, infer(column));
     }
-    Ok(table)
+    Ok(CsvTable {
+        table,
+        header_line,
+        lines: RowLines::from_lines(row_lines),
+    })
+}
+
+/// The start offset of every line; a line ends at `\n`, `\r\n` or `\r`, as
+/// the csv crate reads them.
+struct LineIndex(Vec<usize>);
+
+impl LineIndex {
+    fn new(bytes: &[u8]) -> Self {
+        let mut starts = vec![0];
+        let mut i = 0;
+        while i < bytes.len() {
+            match bytes[i] {
+                b'\r' if bytes.get(i + 1) == Some(&b'\n') => {
+                    starts.push(i + 2);
+                    i += 2;
+                    continue;
+                }
+                b'\r' | b'\n' => starts.push(i + 1),
+                _ => {}
+            }
+            i += 1;
+        }
+        LineIndex(starts)
+    }
+
+    /// The 1-based line holding byte `offset`.
+    fn line(&self, offset: usize) -> u64 {
+        self.0.partition_point(|&start| start <= offset) as u64
+    }
+}
+
+/// The bytes with every comment line (a `#` where a record starts, outside
+/// quotes) turned into line ends, as many as it had bytes.
+fn blank_comments(bytes: &[u8]) -> Vec<u8> {
+    #[derive(PartialEq)]
+    enum State {
+        FieldStart,
+        Unquoted,
+        Quoted,
+        /// A quote inside a quoted field: `""` (an escaped quote) or its end.
+        QuoteInQuoted,
+    }
+    let mut out = bytes.to_vec();
+    let mut state = State::FieldStart;
+    let mut record_start = true;
+    let mut i = 0;
+    while i < bytes.len() {
+        let b = bytes[i];
+        if record_start && b == b'#' {
+            while i < bytes.len() && !matches!(bytes[i], b'\r' | b'\n') {
+                out[i] = b'\n';
+                i += 1;
+            }
+            continue;
+        }
+        if state == State::QuoteInQuoted {
+            if b == b'"' {
+                state = State::Quoted;
+                record_start = false;
+                i += 1;
+                continue;
+            }
+            // The quoted part ended; the byte is read as outside quotes.
+            state = State::Unquoted;
+        }
+        record_start = false;
+        match (&state, b) {
+            (State::Quoted, b'"') => state = State::QuoteInQuoted,
+            (State::Quoted, _) => {}
+            (State::FieldStart, b'"') => state = State::Quoted,
+            (_, b',') => state = State::FieldStart,
+            (_, b'\r' | b'\n') => {
+                state = State::FieldStart;
+                record_start = true;
+            }
+            _ => state = State::Unquoted,
+        }
+        i += 1;
+    }
+    out
 }
 
 fn infer(cells: Vec<String>) -> ColumnData {
@@ -113,6 +314,79 @@ mod tests {
         std::fs::write(&path, "a,b\n1,2\n3\n").unwrap();
         let err = read_csv(&path).unwrap_err().to_string();
         assert!(err.contains("bad.csv") && err.contains("line 3"), "{err}");
+    }
+
+    fn lines_of(text: &str) -> Vec<RowPlace> {
+        let csv = read_csv_bytes_with_lines(text.as_bytes(), "t.csv").unwrap();
+        (0..csv.table.n_rows())
+            .map(|r| csv.lines.place(r))
+            .collect()
+    }
+
+    #[test]
+    fn rows_keep_their_file_lines_past_comments_blanks_and_quotes() {
+        use RowPlace::Line;
+        assert_eq!(lines_of("a,b\n1,2\n3,4"), [Line(2), Line(3)]);
+        // Comments and blank lines above, between and below the rows.
+        let text = "# made by x\n\n# units: SI\na,b\r\n\n1,2\n# pause\n\n\n3,4\n# end\n";
+        assert_eq!(lines_of(text), [Line(6), Line(10)]);
+        let csv = read_csv_bytes_with_lines(text.as_bytes(), "t.csv").unwrap();
+        assert_eq!(csv.header_line, 4);
+        // A quoted cell spanning lines; a `#` inside quotes is no comment;
+        // old Mac line ends.
+        let text = "a,b\n\"x\n# not a comment\ny\",2\n5,6\r7,8\r\n9,10";
+        assert_eq!(lines_of(text), [Line(2), Line(5), Line(6), Line(7)]);
+        let t = read_csv_bytes(text.as_bytes(), "t.csv").unwrap();
+        assert_eq!(t.str("a").unwrap()[0], "x\n# not a comment\ny");
+        // An escaped quote does not end the quoted cell.
+        let text = "a,b\n\"say \"\"hi\"\"\n# still quoted\",1\n# comment\n2,3\n";
+        assert_eq!(lines_of(text), [Line(2), Line(5)]);
+        assert_eq!(RowLines::default().place(2), RowPlace::Row(3));
+    }
+
+    #[test]
+    fn a_ragged_row_after_comments_is_named_by_its_own_line() {
+        let e = read_csv_bytes(b"# c\n\na,b\n# c\n1,2\n\n3\n", "r.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("r.csv: line 7: 1 fields, the header has 2"),
+            "{e}"
+        );
+        let e = read_csv_bytes(b"a,b\n1,2\n\n# c\n3,4,5\n", "r.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("r.csv: line 5: 3 fields, the header has 2"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn empty_and_header_only_files_say_so() {
+        let message = |text: &str| {
+            read_csv_bytes(text.as_bytes(), "t.csv")
+                .unwrap_err()
+                .to_string()
+        };
+        assert_eq!(message(""), "t.csv: is empty");
+        let e = message("\n# only a comment\n\n");
+        assert!(
+            e.starts_with("t.csv: is empty") && e.contains("comment"),
+            "{e}"
+        );
+        let e = message("# c\nmode,stretch\n\n# c\n");
+        assert_eq!(
+            e,
+            "t.csv: no data rows (the header, line 2, is all there is)"
+        );
+        let e = read_csv_bytes(b"a,b\n1,\xff\n", "u.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("u.csv: line 2, column `b`") && e.contains("UTF-8"),
+            "{e}"
+        );
     }
 
     fn tempdir() -> std::path::PathBuf {

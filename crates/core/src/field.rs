@@ -7,6 +7,7 @@
 use std::io::{Read, Write};
 
 use ndarray::Array2;
+use ndarray_npy::npy::header::Header;
 use ndarray_npy::{ReadNpyExt, WriteNpyExt};
 use serde::{Deserialize, Serialize};
 
@@ -46,6 +47,18 @@ pub enum FieldError {
     },
     #[error("not a 2-D float64 .npy array: {0}")]
     Npy(String),
+    #[error(
+        "the .npy header claims shape {shape} of {item_bytes}-byte values, {claimed} bytes of \
+         data, but the file holds {held}"
+    )]
+    Size {
+        shape: String,
+        item_bytes: usize,
+        /// The byte count the shape implies.
+        claimed: String,
+        /// The bytes after the header.
+        held: usize,
+    },
     #[error("bad grid sidecar: {0}")]
     Grid(String),
 }
@@ -118,17 +131,118 @@ impl Field {
 }
 
 /// Reads a 2-D `.npy` array of float64, or of float32 (widened), both common
-/// in instrument exports.
+/// in instrument exports, either byte order and either memory order.
+///
+/// The header is checked against the bytes before anything is allocated:
+/// ndarray-npy allocates the header's and the data's claimed lengths before
+/// reading them, so a 12-byte file claiming 10¹² values aborted the process
+/// on an 8 TB allocation.
 fn read_npy_2d<R: Read>(mut reader: R) -> Result<Array2<f64>, FieldError> {
     let mut bytes = Vec::new();
     reader
         .read_to_end(&mut bytes)
         .map_err(|e| FieldError::Npy(e.to_string()))?;
-    match Array2::<f64>::read_npy(bytes.as_slice()) {
-        Ok(a) => Ok(a),
-        Err(first) => Array2::<f32>::read_npy(bytes.as_slice())
-            .map(|a| a.mapv(f64::from))
-            .map_err(|_| FieldError::Npy(first.to_string())),
+    let data_start = header_end(&bytes)?;
+    let header = Header::from_reader(&mut &bytes[..data_start]).map_err(npy_error)?;
+    let descr = header
+        .type_descriptor
+        .as_string()
+        .map_or("", String::as_str);
+    let item_bytes: usize = match descr {
+        "<f8" | ">f8" => 8,
+        "<f4" | ">f4" => 4,
+        _ => {
+            return Err(FieldError::Npy(format!(
+                "the values are `{}`, not float64 or float32",
+                header.type_descriptor
+            )));
+        }
+    };
+    let shape = shape_text(&header.shape);
+    if header.shape.len() != 2 {
+        return Err(FieldError::Npy(format!(
+            "the array has shape {shape}, not 2-D"
+        )));
+    }
+    let held = bytes.len() - data_start;
+    let claimed = header
+        .shape
+        .iter()
+        .try_fold(item_bytes, |n, &side| n.checked_mul(side));
+    if claimed != Some(held) {
+        return Err(FieldError::Size {
+            shape,
+            item_bytes,
+            claimed: claimed.map_or_else(|| "more than a usize counts".into(), |n| n.to_string()),
+            held,
+        });
+    }
+    let values = if item_bytes == 8 {
+        Array2::<f64>::read_npy(bytes.as_slice())
+    } else {
+        Array2::<f32>::read_npy(bytes.as_slice()).map(|a| a.mapv(f64::from))
+    };
+    values.map_err(npy_error)
+}
+
+/// ndarray-npy's message, cut short: a parse error quotes the header line,
+/// which a broken file can make megabytes long.
+fn npy_error(e: impl std::fmt::Display) -> FieldError {
+    const LONGEST: usize = 300;
+    let mut message = e.to_string();
+    if let Some((cut, _)) = message.char_indices().nth(LONGEST) {
+        message.truncate(cut);
+        message.push_str(" …");
+    }
+    FieldError::Npy(message)
+}
+
+/// Where a `.npy` file's header ends (and its data starts), once the magic
+/// string, the version and a header length the file can hold are checked.
+fn header_end(bytes: &[u8]) -> Result<usize, FieldError> {
+    const MAGIC: &[u8] = b"\x93NUMPY";
+    let bad = |message: String| Err(FieldError::Npy(message));
+    if !bytes.starts_with(MAGIC) {
+        return bad("no .npy magic string (\\x93NUMPY) at the start".into());
+    }
+    let Some(&[major, minor]) = bytes.get(6..8) else {
+        return bad("the file ends inside the header".into());
+    };
+    // Format 1.0 counts the header in 2 bytes, 2.0 and 3.0 in 4.
+    let ends = || bad("the file ends inside the header".into());
+    let (start, header_len) = match major {
+        1 => match bytes.get(8..10) {
+            Some(&[a, b]) => (10, u64::from(u16::from_le_bytes([a, b]))),
+            _ => return ends(),
+        },
+        2 | 3 => match bytes.get(8..12) {
+            Some(&[a, b, c, d]) => (12, u64::from(u32::from_le_bytes([a, b, c, d]))),
+            _ => return ends(),
+        },
+        _ => return bad(format!("unknown .npy format version {major}.{minor}")),
+    };
+    let held = (bytes.len() - start) as u64;
+    if header_len > held {
+        return bad(format!(
+            "the header claims {header_len} bytes of header, the file holds {held} after its \
+             {start}-byte preamble"
+        ));
+    }
+    Ok(start + header_len as usize)
+}
+
+/// `(1000, 2000)`, as NumPy writes a shape.
+fn shape_text(shape: &[usize]) -> String {
+    match shape {
+        [n] => format!("({n},)"),
+        _ => format!(
+            "({})",
+            shape
+                .iter()
+                .map(usize::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
     }
 }
 
@@ -163,6 +277,106 @@ mod tests {
             Field::read_with_grid(npy.as_slice(), grid),
             Err(FieldError::GridMismatch { .. })
         ));
+    }
+
+    /// A `.npy` file with `header` (the dict text) and `data`: format 1.0,
+    /// or 2.0 for a header longer than 1.0 can count.
+    fn npy_file(header: &str, data: &[u8]) -> Vec<u8> {
+        let mut dict = header.to_owned();
+        let v1 = dict.len() < 65_000;
+        let preamble = if v1 { 10 } else { 12 };
+        while (preamble + dict.len() + 1) % 64 != 0 {
+            dict.push(' ');
+        }
+        dict.push('\n');
+        let mut bytes = b"\x93NUMPY".to_vec();
+        if v1 {
+            bytes.extend_from_slice(&[1, 0]);
+            bytes.extend_from_slice(&(dict.len() as u16).to_le_bytes());
+        } else {
+            bytes.extend_from_slice(&[2, 0]);
+            bytes.extend_from_slice(&(dict.len() as u32).to_le_bytes());
+        }
+        bytes.extend_from_slice(dict.as_bytes());
+        bytes.extend_from_slice(data);
+        bytes
+    }
+
+    fn message_of(bytes: &[u8]) -> String {
+        Field::read_npy(bytes, 1.0, 1.0).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn a_header_claiming_more_than_the_file_holds_is_refused_before_allocating() {
+        // 10¹² values (8 TB) claimed, 16 bytes present: this aborted on the
+        // failed allocation.
+        let bytes = npy_file(
+            "{'descr': '<f8', 'fortran_order': False, 'shape': (1000000, 1000000), }",
+            &[0; 16],
+        );
+        let e = message_of(&bytes);
+        assert!(
+            e.contains("(1000000, 1000000)")
+                && e.contains("8000000000000 bytes")
+                && e.contains("holds 16"),
+            "{e}"
+        );
+        // A shape whose byte count overflows usize.
+        let bytes = npy_file(
+            "{'descr': '<f4', 'fortran_order': True, 'shape': (18446744073709551615, 3), }",
+            &[0; 16],
+        );
+        let e = message_of(&bytes);
+        assert!(
+            e.contains("18446744073709551615") && e.contains("holds 16"),
+            "{e}"
+        );
+        // Too few and too many bytes for an honest shape.
+        let header = "{'descr': '<f8', 'fortran_order': False, 'shape': (2, 2), }";
+        assert!(message_of(&npy_file(header, &[0; 31])).contains("holds 31"));
+        assert!(message_of(&npy_file(header, &[0; 33])).contains("holds 33"));
+        assert!(Field::read_npy(npy_file(header, &[0; 32]).as_slice(), 1.0, 1.0).is_ok());
+        // A v2 header length of 4 GB in a 12-byte file.
+        let e = message_of(b"\x93NUMPY\x02\x00\xff\xff\xff\xff");
+        assert!(e.contains("4294967295") && e.contains("header"), "{e}");
+    }
+
+    #[test]
+    fn a_long_broken_header_gives_a_short_message() {
+        let shape = format!("{}1{}", "(".repeat(100_000), ",)".repeat(100_000));
+        let header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}");
+        let e = message_of(&npy_file(&header, &[]));
+        assert!(e.len() < 400 && e.ends_with('…'), "{} bytes", e.len());
+    }
+
+    #[test]
+    fn only_2d_float_arrays_are_fields() {
+        let e = message_of(&npy_file(
+            "{'descr': '<i8', 'fortran_order': False, 'shape': (2, 2), }",
+            &[0; 32],
+        ));
+        assert!(e.contains("<i8") && e.contains("float"), "{e}");
+        let e = message_of(&npy_file(
+            "{'descr': '<f8', 'fortran_order': False, 'shape': (2, 2, 2), }",
+            &[0; 64],
+        ));
+        assert!(e.contains("(2, 2, 2)") && e.contains("2-D"), "{e}");
+        // Big-endian float32 in Fortran order reads as well.
+        let mut data = Vec::new();
+        for v in [1.0_f32, 2.0, 3.0, 4.0] {
+            data.extend_from_slice(&v.to_be_bytes());
+        }
+        let f = Field::read_npy(
+            npy_file(
+                "{'descr': '>f4', 'fortran_order': True, 'shape': (2, 2), }",
+                &data,
+            )
+            .as_slice(),
+            1.0,
+            1.0,
+        )
+        .unwrap();
+        assert_eq!(f.values, array![[1.0, 3.0], [2.0, 4.0]]);
     }
 
     #[test]

@@ -39,7 +39,7 @@ pub use registry::{AnyParams, DynStage, ParamsError, Registry};
 pub use schema::Schema;
 pub use source::FileSource;
 pub use stage::{Arity, ColumnSpec, InputSpec, OutputSpec, Stage, StageInfo};
-pub use table::{ColumnData, DType, Table, TableError};
+pub use table::{ColumnData, DType, NotANumber, Table, TableError};
 
 /// What the derives' generated code names; not part of the API.
 #[doc(hidden)]

@@ -6,6 +6,7 @@
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
+use crate::csv_table::CsvTable;
 use crate::{Files, InputPath, Inputs, StageError, Table};
 
 /// A set of named files.
@@ -73,7 +74,12 @@ impl<'a> FileSource<'a> {
     /// A CSV file of the source as a table (the one CSV reader,
     /// [`crate::csv_table`]).
     pub fn read_csv(&self, name: &str) -> Result<Table, StageError> {
-        crate::csv_table::read_csv_bytes(&self.read(name)?, &self.display(name))
+        self.read_csv_with_lines(name).map(|csv| csv.table)
+    }
+
+    /// [`FileSource::read_csv`] with the file line of every row.
+    pub fn read_csv_with_lines(&self, name: &str) -> Result<CsvTable, StageError> {
+        crate::csv_table::read_csv_bytes_with_lines(&self.read(name)?, &self.display(name))
     }
 
     /// The file names, sorted (files directly in a folder; subfolders are

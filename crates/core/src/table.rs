@@ -56,6 +56,28 @@ impl ColumnData {
         }
     }
 
+    /// The values as `f64`: floats as they are, integers converted, text
+    /// parsed (an empty cell is NaN, as the CSV reader reads one). The first
+    /// cell that is not a number is the error, so a message can name its
+    /// row.
+    pub fn to_f64(&self) -> Result<Vec<f64>, NotANumber> {
+        match self {
+            ColumnData::F64(v) => Ok(v.clone()),
+            ColumnData::I64(v) => Ok(v.iter().map(|&x| x as f64).collect()),
+            ColumnData::Str(v) => v
+                .iter()
+                .enumerate()
+                .map(|(row, text)| match text.trim() {
+                    "" => Ok(f64::NAN),
+                    t => t.parse().map_err(|_| NotANumber {
+                        row,
+                        text: text.clone(),
+                    }),
+                })
+                .collect(),
+        }
+    }
+
     fn extend(&mut self, other: &ColumnData) -> bool {
         match (self, other) {
             (ColumnData::F64(a), ColumnData::F64(b)) => a.extend_from_slice(b),
@@ -97,6 +119,14 @@ impl From<Vec<&str>> for ColumnData {
     fn from(v: Vec<&str>) -> Self {
         ColumnData::Str(v.into_iter().map(str::to_owned).collect())
     }
+}
+
+/// A cell that should hold a number and holds text.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NotANumber {
+    /// 0-based row.
+    pub row: usize,
+    pub text: String,
 }
 
 /// A named column.

@@ -7,7 +7,7 @@
 
 use std::borrow::Cow;
 
-use hypercontact_core::csv_table::read_csv_bytes;
+use hypercontact_core::csv_table::{RowLines, RowPlace, read_csv_bytes_with_lines};
 use hypercontact_core::{ColumnData, FileSource, StageError, Table};
 use serde::Deserialize;
 
@@ -20,6 +20,8 @@ pub struct FrameEntry {
     pub frame: i64,
     pub time_s: f64,
     pub file: String,
+    /// Where frames.csv lists it (`line 3`).
+    pub listed: RowPlace,
 }
 
 /// `specimen.json`; every field may be overridden by a parameter.
@@ -76,7 +78,14 @@ impl<'a> Sequence<'a> {
 
     /// Decodes frame `k` (index into `frames`).
     pub fn image(&self, k: usize) -> Result<GrayImage, DicError> {
-        let name = &self.frames[k].file;
+        let entry = &self.frames[k];
+        let name = &entry.file;
+        if !self.source.exists(name) {
+            return Err(DicError::file(
+                &self.source.display(name),
+                format!("missing (frames.csv lists it on {})", entry.listed),
+            ));
+        }
         GrayImage::decode(name, &self.read(name)?)
     }
 
@@ -131,24 +140,25 @@ fn from_source(e: StageError) -> DicError {
 /// file and line.
 struct Log {
     table: Table,
+    /// The file line of every row.
+    lines: RowLines,
     /// The file as errors show it.
     shown: String,
 }
 
 impl Log {
-    /// CSV file `name` of the source, with the `columns` and some rows.
+    /// CSV file `name` of the source, with the `columns` and some rows (an
+    /// empty or header-only file is the reader's error).
     fn read(source: &FileSource, name: &str, columns: &[&str]) -> Result<Self, DicError> {
         let shown = source.display(name);
-        let table = read_csv_bytes(&read(source, name)?, &shown).map_err(from_source)?;
-        let log = Log { table, shown };
-        if log.table.columns().is_empty() {
-            return Err(log.error("is empty".into()));
-        }
+        let csv = read_csv_bytes_with_lines(&read(source, name)?, &shown).map_err(from_source)?;
+        let log = Log {
+            table: csv.table,
+            lines: csv.lines,
+            shown,
+        };
         for column in columns {
             log.column(column)?;
-        }
-        if log.rows() == 0 {
-            return Err(log.error("has a header but no rows".into()));
         }
         Ok(log)
     }
@@ -161,10 +171,9 @@ impl Log {
         DicError::file(&self.shown, message)
     }
 
-    /// The file line of data row `row` (0-based): the header is line 1. The
-    /// CSV reader gives rows, so a comment line above a row is not counted.
-    fn line(row: usize) -> usize {
-        row + 2
+    /// Where data row `row` (0-based) stands in the file: `line 7`.
+    fn line(&self, row: usize) -> RowPlace {
+        self.lines.place(row)
     }
 
     fn column(&self, name: &str) -> Result<&ColumnData, DicError> {
@@ -190,8 +199,8 @@ impl Log {
         match cell.parse::<f64>() {
             Ok(v) if v.is_finite() => Ok(v),
             _ => Err(self.error(format!(
-                "line {}, column `{name}`: `{cell}` is not a finite number",
-                Self::line(row)
+                "{}, column `{name}`: `{cell}` is not a finite number",
+                self.line(row)
             ))),
         }
     }
@@ -200,8 +209,8 @@ impl Log {
         let cell = self.text(name, row)?;
         cell.parse::<i64>().map_err(|_| {
             self.error(format!(
-                "line {}, column `{name}`: `{cell}` is not an integer",
-                Self::line(row)
+                "{}, column `{name}`: `{cell}` is not an integer",
+                self.line(row)
             ))
         })
     }
@@ -216,14 +225,22 @@ fn parse_frames(log: &Log) -> Result<Vec<FrameEntry>, DicError> {
             && time_s <= prev
         {
             return Err(log.error(format!(
-                "line {}: time_s = {time_s} does not increase (previous {prev})",
-                Log::line(row)
+                "{}: time_s = {time_s} does not increase (previous {prev})",
+                log.line(row)
+            )));
+        }
+        let file = log.text("file", row)?;
+        if file.is_empty() {
+            return Err(log.error(format!(
+                "{}, column `file`: no image file named",
+                log.line(row)
             )));
         }
         frames.push(FrameEntry {
             frame,
             time_s,
-            file: log.text("file", row)?,
+            file,
+            listed: log.line(row),
         });
     }
     if frames.len() < 2 {
@@ -241,8 +258,8 @@ fn parse_force(log: &Log) -> Result<Vec<(f64, f64)>, DicError> {
             && t <= prev
         {
             return Err(log.error(format!(
-                "line {}: time_s = {t} does not increase (previous {prev})",
-                Log::line(row)
+                "{}: time_s = {t} does not increase (previous {prev})",
+                log.line(row)
             )));
         }
         force.push((t, f));
@@ -301,5 +318,53 @@ mod tests {
         let f = Files::new();
         let e = Sequence::open(source(&f)).err().unwrap().to_string();
         assert!(e.contains("frames.csv") && e.contains("missing"), "{e}");
+    }
+
+    #[test]
+    fn log_lines_count_comments_and_blank_lines() {
+        let f = files(
+            "# camera 1\nframe,time_s,file\n0,0.0,a.png\n\n# paused\n1,0.5,b.png\n2,0.4,c.png\n",
+            "time_s,force_n\n0,0\n",
+        );
+        let e = Sequence::open(source(&f)).err().unwrap().to_string();
+        assert!(e.contains("frames.csv: line 7: time_s = 0.4"), "{e}");
+        let f = files(
+            "frame,time_s,file\n0,0.0,a.png\n1,0.5,b.png\n",
+            "# load cell\ntime_s,force_n\n\n0,0\n0.2,1 N\n",
+        );
+        let e = Sequence::open(source(&f)).err().unwrap().to_string();
+        assert!(
+            e.contains("force.csv: line 5, column `force_n`: `1 N`"),
+            "{e}"
+        );
+        let f = files(
+            "frame,time_s,file\n0,0.0,a.png\n1,0.5,\n",
+            "time_s,force_n\n0,0\n",
+        );
+        let e = Sequence::open(source(&f)).err().unwrap().to_string();
+        assert!(
+            e.contains("frames.csv: line 3, column `file`: no image file"),
+            "{e}"
+        );
+        // A listed image that is not there: the listing line too.
+        let f = files(
+            "# rig\nframe,time_s,file\n0,0.0,a.png\n1,0.5,b.png\n",
+            "time_s,force_n\n0,0\n",
+        );
+        let e = Sequence::open(source(&f))
+            .unwrap()
+            .image(1)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("b.png: missing (frames.csv lists it on line 4)"),
+            "{e}"
+        );
+        let f = files("frame,time_s,file\n", "time_s,force_n\n0,0\n");
+        let e = Sequence::open(source(&f)).err().unwrap().to_string();
+        assert!(
+            e.contains("frames.csv") && e.contains("no data rows"),
+            "{e}"
+        );
     }
 }

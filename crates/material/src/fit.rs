@@ -15,7 +15,7 @@
 
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt, TerminationReason};
 use nalgebra::storage::Owned;
-use nalgebra::{DMatrix, DVector, Dyn};
+use nalgebra::{DMatrix, DVector, Dyn, SVD};
 
 use crate::tensile::TensileData;
 use crate::{Family, Hyperelastic, MaterialError, Mode};
@@ -102,7 +102,20 @@ impl Projected<'_> {
         let m = self.points.len();
         let basis = DMatrix::from_fn(m, k, |i, j| self.gain[i] * jac[(i, j)]);
         let y = DVector::from_fn(m, |i, _| self.gain[i] * self.target[i]);
-        let svd = basis.clone().svd(true, true);
+        // The SVD squares entries in its Householder norms: a Σ b² that
+        // overflows (a search that wandered to α ≈ 400, so λ^α ≈ 1e165 at
+        // λ = 2.5) gives NaN singular values, on which nalgebra's sort
+        // panics. Such a θ is a breakdown of the model like α = 0: no
+        // state, and the search steps back.
+        if !basis.norm_squared().is_finite() || y.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        // `svd` with the same tolerance, checked before the sort.
+        let mut svd = SVD::try_new_unordered(basis.clone(), true, true, 5.0 * f64::EPSILON, 0)?;
+        if svd.singular_values.iter().any(|s| !s.is_finite()) {
+            return None;
+        }
+        svd.sort_by_singular_values();
         let largest = svd.singular_values.max();
         // Columns closer to collinear than this are one column: the
         // solve stays finite when two α_i meet.
@@ -157,7 +170,10 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Projected<'_> {
         // (∂B/∂θ) μ is the stress's own θ-derivative at (μ, θ), weighted.
         let d = DMatrix::from_fn(m, n, |i, l| self.gain[i] * full[(i, k + l)]);
         let projected = &s.range * (s.range.transpose() * &d);
-        Some(d - projected)
+        let jacobian = d - projected;
+        // A non-finite Jacobian ends this start (an unconverged start), as
+        // the search's QR must not see it.
+        jacobian.iter().all(|v| v.is_finite()).then_some(jacobian)
     }
 }
 
@@ -425,6 +441,25 @@ mod tests {
             e.contains("`ogden-4`") && e.contains("converged from none"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn a_reference_row_at_stretch_one_fits_every_family() {
+        // `UT,1.0,0` first: the reference state, valid data. It once sent
+        // ogden-6's search to α ≈ 416, where the SVD overflowed to NaN and
+        // nalgebra panicked.
+        let mut data = paper_sample();
+        data.curves[0].stretch.insert(0, 1.0);
+        data.curves[0].stress_pa.insert(0, 0.0);
+        for family in Family::all() {
+            match fit(&data, family, &FitOptions::default()) {
+                Ok(result) => assert!(result.cost.is_finite(), "{}", family.name()),
+                Err(e) => assert!(e.to_string().contains(&family.name()), "{e}"),
+            }
+        }
+        let result = fit(&data, Family::Ogden(6), &FitOptions::default()).unwrap();
+        let rms = total_rms_rel_err(result.model.as_ref(), &data);
+        assert!(rms < 1.1 * SAMPLE_NOISE, "RMS {rms}");
     }
 
     #[test]

@@ -84,7 +84,7 @@ pub struct MaterialFit;
 
 static INFO: StageInfo = StageInfo {
     kind: "material-fit",
-    version: 1,
+    version: 2,
     summary: "Fit a hyperelastic model to UT, PT and BT data at once; quality, stability, comparison",
     doc: "Fits one strain-energy family to all modes simultaneously by Levenberg–Marquardt \
           (MINPACK-style, the `levenberg-marquardt` crate). Residuals are relative errors \
@@ -326,6 +326,25 @@ mod tests {
         crate::register(&mut registry);
         let kinds: Vec<&str> = registry.kinds().collect();
         assert_eq!(kinds, ["material-fit", "material-preset", "tensile-table"]);
+    }
+
+    #[test]
+    fn a_first_ut_row_at_the_reference_state_fits_and_compares() {
+        // `UT,1.0,0` (λ = 1, T = 0) leading the table once made ogden-6,
+        // and with it the whole comparison, panic in the SVD.
+        let mut data = crate::sample::paper_sample();
+        data.curves[0].stretch.insert(0, 1.0);
+        data.curves[0].stress_pa.insert(0, 0.0);
+        let inputs = Inputs::new().with("tensile", Product::Table(data.to_table()));
+        let p = MaterialFitParams::default().check().unwrap();
+        let out = MaterialFit.run(&p, &inputs, &Context::new("fit")).unwrap();
+        let c = table(&out, "comparison");
+        assert!(
+            c.str("status").unwrap().iter().all(|s| s == "ok"),
+            "{:?}",
+            c.str("status").unwrap()
+        );
+        assert_eq!(table(&out, "curves").n_rows(), 151);
     }
 
     #[test]

@@ -32,6 +32,8 @@ pub mod tensile;
 pub mod tensile_stage;
 pub mod yeoh;
 
+use hypercontact_core::csv_table::RowPlace;
+
 pub use arruda_boyce::ArrudaBoyce;
 pub use contact::{ContactLaw, MonotonicRange};
 pub use family::Family;
@@ -65,11 +67,12 @@ pub enum MaterialError {
     #[error("invalid material: {0}")]
     Invalid(String),
     /// A tensile table that cannot be fitted; `origin` is the file or input.
-    #[error("{origin}: {}column `{column}`: {message}", row.map(|r| format!("row {r}, ")).unwrap_or_default())]
+    #[error("{origin}: {}column `{column}`: {message}", place.map(|p| format!("{p}, ")).unwrap_or_default())]
     Tensile {
         origin: String,
-        /// 1-based data row (header and `#` comment lines not counted).
-        row: Option<usize>,
+        /// The file line of the row (CSV), or its 1-based row in a table
+        /// without lines.
+        place: Option<RowPlace>,
         column: String,
         message: String,
     },

@@ -3,6 +3,7 @@
 //! it (columns `mode`, `stretch`, `nominal_stress_pa`), validated so that a
 //! fit can trust it.
 
+use hypercontact_core::csv_table::{RowLines, RowPlace};
 use hypercontact_core::{ColumnData, Schema, Table};
 
 use crate::{MaterialError, Mode};
@@ -109,7 +110,7 @@ impl TensileData {
     /// Reads and validates a `tensile` table; `origin` (a file or an input
     /// name) heads every error, which also names the row and column.
     pub fn from_table(table: &Table, origin: &str) -> Result<Self, MaterialError> {
-        let rows = validate(table, origin)?;
+        let rows = validate(table, origin, &RowLines::default())?;
         let mut data = TensileData::default();
         for mode in Mode::ALL {
             let (stretch, stress_pa): (Vec<f64>, Vec<f64>) = rows
@@ -129,38 +130,57 @@ impl TensileData {
     }
 }
 
-fn error(origin: &str, row: Option<usize>, column: &str, message: String) -> MaterialError {
+fn error(origin: &str, place: Option<RowPlace>, column: &str, message: String) -> MaterialError {
     MaterialError::Tensile {
         origin: origin.to_owned(),
-        row,
+        place,
         column: column.to_owned(),
         message,
     }
 }
 
-fn numeric(table: &Table, origin: &str, name: &str) -> Result<Vec<f64>, MaterialError> {
-    table
-        .to_f64(name)
-        .map_err(|e| error(origin, None, name, e.to_string()))
+/// A numeric column; a text cell is an error naming its place.
+fn numeric(
+    table: &Table,
+    origin: &str,
+    lines: &RowLines,
+    name: &str,
+) -> Result<Vec<f64>, MaterialError> {
+    let column = table
+        .column(name)
+        .map_err(|e| error(origin, None, name, e.to_string()))?;
+    column.to_f64().map_err(|bad| {
+        error(
+            origin,
+            Some(lines.place(bad.row)),
+            name,
+            format!("`{}` is not a number", bad.text),
+        )
+    })
 }
 
-/// Checks every row and returns (mode, stretch, stress) in table order.
-fn validate(table: &Table, origin: &str) -> Result<Vec<(Mode, f64, f64)>, MaterialError> {
+/// Checks every row and returns (mode, stretch, stress) in table order;
+/// `lines` places the rows in their file for messages.
+fn validate(
+    table: &Table,
+    origin: &str,
+    lines: &RowLines,
+) -> Result<Vec<(Mode, f64, f64)>, MaterialError> {
     table
         .validate()
         .map_err(|e| error(origin, None, "*", e.to_string()))?;
     let labels = table
         .str("mode")
         .map_err(|e| error(origin, None, "mode", e.to_string()))?;
-    let stretch = numeric(table, origin, "stretch")?;
-    let stress = numeric(table, origin, "nominal_stress_pa")?;
+    let stretch = numeric(table, origin, lines, "stretch")?;
+    let stress = numeric(table, origin, lines, "nominal_stress_pa")?;
     if labels.is_empty() {
         return Err(error(origin, None, "mode", "the table has no rows".into()));
     }
     let mut last: [Option<(usize, f64)>; 3] = [None; 3];
     let mut rows = Vec::with_capacity(labels.len());
     for (i, label) in labels.iter().enumerate() {
-        let row = Some(i + 1);
+        let row = Some(lines.place(i));
         let mode = Mode::from_label(label).ok_or_else(|| {
             error(
                 origin,
@@ -203,22 +223,63 @@ fn validate(table: &Table, origin: &str) -> Result<Vec<(Mode, f64, f64)>, Materi
                 row,
                 "stretch",
                 format!(
-                    "{l} does not increase past {previous} (row {}, the previous {mode} row): \
+                    "{l} does not increase past {previous} ({}, the previous {mode} row): \
                      stretch must increase strictly within each mode",
-                    previous_row + 1
+                    lines.place(previous_row)
                 ),
             ));
         }
         *slot = Some((i, l));
         rows.push((mode, l, t));
     }
+    refuse_compression(&rows, origin, lines)?;
     Ok(rows)
+}
+
+/// Every mode of the table stretches the specimen (λ ≥ 1), so its nominal
+/// stress is tensile: a negative one at λ > 1 is a sign or unit mistake, not
+/// a material. Load-cell noise around the unloaded state can dip below
+/// zero, so negative values within [`RELATIVE_FLOOR`] of the mode's largest
+/// |T| (what relative residuals already treat as zero) pass.
+fn refuse_compression(
+    rows: &[(Mode, f64, f64)],
+    origin: &str,
+    lines: &RowLines,
+) -> Result<(), MaterialError> {
+    let mut largest = [0.0_f64; 3];
+    for &(mode, _, t) in rows {
+        largest[mode as usize] = largest[mode as usize].max(t.abs());
+    }
+    let bad = rows.iter().enumerate().find(|(_, (mode, l, t))| {
+        *l > 1.0 && *t < 0.0 && -t > RELATIVE_FLOOR * largest[*mode as usize]
+    });
+    match bad {
+        Some((i, &(mode, l, t))) => Err(error(
+            origin,
+            Some(lines.place(i)),
+            "nominal_stress_pa",
+            format!(
+                "{t} Pa is compressive at stretch {l} in a {mode} tension test: a sign or unit \
+                 mistake (below zero only noise is accepted, within {}% of the mode's largest \
+                 |stress|, {:e} Pa)",
+                100.0 * RELATIVE_FLOOR,
+                largest[mode as usize]
+            ),
+        )),
+        None => Ok(()),
+    }
 }
 
 /// The validated table with canonical mode labels (UT/PT/BT) and float
 /// `stretch` / `nominal_stress_pa` columns; other columns pass through.
-pub fn normalise_table(table: &Table, origin: &str) -> Result<Table, MaterialError> {
-    let rows = validate(table, origin)?;
+/// `lines` places the rows in their file for messages (the default numbers
+/// them as rows).
+pub fn normalise_table(
+    table: &Table,
+    origin: &str,
+    lines: &RowLines,
+) -> Result<Table, MaterialError> {
+    let rows = validate(table, origin, lines)?;
     let mut out = Table::new();
     for column in table.columns() {
         let data = match column.name.as_str() {
@@ -261,7 +322,7 @@ mod tests {
         assert_eq!(d.curve(Mode::Uniaxial).unwrap().stretch, [1.1, 1.3]);
         assert_eq!(d.curve(Mode::Equibiaxial).unwrap().stress_pa, [2e5, 3e5]);
         assert_eq!(d.counts(), "UT 2, PT 0, BT 2");
-        let n = normalise_table(&t, "x").unwrap();
+        let n = normalise_table(&t, "x", &RowLines::default()).unwrap();
         assert_eq!(n.str("mode").unwrap(), ["UT", "BT", "UT", "BT"]);
     }
 
@@ -272,7 +333,7 @@ mod tests {
             .with("stretch", vec![1_i64, 2])
             .with("nominal_stress_pa", vec![0_i64, 100_000])
             .with("frame", vec![3_i64, 4]);
-        let n = normalise_table(&t, "x").unwrap();
+        let n = normalise_table(&t, "x", &RowLines::default()).unwrap();
         assert_eq!(n.f64("stretch").unwrap(), [1.0, 2.0]);
         assert_eq!(n.i64("frame").unwrap(), [3, 4]);
     }

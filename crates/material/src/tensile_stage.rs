@@ -20,13 +20,17 @@ pub struct TensileTable;
 
 static INFO: StageInfo = StageInfo {
     kind: "tensile-table",
-    version: 1,
+    version: 2,
     summary: "Load UT/PT/BT tensile data (CSV or Parquet) and validate it",
     doc: "Reads a table with columns `mode` (UT, PT or BT; PS is read as PT, ET/EB as BT), \
           `stretch` and `nominal_stress_pa` (force over undeformed area, Pa). Every row is \
           checked: a known mode, no NaN or infinite value, stretch ≥ 1 and strictly increasing \
-          within each mode (rows of different modes may interleave). Errors name the file, the \
-          data row (1-based, header and `#` comment lines not counted) and the column. Extra \
+          within each mode (rows of different modes may interleave), and no compressive stress \
+          at stretch > 1 (every mode is a tension test, so a negative stress is a sign or unit \
+          mistake; dips below zero within 1 % of the mode's largest stress pass as load-cell \
+          noise). Errors name the file, the line (of a CSV file, as an editor numbers it: \
+          header, `#` comment and blank lines counted; a Parquet file's 1-based row) and the \
+          column. Extra \
           columns pass through unchanged. Whether there are enough points for a model is \
           checked by `material-fit`, which knows the model.",
     inputs: &[],
@@ -49,9 +53,9 @@ impl Stage for TensileTable {
         _: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let table = ctx.read_table(&p.path)?;
+        let (table, lines) = ctx.read_table_with_lines(&p.path)?;
         let origin = p.path.display().to_string();
-        let table = normalise_table(&table, &origin).map_err(StageError::other)?;
+        let table = normalise_table(&table, &origin, &lines).map_err(StageError::other)?;
         ctx.note(&format!(
             "{} tensile points ({})",
             table.n_rows(),
@@ -100,25 +104,80 @@ mod tests {
     }
 
     #[test]
+    fn text_in_a_number_names_file_line_column_and_text() {
+        let e = run("# c\nmode,stretch,nominal_stress_pa\nUT,1.1,1e5\n\n# c\nUT,abc,2e5\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("tensile.csv: line 6, column `stretch`: `abc` is not a number"),
+            "{e}"
+        );
+        let e = run("mode,stretch,nominal_stress_pa\nUT,1.1,1e5\nUT,1.2,2e5 Pa\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("line 3, column `nominal_stress_pa`: `2e5 Pa`"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn empty_and_header_only_files_say_so() {
+        let e = run("").unwrap_err().to_string();
+        assert!(e.contains("tensile.csv: is empty"), "{e}");
+        let e = run("# exported\nmode,stretch,nominal_stress_pa\n\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("tensile.csv: no data rows"), "{e}");
+    }
+
+    #[test]
+    fn compressive_stress_under_tension_is_refused() {
+        let e = run("mode,stretch,nominal_stress_pa\nUT,1.0,0\nUT,1.1,1e5\n# c\nUT,1.5,-2e5\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("tensile.csv: line 5, column `nominal_stress_pa`")
+                && e.contains("-200000 Pa is compressive at stretch 1.5")
+                && e.contains("UT"),
+            "{e}"
+        );
+        // A whole curve with the wrong sign: its first row is named.
+        let e = run("mode,stretch,nominal_stress_pa\nBT,1.1,-1e5\nBT,1.2,-2e5\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 2") && e.contains("BT"), "{e}");
+        // Load-cell noise just below zero near λ = 1 is data, and so is the
+        // reference state.
+        run("mode,stretch,nominal_stress_pa\nPT,1.0,-50\nPT,1.001,-300\nPT,1.3,2e5\n").unwrap();
+    }
+
+    #[test]
     fn errors_name_the_file_row_and_column() {
         let e = run("mode,stretch,nominal_stress_pa\nUT,1.1,1e5\nUT,1.05,2e5\n")
             .unwrap_err()
             .to_string();
         assert!(
-            e.contains("tensile.csv") && e.contains("row 2") && e.contains("`stretch`"),
+            e.contains("tensile.csv") && e.contains("line 3") && e.contains("`stretch`"),
             "{e}"
         );
         let e = run("mode,stretch,nominal_stress_pa\nUT,1.1,\n")
             .unwrap_err()
             .to_string();
         assert!(
-            e.contains("row 1") && e.contains("`nominal_stress_pa`") && e.contains("NaN"),
+            e.contains("line 2") && e.contains("`nominal_stress_pa`") && e.contains("NaN"),
             "{e}"
         );
         let e = run("mode,strain,nominal_stress_pa\nUT,0.1,1\n")
             .unwrap_err()
             .to_string();
         assert!(e.contains("`stretch`") && e.contains("strain"), "{e}");
+        // Lines as the file numbers them, past comments and blank lines.
+        let e =
+            run("# rig 2\n\nmode,stretch,nominal_stress_pa\nUT,1.1,1e5\n# pause\n\nUT,1.05,2e5\n")
+                .unwrap_err()
+                .to_string();
+        assert!(e.contains("tensile.csv: line 7, column `stretch`"), "{e}");
         let missing = TensileTable
             .params_from_json(serde_json::json!({}), std::path::Path::new("."))
             .unwrap_err();

@@ -41,6 +41,29 @@ pub enum SurfaceError {
     Disconnected { file: String, first: String },
     #[error("{0}")]
     Input(String),
+    #[error(
+        "{map} has heights up to {largest_m:e} m, too large for f64: {quantity} overflows \
+         (is the map in metres?)"
+    )]
+    Overflow {
+        /// Where the map came from (an input, a folder).
+        map: String,
+        largest_m: f64,
+        /// What overflowed: `its mean square (σ²)`, `its power spectrum`.
+        quantity: &'static str,
+    },
+    #[error(
+        "{map} is flat: its rms height after detrending is {sigma_m:e} m, rounding noise \
+         against heights up to {largest_m:e} m (under {:e} of them); a constant or planar map \
+         has no roughness to analyse (a fill value, or a failed export?)",
+        crate::surface_stage::FLAT_RELATIVE
+    )]
+    Flat {
+        /// Where the map came from (an input, a folder).
+        map: String,
+        sigma_m: f64,
+        largest_m: f64,
+    },
     /// Reading a file of the tile set (the error names it).
     #[error(transparent)]
     Source(#[from] StageError),

@@ -279,7 +279,9 @@ fn keys_weights(t: f64, first: usize) -> [f64; 4] {
 fn interpolate(h: &Array2<f64>, x: f64, y: f64) -> Option<f64> {
     let (nx, ny) = h.dim();
     let (x0, y0) = (x.floor(), y.floor());
-    if x0 < 1.0 || y0 < 1.0 || x0 + 2.0 >= nx as f64 || y0 + 2.0 >= ny as f64 {
+    // Written so that NaN is outside too: `NaN as usize - 1` wrapped
+    // around and indexed out of bounds.
+    if !(x0 >= 1.0 && y0 >= 1.0 && x0 + 2.0 < nx as f64 && y0 + 2.0 < ny as f64) {
         return None;
     }
     let (i0, j0) = (x0 as usize - 1, y0 as usize - 1);
@@ -318,7 +320,9 @@ pub fn refine_shift(a: &Array2<f64>, b: &Array2<f64>, start: [f64; 2]) -> Option
     let stride = ((inner as f64 / REFINE_POINTS as f64).sqrt().ceil() as usize).max(1);
     let mut e = start;
     for _ in 0..30 {
-        if e[0].abs() > 1.5 || e[1].abs() > 1.5 {
+        // A NaN step (heights so large the normal equations overflow) is
+        // a wandering shift too.
+        if !(e[0].abs() <= 1.5 && e[1].abs() <= 1.5) {
             return None;
         }
         let mut m = Matrix5::zeros();
@@ -452,6 +456,14 @@ mod tests {
             }
             assert!(fine.peak > 0.2, "peak {}", fine.peak);
         }
+    }
+
+    #[test]
+    fn nan_positions_and_shifts_are_refused_not_indexed() {
+        let h = surface(32, 3);
+        assert_eq!(interpolate(&h, f64::NAN, 5.0), None);
+        assert_eq!(interpolate(&h, 5.0, f64::NAN), None);
+        assert_eq!(refine_shift(&h, &h, [f64::NAN, 0.0]), None);
     }
 
     #[test]

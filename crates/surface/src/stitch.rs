@@ -67,9 +67,11 @@ fn overlap(n: (usize, usize), d: [i64; 2], min_px: usize) -> Option<[(usize, usi
     let size = [n.0 as i64, n.1 as i64];
     let mut out = [(0, 0); 2];
     for a in 0..2 {
+        // Saturating: an offset near i64's ends (a tile placed absurdly
+        // far) must mean no overlap, not wrap around into one.
         let lo = d[a].max(0);
-        let hi = (d[a] + size[a]).min(size[a]);
-        if hi - lo < min_px as i64 {
+        let hi = d[a].saturating_add(size[a]).min(size[a]);
+        if hi.saturating_sub(lo) < min_px as i64 {
             return None;
         }
         out[a] = (lo as usize, hi as usize);
@@ -551,6 +553,14 @@ mod tests {
         )
         .unwrap();
         assert!((plain[3][0] - (truth[3][0] - mean_error[0])).abs() > 1.0);
+    }
+
+    #[test]
+    fn offsets_at_the_ends_of_i64_overlap_nothing() {
+        for d in [i64::MAX, i64::MIN, i64::MAX - 10, i64::MIN + 10] {
+            assert_eq!(overlap((40, 40), [d, 0], 16), None, "{d}");
+            assert_eq!(overlap((40, 40), [0, d], 16), None, "{d}");
+        }
     }
 
     #[test]

@@ -88,7 +88,7 @@ pub struct Surface;
 
 static INFO: StageInfo = StageInfo {
     kind: "surface",
-    version: 2,
+    version: 3,
     summary: "Stitch interferometer tiles, filter to a lateral resolution, PSD, σ and Hurst exponent",
     doc: "Source: exactly one of input `tiles` (a Files product: tile_NNN.npy + positions.csv, as \
           synth-surface writes), param `dir` (a folder of the same layout, real data) or input \
@@ -228,9 +228,26 @@ pub struct Analysis {
     pub stats: StatsTable,
 }
 
+/// An rms height after detrending below this fraction of the largest
+/// |height| is the detrending's rounding noise, not roughness: a flat map.
+/// Real maps sit orders of magnitude above it (1 nm of roughness on a 1 m
+/// offset still passes).
+pub const FLAT_RELATIVE: f64 = 1e-9;
+
 /// Filter, detrend, reference, PSDs, statistics and Hurst exponents.
 pub fn analyse(
     map: Field,
+    p: &Checked<SurfaceParams>,
+    ctx: &Context,
+) -> Result<Analysis, StageError> {
+    analyse_named(map, "the height map", p, ctx)
+}
+
+/// [`analyse`], with `source` (where the map came from) naming the map in
+/// errors about it.
+pub fn analyse_named(
+    map: Field,
+    source: &str,
     p: &Checked<SurfaceParams>,
     ctx: &Context,
 ) -> Result<Analysis, StageError> {
@@ -263,6 +280,10 @@ pub fn analyse(
         return Err(SurfaceError::Input("every point of the map is NaN".into()).into());
     }
     let nan_fraction = nan_count as f64 / h.len() as f64;
+    let largest_m = h
+        .iter()
+        .filter(|v| !v.is_nan())
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
     // A plane fitted to a periodic map removes a sawtooth that is not part
     // of it: power leaks into every q along the tilt's direction and the
     // fitted Hurst exponent falls (0.70 → 0.66 on a 1024² map). Periodic
@@ -283,6 +304,25 @@ pub fn analyse(
     }
     let sigma_m = sigma(&h);
     let slope = rms_slope(&h, dx_m, dy_m);
+    let overflow = |quantity| SurfaceError::Overflow {
+        map: source.to_owned(),
+        largest_m,
+        quantity,
+    };
+    if !(largest_m.is_finite() && sigma_m.is_finite()) {
+        return Err(overflow("its mean square (σ²)").into());
+    }
+    if !slope.is_finite() {
+        return Err(overflow("its mean square slope").into());
+    }
+    if !(sigma_m > FLAT_RELATIVE * largest_m) {
+        return Err(SurfaceError::Flat {
+            map: source.to_owned(),
+            sigma_m,
+            largest_m,
+        }
+        .into());
+    }
 
     // NaN left after filtering enters the FFT at the (zero) mean height.
     let filled = h.mapv(|v| if v.is_nan() { 0.0 } else { v });
@@ -296,6 +336,14 @@ pub fn analyse(
     let sy = psd_y(&filled, dy_m, window, per_decade);
     let sr = psd_radial(&filled, dx_m, dy_m, window, per_decade);
     drop(filled);
+    // Inf in a spectrum would be dropped by the Hurst fit, which would
+    // then blame its wavelength range.
+    if [&sx, &sy, &sr]
+        .iter()
+        .any(|s| s.c.iter().any(|c| !c.is_finite()))
+    {
+        return Err(overflow("its power spectrum").into());
+    }
     progress.inc(1);
     let (lx, ly) = (nx as f64 * dx_m, ny as f64 * dy_m);
     let fits = [
@@ -367,13 +415,19 @@ impl Stage for Surface {
                 "surface: give exactly one source: input `tiles`, parameter `dir` or input `height`",
             ));
         }
-        let (map, stitch_table) = if inputs.get("height").is_some() {
-            (inputs.field("height")?.clone(), StitchTable::default())
+        let (map, stitch_table, source) = if inputs.get("height").is_some() {
+            let map = inputs.field("height")?.clone();
+            (map, StitchTable::default(), "input `height`".to_owned())
         } else {
             let source = FileSource::input_or_dir(inputs, "tiles", "dir", p.dir.as_ref())?;
-            stitched(&read_tiles(&source)?, p, ctx)?
+            let (map, table) = stitched(&read_tiles(&source)?, p, ctx)?;
+            let named = match &source {
+                FileSource::Files { input, .. } => format!("the map stitched from input `{input}`"),
+                FileSource::Dir(dir) => format!("the map stitched from {}", dir.display()),
+            };
+            (map, table, named)
         };
-        let analysis = analyse(map, p, ctx)?;
+        let analysis = analyse_named(map, &source, p, ctx)?;
         Ok(Outputs::new()
             .field("height", analysis.height)
             .table("psd", analysis.psd.into_table())

@@ -6,13 +6,20 @@
 
 use std::collections::BTreeMap;
 
-use hypercontact_core::{ColumnData, Field, FileSource, Table};
+use hypercontact_core::csv_table::{CsvTable, RowPlace};
+use hypercontact_core::{ColumnData, Field, FileSource};
 use ndarray::Array2;
 
 use crate::error::SurfaceError;
 
 /// The name of the positions file in a tile set.
 pub const POSITIONS: &str = "positions.csv";
+
+/// Farthest a tile may sit from the origin, in pixels: a kilometre of
+/// micrometre pixels. Beyond it a position is a unit mistake, and pixel
+/// arithmetic on it would leave i64 (a tile at −1e300 m once made the
+/// stitcher index out of bounds).
+pub const MAX_POSITION_PX: f64 = 1e9;
 
 /// Turns a tile file into heights in metres (axis 0 = x).
 pub trait TileDecoder {
@@ -51,12 +58,6 @@ pub struct Position {
     pub pixel_m: f64,
 }
 
-/// The file line of data row `row` (0-based): the header is line 1. The
-/// CSV reader gives rows, so a comment line above a row is not counted.
-fn line_of(row: usize) -> u64 {
-    row as u64 + 2
-}
-
 /// Cell `row` of a column as text (a number as Rust prints it).
 fn cell_text(column: &ColumnData, row: usize) -> String {
     match column {
@@ -66,19 +67,24 @@ fn cell_text(column: &ColumnData, row: usize) -> String {
     }
 }
 
-/// Reads `positions.csv`, already parsed into a table (header required,
-/// columns in any order, extra columns ignored); `display` names the file in
-/// errors, with the line of a bad value.
-pub fn parse_positions(table: &Table, display: &str) -> Result<Vec<Position>, SurfaceError> {
+/// Reads `positions.csv`, already parsed into a table with the file line of
+/// each row (header required, columns in any order, extra columns ignored);
+/// `display` names the file in errors, with the line of a bad value.
+pub fn parse_positions(csv: &CsvTable, display: &str) -> Result<Vec<Position>, SurfaceError> {
+    let table = &csv.table;
     let err = |line: u64, message: String| SurfaceError::Positions {
         file: display.to_owned(),
         line,
         message,
     };
+    let line_of = |row: usize| match csv.lines.place(row) {
+        RowPlace::Line(line) => line,
+        RowPlace::Row(row) => row as u64 + csv.header_line,
+    };
     let column = |name: &str| {
         table.column(name).map_err(|_| {
             err(
-                1,
+                csv.header_line,
                 format!("no column `{name}` (expected tile, file, x_m, y_m, pixel_m)"),
             )
         })
@@ -92,7 +98,7 @@ pub fn parse_positions(table: &Table, display: &str) -> Result<Vec<Position>, Su
     ];
     let rows = table.n_rows();
     if rows == 0 {
-        return Err(err(1, "lists no tiles".into()));
+        return Err(err(csv.header_line, "lists no tiles".into()));
     }
     let number = |data: &ColumnData, name: &str, row: usize| -> Result<f64, SurfaceError> {
         let text = cell_text(data, row);
@@ -121,7 +127,15 @@ pub fn parse_positions(table: &Table, display: &str) -> Result<Vec<Position>, Su
                     format!("column `tile`: `{tile_text}` is not an integer"),
                 )
             })?,
-            file: cell_text(file, row),
+            file: match cell_text(file, row) {
+                name if name.is_empty() => {
+                    return Err(err(
+                        line_of(row),
+                        "column `file`: no tile file named".into(),
+                    ));
+                }
+                name => name,
+            },
             x_m: number(x, "x_m", row)?,
             y_m: number(y, "y_m", row)?,
             pixel_m: number(pixel, "pixel_m", row)?,
@@ -134,6 +148,19 @@ pub fn parse_positions(table: &Table, display: &str) -> Result<Vec<Position>, Su
                     position.pixel_m
                 ),
             ));
+        }
+        for (name, value) in [("x_m", position.x_m), ("y_m", position.y_m)] {
+            let px = value / position.pixel_m;
+            if !(px.abs() <= MAX_POSITION_PX) {
+                return Err(err(
+                    line_of(row),
+                    format!(
+                        "column `{name}`: {value} m is {px:e} pixels of {} m from the origin, \
+                         beyond any scan ({MAX_POSITION_PX:e} pixels; a unit mistake?)",
+                        position.pixel_m
+                    ),
+                ));
+            }
         }
         positions.push(position);
     }
@@ -157,7 +184,7 @@ pub struct TileSet {
 /// tiles share one shape and one spacing, no tile is all NaN.
 pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
     let positions_name = source.display(POSITIONS);
-    let positions = parse_positions(&source.read_csv(POSITIONS)?, &positions_name)?;
+    let positions = parse_positions(&source.read_csv_with_lines(POSITIONS)?, &positions_name)?;
     let decoders = decoders();
     let extension = |name: &str| {
         name.rsplit_once('.')
@@ -297,6 +324,59 @@ mod tests {
         assert_eq!(s.names, ["a.npy", "b.npy"]);
         assert!((s.nominal_px[1][0] - 3.0).abs() < 1e-9);
         assert_eq!(s.heights[1][[0, 0]], 1.0);
+    }
+
+    #[test]
+    fn positions_errors_name_the_line_as_the_file_has_it() {
+        let z = || Array2::<f64>::zeros((4, 4));
+        let message = |csv: &str| {
+            read(&set(csv, &[("a.npy", z()), ("b.npy", z())]))
+                .unwrap_err()
+                .to_string()
+        };
+        let m = message(
+            "# scanner export\n\ntile,file,x_m,y_m,pixel_m\n0,a.npy,0,0,1e-6\n# row 2\n\n\
+             1,b.npy,zero,0,1e-6\n",
+        );
+        assert!(
+            m.contains("positions.csv") && m.contains("line 7") && m.contains("`x_m`"),
+            "{m}"
+        );
+        let m = message("# scanner export\ntile,file,x_m,pixel_m\n0,a.npy,0,1e-6\n");
+        assert!(m.contains("line 2") && m.contains("`y_m`"), "{m}");
+        let m = message("tile,file,x_m,y_m,pixel_m\n0,a.npy,0,0,1e-6\n# b\n1,,0,0,1e-6\n");
+        assert!(
+            m.contains("line 4") && m.contains("no tile file named"),
+            "{m}"
+        );
+        let m = message("tile,file,x_m,y_m,pixel_m\n");
+        assert!(
+            m.contains("positions.csv") && m.contains("no data rows"),
+            "{m}"
+        );
+    }
+
+    #[test]
+    fn positions_beyond_any_scan_are_refused_with_their_line() {
+        let z = || Array2::<f64>::zeros((4, 4));
+        for (csv, column) in [
+            (
+                "tile,file,x_m,y_m,pixel_m\n0,a.npy,0,0,1e-6\n1,b.npy,-1e300,0,1e-6\n",
+                "x_m",
+            ),
+            (
+                "tile,file,x_m,y_m,pixel_m\n0,a.npy,0,0,1e-6\n1,b.npy,0,3e-6,1e-300\n",
+                "y_m",
+            ),
+        ] {
+            let m = read(&set(csv, &[("a.npy", z()), ("b.npy", z())]))
+                .unwrap_err()
+                .to_string();
+            assert!(
+                m.contains("positions.csv, line 3") && m.contains(column) && m.contains("pixels"),
+                "{m}"
+            );
+        }
     }
 
     #[test]

@@ -194,3 +194,64 @@ fn a_stitched_map_can_come_from_the_height_input() {
     };
     assert_eq!(h.values.dim(), (128, 128));
 }
+
+#[test]
+fn a_flat_map_is_refused_naming_its_source() {
+    let p = SurfaceParams {
+        resolution_m: 0.0,
+        ..Default::default()
+    };
+    // Constant tiles stitch into a constant map: σ was rounding noise
+    // (8e-23 m) and the Hurst exponents nonsense (−0.59, 2.35).
+    let head = "tile,file,x_m,y_m,pixel_m\n";
+    let m = run(
+        &p,
+        tiles(
+            &format!("{head}0,a.npy,0,0,1e-6\n1,b.npy,48e-6,0,1e-6\n"),
+            vec![
+                ("a.npy", Array2::from_elem((64, 64), 3e-6)),
+                ("b.npy", Array2::from_elem((64, 64), 3e-6)),
+            ],
+        ),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(m.contains("input `tiles`") && m.contains("flat"), "{m}");
+    // A tilted plane is as flat once the plane is removed; so is zero.
+    let plane = Array2::from_shape_fn((64, 64), |(i, j)| 1e-3 + 2e-7 * i as f64 - 1e-7 * j as f64);
+    for values in [plane, Array2::zeros((64, 64))] {
+        let field = Field::new(values, 1e-6, 1e-6).unwrap();
+        let m = run(&p, Inputs::new().with("height", Product::Field(field)))
+            .unwrap_err()
+            .to_string();
+        assert!(m.contains("input `height`") && m.contains("flat"), "{m}");
+    }
+    // A rough map with a large offset is not flat.
+    let offset = rough(64, 0.0).mapv(|h| h + 1e-2);
+    let field = Field::new(offset, 1e-6, 1e-6).unwrap();
+    run(&p, Inputs::new().with("height", Product::Field(field))).unwrap();
+}
+
+#[test]
+fn overflowing_heights_are_named_not_blamed_on_the_hurst_range() {
+    let p = SurfaceParams {
+        resolution_m: 0.0,
+        ..Default::default()
+    };
+    // σ² overflows from 1e154 on; the PSD (dx·dy times that) a bit later,
+    // where it used to say "too few PSD points (10) … widen
+    // hurst_lambda_min_m / hurst_lambda_max_m".
+    for scale in [1e155, 1e160, 1e200] {
+        let field = Field::new(rough(64, 0.0).mapv(|h| h * scale), 1e-6, 1e-6).unwrap();
+        let m = run(&p, Inputs::new().with("height", Product::Field(field)))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            m.contains("input `height`") && m.contains("overflow") && !m.contains("Hurst"),
+            "{m}"
+        );
+    }
+    // Large but representable heights still go through.
+    let field = Field::new(rough(64, 0.0).mapv(|h| h * 1e140), 1e-6, 1e-6).unwrap();
+    run(&p, Inputs::new().with("height", Product::Field(field))).unwrap();
+}

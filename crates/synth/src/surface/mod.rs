@@ -115,6 +115,47 @@ fn consistent(p: &SynthSurfaceParams) -> Result<(), ParamError> {
             ),
         ));
     }
+    representable(p, [gx, gy])
+}
+
+/// The heights must stay inside f64 through the synthesis. Its prefactor
+/// C0 = rms² · Lx · Ly / Σ shape(q) is at most rms² · Lx · Ly · q_r^(2+2H)
+/// (the sum holds at least one point of the roll-off plateau, shape = q_r^(−2−2H)),
+/// and the Fourier gain multiplies C0 · shape by Lx · Ly again, at most
+/// rms² · (Lx · Ly)². Past either bound the heights came out NaN, and the
+/// `surface` stage blamed its tiles.
+fn representable(p: &SynthSurfaceParams, [gx, gy]: [usize; 2]) -> Result<(), ParamError> {
+    let (lx, ly) = (gx as f64 * p.pixel_m, gy as f64 * p.pixel_m);
+    let q_roll = std::f64::consts::TAU / p.lambda_max_m;
+    let mean_square = p.rms_m * p.rms_m;
+    let prefactor = mean_square * lx * ly * q_roll.powf(2.0 + 2.0 * p.hurst);
+    let gain = mean_square * (lx * ly) * (lx * ly);
+    let grid = format!(
+        "the {gx} × {gy} px grid of pixel_m = {:e} m (Lx × Ly = {lx:e} m × {ly:e} m)",
+        p.pixel_m
+    );
+    if !(prefactor.is_finite() && gain.is_finite()) {
+        return Err(ParamError::new(
+            "rms_m",
+            format!(
+                "{:e} m is too large for f64 on {grid}: the spectrum's prefactor \
+                 rms_m² · Lx · Ly · (2π/lambda_max_m)^(2+2H) = {prefactor:e} and the Fourier \
+                 gain rms_m² · (Lx · Ly)² = {gain:e} must stay finite; lower rms_m (or pixel_m, \
+                 or the number of tiles)",
+                p.rms_m
+            ),
+        ));
+    }
+    if mean_square < f64::MIN_POSITIVE {
+        return Err(ParamError::new(
+            "rms_m",
+            format!(
+                "{:e} m is too small for f64: rms_m² = {mean_square:e} m² underflows, the \
+                 heights would all be 0",
+                p.rms_m
+            ),
+        ));
+    }
     Ok(())
 }
 
@@ -388,6 +429,39 @@ mod tests {
         // A roll-off wavelength of 5 cm pads the grid past its largest side.
         assert_eq!(bad(&|p| p.lambda_max_m = 0.05), "lambda_max_m");
         assert_eq!(bad(&|p| p.tile_px = 5000), "tiles_x");
+    }
+
+    #[test]
+    fn heights_beyond_f64_are_refused_naming_rms_m_and_the_grid() {
+        // 1.5e150 m used to pass and give all-NaN tiles, which the surface
+        // stage blamed on tile_000.npy.
+        let p = SynthSurfaceParams {
+            rms_m: 1.5e150,
+            ..Default::default()
+        };
+        let e = p.check().unwrap_err();
+        assert_eq!(e.param, "rms_m");
+        assert!(
+            e.message.contains("1.5e150 m is too large")
+                && e.message.contains("pixel_m")
+                && e.message.contains("px grid"),
+            "{e}"
+        );
+        let p = SynthSurfaceParams {
+            rms_m: 1e-200,
+            ..Default::default()
+        };
+        let e = p.check().unwrap_err();
+        assert!(e.param == "rms_m" && e.message.contains("too small"), "{e}");
+        // Just inside the bound the heights are finite.
+        let p = SynthSurfaceParams {
+            rms_m: 1e148,
+            ..Default::default()
+        }
+        .check()
+        .unwrap();
+        let scan = synthesise(&p).unwrap();
+        assert!(scan.truth.values.iter().all(|h| h.is_finite()));
     }
 
     #[test]
