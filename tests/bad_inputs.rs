@@ -687,11 +687,12 @@ cases! {
 
     // --- material-fit
     // The paper's data with `UT,1.0,0` in front: `Singular value was NaN`
-    // in the Ogden-6 fit, alone or within the comparison.
+    // in the Ogden-6 fit, alone or within the comparison. The reference
+    // state is valid data: the fit now runs.
     fit_first_ut_row_zero_stress: Case::run(&TENSILE.replace("{ model: ogden-1, compare: false, starts: 1 }", "{ model: ogden-6, compare: true }"), &[]).file("t.csv", epdm_with_first_row("UT,1.0,0"))
-        .mentions(&["`fit`"]);
+        .exit(0);
     fit_first_ut_row_zero_stress_compare: Case::run(&TENSILE.replace("{ model: ogden-1, compare: false, starts: 1 }", "{ model: neo-hookean, compare: true }"), &[]).file("t.csv", epdm_with_first_row("UT,1.0,0"))
-        .mentions(&["`fit`"]);
+        .exit(0);
     fit_too_few_points: Case::run(&TENSILE.replace("model: ogden-1", "model: ogden-6"), &[]).file("t.csv", CSV);
 
     // --- .npy height maps
