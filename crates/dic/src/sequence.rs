@@ -86,7 +86,7 @@ impl<'a> Sequence<'a> {
                 format!("missing (frames.csv lists it on {})", entry.listed),
             ));
         }
-        GrayImage::decode(name, &self.read(name)?)
+        GrayImage::decode(&self.source.display(name), &self.read(name)?)
     }
 
     /// The force at `t_s` by linear interpolation of the log; an error names
