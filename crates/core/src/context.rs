@@ -42,8 +42,8 @@ impl ProductReader for BasicReader {
     }
 
     fn read_field(&self, path: &Path, dx_m: f64, dy_m: f64) -> Result<Field, StageError> {
-        let file = std::fs::File::open(path).map_err(|e| StageError::file(path, e.to_string()))?;
-        Field::read_npy(std::io::BufReader::new(file), dx_m, dy_m)
+        let bytes = crate::source::read_regular_file(path)?;
+        Field::read_npy(bytes.as_slice(), dx_m, dy_m)
             .map_err(|e| StageError::file(path, e.to_string()))
     }
 }
@@ -174,5 +174,34 @@ impl Progress {
 impl Drop for Progress {
     fn drop(&mut self) {
         self.0.finish_and_clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `/dev/zero` given as a table or a field was read without end (and
+    /// without memory bound); it is refused before reading.
+    #[cfg(unix)]
+    #[test]
+    fn devices_are_refused_not_read_forever() {
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let zero = Path::new("/dev/zero");
+            let field = BasicReader.read_field(zero, 1.0, 1.0).map(|_| ());
+            let table = crate::csv_table::read_csv(zero).map(|_| ());
+            let _ = tx.send((field, table));
+        });
+        let (field, table) = rx
+            .recv_timeout(Duration::from_secs(10))
+            .expect("reading /dev/zero did not end");
+        for e in [field.unwrap_err(), table.unwrap_err()] {
+            let e = e.to_string();
+            assert!(
+                e.contains("/dev/zero") && e.contains("not a regular file"),
+                "{e}"
+            );
+        }
     }
 }

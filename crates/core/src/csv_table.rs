@@ -68,7 +68,7 @@ pub fn read_csv(path: &Path) -> Result<Table, StageError> {
 
 /// [`read_csv`] with the line of every row.
 pub fn read_csv_with_lines(path: &Path) -> Result<CsvTable, StageError> {
-    let bytes = std::fs::read(path).map_err(|e| StageError::file(path, e.to_string()))?;
+    let bytes = crate::source::read_regular_file(path)?;
     read_csv_bytes_with_lines(&bytes, &path.display().to_string())
 }
 

@@ -9,6 +9,20 @@ use std::path::{Path, PathBuf};
 use crate::csv_table::CsvTable;
 use crate::{Files, InputPath, Inputs, StageError, Table};
 
+/// The bytes of a file a stage reads. Anything but a regular file (a
+/// folder, a device such as `/dev/zero`, a pipe) is refused before reading:
+/// reading one may never end.
+pub fn read_regular_file(path: &Path) -> Result<Vec<u8>, StageError> {
+    let meta = std::fs::metadata(path).map_err(|e| StageError::file(path, e.to_string()))?;
+    if !meta.is_file() {
+        return Err(StageError::file(
+            path,
+            "is not a regular file (a folder, a device or a pipe)",
+        ));
+    }
+    std::fs::read(path).map_err(|e| StageError::file(path, e.to_string()))
+}
+
 /// A set of named files.
 #[derive(Clone, Debug)]
 pub enum FileSource<'a> {
@@ -65,9 +79,7 @@ impl<'a> FileSource<'a> {
                 .get(name)
                 .map(|b| Cow::Borrowed(b.as_slice()))
                 .ok_or_else(|| StageError::file(self.display(name), "no such file in the input")),
-            FileSource::Dir(dir) => std::fs::read(dir.join(name))
-                .map(Cow::Owned)
-                .map_err(|e| StageError::file(self.display(name), e.to_string())),
+            FileSource::Dir(dir) => read_regular_file(&dir.join(name)).map(Cow::Owned),
         }
     }
 
@@ -147,6 +159,13 @@ mod tests {
         assert!(both.unwrap_err().to_string().contains("not both"));
         let neither = FileSource::input_or_dir(&no_inputs, "tiles", "dir", None);
         assert!(neither.unwrap_err().to_string().contains("`dir`"));
+        // A folder where a file should be is named, not read.
+        std::fs::create_dir_all(dir.join("sub.csv")).unwrap();
+        let e = from_dir.read("sub.csv").unwrap_err().to_string();
+        assert!(
+            e.contains("sub.csv") && e.contains("not a regular file"),
+            "{e}"
+        );
         std::fs::remove_dir_all(dir).unwrap();
     }
 }
