@@ -285,7 +285,7 @@ mod tests {
         let mut dict = header.to_owned();
         let v1 = dict.len() < 65_000;
         let preamble = if v1 { 10 } else { 12 };
-        while (preamble + dict.len() + 1) % 64 != 0 {
+        while !(preamble + dict.len() + 1).is_multiple_of(64) {
             dict.push(' ');
         }
         dict.push('\n');

@@ -65,7 +65,7 @@ fn read_named(path: &PathBuf, bytes: &[u8]) -> Result<Field, String> {
 fn npy_file(version: u8, header: &str, data: &[u8]) -> Vec<u8> {
     let preamble = if version == 1 { 10 } else { 12 };
     let mut dict = header.to_owned();
-    while (preamble + dict.len() + 1) % 64 != 0 {
+    while !(preamble + dict.len() + 1).is_multiple_of(64) {
         dict.push(' ');
     }
     dict.push('\n');

@@ -131,22 +131,22 @@ fn edit(text: &str, edits: &[(usize, usize, String)]) -> String {
 
 /// Parses `text`; an error's location must lie inside it.
 fn parse(text: &str) {
-    if let Err(e) = Located::parse(text) {
-        if let Some(at) = e.at {
-            // YAML breaks lines at \n, \r\n and a lone \r; one more line
-            // for an error at the very end.
-            let lines = text
-                .replace("\r\n", "\n")
-                .replace('\r', "\n")
-                .split('\n')
-                .count()
-                + 1;
-            assert!(
-                at.line >= 1 && at.line <= lines && at.column >= 1,
-                "{at} outside a text of {lines} lines: {}",
-                e.message
-            );
-        }
+    if let Err(e) = Located::parse(text)
+        && let Some(at) = e.at
+    {
+        // YAML breaks lines at \n, \r\n and a lone \r; one more line
+        // for an error at the very end.
+        let lines = text
+            .replace("\r\n", "\n")
+            .replace('\r', "\n")
+            .split('\n')
+            .count()
+            + 1;
+        assert!(
+            at.line >= 1 && at.line <= lines && at.column >= 1,
+            "{at} outside a text of {lines} lines: {}",
+            e.message
+        );
     }
 }
 

@@ -315,7 +315,7 @@ pub fn analyse_named(
     if !slope.is_finite() {
         return Err(overflow("its mean square slope").into());
     }
-    if !(sigma_m > FLAT_RELATIVE * largest_m) {
+    if sigma_m.is_nan() || sigma_m <= FLAT_RELATIVE * largest_m {
         return Err(SurfaceError::Flat {
             map: source.to_owned(),
             sigma_m,

@@ -151,7 +151,7 @@ pub fn parse_positions(csv: &CsvTable, display: &str) -> Result<Vec<Position>, S
         }
         for (name, value) in [("x_m", position.x_m), ("y_m", position.y_m)] {
             let px = value / position.pixel_m;
-            if !(px.abs() <= MAX_POSITION_PX) {
+            if px.is_nan() || px.abs() > MAX_POSITION_PX {
                 return Err(err(
                     line_of(row),
                     format!(

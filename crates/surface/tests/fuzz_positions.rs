@@ -44,9 +44,11 @@ fn npy(values: &Array2<f64>) -> Vec<u8> {
     bytes
 }
 
-/// A 2 × 2 tile set cut from one surface: (positions rows as cells, tile
-/// files).
-fn valid_set() -> (Vec<[String; 5]>, Vec<(String, Vec<u8>)>) {
+/// positions.csv rows as cells, and the tile files by name.
+type TileSet = (Vec<[String; 5]>, Vec<(String, Vec<u8>)>);
+
+/// A 2 × 2 tile set cut from one surface.
+fn valid_set() -> TileSet {
     let big = Array2::from_shape_fn((SIDE + PITCH, SIDE + PITCH), |(i, j)| {
         let (x, y) = (i as f64 * 0.31, j as f64 * 0.27);
         1e-6 * ((x.sin() * y.cos()) + (0.37 * x * y).sin() + 0.3 * (2.1 * x + 1.3 * y).cos())
