@@ -11,6 +11,7 @@ pub fn registry() -> Registry {
     hypercontact_surface::register(&mut registry);
     hypercontact_truncation::register(&mut registry);
     hypercontact_icm::register(&mut registry);
+    hypercontact_bem::register(&mut registry);
     hypercontact_synth::register(&mut registry);
     hypercontact_dic::register(&mut registry);
     hypercontact_report::register(&mut registry);

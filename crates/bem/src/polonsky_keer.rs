@@ -1,0 +1,404 @@
+//! The contact of a rough elastic half-space with a rigid plane, solved for
+//! the pressure by the constrained conjugate gradient of I. A. Polonsky and
+//! L. M. Keer, "A numerical method for solving rough contact problems based
+//! on the multi-level multi-summation and conjugate gradient techniques",
+//! Wear 231 (1999) 206–219.
+//!
+//! Conventions: heights h (m, up), a rigid plane at height s above them,
+//! pressure p ≥ 0 pushing the surface down by u = K p ([`Influence`],
+//! E* = 1, so p is in units of E*). The gap g = s − h + u must be ≥ 0,
+//! with g = 0 where p > 0 and p = 0 where g > 0. The plane's approach δ is
+//! measured from first contact: s = max h − δ. NaN heights never touch.
+//!
+//! Two controls:
+//! - [`Control::Approach`]: δ given (for a periodic map, where u has zero
+//!   mean, this is a given mean gap: Rey, Anciaux & Molinari, Comput. Mech.
+//!   60 (2017) 69–81);
+//! - [`Control::MeanPressure`]: the mean pressure over the measured points
+//!   given; s follows from the mean of h − u over the contact set, and the
+//!   pressure is rescaled to the load after every step (PK's version).
+//!
+//! Each iteration (PK's steps): the gap on the current contact set
+//! {p > 0} (centred under load control), a conjugate direction t on that set
+//! (conjugacy restarted after points entered contact), r = K t, the step
+//! τ = Σ g t / Σ r t, p ← max(p − τ t, 0), overlapping points with p = 0 and
+//! g < 0 enter with p = −τ g. Convergence is judged on the gap the final
+//! pressure produces (see [`Solution::residual`]), so what is returned is
+//! checked, not extrapolated.
+
+use rayon::prelude::*;
+
+use crate::influence::Influence;
+use crate::reduce::{sum, sums};
+
+/// What is prescribed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Control {
+    /// the rigid plane's approach δ from first contact, m
+    Approach(f64),
+    /// the mean pressure over the measured points, in units of E*
+    MeanPressure(f64),
+}
+
+/// When to stop.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolverOptions {
+    /// the largest accepted [`Solution::residual`]
+    pub tolerance: f64,
+    /// iterations (one iteration: two convolutions) before giving up
+    pub max_iterations: usize,
+}
+
+impl Default for SolverOptions {
+    fn default() -> Self {
+        Self {
+            tolerance: 1e-8,
+            max_iterations: 1000,
+        }
+    }
+}
+
+/// A converged contact.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solution {
+    /// p / E* per pixel (0 off contact and at NaN heights).
+    pub pressure: Vec<f64>,
+    /// g per pixel, m (NaN at NaN heights).
+    pub gap_m: Vec<f64>,
+    /// The plane's approach δ from first contact, m.
+    pub approach_m: f64,
+    /// Σ p / (measured points): the nominal mean pressure over E*.
+    pub mean_pressure: f64,
+    /// Pixels with p > 0.
+    pub contact_pixels: usize,
+    pub iterations: usize,
+    /// The rms of the complementarity violation (g on {p > 0}, min(g, 0)
+    /// elsewhere) over the points where it can be non-zero, divided by the
+    /// approach δ (by the rms height when δ ≤ 0): the relative error of the
+    /// gap closure.
+    pub residual: f64,
+}
+
+/// Why no solution was returned.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    #[error(
+        "no convergence after {iterations} iterations: residual {residual:.3e} > tolerance \
+         {tolerance:.1e} (mean pressure of the last iterate {mean_pressure:.6e} E*)"
+    )]
+    NotConverged {
+        iterations: usize,
+        residual: f64,
+        tolerance: f64,
+        /// Σ p / (measured points) of the last iterate, in units of E*.
+        mean_pressure: f64,
+    },
+    #[error("the conjugate-gradient step broke down (a zero or non-finite step) at iteration {iteration}")]
+    Breakdown { iteration: usize },
+    #[error("heights and the influence operator differ in size ({heights} vs {grid} points)")]
+    Size { heights: usize, grid: usize },
+    #[error("no height is measured (every value is NaN)")]
+    NoPoints,
+    #[error("the warm start has {warm} points, the map {grid}")]
+    WarmStart { warm: usize, grid: usize },
+    #[error("the control value {0} is negative or not finite")]
+    BadControl(f64),
+}
+
+/// A height map prepared once for many solves.
+pub struct Problem<'a> {
+    influence: &'a Influence,
+    /// Heights with NaN replaced by −∞ (a point that never reaches the plane).
+    heights_m: Vec<f64>,
+    top_m: f64,
+    measured: usize,
+    sigma_m: f64,
+}
+
+impl<'a> Problem<'a> {
+    pub fn new(influence: &'a Influence, heights_m: &[f64]) -> Result<Self, SolveError> {
+        let (nx, ny) = influence.dim();
+        if heights_m.len() != nx * ny {
+            return Err(SolveError::Size {
+                heights: heights_m.len(),
+                grid: nx * ny,
+            });
+        }
+        let heights_m: Vec<f64> = heights_m
+            .iter()
+            .map(|&h| if h.is_nan() { f64::NEG_INFINITY } else { h })
+            .collect();
+        let measured = heights_m.iter().filter(|h| h.is_finite()).count();
+        if measured == 0 {
+            return Err(SolveError::NoPoints);
+        }
+        let top_m = heights_m.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let finite = |i: usize| heights_m[i].is_finite();
+        let [total] = sums(heights_m.len(), |i| [if finite(i) { heights_m[i] } else { 0.0 }]);
+        let mean = total / measured as f64;
+        let [square] = sums(heights_m.len(), |i| {
+            [if finite(i) { (heights_m[i] - mean).powi(2) } else { 0.0 }]
+        });
+        Ok(Self {
+            influence,
+            heights_m,
+            top_m,
+            measured,
+            sigma_m: (square / measured as f64).sqrt(),
+        })
+    }
+
+    /// The highest measured height, m.
+    pub fn top_m(&self) -> f64 {
+        self.top_m
+    }
+
+    /// The heights, −∞ where none was measured, m.
+    pub fn heights_m(&self) -> &[f64] {
+        &self.heights_m
+    }
+
+    /// Measured (non-NaN) points.
+    pub fn measured(&self) -> usize {
+        self.measured
+    }
+
+    /// The rms height about the mean of the measured points, m.
+    pub fn sigma_m(&self) -> f64 {
+        self.sigma_m
+    }
+
+    /// Solves for the pressure, starting from `warm` (a previous solution's
+    /// pressure, or None for the PK start).
+    pub fn solve(
+        &self,
+        control: Control,
+        options: SolverOptions,
+        warm: Option<&[f64]>,
+    ) -> Result<Solution, SolveError> {
+        let n = self.heights_m.len();
+        let value = match control {
+            Control::Approach(v) | Control::MeanPressure(v) => v,
+        };
+        if !(value >= 0.0 && value.is_finite()) {
+            return Err(SolveError::BadControl(value));
+        }
+        let h = &self.heights_m;
+        let mut p = match warm {
+            Some(w) if w.len() != n => {
+                return Err(SolveError::WarmStart {
+                    warm: w.len(),
+                    grid: n,
+                });
+            }
+            Some(w) => w
+                .iter()
+                .zip(h)
+                .map(|(&p, h)| if h.is_finite() { p.max(0.0) } else { 0.0 })
+                .collect(),
+            None => match control {
+                // PK's start: the load spread over every measured point.
+                Control::MeanPressure(_) => h
+                    .iter()
+                    .map(|h| if h.is_finite() { 1.0 } else { 0.0 })
+                    .collect(),
+                Control::Approach(_) => vec![0.0; n],
+            },
+        };
+        let target_sum = match control {
+            Control::MeanPressure(mean) => Some(mean * self.measured as f64),
+            Control::Approach(_) => None,
+        };
+        if let Some(target) = target_sum {
+            rescale(&mut p, target, h);
+        }
+
+        let mut work = self.influence.workspace();
+        let mut u = vec![0.0; n];
+        let mut g = vec![0.0; n];
+        let mut t = vec![0.0; n];
+        let mut r = vec![0.0; n];
+        let mut conjugate = false;
+        let mut g_norm_old = 1.0;
+        let mut iteration = 0;
+        loop {
+            self.influence.apply(&p, &mut u, &mut work);
+            // Gap with the plane where it is, or where the load puts it.
+            let plane_m = match control {
+                Control::Approach(delta) => self.top_m - delta,
+                Control::MeanPressure(_) => {
+                    let [count, sum_hu] = sums(n, |i| {
+                        if p[i] > 0.0 {
+                            [1.0, h[i] - u[i]]
+                        } else {
+                            [0.0, 0.0]
+                        }
+                    });
+                    if count > 0.0 { sum_hu / count } else { self.top_m }
+                }
+            };
+            g.par_iter_mut()
+                .zip(&u)
+                .zip(h)
+                .for_each(|((g, u), h)| *g = plane_m - h + u);
+            let approach_m = self.top_m - plane_m;
+            let residual = self.residual(&p, &g, approach_m);
+            if residual <= options.tolerance || target_sum == Some(0.0) {
+                return Ok(self.solution(p, g, approach_m, iteration, residual));
+            }
+            if iteration >= options.max_iterations {
+                return Err(SolveError::NotConverged {
+                    iterations: iteration,
+                    residual,
+                    tolerance: options.tolerance,
+                    mean_pressure: sum(n, |i| p[i]) / self.measured as f64,
+                });
+            }
+            iteration += 1;
+
+            let [contact, g_norm] = sums(n, |i| {
+                if p[i] > 0.0 {
+                    [1.0, g[i] * g[i]]
+                } else {
+                    [0.0, 0.0]
+                }
+            });
+            if contact == 0.0 {
+                // Nothing in contact yet (approach control from p = 0): each
+                // overlapping point alone closes its own overlap.
+                let stiffness = 1.0 / self.influence.self_displacement_m();
+                p.par_iter_mut()
+                    .zip(&g)
+                    .for_each(|(p, &g)| *p = if g < 0.0 { -g * stiffness } else { 0.0 });
+                conjugate = false;
+                continue;
+            }
+            // The conjugate direction; if it is not a descent direction (the
+            // contact set changed under it), the steepest one.
+            let mut tau = f64::NAN;
+            for restart in [false, true] {
+                if restart && !conjugate {
+                    break;
+                }
+                let beta = if conjugate && !restart {
+                    g_norm / g_norm_old
+                } else {
+                    0.0
+                };
+                t.par_iter_mut()
+                    .zip(&p)
+                    .zip(&g)
+                    .for_each(|((t, &p), &g)| *t = if p > 0.0 { g + beta * *t } else { 0.0 });
+                self.influence.apply(&t, &mut r, &mut work);
+                let r_mean = match control {
+                    Control::MeanPressure(_) => {
+                        sum(n, |i| if p[i] > 0.0 { r[i] } else { 0.0 }) / contact
+                    }
+                    Control::Approach(_) => 0.0,
+                };
+                let [gt, rt] = sums(n, |i| {
+                    if p[i] > 0.0 {
+                        [g[i] * t[i], (r[i] - r_mean) * t[i]]
+                    } else {
+                        [0.0, 0.0]
+                    }
+                });
+                tau = gt / rt;
+                if tau.is_finite() && tau > 0.0 {
+                    break;
+                }
+            }
+            if !(tau.is_finite() && tau > 0.0) {
+                return Err(SolveError::Breakdown { iteration });
+            }
+            g_norm_old = g_norm;
+            // Step, clip, and let overlapping free points in.
+            let entered = sum(n, |i| if p[i] <= 0.0 && g[i] < 0.0 { 1.0 } else { 0.0 });
+            p.par_iter_mut()
+                .zip(&t)
+                .zip(&g)
+                .for_each(|((p, &t), &g)| {
+                    *p = if *p > 0.0 {
+                        (*p - tau * t).max(0.0)
+                    } else if g < 0.0 {
+                        -tau * g
+                    } else {
+                        0.0
+                    }
+                });
+            conjugate = entered == 0.0;
+            if let Some(target) = target_sum {
+                rescale(&mut p, target, h);
+            }
+        }
+    }
+
+    /// See [`Solution::residual`].
+    fn residual(&self, p: &[f64], g: &[f64], approach_m: f64) -> f64 {
+        let [count, square] = sums(p.len(), |i| {
+            if p[i] > 0.0 {
+                [1.0, g[i] * g[i]]
+            } else if g[i] < 0.0 {
+                [1.0, g[i] * g[i]]
+            } else {
+                [0.0, 0.0]
+            }
+        });
+        if count == 0.0 {
+            return 0.0;
+        }
+        let scale = if approach_m > 0.0 {
+            approach_m
+        } else if self.sigma_m > 0.0 {
+            self.sigma_m
+        } else {
+            1.0
+        };
+        (square / count).sqrt() / scale
+    }
+
+    fn solution(
+        &self,
+        pressure: Vec<f64>,
+        mut gap_m: Vec<f64>,
+        approach_m: f64,
+        iterations: usize,
+        residual: f64,
+    ) -> Solution {
+        gap_m
+            .par_iter_mut()
+            .zip(&self.heights_m)
+            .for_each(|(g, h)| {
+                if !h.is_finite() {
+                    *g = f64::NAN;
+                }
+            });
+        let [total, contact] = sums(pressure.len(), |i| {
+            [pressure[i], if pressure[i] > 0.0 { 1.0 } else { 0.0 }]
+        });
+        Solution {
+            mean_pressure: total / self.measured as f64,
+            contact_pixels: contact as usize,
+            pressure,
+            gap_m,
+            approach_m,
+            iterations,
+            residual,
+        }
+    }
+}
+
+/// Scales p so that Σ p = target (nothing to scale when Σ p = 0: then the
+/// load goes to every measured point evenly, PK's start).
+fn rescale(p: &mut [f64], target: f64, heights_m: &[f64]) {
+    let total = sum(p.len(), |i| p[i]);
+    if total > 0.0 {
+        let factor = target / total;
+        p.par_iter_mut().for_each(|p| *p *= factor);
+    } else {
+        let measured = heights_m.iter().filter(|h| h.is_finite()).count() as f64;
+        p.par_iter_mut()
+            .zip(heights_m)
+            .for_each(|(p, h)| *p = if h.is_finite() { target / measured } else { 0.0 });
+    }
+}

@@ -1,0 +1,392 @@
+//! Stage `bem`: a height map and a material in, the load–area response (the
+//! `icm` columns and more) and pressure/gap maps out. Checks and table
+//! building here; the physics in [`crate::polonsky_keer`],
+//! [`crate::curve`] and [`crate::tangent`].
+
+use std::sync::Arc;
+
+use hypercontact_core::{
+    Arity, Checked, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs, ParamError,
+    Schema, Stage, StageError, StageInfo, params,
+};
+use hypercontact_icm::{CompositeModulus, Model, Scheme};
+use hypercontact_material::Poisson;
+use hypercontact_material::table::MaterialTable;
+
+use crate::curve::{CurveOptions, solve_curve};
+use crate::influence::{Boundary, Influence};
+use crate::polonsky_keer::{Problem, Solution, SolveError, SolverOptions};
+use crate::tangent::integrate;
+use crate::{BemError, CurveError};
+
+/// Parameters of `bem`.
+#[params(check = maps_within_curve)]
+pub struct BemParams {
+    /// how the map continues beyond its edges
+    #[param(default = Boundary::Free)]
+    pub boundary: Boundary,
+    /// contact law
+    #[param(default = Model::Hyperelastic)]
+    pub model: Model,
+    /// integration of the hyperelastic load over the steps (as in `icm`)
+    #[param(default = Scheme::Heun)]
+    pub scheme: Scheme,
+    /// Poisson's ratio ν of the composite moduli
+    #[param(default = Poisson::INCOMPRESSIBLE)]
+    pub poisson: Poisson,
+    /// load steps after first contact, about evenly spaced in A/A0
+    #[param(default = 40, range = 1..=100_000)]
+    pub steps: usize,
+    /// A/A0 of the last step
+    #[param(default = 0.9, positive, range = ..=1.0)]
+    pub max_area_fraction: f64,
+    /// largest accepted residual: rms gap error on the contact set / approach
+    #[param(default = 1e-8, positive, range = ..=0.1)]
+    pub tolerance: f64,
+    /// conjugate-gradient iterations per solve before the stage fails
+    #[param(default = 2000, range = 1..=10_000_000)]
+    pub max_iterations: usize,
+    /// A/A0 at which `contact_maps` holds the pressure and the gap
+    #[param(default = vec![0.1, 0.5, 0.9], positive, range = ..=1.0)]
+    pub map_fractions: Vec<f64>,
+}
+
+fn maps_within_curve(p: &BemParams) -> Result<(), ParamError> {
+    for (i, &f) in p.map_fractions.iter().enumerate() {
+        if f > p.max_area_fraction {
+            return Err(ParamError::new(
+                &format!("map_fractions.{i}"),
+                format!("{f} lies above max_area_fraction ({})", p.max_area_fraction),
+            ));
+        }
+        if let Some(j) = p.map_fractions[..i]
+            .iter()
+            .position(|&g| map_label(g) == map_label(f))
+        {
+            return Err(ParamError::new(
+                &format!("map_fractions.{i}"),
+                format!("{f} gives the same file names as map_fractions.{j}"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The `response` table: `icm`'s columns, then the solver's.
+#[derive(Clone, Debug, PartialEq, Schema)]
+pub struct BemResponseTable {
+    /// rigid-plane height above the lowest measured point
+    #[column(unit = "m")]
+    pub z_m: Vec<f64>,
+    /// A / A0 (contact pixels / measured pixels)
+    pub area_fraction: Vec<f64>,
+    /// total contact load F
+    #[column(unit = "N")]
+    pub load_n: Vec<f64>,
+    /// F / (E0* A0)
+    pub load_norm: Vec<f64>,
+    /// F / A (magnitude; the law is evaluated at S = −F/A)
+    #[column(unit = "Pa")]
+    pub mean_stress_pa: Vec<f64>,
+    /// E_t*(S) / E0*; 1 for a linear model
+    pub tangent_ratio: Vec<f64>,
+    /// (A/A0) / (p̄ / (E0* h'rms)), p̄ = F/A0; NaN at first contact
+    pub kappa: Vec<f64>,
+    /// conjugate-gradient iterations spent on the step
+    pub iterations: Vec<i64>,
+    /// residual of the accepted solve (rms gap error / approach)
+    pub residual: Vec<f64>,
+}
+
+/// The `contact_maps` index, `maps.csv`.
+const MAPS_COLUMNS: &str =
+    "requested_area_fraction,area_fraction,step,z_m,load_n,pressure_file,gap_file,dx_m,dy_m";
+
+/// The `bem` stage.
+pub struct Bem;
+
+static INFO: StageInfo = StageInfo {
+    kind: "bem",
+    version: 1,
+    summary: "Boundary elements: load against contact area of the height map on an elastic half-space",
+    doc: "The rough surface as a linearly elastic half-space pressed onto a rigid plane, solved \
+          pixel by pixel (pixel-wise constant pressure) with FFTs, so asperities interact through \
+          the elastic field. BOUNDARY: `free` (default) treats the map as a finite part of an \
+          infinite half-space loaded nowhere else: zero-padded to at least 2N x 2N with Love's \
+          closed-form displacement of a uniformly loaded rectangular pixel (Love 1929, Johnson \
+          §3.9), Hockney's method; `periodic` for periodic maps: u^(q) = 2 p^(q) / (E* |q|), mean \
+          of u zero. SOLVER: Polonsky & Keer's constrained conjugate gradient (Wear 231, 1999) \
+          under rigid-plane approach control, each solve warm-started from the previous; a solve \
+          is accepted when the rms of the complementarity violation (gap on {p > 0}, negative gap \
+          elsewhere) over the approach is at most `tolerance`; otherwise the stage fails naming \
+          the step, the plane height, the load and the residual. Sums are in a fixed order, so \
+          results are the same to the bit on any number of threads. STEPS: row 0 is first \
+          contact (F = 0, A = 0); rows 1..=steps aim at A/A0 = k max_area_fraction / steps and \
+          land within a quarter of the spacing (or as near as six solves get). CONVENTIONS: `z_m` \
+          is the rigid plane's height above the lowest measured point (first contact: the map's \
+          height range; periodic: the plane relative to the mean surface, i.e. a mean gap); A = \
+          contact pixels (p > 0) x dx dy; A0 = measured pixels x dx dy (NaN heights never touch, \
+          as in `truncation`); E0* and E_t* exactly as in `icm` (E0* = E0/(1 - nu^2), E0 = 2 mu0 \
+          (1 + nu)); kappa = (A/A0) / (p/(E0* h'rms)) with p = F/A0 and h'rms the rms gradient by \
+          forward differences (as `surface` reports it; about 2 at small load on self-affine \
+          maps). MODEL `linear`: F = E0* f(delta), f the load for E* = 1 (contact set and f do not \
+          depend on the modulus). `hyperelastic`: the paper's tangent modulus (Eqs. 5-7) applied \
+          to the coupled contact instead of profile theory: dF = E_t*(-F/A) f'(delta) d delta, \
+          i.e. dF = E_t*(-F/A) df over the solved steps, F = 0 at first contact, with the ICM's \
+          E_t*(S) (same material law, same sign convention: S = -F/A <= 0) and `scheme` (euler: \
+          the paper's explicit step; heun: trapezoid); tangent_ratio = E_t*/E0*. The contact set, \
+          A and the gap are those of the linear solution; the pressure map is the linear one \
+          scaled to the load (F/f). CONTACT_MAPS: for each of map_fractions, the step whose A/A0 \
+          is nearest: pressure_a<fraction>.npy (Pa) and gap_a<fraction>.npy (m, NaN where not \
+          measured), axis 0 = x as the input, and maps.csv (requested_area_fraction, \
+          area_fraction, step, z_m, load_n, pressure_file, gap_file, dx_m, dy_m).",
+    inputs: &[
+        InputSpec::field(
+            "surface",
+            Arity::One,
+            "height map, metres, NaN = not measured",
+        ),
+        InputSpec::table::<MaterialTable>(
+            "material",
+            Arity::One,
+            "the material table (a preset or a fit)",
+        ),
+    ],
+    outputs: &[
+        OutputSpec::table::<BemResponseTable>(
+            "response",
+            "one row per load step, first contact first (icm's columns first)",
+        ),
+        OutputSpec::files(
+            "contact_maps",
+            "pressure and gap maps (.npy) at map_fractions, with maps.csv",
+        ),
+    ],
+};
+
+/// The maps kept for one requested fraction: the nearest step so far.
+struct MapChoice {
+    requested: f64,
+    step: usize,
+    area_fraction: f64,
+    pressure: Vec<f64>,
+    gap_m: Vec<f64>,
+}
+
+impl Stage for Bem {
+    type Params = BemParams;
+
+    fn info(&self) -> &'static StageInfo {
+        &INFO
+    }
+
+    fn run(
+        &self,
+        p: &Checked<BemParams>,
+        inputs: &Inputs,
+        ctx: &Context,
+    ) -> Result<Outputs, StageError> {
+        let surface = inputs.field("surface")?;
+        let heights_m = checked_heights(surface).map_err(StageError::other)?;
+        let material = hypercontact_material::table::from_table(inputs.table("material")?)
+            .map_err(|e| StageError::other(BemError::Material(e)))?;
+        let modulus = CompositeModulus::new(Arc::from(material), p.model, p.poisson.0)
+            .map_err(|e| StageError::other(BemError::Material(e)))?;
+        let e0_star = modulus.e0_star_pa();
+        let (nx, ny, dx, dy) = (surface.nx(), surface.ny(), surface.dx_m, surface.dy_m);
+        let pixel_m2 = dx * dy;
+
+        let influence = Influence::new(nx, ny, dx, dy, p.boundary);
+        let problem = Problem::new(&influence, &heights_m).map_err(|e| {
+            StageError::other(BemError::Surface(e.to_string()))
+        })?;
+        let a0_m2 = problem.measured() as f64 * pixel_m2;
+        let lowest_m = heights_m
+            .iter()
+            .copied()
+            .filter(|h| !h.is_nan())
+            .fold(f64::INFINITY, f64::min);
+        let z_of = |approach_m: f64| problem.top_m() - approach_m - lowest_m;
+
+        let options = CurveOptions {
+            steps: p.steps,
+            max_area_fraction: p.max_area_fraction,
+            solver: SolverOptions {
+                tolerance: p.tolerance,
+                max_iterations: p.max_iterations,
+            },
+        };
+        let mut maps: Vec<Option<MapChoice>> = p.map_fractions.iter().map(|_| None).collect();
+        let progress = ctx.progress(p.steps as u64, "load steps");
+        let mut keep = |k: usize, row: &crate::Step, solution: &Solution| {
+            progress.inc(1);
+            for (slot, &requested) in maps.iter_mut().zip(&p.map_fractions) {
+                let nearer = slot.as_ref().is_none_or(|m| {
+                    (row.area_fraction - requested).abs() < (m.area_fraction - requested).abs()
+                });
+                if nearer {
+                    *slot = Some(MapChoice {
+                        requested,
+                        step: k,
+                        area_fraction: row.area_fraction,
+                        pressure: solution.pressure.clone(),
+                        gap_m: solution.gap_m.clone(),
+                    });
+                }
+            }
+        };
+        let rows = solve_curve(&problem, options, &mut keep).map_err(|e| {
+            StageError::other(not_converged(e, &z_of, e0_star * a0_m2))
+        })?;
+        drop(progress);
+
+        // Loads: E0* f, or the tangent-modulus integral over f.
+        let unit_load_m2: Vec<f64> = rows.iter().map(|r| r.mean_pressure * a0_m2).collect();
+        let area_m2: Vec<f64> = rows
+            .iter()
+            .map(|r| r.contact_pixels as f64 * pixel_m2)
+            .collect();
+        let tangent = integrate(&unit_load_m2, &area_m2, p.scheme, &mut |s| {
+            modulus.at_stress_pa(s).map_err(|e| e.to_string())
+        })
+        .map_err(|e| StageError::other(BemError::Tangent(e)))?;
+
+        let slope = hypercontact_surface::stats::rms_slope(&surface.values, dx, dy);
+        let response = BemResponseTable {
+            z_m: rows.iter().map(|r| z_of(r.approach_m)).collect(),
+            area_fraction: rows.iter().map(|r| r.area_fraction).collect(),
+            load_norm: tangent.load_n.iter().map(|f| f / (e0_star * a0_m2)).collect(),
+            mean_stress_pa: tangent
+                .load_n
+                .iter()
+                .zip(&area_m2)
+                .map(|(f, a)| if *a > 0.0 { f / a } else { 0.0 })
+                .collect(),
+            tangent_ratio: tangent.modulus_pa.iter().map(|e| e / e0_star).collect(),
+            kappa: rows
+                .iter()
+                .zip(&tangent.load_n)
+                .map(|(r, f)| {
+                    if *f > 0.0 {
+                        r.area_fraction * e0_star * slope / (f / a0_m2)
+                    } else {
+                        f64::NAN
+                    }
+                })
+                .collect(),
+            iterations: rows.iter().map(|r| r.iterations as i64).collect(),
+            residual: rows.iter().map(|r| r.residual).collect(),
+            load_n: tangent.load_n,
+        };
+        ctx.note(&format!(
+            "{} steps, {} iterations, A/A0 up to {:.4}",
+            p.steps,
+            rows.iter().map(|r| r.iterations).sum::<usize>(),
+            rows.last().map_or(0.0, |r| r.area_fraction),
+        ));
+
+        let files = map_files(
+            maps.into_iter().flatten().collect(),
+            &response,
+            &unit_load_m2,
+            (nx, ny, dx, dy),
+        )?;
+        Ok(Outputs::new()
+            .table("response", response.into_table())
+            .files("contact_maps", files))
+    }
+}
+
+/// The heights as a row-major vector (axis 0 = x), refused if they cannot be
+/// a contact problem.
+fn checked_heights(surface: &Field) -> Result<Vec<f64>, BemError> {
+    let (nx, ny) = (surface.nx(), surface.ny());
+    if nx < 2 || ny < 2 {
+        return Err(BemError::Surface(format!(
+            "the map is {nx} × {ny}; at least 2 × 2 points are needed"
+        )));
+    }
+    let heights_m: Vec<f64> = surface.values.iter().copied().collect();
+    if let Some(k) = heights_m.iter().position(|h| h.is_infinite()) {
+        return Err(BemError::Surface(format!(
+            "point [{}, {}] holds an infinite height",
+            k / ny,
+            k % ny
+        )));
+    }
+    let mut measured = heights_m.iter().filter(|h| !h.is_nan());
+    let Some(&first) = measured.next() else {
+        return Err(BemError::Surface("every height is NaN".into()));
+    };
+    if measured.all(|&h| h == first) {
+        return Err(BemError::Surface(format!(
+            "the map is flat (every measured height is {first:e} m): all of it touches at once"
+        )));
+    }
+    Ok(heights_m)
+}
+
+/// A failed step as the user should read it: the plane's height and the
+/// load (at E0*) instead of solver units.
+fn not_converged(e: CurveError, z_of: &dyn Fn(f64) -> f64, load_per_pressure_n: f64) -> BemError {
+    match e.source {
+        SolveError::NotConverged {
+            iterations,
+            residual,
+            tolerance,
+            mean_pressure,
+        } => BemError::NotConverged {
+            step: e.step,
+            steps: e.steps,
+            z_m: z_of(e.approach_m),
+            load_n: mean_pressure * load_per_pressure_n,
+            iterations,
+            residual,
+            tolerance,
+        },
+        _ => BemError::Curve(e),
+    }
+}
+
+/// `a0.100` for 0.1: the fraction in file names.
+fn map_label(fraction: f64) -> String {
+    format!("a{fraction:.3}")
+}
+
+/// The `contact_maps` product: pressure (Pa) and gap (m) at the chosen
+/// steps, and maps.csv.
+fn map_files(
+    maps: Vec<MapChoice>,
+    response: &BemResponseTable,
+    unit_load_m2: &[f64],
+    (nx, ny, dx, dy): (usize, usize, f64, f64),
+) -> Result<Files, StageError> {
+    let npy = |values: Vec<f64>| -> Result<Vec<u8>, StageError> {
+        let array = ndarray::Array2::from_shape_vec((nx, ny), values).map_err(StageError::other)?;
+        let mut bytes = Vec::new();
+        Field::new(array, dx, dy)
+            .and_then(|f| f.write_npy(&mut bytes))
+            .map_err(StageError::other)?;
+        Ok(bytes)
+    };
+    let mut files = Files::new();
+    let mut csv = format!("{MAPS_COLUMNS}\n");
+    for map in maps {
+        let k = map.step;
+        // p in Pa: the unit-modulus pressure times the secant modulus F/f.
+        let secant_pa = response.load_n[k] / unit_load_m2[k];
+        let pressure_file = format!("pressure_{}.npy", map_label(map.requested));
+        let gap_file = format!("gap_{}.npy", map_label(map.requested));
+        files.files.insert(
+            pressure_file.clone(),
+            npy(map.pressure.iter().map(|p| p * secant_pa).collect())?,
+        );
+        files.files.insert(gap_file.clone(), npy(map.gap_m)?);
+        csv.push_str(&format!(
+            "{},{},{k},{},{},{pressure_file},{gap_file},{dx},{dy}\n",
+            map.requested, map.area_fraction, response.z_m[k], response.load_n[k]
+        ));
+    }
+    files.files.insert("maps.csv".to_owned(), csv.into_bytes());
+    Ok(files)
+}
