@@ -9,6 +9,8 @@
 //! about half the area the rigid plane cuts through). Every solve starts
 //! from the pressure of the previous one.
 
+use rayon::prelude::*;
+
 use crate::polonsky_keer::{Control, Problem, Solution, SolveError, SolverOptions};
 
 /// Solves per step before the nearest one is taken.
@@ -74,19 +76,17 @@ pub fn solve_curve(
     }];
     // Every (approach, area fraction) solved so far, by approach.
     let mut known: Vec<(f64, f64)> = vec![(0.0, 0.0)];
-    let mut warm: Option<Vec<f64>> = None;
+    // The last two solves (approach, pressure), most recent last.
+    let mut recent: Vec<(f64, Vec<f64>)> = Vec::with_capacity(2);
     for k in 1..=steps {
         let target = spacing * k as f64;
         let mut best: Option<(Solution, f64)> = None;
         let mut iterations = 0;
         for _ in 0..MAX_SOLVES_PER_STEP {
             let approach_m = predict(&known, target, &bearing);
+            let warm = warm_start(&recent, approach_m);
             let solution = problem
-                .solve(
-                    Control::Approach(approach_m),
-                    options.solver,
-                    warm.as_deref(),
-                )
+                .solve(Control::Approach(approach_m), options.solver, warm.as_deref())
                 .map_err(|source| CurveError {
                     step: k,
                     steps,
@@ -95,10 +95,17 @@ pub fn solve_curve(
                     source,
                 })?;
             iterations += solution.iterations;
+
             let fraction = solution.contact_pixels as f64 / measured;
             let at = known.partition_point(|&(d, _)| d < approach_m);
             known.insert(at, (approach_m, fraction));
-            warm = Some(solution.pressure.clone());
+            if recent.len() == 2 {
+                let (_, mut oldest) = recent.remove(0);
+                oldest.copy_from_slice(&solution.pressure);
+                recent.push((approach_m, oldest));
+            } else {
+                recent.push((approach_m, solution.pressure.clone()));
+            }
             let miss = (fraction - target).abs();
             if best.as_ref().is_none_or(|(_, m)| miss < *m) {
                 best = Some((solution, miss));
@@ -120,6 +127,33 @@ pub fn solve_curve(
         rows.push(row);
     }
     Ok(rows)
+}
+
+/// The start of a solve at `approach_m`: the pressure linearly extrapolated
+/// (or interpolated) from the last two solves, clipped at zero; the last
+/// solve alone when there is one; none at first. Starting from the last
+/// pressure alone, the whole rim the plane newly overlaps enters contact in
+/// the first iteration and the solver spends tens of iterations getting it
+/// out again.
+fn warm_start(recent: &[(f64, Vec<f64>)], approach_m: f64) -> Option<Vec<f64>> {
+    match recent {
+        [] => None,
+        [(_, p)] => Some(p.clone()),
+        [(d0, p0), (d1, p1)] => {
+            let s = if d1 != d0 {
+                ((approach_m - d1) / (d1 - d0)).clamp(-1.0, 2.0)
+            } else {
+                0.0
+            };
+            let mut guess = p1.clone();
+            guess
+                .par_iter_mut()
+                .zip(p0)
+                .for_each(|(p, &p0)| *p = (*p + s * (*p - p0)).max(0.0));
+            Some(guess)
+        }
+        _ => unreachable!("two solves are kept"),
+    }
 }
 
 /// The next approach to try for `target`, from the solved points (sorted by

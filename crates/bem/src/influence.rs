@@ -54,6 +54,8 @@ pub struct Influence {
     fft: Fft2,
     /// The kernel's spectrum, scaled for [`Fft2::convolve`].
     spectrum: Vec<f64>,
+    /// Its inverse on the transform grid, scaled alike.
+    inverse: Vec<f64>,
     /// u at a pixel under a unit pressure on that pixel alone, m.
     self_displacement_m: f64,
 }
@@ -70,12 +72,22 @@ impl Influence {
             Boundary::Free => fft.spectrum(&love_kernel(mx, my, dx_m, dy_m)),
             Boundary::Periodic => periodic_spectrum(mx, my, dx_m, dy_m),
         };
+        let points = {
+            let (mx, my) = fft.transform_size();
+            (mx * my) as f64
+        };
+        let smallest = spectrum.iter().copied().filter(|&s| s > 0.0).fold(f64::INFINITY, f64::min);
+        let inverse = spectrum
+            .iter()
+            .map(|&s| 1.0 / (s.max(smallest) * points * points))
+            .collect();
         let mut influence = Self {
             nx,
             ny,
             boundary,
             fft,
             spectrum,
+            inverse,
             self_displacement_m: 0.0,
         };
         let mut unit = vec![0.0; nx * ny];
@@ -113,6 +125,16 @@ impl Influence {
     pub fn apply(&self, pressure: &[f64], displacement: &mut [f64], work: &mut Workspace) {
         self.fft
             .convolve(pressure, &self.spectrum, displacement, work);
+    }
+
+    /// `pressure ≈ K⁻¹ gap`: the inverse of the operator on the transform
+    /// grid, the solver's preconditioner.
+    pub fn precondition(&self, gap: &[f64], pressure: &mut [f64], work: &mut Workspace) {
+        self.fft.convolve(gap, &self.inverse, pressure, work);
+    }
+
+    pub fn spectrum_min(&self) -> f64 {
+        self.spectrum.iter().copied().fold(f64::INFINITY, f64::min)
     }
 }
 

@@ -214,6 +214,7 @@ impl Stage for Bem {
             solver: SolverOptions {
                 tolerance: p.tolerance,
                 max_iterations: p.max_iterations,
+                ..SolverOptions::default()
             },
         };
         let mut maps: Vec<Option<MapChoice>> = p.map_fractions.iter().map(|_| None).collect();

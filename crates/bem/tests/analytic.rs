@@ -9,6 +9,7 @@ use hypercontact_bem::{Boundary, Control, Influence, Problem, SolverOptions};
 const OPTIONS: SolverOptions = SolverOptions {
     tolerance: 1e-10,
     max_iterations: 2000,
+    preconditioned: true,
 };
 
 /// An n × n map of pixel `d` with heights h(r) about the centre pixel.

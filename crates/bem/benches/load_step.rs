@@ -1,0 +1,127 @@
+//! One-shot timings too long for criterion's ten samples: a load step on a
+//! 2048² free map (the issue's comparison with tamaas 2.9, which needs
+//! 100–340 s per load on one thread), and the 40-step curve of a ~450² map
+//! like a paper-pipeline sample.
+//!
+//! Run: `RAYON_NUM_THREADS=1 cargo bench -p hypercontact-bem --bench load_step`
+//! (and without the variable for all cores). `-- 2048` or `-- 450` runs one.
+
+use std::time::Instant;
+
+use hypercontact_bem::{
+    Boundary, Control, CurveOptions, Influence, Problem, SolverOptions, solve_curve,
+};
+use hypercontact_synth::surface::SelfAffine;
+
+/// A non-periodic n × n crop of a 2n × 2n self-affine surface at 20 µm:
+/// H = 0.65, rms 15 µm, power from 5 mm down to 40 µm (T1 filtered at 20 µm).
+fn map(n: usize) -> Vec<f64> {
+    let surface = SelfAffine {
+        hurst: 0.65,
+        rms_m: 15e-6,
+        lambda_min_m: 40e-6,
+        lambda_max_m: 5e-3,
+    }
+    .periodic(2 * n, 2 * n, 20e-6, 101);
+    (0..n * n).map(|k| surface[[k / n, k % n]]).collect()
+}
+
+fn load_step_2048() {
+    let n = 2048;
+    let heights = map(n);
+    let started = Instant::now();
+    let influence = Influence::new(n, n, 20e-6, 20e-6, Boundary::Free);
+    let setup = started.elapsed();
+    let problem = Problem::new(&influence, &heights).unwrap();
+    let mut u = vec![0.0; n * n];
+    let mut work = influence.workspace();
+    let started = Instant::now();
+    let rounds = 5;
+    for _ in 0..rounds {
+        influence.apply(&heights, &mut u, &mut work);
+    }
+    let convolution = started.elapsed() / rounds;
+    println!(
+        "2048² free (transform {:?}): kernel set-up {setup:.2?}, one convolution {convolution:.3?}",
+        influence.transform_size()
+    );
+    for tolerance in [1e-6, 1e-8, 1e-10] {
+        let options = SolverOptions {
+            tolerance,
+            max_iterations: 5000,
+            ..SolverOptions::default()
+        };
+        // A cold solve at the approach that gives A/A0 ≈ 5 % (found by the
+        // curve below), as a stand-alone load.
+        let started = Instant::now();
+        let s = problem
+            .solve(Control::Approach(0.55 * problem.sigma_m()), options, None)
+            .unwrap();
+        let cold = started.elapsed();
+        println!(
+            "  tolerance {tolerance:.0e}: cold solve {cold:.2?} ({} iterations, {:.3?}/iteration), \
+             A/A0 = {:.4}",
+            s.iterations,
+            cold / s.iterations.max(1) as u32,
+            s.contact_pixels as f64 / (n * n) as f64
+        );
+    }
+    let options = CurveOptions {
+        steps: 4,
+        max_area_fraction: 0.2,
+        solver: SolverOptions {
+            tolerance: 1e-8,
+            max_iterations: 5000,
+            ..SolverOptions::default()
+        },
+    };
+    let started = Instant::now();
+    let mut last = started;
+    solve_curve(&problem, options, &mut |k, row, _| {
+        println!(
+            "  curve step {k}: A/A0 = {:.4}, {} iterations, {:.2?}",
+            row.area_fraction,
+            row.iterations,
+            last.elapsed()
+        );
+        last = Instant::now();
+    })
+    .unwrap();
+    println!("  4 warm-started steps to A/A0 = 0.2: {:.2?}", started.elapsed());
+}
+
+fn curve_450() {
+    let n = 450;
+    let heights = map(n);
+    let started = Instant::now();
+    let influence = Influence::new(n, n, 20e-6, 20e-6, Boundary::Free);
+    let problem = Problem::new(&influence, &heights).unwrap();
+    let options = CurveOptions {
+        steps: 40,
+        max_area_fraction: 0.9,
+        solver: SolverOptions {
+            tolerance: 1e-8,
+            max_iterations: 5000,
+            ..SolverOptions::default()
+        },
+    };
+    let mut iterations = 0;
+    let rows = solve_curve(&problem, options, &mut |_, row, _| iterations += row.iterations).unwrap();
+    println!(
+        "450² free, 40 steps to A/A0 = {:.3}: {:.2?} ({iterations} iterations, {} threads)",
+        rows.last().unwrap().area_fraction,
+        started.elapsed(),
+        rayon::current_num_threads()
+    );
+}
+
+fn main() {
+    let which: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with('-')).collect();
+    let wants = |name: &str| which.is_empty() || which.iter().any(|w| w == name);
+    if wants("450") {
+        curve_450();
+    }
+    if wants("2048") {
+        load_step_2048();
+    }
+}
