@@ -100,7 +100,7 @@ fn curve_450() {
         steps: 40,
         max_area_fraction: 0.9,
         solver: SolverOptions {
-            tolerance: 1e-8,
+            tolerance: std::env::var("BEM_TOL").ok().and_then(|v| v.parse().ok()).unwrap_or(1e-8),
             max_iterations: 5000,
             ..SolverOptions::default()
         },

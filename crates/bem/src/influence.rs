@@ -34,6 +34,8 @@
 //! (1985), §3.9; at a square pixel's centre it gives 8a·asinh(1)/π =
 //! 2.24 a p/E*, Johnson's value.
 
+use rayon::prelude::*;
+
 use crate::fft2::{Fft2, Workspace, fast_even_size};
 
 /// How the map continues beyond its edges.
@@ -56,8 +58,9 @@ pub struct Influence {
     spectrum: Vec<f64>,
     /// Its inverse on the transform grid, scaled alike.
     inverse: Vec<f64>,
-    /// u at a pixel under a unit pressure on that pixel alone, m.
-    self_displacement_m: f64,
+    /// u everywhere under a unit pressure on pixel [0, 0]: K at every
+    /// offset (the kernel is even in x and in y), m.
+    response_m: Vec<f64>,
 }
 
 impl Influence {
@@ -88,13 +91,13 @@ impl Influence {
             fft,
             spectrum,
             inverse,
-            self_displacement_m: 0.0,
+            response_m: Vec::new(),
         };
         let mut unit = vec![0.0; nx * ny];
         unit[0] = 1.0;
         let mut u = vec![0.0; nx * ny];
         influence.apply(&unit, &mut u, &mut influence.workspace());
-        influence.self_displacement_m = u[0];
+        influence.response_m = u;
         influence
     }
 
@@ -114,7 +117,42 @@ impl Influence {
     /// The displacement of a loaded pixel under its own unit pressure, m
     /// (for E* = 1); for a periodic map, relative to the mean.
     pub fn self_displacement_m(&self) -> f64 {
-        self.self_displacement_m
+        self.response_m[0]
+    }
+
+    /// `displacement += K · loads` for a few point loads (pixel index,
+    /// pressure), summed directly: for a handful of points cheaper than a
+    /// convolution.
+    pub fn add_point_loads(&self, loads: &[(usize, f64)], displacement: &mut [f64]) {
+        let (nx, ny) = (self.nx, self.ny);
+        let periodic = self.boundary == Boundary::Periodic;
+        displacement
+            .par_chunks_mut(ny)
+            .enumerate()
+            .for_each(|(i, row)| {
+                for &(k, load) in loads {
+                    let (ki, kj) = (k / ny, k % ny);
+                    let di = if periodic {
+                        (i + nx - ki) % nx
+                    } else {
+                        i.abs_diff(ki)
+                    };
+                    let kernel = &self.response_m[di * ny..(di + 1) * ny];
+                    // Offsets j − kj for j ≥ kj, then the ones before.
+                    for (u, &k) in row[kj..].iter_mut().zip(kernel) {
+                        *u += load * k;
+                    }
+                    if periodic {
+                        for (u, &k) in row[..kj].iter_mut().zip(&kernel[ny - kj..]) {
+                            *u += load * k;
+                        }
+                    } else {
+                        for (u, &k) in row[..kj].iter_mut().zip(kernel[1..=kj].iter().rev()) {
+                            *u += load * k;
+                        }
+                    }
+                }
+            });
     }
 
     pub fn workspace(&self) -> Workspace {
@@ -159,7 +197,6 @@ pub fn love_pixel(x_m: f64, y_m: f64, dx_m: f64, dy_m: f64) -> f64 {
 fn love_kernel(mx: usize, my: usize, dx_m: f64, dy_m: f64) -> Vec<f64> {
     let offset = |i: usize, m: usize| if i <= m / 2 { i as f64 } else { i as f64 - m as f64 };
     let mut kernel = vec![0.0; mx * my];
-    use rayon::prelude::*;
     kernel.par_chunks_mut(my).enumerate().for_each(|(i, row)| {
         let x = offset(i, mx) * dx_m;
         for (j, k) in row.iter_mut().enumerate() {
@@ -239,6 +276,26 @@ mod tests {
             influence.apply(&unit, &mut u, &mut influence.workspace());
             u[0]
         });
+    }
+
+    #[test]
+    fn point_loads_add_what_the_convolution_gives() {
+        for boundary in [Boundary::Free, Boundary::Periodic] {
+            let (nx, ny) = (9, 7);
+            let influence = Influence::new(nx, ny, 1e-3, 2e-3, boundary);
+            let loads = [(0, 1.5), (3 * ny + 5, -0.5), (nx * ny - 1, 2.0), (4 * ny, 0.25)];
+            let mut p = vec![0.0; nx * ny];
+            for &(k, load) in &loads {
+                p[k] += load;
+            }
+            let mut u = vec![0.0; nx * ny];
+            influence.apply(&p, &mut u, &mut influence.workspace());
+            let mut direct = vec![1.0; nx * ny];
+            influence.add_point_loads(&loads, &mut direct);
+            for (a, b) in u.iter().zip(&direct) {
+                assert!((a + 1.0 - b).abs() < 1e-15, "{boundary:?}: {a} vs {b}");
+            }
+        }
     }
 
     #[test]

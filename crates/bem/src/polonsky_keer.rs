@@ -46,7 +46,11 @@
 use rayon::prelude::*;
 
 use crate::influence::Influence;
-use crate::reduce::{sum, sums};
+use crate::reduce::{CHUNK, fill_sums, sum, sums};
+
+/// At most this many clipped points are added to u directly (each costs one
+/// pass over the map); more, and u is recomputed by a convolution.
+const DIRECT_CLIPS: usize = 24;
 
 /// What is prescribed.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -248,7 +252,8 @@ impl<'a> Problem<'a> {
                 self.influence.apply(&p, &mut u, &mut work);
                 (stale, updated) = (false, false);
             }
-            // The gap with the plane where it is, or where the load puts it.
+            // The gap with the plane where it is, or where the load puts it,
+            // with the residual's sums and the counts of the two sets.
             let plane_m = match control {
                 Control::Approach(delta) => self.top_m - delta,
                 Control::MeanPressure(_) => {
@@ -262,12 +267,19 @@ impl<'a> Problem<'a> {
                     if count > 0.0 { sum_hu / count } else { self.top_m }
                 }
             };
-            g.par_iter_mut()
-                .zip(&u)
-                .zip(h)
-                .for_each(|((g, u), h)| *g = plane_m - h + u);
+            let [contact, entering, violation] = fill_sums(&mut g, |i| {
+                let g = plane_m - h[i] + u[i];
+                let terms = if p[i] > 0.0 {
+                    [1.0, 0.0, g * g]
+                } else if g < 0.0 {
+                    [0.0, 1.0, g * g]
+                } else {
+                    [0.0, 0.0, 0.0]
+                };
+                (g, terms)
+            });
             let approach_m = self.top_m - plane_m;
-            let residual = self.residual(&p, &g, approach_m);
+            let residual = self.residual(contact + entering, violation, approach_m);
             if residual <= options.tolerance || target_sum == Some(0.0) {
                 if !updated {
                     return Ok(self.solution(p, g, approach_m, iteration, residual));
@@ -286,15 +298,6 @@ impl<'a> Problem<'a> {
             }
             iteration += 1;
 
-            let [contact, entering] = sums(n, |i| {
-                if p[i] > 0.0 {
-                    [1.0, 0.0]
-                } else if g[i] < 0.0 {
-                    [0.0, 1.0]
-                } else {
-                    [0.0, 0.0]
-                }
-            });
             if contact == 0.0 && !options.preconditioned {
                 // Nothing in contact yet (approach control from p = 0): each
                 // overlapping point alone closes its own overlap.
@@ -306,32 +309,44 @@ impl<'a> Problem<'a> {
                 stale = true;
                 continue;
             }
-            // The set the direction lives on.
-            active
+            // The set the direction lives on, and the direction before
+            // conjugation: the gap there (PK), or the gap through K̃⁻¹.
+            let pre = options.preconditioned;
+            let count = contact + if pre { entering } else { 0.0 };
+            masked
                 .par_iter_mut()
+                .zip(active.par_iter_mut())
                 .zip(&p)
                 .zip(&g)
-                .for_each(|((a, &p), &g)| *a = p > 0.0 || (options.preconditioned && g < 0.0));
-            let count = contact + if options.preconditioned { entering } else { 0.0 };
-            z.par_iter_mut()
-                .zip(&active)
-                .zip(&g)
-                .for_each(|((z, &a), &g)| *z = if a { g } else { 0.0 });
-            if options.preconditioned {
-                std::mem::swap(&mut z, &mut masked);
-                self.influence.precondition(&masked, &mut z, &mut work);
-                z.par_iter_mut()
-                    .zip(&active)
-                    .for_each(|(z, &a)| if !a { *z = 0.0 });
-            }
-            if load_control {
+                .for_each(|(((m, a), &p), &g)| {
+                    *a = p > 0.0 || (pre && g < 0.0);
+                    *m = if *a { g } else { 0.0 };
+                });
+            let direction: &[f64] = if pre {
+                self.influence.precondition(&masked, &mut r, &mut work);
+                &r
+            } else {
+                &masked
+            };
+            // (Off the set g may be +∞: an unmeasured point.)
+            let [z_sum, gz, g_sum] = fill_sums(&mut z, |i| {
+                if active[i] {
+                    let v = direction[i];
+                    (v, [v, g[i] * v, g[i]])
+                } else {
+                    (0.0, [0.0; 3])
+                }
+            });
+            let rho = if load_control {
                 // Keep the load: directions of zero sum on the set.
-                let z_mean = sum(n, |i| if active[i] { z[i] } else { 0.0 }) / count;
+                let z_mean = z_sum / count;
                 z.par_iter_mut()
                     .zip(&active)
                     .for_each(|(z, &a)| if a { *z -= z_mean });
-            }
-            let rho = sum(n, |i| if active[i] { g[i] * z[i] } else { 0.0 });
+                gz - z_mean * g_sum
+            } else {
+                gz
+            };
             // The conjugate direction; if it is not a descent direction (the
             // set changed under it), the steepest one.
             let mut tau = f64::NAN;
@@ -349,19 +364,16 @@ impl<'a> Problem<'a> {
                     .zip(&z)
                     .for_each(|((t, &a), &z)| *t = if a { z + beta * *t } else { 0.0 });
                 self.influence.apply(&t, &mut r, &mut work);
-                let r_mean = if load_control {
-                    sum(n, |i| if active[i] { r[i] } else { 0.0 }) / count
-                } else {
-                    0.0
-                };
-                let [gt, rt] = sums(n, |i| {
+                let [r_sum, gt, rt] = sums(n, |i| {
                     if active[i] {
-                        [g[i] * t[i], (r[i] - r_mean) * t[i]]
+                        [r[i], g[i] * t[i], r[i] * t[i]]
                     } else {
-                        [0.0, 0.0]
+                        [0.0, 0.0, 0.0]
                     }
                 });
-                tau = gt / rt;
+                // Under load control r is centred on the set: Σ (r − r̄) t.
+                let t_sum = if load_control { sum(n, |i| t[i]) } else { 0.0 };
+                tau = gt / (rt - r_sum / count * t_sum);
                 if tau.is_finite() && tau > 0.0 {
                     break;
                 }
@@ -370,34 +382,41 @@ impl<'a> Problem<'a> {
                 return Err(SolveError::Breakdown { iteration });
             }
             rho_old = rho;
-            // Step and clip; PK's points entering at −τ g.
-            let clipped = sum(n, |i| {
-                if active[i] && p[i] - tau * t[i] < 0.0 {
-                    1.0
-                } else {
-                    0.0
-                }
-            });
-            p.par_iter_mut()
-                .zip(&t)
-                .zip(&g)
-                .zip(&active)
-                .for_each(|(((p, &t), &g), &a)| {
-                    *p = if a {
-                        (*p - tau * t).max(0.0)
-                    } else if g < 0.0 {
-                        -tau * g
-                    } else {
-                        0.0
+            // Step and clip (PK's points entering at −τ g), noting the clipped
+            // points and by how much; u follows the step where it can.
+            let follow = !load_control && (pre || entering == 0.0);
+            let clipped: Vec<(usize, f64)> = p
+                .par_chunks_mut(CHUNK)
+                .zip(u.par_chunks_mut(CHUNK))
+                .enumerate()
+                .map(|(c, (ps, us))| {
+                    let mut clipped = Vec::new();
+                    for (k, (p, u)) in ps.iter_mut().zip(us).enumerate() {
+                        let i = c * CHUNK + k;
+                        if active[i] {
+                            let stepped = *p - tau * t[i];
+                            if stepped < 0.0 {
+                                clipped.push((i, -stepped));
+                            }
+                            *p = stepped.max(0.0);
+                        } else {
+                            *p = if g[i] < 0.0 { -tau * g[i] } else { 0.0 };
+                        }
+                        if follow {
+                            *u -= tau * r[i];
+                        }
                     }
-                });
+                    clipped
+                })
+                .collect::<Vec<_>>()
+                .concat();
             conjugate = options.preconditioned || entering == 0.0;
             if let Some(target) = target_sum {
                 rescale(&mut p, target, h);
                 stale = true;
-            } else if clipped == 0.0 && (options.preconditioned || entering == 0.0) {
-                // p moved by exactly −τ t: so did u, by −τ r.
-                u.par_iter_mut().zip(&r).for_each(|(u, &r)| *u -= tau * r);
+            } else if follow && clipped.len() <= DIRECT_CLIPS {
+                // p moved by −τ t plus the clipped amounts: so does u.
+                self.influence.add_point_loads(&clipped, &mut u);
                 updated = true;
             } else {
                 stale = true;
@@ -405,17 +424,9 @@ impl<'a> Problem<'a> {
         }
     }
 
-    /// See [`Solution::residual`].
-    fn residual(&self, p: &[f64], g: &[f64], approach_m: f64) -> f64 {
-        let [count, square] = sums(p.len(), |i| {
-            if p[i] > 0.0 {
-                [1.0, g[i] * g[i]]
-            } else if g[i] < 0.0 {
-                [1.0, g[i] * g[i]]
-            } else {
-                [0.0, 0.0]
-            }
-        });
+    /// See [`Solution::residual`]: from the count of the points where the
+    /// violation can be non-zero and the sum of its squares.
+    fn residual(&self, count: f64, violation: f64, approach_m: f64) -> f64 {
         if count == 0.0 {
             return 0.0;
         }
@@ -426,7 +437,7 @@ impl<'a> Problem<'a> {
         } else {
             1.0
         };
-        (square / count).sqrt() / scale
+        (violation / count).sqrt() / scale
     }
 
     fn solution(
