@@ -164,6 +164,13 @@ fn predict(known: &[(f64, f64)], target: f64, bearing: &Bearing) -> f64 {
     match (below, above) {
         (Some(&(d0, a0)), Some(&(d1, a1))) => d0 + (d1 - d0) * (target - a0) / (a1 - a0),
         _ if known.len() < 2 => bearing.approach_m((2.0 * target).min(1.0)),
+        // One solve, below the target: the elastic area as the same share
+        // of the bearing area as there (near the top neither is linear in
+        // the approach, so a secant through first contact overshoots).
+        (Some(&(d1, a1)), None) if known.len() == 2 && a1 > 0.0 => {
+            let share = a1 / bearing.fraction(d1);
+            bearing.approach_m((target / share).min(1.0)).max(d1 * 1.0001)
+        }
         _ => {
             // Beyond the last point: the secant of the last two, at most
             // doubling the approach; flat there → double it.
@@ -193,6 +200,14 @@ impl Bearing {
         Self { descending_m }
     }
 
+    /// The fraction of the measured points at or above the plane at
+    /// approach `approach_m`.
+    fn fraction(&self, approach_m: f64) -> f64 {
+        let plane = self.descending_m[0] - approach_m;
+        let above = self.descending_m.partition_point(|&h| h >= plane);
+        above as f64 / self.descending_m.len() as f64
+    }
+
     fn approach_m(&self, fraction: f64) -> f64 {
         let n = self.descending_m.len();
         let k = ((fraction * n as f64).ceil() as usize).clamp(1, n);
@@ -215,6 +230,10 @@ mod tests {
         let heights = [3.0, 2.0, 1.0, 0.0];
         let bearing = Bearing::new(&heights);
         assert_eq!(bearing.approach_m(0.5), 1.0);
+        assert_eq!(bearing.fraction(1.0), 0.5);
+        assert_eq!(bearing.fraction(0.5), 0.25);
+        // One solve below the target: the same share of the bearing area.
+        assert_eq!(predict(&[(0.0, 0.0), (1.0, 0.25)], 0.375, &bearing), 2.0);
         // Only first contact known: the bearing area at twice the target.
         assert_eq!(predict(&[(0.0, 0.0)], 0.25, &bearing), 1.0);
         // Bracketed: linear between the neighbours.
