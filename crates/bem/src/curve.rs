@@ -44,7 +44,9 @@ pub struct Step {
 
 /// A step that could not be solved.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("step {step} of {steps} (approach {approach_m:.6e} m, target A/A0 = {target:.4}): {source}")]
+#[error(
+    "step {step} of {steps} (approach {approach_m:.6e} m, target A/A0 = {target:.4}): {source}"
+)]
 pub struct CurveError {
     pub step: usize,
     pub steps: usize,
@@ -86,7 +88,11 @@ pub fn solve_curve(
             let approach_m = predict(&known, target, &bearing);
             let warm = warm_start(&recent, approach_m);
             let solution = problem
-                .solve(Control::Approach(approach_m), options.solver, warm.as_deref())
+                .solve(
+                    Control::Approach(approach_m),
+                    options.solver,
+                    warm.as_deref(),
+                )
                 .map_err(|source| CurveError {
                     step: k,
                     steps,
@@ -169,7 +175,9 @@ fn predict(known: &[(f64, f64)], target: f64, bearing: &Bearing) -> f64 {
         // the approach, so a secant through first contact overshoots).
         (Some(&(d1, a1)), None) if known.len() == 2 && a1 > 0.0 => {
             let share = a1 / bearing.fraction(d1);
-            bearing.approach_m((target / share).min(1.0)).max(d1 * 1.0001)
+            bearing
+                .approach_m((target / share).min(1.0))
+                .max(d1 * 1.0001)
         }
         _ => {
             // Beyond the last point: the secant of the last two, at most
@@ -195,7 +203,11 @@ struct Bearing {
 
 impl Bearing {
     fn new(heights_m: &[f64]) -> Self {
-        let mut descending_m: Vec<f64> = heights_m.iter().copied().filter(|h| h.is_finite()).collect();
+        let mut descending_m: Vec<f64> = heights_m
+            .iter()
+            .copied()
+            .filter(|h| h.is_finite())
+            .collect();
         descending_m.sort_by(|a, b| b.total_cmp(a));
         Self { descending_m }
     }

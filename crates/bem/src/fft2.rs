@@ -38,6 +38,16 @@ pub struct Fft2 {
     inverse: Arc<dyn Fft<f64>>,
 }
 
+/// How a convolution uses the kernel's spectrum.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Factor {
+    /// by the kernel: `kernel ⊛ input`
+    Multiply,
+    /// by its inverse (0 where the spectrum is 0): the kernel's
+    /// (pseudo-)inverse applied to the input
+    Divide,
+}
+
 /// Buffers one convolution needs, kept between calls.
 pub struct Workspace {
     /// nx rows of hy complex numbers: the half-spectrum along y.
@@ -87,12 +97,16 @@ impl Fft2 {
     /// mx · my so that [`Fft2::convolve`] needs no further scaling; index
     /// `jy · mx + ix`. For an even kernel (k[i, j] = k[−i, −j] cyclically)
     /// the imaginary part is zero up to rounding.
-    pub fn spectrum(&self, full: &[f64]) -> Vec<f64> {
+    pub fn spectrum(&self, full: Vec<f64>) -> Vec<f64> {
         assert_eq!(full.len(), self.mx * self.my);
+        // Each buffer is dropped as soon as it is read: at 2048² they are
+        // 134 MB each, and this is the peak of the memory a solve needs.
         let mut rows = vec![Complex64::ZERO; self.mx * self.hy];
+        self.rows_forward(&full, self.mx, self.my, &mut rows);
+        drop(full);
         let mut columns = vec![Complex64::ZERO; self.spectrum_len()];
-        self.rows_forward(full, self.mx, self.my, &mut rows);
         transpose_in(&rows, self.mx, self.hy, self.mx, &mut columns);
+        drop(rows);
         columns.par_chunks_mut(self.mx).for_each_init(
             || vec![Complex64::ZERO; self.forward.get_inplace_scratch_len()],
             |scratch, column| self.forward.process_with_scratch(column, scratch),
@@ -101,13 +115,15 @@ impl Fft2 {
         columns.iter().map(|c| c.re * scale).collect()
     }
 
-    /// `output = (kernel ⊛ input)` restricted to the map, where `input` and
-    /// `output` are `nx × ny` maps (zero beyond them on the transform grid)
-    /// and `spectrum` comes from [`Fft2::spectrum`].
+    /// `output = (kernel ⊛ input)` (or the inverse operation, see
+    /// [`Factor`]) restricted to the map, where `input` and `output` are
+    /// `nx × ny` maps (zero beyond them on the transform grid) and `spectrum`
+    /// comes from [`Fft2::spectrum`].
     pub fn convolve(
         &self,
         input: &[f64],
         spectrum: &[f64],
+        factor: Factor,
         output: &mut [f64],
         work: &mut Workspace,
     ) {
@@ -116,6 +132,8 @@ impl Fft2 {
         assert_eq!(spectrum.len(), self.spectrum_len());
         self.rows_forward(input, nx, ny, &mut work.rows);
         transpose_in(&work.rows, nx, hy, mx, &mut work.columns);
+        // The spectrum carries 1/(mx my) once; its inverse must too.
+        let inverse_scale = ((self.mx * self.my) as f64).powi(-2);
         let scratch_len = self
             .forward
             .get_inplace_scratch_len()
@@ -125,10 +143,19 @@ impl Fft2 {
             .zip(spectrum.par_chunks(mx))
             .for_each_init(
                 || vec![Complex64::ZERO; scratch_len],
-                |scratch, (column, factor)| {
+                |scratch, (column, spectrum)| {
                     self.forward.process_with_scratch(column, scratch);
-                    for (c, f) in column.iter_mut().zip(factor) {
-                        *c *= *f;
+                    match factor {
+                        Factor::Multiply => {
+                            for (c, &s) in column.iter_mut().zip(spectrum) {
+                                *c *= s;
+                            }
+                        }
+                        Factor::Divide => {
+                            for (c, &s) in column.iter_mut().zip(spectrum) {
+                                *c *= if s > 0.0 { inverse_scale / s } else { 0.0 };
+                            }
+                        }
                     }
                     self.inverse.process_with_scratch(column, scratch);
                 },
@@ -274,7 +301,13 @@ mod tests {
     /// An even kernel on the transform grid: a function of the wrapped
     /// distances.
     fn even_kernel(mx: usize, my: usize) -> Vec<f64> {
-        let wrap = |i: usize, m: usize| if i <= m / 2 { i as f64 } else { i as f64 - m as f64 };
+        let wrap = |i: usize, m: usize| {
+            if i <= m / 2 {
+                i as f64
+            } else {
+                i as f64 - m as f64
+            }
+        };
         (0..mx * my)
             .map(|k| {
                 let (x, y) = (wrap(k / my, mx), wrap(k % my, my));
@@ -289,18 +322,37 @@ mod tests {
             let kernel = even_kernel(mx, my);
             let input: Vec<f64> = (0..nx * ny).map(|k| ((k * 37) % 11) as f64 - 4.0).collect();
             let fft = Fft2::new(nx, ny, mx, my);
-            let spectrum = fft.spectrum(&kernel);
+            let spectrum = fft.spectrum(kernel.clone());
             let mut out = vec![0.0; nx * ny];
             let mut work = fft.workspace();
-            fft.convolve(&input, &spectrum, &mut out, &mut work);
+            fft.convolve(&input, &spectrum, Factor::Multiply, &mut out, &mut work);
             let expected = direct(&kernel, &input, (nx, ny), (mx, my));
             for (a, b) in out.iter().zip(&expected) {
-                assert!((a - b).abs() < 1e-12 * 100.0, "{nx}×{ny} on {mx}×{my}: {a} vs {b}");
+                assert!(
+                    (a - b).abs() < 1e-12 * 100.0,
+                    "{nx}×{ny} on {mx}×{my}: {a} vs {b}"
+                );
             }
             // A second call with the same workspace gives the same bits.
             let mut again = vec![0.0; nx * ny];
-            fft.convolve(&input, &spectrum, &mut again, &mut work);
+            fft.convolve(&input, &spectrum, Factor::Multiply, &mut again, &mut work);
             assert_eq!(out, again);
+            // On a periodic grid, dividing by a positive spectrum undoes
+            // multiplying by it: 2 + ½ cos qx + ½ cos qy ≥ 1.
+            if mx == nx && my == ny {
+                let mut positive = vec![0.0; mx * my];
+                positive[0] = 2.0;
+                for k in [my, (mx - 1) * my, 1, my - 1] {
+                    positive[k] += 0.25;
+                }
+                let spectrum = fft.spectrum(positive);
+                let (mut there, mut back) = (vec![0.0; nx * ny], vec![0.0; nx * ny]);
+                fft.convolve(&input, &spectrum, Factor::Multiply, &mut there, &mut work);
+                fft.convolve(&there, &spectrum, Factor::Divide, &mut back, &mut work);
+                for (a, b) in back.iter().zip(&input) {
+                    assert!((a - b).abs() < 1e-12, "{a} vs {b}");
+                }
+            }
         }
     }
 

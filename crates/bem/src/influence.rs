@@ -36,7 +36,7 @@
 
 use rayon::prelude::*;
 
-use crate::fft2::{Fft2, Workspace, fast_even_size};
+use crate::fft2::{Factor, Fft2, Workspace, fast_even_size};
 
 /// How the map continues beyond its edges.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, hypercontact_core::Choice)]
@@ -56,8 +56,6 @@ pub struct Influence {
     fft: Fft2,
     /// The kernel's spectrum, scaled for [`Fft2::convolve`].
     spectrum: Vec<f64>,
-    /// Its inverse on the transform grid, scaled alike.
-    inverse: Vec<f64>,
     /// u everywhere under a unit pressure on pixel [0, 0]: K at every
     /// offset (the kernel is even in x and in y), m.
     response_m: Vec<f64>,
@@ -72,25 +70,15 @@ impl Influence {
         };
         let fft = Fft2::new(nx, ny, mx, my);
         let spectrum = match boundary {
-            Boundary::Free => fft.spectrum(&love_kernel(mx, my, dx_m, dy_m)),
+            Boundary::Free => fft.spectrum(love_kernel(mx, my, dx_m, dy_m)),
             Boundary::Periodic => periodic_spectrum(mx, my, dx_m, dy_m),
         };
-        let points = {
-            let (mx, my) = fft.transform_size();
-            (mx * my) as f64
-        };
-        let smallest = spectrum.iter().copied().filter(|&s| s > 0.0).fold(f64::INFINITY, f64::min);
-        let inverse = spectrum
-            .iter()
-            .map(|&s| 1.0 / (s.max(smallest) * points * points))
-            .collect();
         let mut influence = Self {
             nx,
             ny,
             boundary,
             fft,
             spectrum,
-            inverse,
             response_m: Vec::new(),
         };
         let mut unit = vec![0.0; nx * ny];
@@ -161,24 +149,33 @@ impl Influence {
 
     /// `displacement = K * pressure` on the map (E* = 1).
     pub fn apply(&self, pressure: &[f64], displacement: &mut [f64], work: &mut Workspace) {
-        self.fft
-            .convolve(pressure, &self.spectrum, displacement, work);
+        self.fft.convolve(
+            pressure,
+            &self.spectrum,
+            Factor::Multiply,
+            displacement,
+            work,
+        );
     }
 
     /// `pressure ≈ K⁻¹ gap`: the inverse of the operator on the transform
-    /// grid, the solver's preconditioner.
+    /// grid (the pseudo-inverse for a periodic map: zero at q = 0), the
+    /// solver's preconditioner.
     pub fn precondition(&self, gap: &[f64], pressure: &mut [f64], work: &mut Workspace) {
-        self.fft.convolve(gap, &self.inverse, pressure, work);
-    }
-
-    pub fn spectrum_min(&self) -> f64 {
-        self.spectrum.iter().copied().fold(f64::INFINITY, f64::min)
+        self.fft
+            .convolve(gap, &self.spectrum, Factor::Divide, pressure, work);
     }
 }
 
 /// Love's G(X, Y) = X asinh(Y/|X|) + Y asinh(X/|Y|), terms 0 at a 0 factor.
 fn love_g(x: f64, y: f64) -> f64 {
-    let term = |a: f64, b: f64| if a == 0.0 { 0.0 } else { a * (b / a.abs()).asinh() };
+    let term = |a: f64, b: f64| {
+        if a == 0.0 {
+            0.0
+        } else {
+            a * (b / a.abs()).asinh()
+        }
+    };
     term(x, y) + term(y, x)
 }
 
@@ -195,7 +192,13 @@ pub fn love_pixel(x_m: f64, y_m: f64, dx_m: f64, dy_m: f64) -> f64 {
 /// half the grid (index i is the offset i for i ≤ m/2, i − m beyond), so the
 /// kernel is even and its spectrum real.
 fn love_kernel(mx: usize, my: usize, dx_m: f64, dy_m: f64) -> Vec<f64> {
-    let offset = |i: usize, m: usize| if i <= m / 2 { i as f64 } else { i as f64 - m as f64 };
+    let offset = |i: usize, m: usize| {
+        if i <= m / 2 {
+            i as f64
+        } else {
+            i as f64 - m as f64
+        }
+    };
     let mut kernel = vec![0.0; mx * my];
     kernel.par_chunks_mut(my).enumerate().for_each(|(i, row)| {
         let x = offset(i, mx) * dx_m;
@@ -211,7 +214,11 @@ fn love_kernel(mx: usize, my: usize, dx_m: f64, dy_m: f64) -> Vec<f64> {
 fn periodic_spectrum(mx: usize, my: usize, dx_m: f64, dy_m: f64) -> Vec<f64> {
     let hy = my / 2 + 1;
     let wavevector = |i: usize, m: usize, d: f64| {
-        let k = if i <= m / 2 { i as f64 } else { i as f64 - m as f64 };
+        let k = if i <= m / 2 {
+            i as f64
+        } else {
+            i as f64 - m as f64
+        };
         std::f64::consts::TAU * k / (m as f64 * d)
     };
     let scale = 1.0 / (mx * my) as f64;
@@ -242,10 +249,16 @@ mod tests {
             let r = f64::hypot(x, y);
             let point = 2.0 * 3.0 / (std::f64::consts::PI * r);
             let u = love_pixel(x, y, 2.0, 3.0);
-            assert!((u / point - 1.0).abs() < 2e-3 * (50.0 / r).powi(2), "{x} {y}: {u} vs {point}");
+            assert!(
+                (u / point - 1.0).abs() < 2e-3 * (50.0 / r).powi(2),
+                "{x} {y}: {u} vs {point}"
+            );
         }
         // Even in both coordinates, finite at the pixel's edges and corners.
-        let (u, mirrored) = (love_pixel(3.0, -2.0, 1.0, 2.0), love_pixel(-3.0, 2.0, 1.0, 2.0));
+        let (u, mirrored) = (
+            love_pixel(3.0, -2.0, 1.0, 2.0),
+            love_pixel(-3.0, 2.0, 1.0, 2.0),
+        );
         assert!((u - mirrored).abs() < 1e-14 * u);
         assert!(love_pixel(0.5, 0.5, 1.0, 1.0).is_finite());
     }
@@ -283,7 +296,12 @@ mod tests {
         for boundary in [Boundary::Free, Boundary::Periodic] {
             let (nx, ny) = (9, 7);
             let influence = Influence::new(nx, ny, 1e-3, 2e-3, boundary);
-            let loads = [(0, 1.5), (3 * ny + 5, -0.5), (nx * ny - 1, 2.0), (4 * ny, 0.25)];
+            let loads = [
+                (0, 1.5),
+                (3 * ny + 5, -0.5),
+                (nx * ny - 1, 2.0),
+                (4 * ny, 0.25),
+            ];
             let mut p = vec![0.0; nx * ny];
             for &(k, load) in &loads {
                 p[k] += load;

@@ -32,15 +32,16 @@
 //!   across entries (restarting there, as PK do, stalls this variant in an
 //!   enter-and-leave cycle at the contact edge), with a steepest-descent
 //!   restart whenever the conjugate step is not a descent. The FFT
-//!   preconditioner on the contact set is E. A. H. Vollebregt's, "A new
+//!   preconditioner on the contact set follows E. A. H. Vollebregt, "A new
 //!   solver for the elastic normal contact problem using conjugate
 //!   gradients, deflation, and an FFT-based preconditioner", J. Comput.
 //!   Phys. 257 (2014) 333–351.
 //!
-//! While no pressure is clipped, u is updated as u − τ r instead of being
-//! recomputed; it is recomputed after every clip and before convergence is
-//! declared, so the residual of the returned pressure is that of u = K p
-//! (see [`Solution::residual`]): what is returned is checked, not
+//! While at most a few pressures are clipped, u follows the step (u − τ r,
+//! plus the clipped amounts summed point by point) instead of being
+//! recomputed by a convolution; it is recomputed otherwise and always before
+//! convergence is declared, so the residual of the returned pressure is that
+//! of u = K p (see [`Solution::residual`]): what is returned is checked, not
 //! extrapolated.
 
 use rayon::prelude::*;
@@ -117,12 +118,17 @@ pub enum SolveError {
         /// Σ p / (measured points) of the last iterate, in units of E*.
         mean_pressure: f64,
     },
-    #[error("the conjugate-gradient step broke down (a zero or non-finite step) at iteration {iteration}")]
+    #[error(
+        "the conjugate-gradient step broke down (a zero or non-finite step) at iteration \
+         {iteration}"
+    )]
     Breakdown { iteration: usize },
     #[error("heights and the influence operator differ in size ({heights} vs {grid} points)")]
     Size { heights: usize, grid: usize },
     #[error("no height is measured (every value is NaN)")]
     NoPoints,
+    #[error("point {index} holds the height {value} (finite or NaN expected)")]
+    BadHeight { index: usize, value: f64 },
     #[error("the warm start has {warm} points, the map {grid}")]
     WarmStart { warm: usize, grid: usize },
     #[error("the control value {0} is negative or not finite")]
@@ -148,6 +154,12 @@ impl<'a> Problem<'a> {
                 grid: nx * ny,
             });
         }
+        if let Some(index) = heights_m.iter().position(|h| h.is_infinite()) {
+            return Err(SolveError::BadHeight {
+                index,
+                value: heights_m[index],
+            });
+        }
         let heights_m: Vec<f64> = heights_m
             .iter()
             .map(|&h| if h.is_nan() { f64::NEG_INFINITY } else { h })
@@ -158,10 +170,16 @@ impl<'a> Problem<'a> {
         }
         let top_m = heights_m.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         let finite = |i: usize| heights_m[i].is_finite();
-        let [total] = sums(heights_m.len(), |i| [if finite(i) { heights_m[i] } else { 0.0 }]);
+        let [total] = sums(heights_m.len(), |i| {
+            [if finite(i) { heights_m[i] } else { 0.0 }]
+        });
         let mean = total / measured as f64;
         let [square] = sums(heights_m.len(), |i| {
-            [if finite(i) { (heights_m[i] - mean).powi(2) } else { 0.0 }]
+            [if finite(i) {
+                (heights_m[i] - mean).powi(2)
+            } else {
+                0.0
+            }]
         });
         Ok(Self {
             influence,
@@ -264,7 +282,11 @@ impl<'a> Problem<'a> {
                             [0.0, 0.0]
                         }
                     });
-                    if count > 0.0 { sum_hu / count } else { self.top_m }
+                    if count > 0.0 {
+                        sum_hu / count
+                    } else {
+                        self.top_m
+                    }
                 }
             };
             let [contact, entering, violation] = fill_sums(&mut g, |i| {
@@ -340,9 +362,11 @@ impl<'a> Problem<'a> {
             let rho = if load_control {
                 // Keep the load: directions of zero sum on the set.
                 let z_mean = z_sum / count;
-                z.par_iter_mut()
-                    .zip(&active)
-                    .for_each(|(z, &a)| if a { *z -= z_mean });
+                z.par_iter_mut().zip(&active).for_each(|(z, &a)| {
+                    if a {
+                        *z -= z_mean
+                    }
+                });
                 gz - z_mean * g_sum
             } else {
                 gz
@@ -480,8 +504,12 @@ fn rescale(p: &mut [f64], target: f64, heights_m: &[f64]) {
         p.par_iter_mut().for_each(|p| *p *= factor);
     } else {
         let measured = heights_m.iter().filter(|h| h.is_finite()).count() as f64;
-        p.par_iter_mut()
-            .zip(heights_m)
-            .for_each(|(p, h)| *p = if h.is_finite() { target / measured } else { 0.0 });
+        p.par_iter_mut().zip(heights_m).for_each(|(p, h)| {
+            *p = if h.is_finite() {
+                target / measured
+            } else {
+                0.0
+            }
+        });
     }
 }

@@ -99,7 +99,9 @@ mod tests {
         let three = on(3);
         assert_eq!(one.map(f64::to_bits), three.map(f64::to_bits));
         let mut filled = vec![0.0; len];
-        let both = fill_sums(&mut filled, |i| (2.0 * term(i), [term(i), term(i) * term(i)]));
+        let both = fill_sums(&mut filled, |i| {
+            (2.0 * term(i), [term(i), term(i) * term(i)])
+        });
         assert_eq!(both.map(f64::to_bits), one.map(f64::to_bits));
         assert_eq!(filled[7], 2.0 * term(7));
         let plain: f64 = (0..len).map(term).sum();

@@ -108,38 +108,45 @@ pub struct Bem;
 static INFO: StageInfo = StageInfo {
     kind: "bem",
     version: 1,
-    summary: "Boundary elements: load against contact area of the height map on an elastic half-space",
+    summary: "Boundary elements: load against contact area of a height map on an elastic \
+              half-space",
     doc: "The rough surface as a linearly elastic half-space pressed onto a rigid plane, solved \
-          pixel by pixel (pixel-wise constant pressure) with FFTs, so asperities interact through \
-          the elastic field. BOUNDARY: `free` (default) treats the map as a finite part of an \
-          infinite half-space loaded nowhere else: zero-padded to at least 2N x 2N with Love's \
-          closed-form displacement of a uniformly loaded rectangular pixel (Love 1929, Johnson \
-          §3.9), Hockney's method; `periodic` for periodic maps: u^(q) = 2 p^(q) / (E* |q|), mean \
-          of u zero. SOLVER: Polonsky & Keer's constrained conjugate gradient (Wear 231, 1999) \
-          under rigid-plane approach control, each solve warm-started from the previous; a solve \
-          is accepted when the rms of the complementarity violation (gap on {p > 0}, negative gap \
-          elsewhere) over the approach is at most `tolerance`; otherwise the stage fails naming \
-          the step, the plane height, the load and the residual. Sums are in a fixed order, so \
-          results are the same to the bit on any number of threads. STEPS: row 0 is first \
-          contact (F = 0, A = 0); rows 1..=steps aim at A/A0 = k max_area_fraction / steps and \
-          land within a quarter of the spacing (or as near as six solves get). CONVENTIONS: `z_m` \
-          is the rigid plane's height above the lowest measured point (first contact: the map's \
-          height range; periodic: the plane relative to the mean surface, i.e. a mean gap); A = \
-          contact pixels (p > 0) x dx dy; A0 = measured pixels x dx dy (NaN heights never touch, \
-          as in `truncation`); E0* and E_t* exactly as in `icm` (E0* = E0/(1 - nu^2), E0 = 2 mu0 \
-          (1 + nu)); kappa = (A/A0) / (p/(E0* h'rms)) with p = F/A0 and h'rms the rms gradient by \
-          forward differences (as `surface` reports it; about 2 at small load on self-affine \
-          maps). MODEL `linear`: F = E0* f(delta), f the load for E* = 1 (contact set and f do not \
-          depend on the modulus). `hyperelastic`: the paper's tangent modulus (Eqs. 5-7) applied \
-          to the coupled contact instead of profile theory: dF = E_t*(-F/A) f'(delta) d delta, \
-          i.e. dF = E_t*(-F/A) df over the solved steps, F = 0 at first contact, with the ICM's \
-          E_t*(S) (same material law, same sign convention: S = -F/A <= 0) and `scheme` (euler: \
-          the paper's explicit step; heun: trapezoid); tangent_ratio = E_t*/E0*. The contact set, \
-          A and the gap are those of the linear solution; the pressure map is the linear one \
-          scaled to the load (F/f). CONTACT_MAPS: for each of map_fractions, the step whose A/A0 \
-          is nearest: pressure_a<fraction>.npy (Pa) and gap_a<fraction>.npy (m, NaN where not \
-          measured), axis 0 = x as the input, and maps.csv (requested_area_fraction, \
-          area_fraction, step, z_m, load_n, pressure_file, gap_file, dx_m, dy_m).",
+          pixel by pixel (pixel-wise constant pressure) with FFTs, so asperities interact \
+          through the elastic field and the surface between them deforms (what profile theory \
+          leaves out). BOUNDARY: `free` (default) treats the map as a finite part of an infinite \
+          half-space loaded nowhere else: zero-padded to at least 2N x 2N with Love's \
+          closed-form displacement of a uniformly loaded rectangular pixel (Love 1929; Johnson, \
+          Contact Mechanics, 3.9), Hockney's method; `periodic` for periodic maps: u^(q) = 2 \
+          p^(q) / (E* |q|), mean of u zero. SOLVER: Polonsky & Keer's constrained conjugate \
+          gradient (Wear 231, 1999) under rigid-plane approach control, with an FFT \
+          preconditioner after Vollebregt (J. Comput. Phys. 257, 2014: the operator's inverse on \
+          the transform grid), each solve warm-started from the previous two; a solve is \
+          accepted when the rms of the complementarity violation (gap on {p > 0}, negative gap \
+          elsewhere) divided by the approach is at most `tolerance` (at 1e-8 the contact set is \
+          exact to the pixel and the load to ~1e-9); otherwise the stage fails naming the step, \
+          the plane height, the load and the residual. Sums are in a fixed order, so results are \
+          the same to the bit on any number of threads. STEPS: row 0 is first contact (F = 0, A \
+          = 0); rows 1..=steps aim at A/A0 = k max_area_fraction / steps and land within a \
+          quarter of the spacing (or as near as six solves get); `iterations` counts every solve \
+          of a step. CONVENTIONS: `z_m` is the rigid plane's height above the lowest measured \
+          point (at first contact the map's height range; periodic: the plane relative to the \
+          mean surface, i.e. a mean gap); A = contact pixels (p > 0) x dx dy; A0 = measured \
+          pixels x dx dy (NaN heights never touch, as in `truncation`); E0* and E_t* exactly as \
+          in `icm` (E0* = E0/(1 - nu^2), E0 = 2 mu0 (1 + nu)); kappa = (A/A0) / (p/(E0* h'rms)) \
+          with p = F/A0 and h'rms the rms gradient by forward differences (as `surface` reports \
+          it); about 2 at small load on self-affine maps, falling with load; NaN at first \
+          contact. MODEL `linear`: F = E0* f(delta), f the load for E* = 1 (the contact set and \
+          f do not depend on the modulus). `hyperelastic`: the paper's tangent modulus (Eqs. \
+          5-7) applied to the coupled contact instead of profile theory: dF = E_t*(-F/A) \
+          f'(delta) d delta, i.e. dF = E_t*(-F/A) df over the solved steps, F = 0 at first \
+          contact, with the ICM's E_t*(S) (same material law and sign convention: S = -F/A <= 0, \
+          E_t*/E0* = 2 at first contact for nu = 1/2) and `scheme` (euler: the paper's explicit \
+          step; heun: trapezoid); tangent_ratio = E_t*/E0*. The contact set, A and the gap are \
+          the linear solution's; the pressure map is the linear one scaled to the load (F/f). \
+          CONTACT_MAPS: for each of map_fractions, the step whose A/A0 is nearest: \
+          pressure_a<fraction>.npy (Pa) and gap_a<fraction>.npy (m, NaN where not measured), \
+          axis 0 = x as in the input, and maps.csv (requested_area_fraction, area_fraction, \
+          step, z_m, load_n, pressure_file, gap_file, dx_m, dy_m).",
     inputs: &[
         InputSpec::field(
             "surface",
@@ -197,9 +204,8 @@ impl Stage for Bem {
         let pixel_m2 = dx * dy;
 
         let influence = Influence::new(nx, ny, dx, dy, p.boundary);
-        let problem = Problem::new(&influence, &heights_m).map_err(|e| {
-            StageError::other(BemError::Surface(e.to_string()))
-        })?;
+        let problem = Problem::new(&influence, &heights_m)
+            .map_err(|e| StageError::other(BemError::Surface(e.to_string())))?;
         let a0_m2 = problem.measured() as f64 * pixel_m2;
         let lowest_m = heights_m
             .iter()
@@ -236,9 +242,8 @@ impl Stage for Bem {
                 }
             }
         };
-        let rows = solve_curve(&problem, options, &mut keep).map_err(|e| {
-            StageError::other(not_converged(e, &z_of, e0_star * a0_m2))
-        })?;
+        let rows = solve_curve(&problem, options, &mut keep)
+            .map_err(|e| StageError::other(not_converged(e, &z_of, e0_star * a0_m2)))?;
         drop(progress);
 
         // Loads: E0* f, or the tangent-modulus integral over f.
@@ -256,7 +261,11 @@ impl Stage for Bem {
         let response = BemResponseTable {
             z_m: rows.iter().map(|r| z_of(r.approach_m)).collect(),
             area_fraction: rows.iter().map(|r| r.area_fraction).collect(),
-            load_norm: tangent.load_n.iter().map(|f| f / (e0_star * a0_m2)).collect(),
+            load_norm: tangent
+                .load_n
+                .iter()
+                .map(|f| f / (e0_star * a0_m2))
+                .collect(),
             mean_stress_pa: tangent
                 .load_n
                 .iter()

@@ -99,7 +99,10 @@ mod tests {
         for scheme in [Scheme::Euler, Scheme::Heun] {
             let out = integrate(&f, &area, scheme, &mut |_| Ok(e_star)).unwrap();
             for (load, f) in out.load_n.iter().zip(f) {
-                assert!((load - e_star * f).abs() <= 1e-14 * e_star * f, "{scheme:?}");
+                assert!(
+                    (load - e_star * f).abs() <= 1e-14 * e_star * f,
+                    "{scheme:?}"
+                );
             }
             assert!(out.modulus_pa.iter().all(|&e| e == e_star));
         }

@@ -15,7 +15,10 @@ use hypercontact_material::{Hyperelastic, NeoHookean};
 use ndarray::Array2;
 
 fn sample_256() -> Field {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/samples/self-affine-256.npy");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../data/samples/self-affine-256.npy"
+    );
     Field::read_npy(std::fs::File::open(path).unwrap(), 2e-5, 2e-5).unwrap()
 }
 
@@ -35,7 +38,10 @@ fn small_map(nx: usize, ny: usize) -> Field {
 }
 
 fn params(json: &str) -> Checked<BemParams> {
-    serde_json::from_str::<BemParams>(json).unwrap().check().unwrap()
+    serde_json::from_str::<BemParams>(json)
+        .unwrap()
+        .check()
+        .unwrap()
 }
 
 fn run(p: &Checked<BemParams>, surface: Field, material: &dyn Hyperelastic) -> Outputs {
@@ -74,7 +80,12 @@ fn kappa_on_a_self_affine_map_is_about_two_at_small_load() {
     );
     let started = std::time::Instant::now();
     let r = response(&run(&p, sample_256(), &paper_epdm()));
-    eprintln!("κ {:?} at A/A0 {:?} in {:?}", r.kappa, r.area_fraction, started.elapsed());
+    eprintln!(
+        "κ {:?} at A/A0 {:?} in {:?}",
+        r.kappa,
+        r.area_fraction,
+        started.elapsed()
+    );
     assert!(r.kappa[0].is_nan());
     for k in 1..r.kappa.len() {
         assert!(r.area_fraction[k] < 0.06);
@@ -121,10 +132,19 @@ fn response_has_icm_columns_first_and_even_area_steps() {
     let names: Vec<&str> = files.keys().map(String::as_str).collect();
     assert_eq!(
         names,
-        ["gap_a0.100.npy", "gap_a0.400.npy", "maps.csv", "pressure_a0.100.npy", "pressure_a0.400.npy"]
+        [
+            "gap_a0.100.npy",
+            "gap_a0.400.npy",
+            "maps.csv",
+            "pressure_a0.100.npy",
+            "pressure_a0.400.npy"
+        ]
     );
     let csv = String::from_utf8(files["maps.csv"].clone()).unwrap();
-    assert!(csv.starts_with("requested_area_fraction,area_fraction,step,"), "{csv}");
+    assert!(
+        csv.starts_with("requested_area_fraction,area_fraction,step,"),
+        "{csv}"
+    );
     // The pressure map integrates to the step's load; the gap is closed
     // where it presses, open elsewhere, NaN where nothing was measured.
     let row: Vec<&str> = csv.lines().nth(2).unwrap().split(',').collect();
@@ -151,7 +171,9 @@ fn response_has_icm_columns_first_and_even_area_steps() {
 fn linear_contact_does_not_depend_on_the_modulus_and_the_tangent_model_scales_it() {
     let soft = NeoHookean::new(0.2e6).unwrap();
     let stiff = NeoHookean::new(3e6).unwrap();
-    let p = params(r#"{"model": "linear", "steps": 4, "max_area_fraction": 0.2, "map_fractions": [0.2]}"#);
+    let p = params(
+        r#"{"model": "linear", "steps": 4, "max_area_fraction": 0.2, "map_fractions": [0.2]}"#,
+    );
     let a = run(&p, small_map(40, 40), &soft);
     let b = run(&p, small_map(40, 40), &stiff);
     let (ra, rb) = (response(&a), response(&b));
@@ -210,7 +232,10 @@ fn bytes_are_the_same_on_one_two_and_three_threads() {
             assert_eq!(bits, other_bits, "{threads} threads");
             assert_eq!(iterations, other_iterations, "{threads} threads");
             for (name, bytes) in &files {
-                assert!(other_files[name] == *bytes, "{name} differs on {threads} threads");
+                assert!(
+                    other_files[name] == *bytes,
+                    "{name} differs on {threads} threads"
+                );
             }
         }
     }
@@ -230,7 +255,11 @@ fn refusals_name_what_is_wrong() {
         .unwrap_err();
     assert_eq!(e.param, "map_fractions.1");
     assert!(serde_json::from_str::<BemParams>(r#"{"boundary": "open"}"#).is_err());
-    for bad in [r#"{"tolerance": 0}"#, r#"{"steps": 0}"#, r#"{"max_area_fraction": 1.5}"#] {
+    for bad in [
+        r#"{"tolerance": 0}"#,
+        r#"{"steps": 0}"#,
+        r#"{"max_area_fraction": 1.5}"#,
+    ] {
         let p: BemParams = serde_json::from_str(bad).unwrap();
         assert!(p.check().is_err(), "{bad}");
     }
@@ -239,7 +268,9 @@ fn refusals_name_what_is_wrong() {
         let inputs = Inputs::new()
             .with("surface", Product::Field(surface))
             .with("material", Product::Table(to_table(&paper_epdm())));
-        Bem.run(p, &inputs, &Context::new("bem")).unwrap_err().to_string()
+        Bem.run(p, &inputs, &Context::new("bem"))
+            .unwrap_err()
+            .to_string()
     };
     let defaults = BemParams::default().check().unwrap();
     let flat = Field::new(Array2::from_elem((8, 8), 1e-6), 1e-5, 1e-5).unwrap();
@@ -252,10 +283,15 @@ fn refusals_name_what_is_wrong() {
     assert!(fail(inf, &defaults).contains("[2, 3]"));
 
     // No convergence: the step, the plane, the load and the residual.
-    let starved = params(r#"{"max_iterations": 2, "steps": 2, "max_area_fraction": 0.2, "map_fractions": []}"#);
+    let starved = params(
+        r#"{"max_iterations": 2, "steps": 2, "max_area_fraction": 0.2, "map_fractions": []}"#,
+    );
     let e = fail(small_map(32, 32), &starved);
     assert!(
-        e.contains("step 1 of 2") && e.contains("z = ") && e.contains(" N") && e.contains("residual"),
+        e.contains("step 1 of 2")
+            && e.contains("z = ")
+            && e.contains(" N")
+            && e.contains("residual"),
         "{e}"
     );
 }
@@ -305,7 +341,10 @@ fn tangent_model_with_a_constant_modulus_is_the_linear_model() {
     let rows = hypercontact_bem::solve_curve(&problem, options, &mut |_, _, _| {}).unwrap();
     let a0 = problem.measured() as f64 * 4e-10;
     let f: Vec<f64> = rows.iter().map(|r| r.mean_pressure * a0).collect();
-    let area: Vec<f64> = rows.iter().map(|r| r.contact_pixels as f64 * 4e-10).collect();
+    let area: Vec<f64> = rows
+        .iter()
+        .map(|r| r.contact_pixels as f64 * 4e-10)
+        .collect();
     let material = Arc::new(ConstantTangent { mu_pa: 1e6 });
     let modulus = CompositeModulus::new(material, Model::Hyperelastic, 0.5).unwrap();
     let e_t = modulus.at_stress_pa(0.0).unwrap();
