@@ -1,7 +1,7 @@
 //! One-shot timings too long for criterion's ten samples: a load step on a
 //! 2048² free map (the issue's comparison with tamaas 2.9, which needs
 //! 100–340 s per load on one thread), and the 40-step curve of a ~450² map
-//! like a paper-pipeline sample.
+//! like a paper-pipeline sample, run through the stage.
 //!
 //! Run: `RAYON_NUM_THREADS=1 cargo bench -p hypercontact-bem --bench load_step`
 //! (and without the variable for all cores). `-- 2048` or `-- 450` runs one.
@@ -96,33 +96,39 @@ fn load_step_2048() {
     }
 }
 
+/// The stage as a pipeline runs it (defaults: free, 40 steps to A/A0 = 0.9,
+/// tolerance 1e-8, hyperelastic, maps at 0.1/0.5/0.9), on a 450² map.
 fn curve_450() {
+    use hypercontact_bem::stage::{Bem, BemParams};
+    use hypercontact_core::{Context, Field, Inputs, Params, Product, Stage, Table};
+
     let n = 450;
-    let heights = map(n);
+    let heights = ndarray::Array2::from_shape_vec((n, n), map(n)).unwrap();
+    let inputs = Inputs::new()
+        .with(
+            "surface",
+            Product::Field(Field::new(heights, 20e-6, 20e-6).unwrap()),
+        )
+        .with(
+            "material",
+            Product::Table(hypercontact_material::table::to_table(
+                &hypercontact_material::presets::paper_epdm(),
+            )),
+        );
+    let params = BemParams::default().check().unwrap();
     let started = Instant::now();
-    let influence = Influence::new(n, n, 20e-6, 20e-6, Boundary::Free);
-    let problem = Problem::new(&influence, &heights).unwrap();
-    let options = CurveOptions {
-        steps: 40,
-        max_area_fraction: 0.9,
-        solver: SolverOptions {
-            tolerance: std::env::var("BEM_TOL")
-                .ok()
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(1e-8),
-            max_iterations: 5000,
-            ..SolverOptions::default()
-        },
+    let out = Bem.run(&params, &inputs, &Context::new("bem")).unwrap();
+    let elapsed = started.elapsed();
+    let Some(Product::Table(response)) = out.get("response") else {
+        panic!("no response")
     };
-    let mut iterations = 0;
-    let rows = solve_curve(&problem, options, &mut |_, row, _| {
-        iterations += row.iterations
-    })
-    .unwrap();
+    let response: &Table = response;
+    let iterations: i64 = response.i64("iterations").unwrap().iter().sum();
+    let fractions = response.f64("area_fraction").unwrap();
     println!(
-        "450² free, 40 steps to A/A0 = {:.3}: {:.2?} ({iterations} iterations, {} threads)",
-        rows.last().unwrap().area_fraction,
-        started.elapsed(),
+        "stage bem on 450² (free, 40 steps to A/A0 = {:.3}): {elapsed:.2?} ({iterations} \
+         iterations, {} threads)",
+        fractions[fractions.len() - 1],
         rayon::current_num_threads()
     );
 }

@@ -6,8 +6,10 @@
 //! The approach for a target is interpolated between the nearest solved
 //! approaches below and above it, or extrapolated from the last two; the
 //! first one is guessed from the bearing area (an elastic contact covers
-//! about half the area the rigid plane cuts through). Every solve starts
-//! from the pressure of the previous one.
+//! about half the area the rigid plane cuts through), the second from the
+//! share of it the first solve found. Every solve starts from the pressure
+//! extrapolated from the previous two. The approaches only grow from step to
+//! step, so the rows are ordered.
 
 use rayon::prelude::*;
 

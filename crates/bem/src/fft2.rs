@@ -161,7 +161,7 @@ impl Fft2 {
                 },
             );
         transpose_out(&work.columns, nx, hy, mx, &mut work.rows);
-        let even = self.my % 2 == 0;
+        let even = self.my.is_multiple_of(2);
         work.rows
             .par_chunks_mut(hy)
             .zip(output.par_chunks_mut(ny))
