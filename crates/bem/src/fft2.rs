@@ -131,48 +131,56 @@ impl Fft2 {
         assert!(input.len() == nx * ny && output.len() == nx * ny);
         assert_eq!(spectrum.len(), self.spectrum_len());
         self.rows_forward(input, nx, ny, &mut work.rows);
-        transpose_in(&work.rows, nx, hy, mx, &mut work.columns);
         // The spectrum carries 1/(mx my) once; its inverse must too.
         let inverse_scale = ((self.mx * self.my) as f64).powi(-2);
         let scratch_len = self
             .forward
             .get_inplace_scratch_len()
             .max(self.inverse.get_inplace_scratch_len());
+        // A strip of columns at a time, while it is in cache: gathered from
+        // the rows, transformed along x, multiplied, transformed back.
+        let rows = &work.rows;
         work.columns
-            .par_chunks_mut(mx)
-            .zip(spectrum.par_chunks(mx))
+            .par_chunks_mut(BLOCK * mx)
+            .zip(spectrum.par_chunks(BLOCK * mx))
+            .enumerate()
             .for_each_init(
                 || vec![Complex64::ZERO; scratch_len],
-                |scratch, (column, spectrum)| {
-                    self.forward.process_with_scratch(column, scratch);
+                |scratch, (block, (strip, spectrum))| {
+                    gather_columns(rows, nx, hy, mx, block * BLOCK, strip);
+                    self.forward.process_with_scratch(strip, scratch);
                     match factor {
                         Factor::Multiply => {
-                            for (c, &s) in column.iter_mut().zip(spectrum) {
+                            for (c, &s) in strip.iter_mut().zip(spectrum) {
                                 *c *= s;
                             }
                         }
                         Factor::Divide => {
-                            for (c, &s) in column.iter_mut().zip(spectrum) {
+                            for (c, &s) in strip.iter_mut().zip(spectrum) {
                                 *c *= if s > 0.0 { inverse_scale / s } else { 0.0 };
                             }
                         }
                     }
-                    self.inverse.process_with_scratch(column, scratch);
+                    self.inverse.process_with_scratch(strip, scratch);
                 },
             );
-        transpose_out(&work.columns, nx, hy, mx, &mut work.rows);
+        // A band of rows at a time: gathered from the columns, transformed
+        // back along y, the map's part written out.
+        let columns = &work.columns;
         let even = self.my.is_multiple_of(2);
-        work.rows
-            .par_chunks_mut(hy)
-            .zip(output.par_chunks_mut(ny))
-            .for_each_init(
-                || {
-                    (
-                        vec![0.0; self.my],
-                        vec![Complex64::ZERO; self.c2r.get_scratch_len()],
-                    )
-                },
-                |(line, scratch), (row, out)| {
+        output.par_chunks_mut(BLOCK * ny).enumerate().for_each_init(
+            || {
+                (
+                    vec![Complex64::ZERO; BLOCK * hy],
+                    vec![0.0; self.my],
+                    vec![Complex64::ZERO; self.c2r.get_scratch_len()],
+                )
+            },
+            |(band, line, scratch), (block, out)| {
+                let height = out.len() / ny;
+                let band = &mut band[..height * hy];
+                gather_rows(columns, hy, mx, block * BLOCK, band);
+                for (row, out) in band.chunks_mut(hy).zip(out.chunks_mut(ny)) {
                     // The spectrum of a real row: these are real; rounding in
                     // the column passes leaves ~1e-17 there, which the
                     // inverse would refuse.
@@ -183,9 +191,10 @@ impl Fft2 {
                     self.c2r
                         .process_with_scratch(row, line, scratch)
                         .expect("lengths come from the plan");
-                    out.copy_from_slice(&line[..out.len()]);
-                },
-            );
+                    out.copy_from_slice(&line[..ny]);
+                }
+            },
+        );
     }
 
     /// Real-to-complex transforms along y of the first `rows` rows of a
@@ -218,36 +227,41 @@ fn transpose_in(rows: &[Complex64], nx: usize, hy: usize, mx: usize, columns: &m
     columns
         .par_chunks_mut(BLOCK * mx)
         .enumerate()
-        .for_each(|(block, chunk)| {
-            let j0 = block * BLOCK;
-            let width = chunk.len() / mx;
-            for i in 0..nx {
-                let source = &rows[i * hy + j0..i * hy + j0 + width];
-                for (b, &v) in source.iter().enumerate() {
-                    chunk[b * mx + i] = v;
-                }
-            }
-            for b in 0..width {
-                chunk[b * mx + nx..(b + 1) * mx].fill(Complex64::ZERO);
-            }
-        });
+        .for_each(|(block, strip)| gather_columns(rows, nx, hy, mx, block * BLOCK, strip));
 }
 
-/// `rows[i · hy + j] = columns[j · mx + i]` for i < nx.
-fn transpose_out(columns: &[Complex64], nx: usize, hy: usize, mx: usize, rows: &mut [Complex64]) {
-    rows[..nx * hy]
-        .par_chunks_mut(BLOCK * hy)
-        .enumerate()
-        .for_each(|(block, chunk)| {
-            let i0 = block * BLOCK;
-            let height = chunk.len() / hy;
-            for j in 0..hy {
-                let source = &columns[j * mx + i0..j * mx + i0 + height];
-                for (b, &v) in source.iter().enumerate() {
-                    chunk[b * hy + j] = v;
-                }
-            }
-        });
+/// Columns j0.. of the `nx × hy` row-major `rows`, as contiguous columns of
+/// length mx (zero below row nx), into `strip`.
+fn gather_columns(
+    rows: &[Complex64],
+    nx: usize,
+    hy: usize,
+    mx: usize,
+    j0: usize,
+    strip: &mut [Complex64],
+) {
+    let width = strip.len() / mx;
+    for i in 0..nx {
+        let source = &rows[i * hy + j0..i * hy + j0 + width];
+        for (b, &v) in source.iter().enumerate() {
+            strip[b * mx + i] = v;
+        }
+    }
+    for b in 0..width {
+        strip[b * mx + nx..(b + 1) * mx].fill(Complex64::ZERO);
+    }
+}
+
+/// Rows i0.. of the column-major `columns` (hy columns of length mx), as
+/// contiguous rows of length hy, into `band`.
+fn gather_rows(columns: &[Complex64], hy: usize, mx: usize, i0: usize, band: &mut [Complex64]) {
+    let height = band.len() / hy;
+    for j in 0..hy {
+        let source = &columns[j * mx + i0..j * mx + i0 + height];
+        for (b, &v) in source.iter().enumerate() {
+            band[b * hy + j] = v;
+        }
+    }
 }
 
 /// The smallest even n ≥ `min` of the form 2^a 3^b 5^c: a size the FFTs
