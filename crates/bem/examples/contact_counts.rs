@@ -1,10 +1,11 @@
-//! Contact pixel counts of a periodic `.npy` map under given mean pressures
+//! Contact pixel counts of a `.npy` map under given mean pressures
 //! (in units of E*), for side-by-side runs with other BEM codes (tamaas,
 //! ContactMechanics) on the same map.
 //!
 //! Run: `cargo run -p hypercontact-bem --release --example contact_counts --
-//! MAP.npy PIXEL_M TOLERANCE P1 P2 ... [--save DIR]` (`--save` writes each
-//! pressure map as DIR/bem_p_<P>.npy), or with `write MAP.npy N SEED` to write
+//! MAP.npy PIXEL_M TOLERANCE P1 P2 ... [--save DIR] [--free]` (`--save`
+//! writes each pressure map as DIR/bem_p_<P>.npy; `--free` solves the map as
+//! a finite sample instead of a periodic one), or with `write MAP.npy N SEED` to write
 //! a periodic self-affine N × N map (H = 0.8, rms 1, pixel 1/N) first.
 
 use std::time::Instant;
@@ -14,6 +15,13 @@ use hypercontact_core::Field;
 
 fn main() {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let boundary = match args.iter().position(|a| a == "--free") {
+        Some(k) => {
+            args.remove(k);
+            Boundary::Free
+        }
+        None => Boundary::Periodic,
+    };
     let save = match args.iter().position(|a| a == "--save") {
         Some(k) => {
             let dir = args.get(k + 1).cloned().expect("--save DIR");
@@ -52,7 +60,7 @@ fn main() {
     .expect("read the map");
     let (nx, ny) = (field.nx(), field.ny());
     let heights: Vec<f64> = field.values.iter().copied().collect();
-    let influence = Influence::new(nx, ny, pixel, pixel, Boundary::Periodic);
+    let influence = Influence::new(nx, ny, pixel, pixel, boundary);
     let problem = Problem::new(&influence, &heights).expect("a contact problem");
     let options = SolverOptions {
         tolerance,
