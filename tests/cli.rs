@@ -199,7 +199,7 @@ fn bad_pipelines_fail_with_file_and_line() {
 fn stages_lists_every_kind_with_defaults_and_schemas() {
     let out = bin().arg("stages").output().unwrap();
     let listing = text(&out);
-    for kind in ["height-map", "truncation", "icm", "material-preset"] {
+    for kind in ["height-map", "truncation", "icm", "bem", "material-preset"] {
         assert!(listing.contains(&format!("{kind} (v")), "{kind} missing");
     }
     let json = bin()

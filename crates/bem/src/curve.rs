@@ -1,7 +1,9 @@
 //! The load–area curve of a rough surface: solves from first contact up to a
 //! top area fraction, at rigid-plane approaches chosen so that A/A0 is
 //! spaced about evenly (each step lands within a quarter of the spacing of
-//! its target k · max / steps, or as near as six solves get it).
+//! its target k · max / steps, or as near as six solves get it). The last
+//! step lands at or above the top area fraction (within a quarter of the
+//! spacing above it), so a reader can interpolate anywhere up to it.
 //!
 //! The approach for a target is interpolated between the nearest solved
 //! approaches below and above it, or extrapolated from the last two; the
@@ -83,10 +85,19 @@ pub fn solve_curve(
     // The last two solves (approach, pressure), most recent last.
     let mut recent: Vec<(f64, Vec<f64>)> = Vec::with_capacity(2);
     for k in 1..=steps {
-        let target = spacing * k as f64;
-        let mut best: Option<(Solution, f64)> = None;
+        // The last step aims at the middle of [max, max + spacing / 4].
+        let last = k == steps;
+        let (target, window) = if last {
+            (options.max_area_fraction + 0.125 * spacing, 0.125 * spacing)
+        } else {
+            (spacing * k as f64, 0.25 * spacing)
+        };
+        let reaches = |fraction: f64| !last || fraction >= options.max_area_fraction;
+        // Best so far: one that reaches the top (last step) before one that
+        // misses the target by less.
+        let mut best: Option<(Solution, (bool, f64))> = None;
         let mut iterations = 0;
-        for _ in 0..MAX_SOLVES_PER_STEP {
+        for _ in 0..MAX_SOLVES_PER_STEP * if last { 2 } else { 1 } {
             let approach_m = predict(&known, target, &bearing);
             let warm = warm_start(&recent, approach_m);
             let solution = problem
@@ -115,10 +126,12 @@ pub fn solve_curve(
                 recent.push((approach_m, solution.pressure.clone()));
             }
             let miss = (fraction - target).abs();
-            if best.as_ref().is_none_or(|(_, m)| miss < *m) {
-                best = Some((solution, miss));
+            let rank = (!reaches(fraction), miss);
+            let done = miss <= window && reaches(fraction);
+            if best.as_ref().is_none_or(|(_, r)| rank < *r) {
+                best = Some((solution, rank));
             }
-            if miss <= 0.25 * spacing {
+            if done {
                 break;
             }
         }

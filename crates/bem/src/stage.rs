@@ -127,8 +127,9 @@ static INFO: StageInfo = StageInfo {
           the plane height, the load and the residual. Sums are in a fixed order, so results are \
           the same to the bit on any number of threads. STEPS: row 0 is first contact (F = 0, A \
           = 0); rows 1..=steps aim at A/A0 = k max_area_fraction / steps and land within a \
-          quarter of the spacing (or as near as six solves get); `iterations` counts every solve \
-          of a step. CONVENTIONS: `z_m` is the rigid plane's height above the lowest measured \
+          quarter of the spacing (or as near as six solves get), the last at or above \
+          max_area_fraction (so every A/A0 up to it can be read off the curve); `iterations` \
+          counts every solve of a step. CONVENTIONS: `z_m` is the rigid plane's height above the lowest measured \
           point (at first contact the map's height range; periodic: the plane relative to the \
           mean surface, i.e. a mean gap); A = contact pixels (p > 0) x dx dy; A0 = measured \
           pixels x dx dy (NaN heights never touch, as in `truncation`); E0* and E_t* exactly as \

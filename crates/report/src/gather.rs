@@ -82,9 +82,34 @@ pub struct Sample<'a> {
     pub stats: Option<SurfaceStats>,
     /// A/A0 against z/σ.
     pub profile: Option<Series>,
+    /// Hyperelastic and linear ICM.
     pub response: Option<Response>,
     pub response_linear: Option<Response>,
+    /// Hyperelastic and linear boundary elements.
+    pub bem: Option<Response>,
+    pub bem_linear: Option<Response>,
 }
+
+impl Sample<'_> {
+    /// Every wired contact-model response with its input's name.
+    pub fn responses(&self) -> [(&'static str, Option<&Response>); 4] {
+        [
+            (RESPONSE_INPUTS[0], self.response.as_ref()),
+            (RESPONSE_INPUTS[1], self.response_linear.as_ref()),
+            (RESPONSE_INPUTS[2], self.bem.as_ref()),
+            (RESPONSE_INPUTS[3], self.bem_linear.as_ref()),
+        ]
+    }
+}
+
+/// The report's contact-model inputs: hyperelastic and linear ICM, then
+/// hyperelastic and linear boundary elements.
+pub const RESPONSE_INPUTS: [&str; 4] = [
+    "responses",
+    "responses_linear",
+    "responses_bem",
+    "responses_bem_linear",
+];
 
 /// The wired inputs, read and checked.
 #[derive(Clone, Debug, Default)]
@@ -142,11 +167,7 @@ impl<'a> ReportData<'a> {
         };
         if let Some(material) = &data.material {
             for s in &data.samples {
-                let wired = [
-                    ("responses", &s.response),
-                    ("responses_linear", &s.response_linear),
-                ];
-                for (input, response) in wired {
+                for (input, response) in s.responses() {
                     if let Some(r) = response {
                         material.check_normalisation(&format!("{input}.{}", s.label), r)?;
                     }
@@ -323,11 +344,17 @@ fn read_samples(inputs: &Inputs) -> Result<Vec<Sample<'_>>, ReportError> {
         slot(&mut map, label).profile = Some(profile);
     }
     let response = |input: &str, p: &Product| read_response(input, sample_table(input, p)?);
-    for (label, r) in labelled(inputs, "responses", response)? {
-        slot(&mut map, label).response = Some(r);
-    }
-    for (label, r) in labelled(inputs, "responses_linear", response)? {
-        slot(&mut map, label).response_linear = Some(r);
+    for (k, input) in RESPONSE_INPUTS.into_iter().enumerate() {
+        for (label, r) in labelled(inputs, input, response)? {
+            let s = slot(&mut map, label);
+            let field = match k {
+                0 => &mut s.response,
+                1 => &mut s.response_linear,
+                2 => &mut s.bem,
+                _ => &mut s.bem_linear,
+            };
+            *field = Some(r);
+        }
     }
     let mut samples: Vec<Sample<'_>> = map.into_values().collect();
     samples.sort_by_key(|s| natural_key(&s.label));

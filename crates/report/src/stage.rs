@@ -54,7 +54,7 @@ pub struct Report;
 
 static INFO: StageInfo = StageInfo {
     kind: "report",
-    version: 2,
+    version: 3,
     summary: "HTML report with the paper's Figs. 2, 4, 7, 8 (PNG + SVG), Table 1 and a summary",
     doc: "Every input is optional: a figure whose inputs are not wired is skipped and the \
           page says why (e.g. a pipeline without the tensile branch still gets Figs. 4, 7 \
@@ -62,8 +62,10 @@ static INFO: StageInfo = StageInfo {
           one label gets one colour in every figure. Fig. 2 needs `curves` (R² from \
           `quality`, limits from `stability`); Fig. 4 any of `heights`, `psd`, `profiles` \
           (the H of the drawn power law comes from `stats` when wired, otherwise from a \
-          log-log least-squares fit); Fig. 7 `responses` and/or `responses_linear`; Fig. 8 \
-          `responses`. Table 1 decodes `material` and gives its initial moduli μ0, E0 and \
+          log-log least-squares fit); Fig. 7 any of `responses`, `responses_linear` (ICM, \
+          hyperelastic and linear), `responses_bem`, `responses_bem_linear` (boundary \
+          elements), with the ICM/BEM load ratio at `area_fractions` per sample and law where \
+          both are wired; Fig. 8 `responses` and/or `responses_bem`. Table 1 decodes `material` and gives its initial moduli μ0, E0 and \
           E0* at Poisson's ratio `poisson`. One E0* on the page: each wired response must \
           have been normalised by Table 1's (its E0* is mean_stress_pa · area_fraction / \
           load_norm, from the response alone), and a wired `params` must be the fit of \
@@ -105,6 +107,16 @@ static INFO: StageInfo = StageInfo {
         InputSpec::table::<ProfileTable>("profiles", Arity::Many, "truncation profile per sample"),
         InputSpec::table::<ResponseTable>("responses", Arity::Many, "hyperelastic ICM per sample"),
         InputSpec::table::<ResponseTable>("responses_linear", Arity::Many, "linear ICM per sample"),
+        InputSpec::table::<ResponseTable>(
+            "responses_bem",
+            Arity::Many,
+            "hyperelastic boundary elements per sample",
+        ),
+        InputSpec::table::<ResponseTable>(
+            "responses_bem_linear",
+            Arity::Many,
+            "linear boundary elements per sample",
+        ),
     ],
     outputs: &[OutputSpec::files(
         "report",

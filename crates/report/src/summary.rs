@@ -50,15 +50,44 @@ pub struct SampleSummary {
     pub hurst_x: Option<f64>,
     pub hurst_y: Option<f64>,
     pub hurst_radial: Option<f64>,
-    /// F/(E0* A0) read off the responses at the requested A/A0.
+    /// F/(E0* A0) read off each response at the requested A/A0.
     pub load_norm: Vec<LoadAtArea>,
 }
 
 #[derive(Clone, Debug, Serialize)]
 pub struct LoadAtArea {
     pub area_fraction: f64,
+    /// Hyperelastic and linear ICM.
     pub hyperelastic: Option<f64>,
     pub linear: Option<f64>,
+    /// Hyperelastic and linear boundary elements.
+    pub bem_hyperelastic: Option<f64>,
+    pub bem_linear: Option<f64>,
+    /// F_ICM / F_BEM, each law with itself.
+    pub icm_over_bem: Option<f64>,
+    pub icm_over_bem_linear: Option<f64>,
+}
+
+impl LoadAtArea {
+    /// The loads of every wired response of `s` at area fraction `a`.
+    fn read(s: &crate::gather::Sample<'_>, a: f64) -> Self {
+        let at = |r: &Option<Response>| r.as_ref().and_then(|r| load_norm_at(r, a));
+        let ratio = |icm: Option<f64>, bem: Option<f64>| match (icm, bem) {
+            (Some(i), Some(b)) if b > 0.0 => Some(i / b),
+            _ => None,
+        };
+        let (hyperelastic, linear) = (at(&s.response), at(&s.response_linear));
+        let (bem_hyperelastic, bem_linear) = (at(&s.bem), at(&s.bem_linear));
+        LoadAtArea {
+            area_fraction: a,
+            hyperelastic,
+            linear,
+            bem_hyperelastic,
+            bem_linear,
+            icm_over_bem: ratio(hyperelastic, bem_hyperelastic),
+            icm_over_bem_linear: ratio(linear, bem_linear),
+        }
+    }
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -160,11 +189,7 @@ impl Summary {
                         hurst_radial: stat(|st| st.hurst_radial),
                         load_norm: area_fractions
                             .iter()
-                            .map(|&a| LoadAtArea {
-                                area_fraction: a,
-                                hyperelastic: s.response.as_ref().and_then(|r| load_norm_at(r, a)),
-                                linear: s.response_linear.as_ref().and_then(|r| load_norm_at(r, a)),
-                            })
+                            .map(|&a| LoadAtArea::read(s, a))
                             .collect(),
                     }
                 })

@@ -447,3 +447,92 @@ fn table_1_shows_the_e0_star_the_responses_were_normalised_by() {
         assert!(html.contains("Initial moduli (ν = 0.4)"));
     }
 }
+
+/// The inputs of the full report plus boundary-element responses: the
+/// hyperelastic BEM needs 1.25 × the ICM's load at every area, the linear
+/// BEM 0.8 × (a different factor, so swapped laws would show).
+fn with_bem(hyperelastic_samples: usize) -> Inputs {
+    let mut inputs = common::inputs(ALL, MAP_N, LEVELS);
+    let table = |t: Table| std::sync::Arc::new(Product::Table(t));
+    for (i, (label, _, _, _, scale)) in SAMPLES.iter().enumerate() {
+        if i < hyperelastic_samples {
+            inputs.insert(
+                &format!("responses_bem.{label}"),
+                table(common::response(LEVELS, 1.25 * scale, false)),
+            );
+        }
+        inputs.insert(
+            &format!("responses_bem_linear.{label}"),
+            table(common::response(LEVELS, 0.8 * scale, true)),
+        );
+    }
+    inputs
+}
+
+#[test]
+fn bem_responses_add_curves_and_the_icm_bem_load_ratio_table() {
+    let plain = run(&common::inputs(ALL, MAP_N, LEVELS));
+    // T4 has no hyperelastic BEM: its hyperelastic ratio is absent, not 0.
+    let files = run(&with_bem(3));
+    let summary: Value = serde_json::from_slice(&files.files["summary.json"]).unwrap();
+    for (i, s) in summary["samples"].as_array().unwrap().iter().enumerate() {
+        let scale = SAMPLES[i].4;
+        for (l, a) in s["load_norm"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .zip([0.1f64, 0.5, 0.9])
+        {
+            // The hyperelastic loads are a^1.5 sampled and interpolated
+            // alike, so their ratio is the factor to rounding.
+            match l["icm_over_bem"].as_f64() {
+                Some(r) => {
+                    assert!(i < 3);
+                    assert!((r - 0.8).abs() < 1e-12, "{a}: {r}");
+                    let bem = l["bem_hyperelastic"].as_f64().unwrap();
+                    assert!((bem / (1.25 * scale * a.powf(1.5)) - 1.0).abs() < 0.01);
+                }
+                None => assert!(i == 3 && l["bem_hyperelastic"].is_null()),
+            }
+            let r = l["icm_over_bem_linear"].as_f64().unwrap();
+            assert!((r - 1.25).abs() < 1e-12, "{a}: {r}");
+        }
+    }
+    let html = text(&files, "index.html");
+    let table = &html[html.find("F_ICM / F_BEM").expect("the ratio table")..];
+    let table = &table[..table.find("</table>").unwrap()];
+    assert!(table.contains("<td>T1</td><td>hyperelastic</td><td>0.8</td><td>0.8</td><td>0.8</td>"));
+    assert!(table.contains("<td>T4</td><td>linear</td><td>1.25</td>"));
+    assert!(!table.contains("<td>T4</td><td>hyperelastic</td>"));
+    assert!(!text(&plain, "index.html").contains("F_ICM / F_BEM"));
+    // Fig. 7 turns into a panel per sample (each titled), with every curve
+    // drawn; Fig. 8 adds the dotted hyperelastic BEM (many short segments).
+    let polylines = |f: &Files, fig: &str, w, h| {
+        assert_svg(fig, &text(f, &format!("{fig}.svg")), w, h)["polyline"]
+    };
+    let fig7 = text(&files, "fig7.svg");
+    for label in ["T1", "T2", "T3", "T4"] {
+        assert!(fig7.contains(label), "no panel {label}");
+    }
+    assert!(fig7.contains("hyperelastic BEM") && fig7.contains("linear BEM"));
+    assert!(!text(&plain, "fig7.svg").contains("BEM"));
+    assert!(polylines(&files, "fig7", 1200, 900) >= polylines(&plain, "fig7", 900, 600) + 3);
+    assert!(polylines(&files, "fig8", 900, 600) > polylines(&plain, "fig8", 900, 600) + 100);
+    assert!(text(&files, "fig8.svg").contains("hyperelastic BEM"));
+}
+
+#[test]
+fn bem_alone_draws_figs_7_and_8() {
+    let mut inputs = Inputs::new();
+    let (label, _, _, _, scale) = SAMPLES[0];
+    inputs.insert(
+        &format!("responses_bem.{label}"),
+        std::sync::Arc::new(Product::Table(common::response(LEVELS, scale, false))),
+    );
+    let files = run(&inputs);
+    assert!(files.files.contains_key("fig7.png") && files.files.contains_key("fig8.png"));
+    let summary: Value = serde_json::from_slice(&files.files["summary.json"]).unwrap();
+    let l = &summary["samples"][0]["load_norm"][1];
+    assert!(l["bem_hyperelastic"].as_f64().is_some());
+    assert!(l["hyperelastic"].is_null() && l["icm_over_bem"].is_null());
+}

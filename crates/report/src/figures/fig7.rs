@@ -1,24 +1,85 @@
 //! Fig. 7 of the paper: normalised load F/(E0* A0) against the contact area
-//! fraction A/A0 for every sample, hyperelastic ICM solid and linear
-//! (Wang's original) ICM dashed, on a logarithmic load axis so the early
-//! contact, where the two models differ most in relative terms, stays visible.
+//! fraction A/A0, on a logarithmic load axis so the early contact, where the
+//! models differ most in relative terms, stays visible.
+//!
+//! With the incremental contact model alone it is the paper's single panel:
+//! every sample in its colour, hyperelastic ICM solid and linear (Wang's
+//! original) ICM dashed. Where boundary-element responses are wired, one
+//! panel per sample on common axes instead (sixteen curves in one panel
+//! cannot be told apart): colour = model (ICM black, BEM vermillion), stroke
+//! = law (hyperelastic solid, linear dashed).
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plotting::{
-    Axis, Figure, LegendEntry, Rasters, TextSizes, draw_axes, draw_legend, sample_colour, thin,
-    tick_decade, tick_linear,
+    Axis, Figure, LegendEntry, Line, Rasters, TextSizes, draw_axes, draw_curve, draw_legend,
+    sample_colour, thin, tick_decade, tick_linear,
 };
 use crate::ReportError;
 use crate::gather::Response;
 
-/// One sample's curves: (label, colour index, hyperelastic, linear).
+/// One sample's curves: label, colour index, and each contact model's
+/// response where wired.
 pub struct SampleResponses<'a> {
     pub label: &'a str,
     pub colour_index: usize,
+    /// Hyperelastic ICM.
     pub hyperelastic: Option<&'a Response>,
+    /// Linear ICM.
     pub linear: Option<&'a Response>,
+    /// Hyperelastic boundary elements.
+    pub bem: Option<&'a Response>,
+    /// Linear boundary elements.
+    pub bem_linear: Option<&'a Response>,
+}
+
+/// The four curves a sample can have.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Curve {
+    Icm,
+    IcmLinear,
+    Bem,
+    BemLinear,
+}
+
+impl Curve {
+    const ALL: [Curve; 4] = [Curve::Icm, Curve::IcmLinear, Curve::Bem, Curve::BemLinear];
+
+    fn name(self) -> &'static str {
+        match self {
+            Curve::Icm => "hyperelastic ICM",
+            Curve::IcmLinear => "linear ICM",
+            Curve::Bem => "hyperelastic BEM",
+            Curve::BemLinear => "linear BEM",
+        }
+    }
+
+    fn line(self) -> Line {
+        match self {
+            Curve::Icm | Curve::Bem => Line::Solid,
+            Curve::IcmLinear | Curve::BemLinear => Line::Dashed,
+        }
+    }
+
+    fn is_bem(self) -> bool {
+        matches!(self, Curve::Bem | Curve::BemLinear)
+    }
+}
+
+/// The model colours of the per-sample panels (Okabe–Ito vermillion for
+/// the boundary elements).
+const ICM_COLOUR: RGBColor = RGBColor(0, 0, 0);
+const BEM_COLOUR: RGBColor = RGBColor(213, 94, 0);
+
+impl<'a> SampleResponses<'a> {
+    /// The wired curves, in the key's order.
+    pub fn curves(&self) -> impl Iterator<Item = (&'a Response, Curve)> + '_ {
+        [self.hyperelastic, self.linear, self.bem, self.bem_linear]
+            .into_iter()
+            .zip(Curve::ALL)
+            .filter_map(|(r, c)| Some((r?, c)))
+    }
 }
 
 pub struct Fig7<'a> {
@@ -27,6 +88,9 @@ pub struct Fig7<'a> {
 
 /// Width reserved right of the plot for the legend, pixels.
 pub const LEGEND_PX: u32 = 250;
+
+/// Panels per row of the per-sample layout.
+const COLUMNS: usize = 2;
 
 /// Decade bounds around the positive values, at most `max_decades` deep.
 pub fn log_range(values: impl Iterator<Item = f64>, max_decades: f64) -> (f64, f64) {
@@ -44,40 +108,62 @@ pub fn log_range(values: impl Iterator<Item = f64>, max_decades: f64) -> (f64, f
     (10f64.powf(bottom), 10f64.powf(top))
 }
 
-impl Figure for Fig7<'_> {
-    fn name(&self) -> &'static str {
-        "fig7"
+/// The axes every panel shares: A/A0 up to `x_hi`, F/(E0* A0) between
+/// `y_lo` and `y_hi`.
+#[derive(Clone, Copy)]
+struct Ranges {
+    x_hi: f64,
+    y_lo: f64,
+    y_hi: f64,
+}
+
+impl Fig7<'_> {
+    fn per_sample(&self) -> bool {
+        self.samples
+            .iter()
+            .any(|s| s.curves().any(|(_, c)| c.is_bem()))
     }
 
-    fn size_px(&self) -> (u32, u32) {
-        (1000, 680)
+    fn rows(&self) -> usize {
+        self.samples.len().div_ceil(COLUMNS).max(1)
     }
 
-    fn draw<'r, DB: DrawingBackend + 'r>(
-        &self,
-        root: &'r DrawingArea<DB, Shift>,
-        _: &mut Rasters,
-    ) -> Result<(), ReportError> {
-        let name = self.name();
-        let err = |e| ReportError::plot(name, e);
-        let sizes = TextSizes::for_width(self.size_px().0);
-        let responses = || {
-            self.samples
-                .iter()
-                .flat_map(|s| s.hyperelastic.into_iter().chain(s.linear))
-        };
+    fn ranges(&self) -> Ranges {
+        let responses = || self.samples.iter().flat_map(|s| s.curves().map(|(r, _)| r));
         let (y_lo, y_hi) = log_range(responses().flat_map(|r| r.load_norm.iter().copied()), 5.0);
         let x_hi = responses()
             .flat_map(|r| r.area_fraction.iter().copied())
             .fold(0.0f64, f64::max)
             .clamp(0.05, 1.0);
-        let (e_lo, e_hi) = (y_lo.log10(), y_hi.log10());
-        let mut chart = ChartBuilder::on(root)
-            .margin(20)
-            .margin_right(LEGEND_PX as i32)
+        Ranges { x_hi, y_lo, y_hi }
+    }
+
+    /// One panel: axes (titled `title` when given) and `curves`, each with
+    /// its stroke style and line kind.
+    fn panel<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        sizes: TextSizes,
+        ranges: Ranges,
+        title: Option<&str>,
+        curves: &[(&Response, ShapeStyle, Line)],
+    ) -> Result<(), ReportError> {
+        let name = self.name();
+        let err = |e| ReportError::plot(name, e);
+        let (e_lo, e_hi) = (ranges.y_lo.log10(), ranges.y_hi.log10());
+        let mut builder = ChartBuilder::on(area);
+        builder
+            .margin(16)
             .x_label_area_size(sizes.label * 2.9)
-            .y_label_area_size(sizes.label * 3.4)
-            .build_cartesian_2d(Axis::new(0.0, x_hi, 6), Axis::decades(e_lo, e_hi, 12))
+            .y_label_area_size(sizes.label * 3.4);
+        if let Some(title) = title {
+            builder.caption(title, super::plotting::font(sizes.title));
+        }
+        let mut chart = builder
+            .build_cartesian_2d(
+                Axis::new(0.0, ranges.x_hi, 6),
+                Axis::decades(e_lo, e_hi, 12),
+            )
             .map_err(err)?;
         draw_axes(
             &mut chart,
@@ -89,64 +175,111 @@ impl Figure for Fig7<'_> {
             &|v| tick_decade(*v),
             (6, (e_hi - e_lo) as usize + 1),
         )?;
-
         // Drawn as log10 on a linear axis, so decade ticks are exact.
-        let visible = |r: &Response| -> Vec<(f64, f64)> {
+        for &(r, style, line) in curves {
             let points: Vec<(f64, f64)> = r
                 .area_fraction
                 .iter()
                 .zip(&r.load_norm)
-                .filter(|&(_, &f)| f >= y_lo && f <= y_hi)
+                .filter(|&(_, &f)| f >= ranges.y_lo && f <= ranges.y_hi)
                 .map(|(&a, &f)| (a, f.log10()))
                 .collect();
-            thin(&points, x_hi, e_hi - e_lo, 0.006)
-        };
+            let points = thin(&points, ranges.x_hi, e_hi - e_lo, 0.006);
+            draw_curve(&mut chart, name, points, line, style)?;
+        }
+        Ok(())
+    }
+
+    /// The paper's layout: one panel, a colour per sample.
+    fn draw_single<DB: DrawingBackend>(
+        &self,
+        plot: &DrawingArea<DB, Shift>,
+        sizes: TextSizes,
+    ) -> Result<Vec<LegendEntry>, ReportError> {
+        let mut curves = Vec::new();
         let mut legend = Vec::new();
         for s in &self.samples {
-            let colour = sample_colour(s.colour_index);
-            let style = colour.stroke_width(3);
-            if let Some(r) = s.hyperelastic {
-                chart
-                    .draw_series(LineSeries::new(visible(r), style))
-                    .map_err(err)?;
-            }
-            if let Some(r) = s.linear {
-                chart
-                    .draw_series(DashedLineSeries::new(visible(r), 12, 8, style))
-                    .map_err(err)?;
+            let style = sample_colour(s.colour_index).stroke_width(3);
+            let mut first = None;
+            for (r, c) in s.curves() {
+                curves.push((r, style, c.line()));
+                first.get_or_insert(c.line());
             }
             legend.push(LegendEntry {
                 label: s.label.to_owned(),
                 style,
-                dashed: s.hyperelastic.is_none(),
+                line: first.unwrap_or(Line::Solid),
             });
         }
-        // Line-style key in black, after the colour key.
-        let key = BLACK.stroke_width(3);
-        if self.samples.iter().any(|s| s.hyperelastic.is_some()) {
-            legend.push(LegendEntry {
-                label: "hyperelastic ICM".into(),
-                style: key,
-                dashed: false,
-            });
+        self.panel(plot, sizes, self.ranges(), None, &curves)?;
+        // Line-style key in black, after the colour key: only the kinds drawn.
+        for c in Curve::ALL {
+            if self.samples.iter().any(|s| s.curves().any(|(_, k)| k == c)) {
+                legend.push(LegendEntry {
+                    label: c.name().into(),
+                    style: BLACK.stroke_width(3),
+                    line: c.line(),
+                });
+            }
         }
-        if self.samples.iter().any(|s| s.linear.is_some()) {
-            legend.push(LegendEntry {
-                label: "linear ICM".into(),
-                style: key,
-                dashed: true,
-            });
+        Ok(legend)
+    }
+
+    /// One panel per sample on common axes, a colour per model.
+    fn draw_per_sample<DB: DrawingBackend>(
+        &self,
+        plot: &DrawingArea<DB, Shift>,
+    ) -> Result<Vec<LegendEntry>, ReportError> {
+        let sizes = TextSizes::panel(20.0);
+        let ranges = self.ranges();
+        let style = |c: Curve| {
+            let colour = if c.is_bem() { BEM_COLOUR } else { ICM_COLOUR };
+            colour.stroke_width(if c.is_bem() { 3 } else { 2 })
+        };
+        let panels = plot.split_evenly((self.rows(), COLUMNS));
+        for (area, s) in panels.iter().zip(&self.samples) {
+            let curves: Vec<_> = s.curves().map(|(r, c)| (r, style(c), c.line())).collect();
+            self.panel(area, sizes, ranges, Some(s.label), &curves)?;
         }
-        let (plot_x, plot_y) = chart.plotting_area().get_base_pixel();
-        let plot_w = chart.plotting_area().dim_in_pixel().0 as i32;
-        let (root_x, root_y) = root.get_base_pixel();
-        draw_legend(
-            name,
-            root,
-            (plot_x - root_x + plot_w + 25, plot_y - root_y + 10),
-            &legend,
-            sizes.legend,
-        )
+        Ok(Curve::ALL
+            .into_iter()
+            .filter(|&c| self.samples.iter().any(|s| s.curves().any(|(_, k)| k == c)))
+            .map(|c| LegendEntry {
+                label: c.name().into(),
+                style: style(c),
+                line: c.line(),
+            })
+            .collect())
+    }
+}
+
+impl Figure for Fig7<'_> {
+    fn name(&self) -> &'static str {
+        "fig7"
+    }
+
+    fn size_px(&self) -> (u32, u32) {
+        if self.per_sample() {
+            (1300, 40 + 460 * self.rows() as u32)
+        } else {
+            (1000, 680)
+        }
+    }
+
+    fn draw<'r, DB: DrawingBackend + 'r>(
+        &self,
+        root: &'r DrawingArea<DB, Shift>,
+        _: &mut Rasters,
+    ) -> Result<(), ReportError> {
+        let (width, _) = self.size_px();
+        let (plot, key) = root.split_horizontally(width - LEGEND_PX);
+        let sizes = TextSizes::for_width(1000);
+        let legend = if self.per_sample() {
+            self.draw_per_sample(&plot)?
+        } else {
+            self.draw_single(&plot, sizes)?
+        };
+        draw_legend(self.name(), &key, (5, 30), &legend, sizes.legend)
     }
 }
 

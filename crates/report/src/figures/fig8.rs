@@ -1,6 +1,8 @@
 //! Fig. 8 of the paper: the composite tangent modulus ratio E_t*/E0* of the
 //! hyperelastic ICM against the contact area fraction A/A0 for every sample
-//! (the paper reports 2.2–3). The linear ICM's ratio is 1 by construction
+//! (the paper reports 2.2–3), and of the hyperelastic boundary-element model
+//! (dotted) where wired: its mean contact stress F/A, and so its modulus,
+//! differs from profile theory's. Linear models' ratio is 1 by construction
 //! and is not drawn (it would squeeze the hyperelastic range).
 
 use plotters::coord::Shift;
@@ -9,8 +11,8 @@ use plotters::prelude::*;
 use super::fig2::min_max;
 use super::fig7::{LEGEND_PX, SampleResponses};
 use super::plotting::{
-    Axis, Figure, LegendEntry, Rasters, TextSizes, draw_axes, draw_legend, sample_colour, thin,
-    tick_linear,
+    Axis, Figure, LegendEntry, Line, Rasters, TextSizes, draw_axes, draw_curve, draw_legend,
+    sample_colour, thin, tick_linear,
 };
 use crate::ReportError;
 
@@ -35,7 +37,11 @@ impl Figure for Fig8<'_> {
         let name = self.name();
         let err = |e| ReportError::plot(name, e);
         let sizes = TextSizes::for_width(self.size_px().0);
-        let curves = || self.samples.iter().filter_map(|s| s.hyperelastic);
+        let curves = || {
+            self.samples
+                .iter()
+                .flat_map(|s| s.hyperelastic.into_iter().chain(s.bem))
+        };
         let (lo, hi) = min_max(curves().flat_map(|r| r.tangent_ratio.iter().copied()));
         let pad = 0.08 * (hi - lo).max(0.1);
         let (y_lo, y_hi) = ((lo - pad).max(0.0), hi + pad);
@@ -62,25 +68,40 @@ impl Figure for Fig8<'_> {
         )?;
         let mut legend = Vec::new();
         for s in &self.samples {
-            let Some(r) = s.hyperelastic else { continue };
             let style = sample_colour(s.colour_index).stroke_width(3);
-            let points: Vec<(f64, f64)> = r
-                .area_fraction
-                .iter()
-                .copied()
-                .zip(r.tangent_ratio.iter().copied())
-                .collect();
-            chart
-                .draw_series(LineSeries::new(
-                    thin(&points, x_hi, y_hi - y_lo, 0.006),
-                    style,
-                ))
-                .map_err(err)?;
+            let wired = [(s.hyperelastic, Line::Solid), (s.bem, Line::Dotted)];
+            for (r, line) in wired.iter().filter_map(|&(r, l)| Some((r?, l))) {
+                let points: Vec<(f64, f64)> = r
+                    .area_fraction
+                    .iter()
+                    .copied()
+                    .zip(r.tangent_ratio.iter().copied())
+                    .collect();
+                let points = thin(&points, x_hi, y_hi - y_lo, 0.006);
+                draw_curve(&mut chart, name, points, line, style)?;
+            }
             legend.push(LegendEntry {
                 label: s.label.to_owned(),
                 style,
-                dashed: false,
+                line: if s.hyperelastic.is_some() {
+                    Line::Solid
+                } else {
+                    Line::Dotted
+                },
             });
+        }
+        if self.samples.iter().any(|s| s.bem.is_some()) {
+            let key = BLACK.stroke_width(3);
+            for (line, label) in [
+                (Line::Solid, "hyperelastic ICM"),
+                (Line::Dotted, "hyperelastic BEM"),
+            ] {
+                legend.push(LegendEntry {
+                    label: label.into(),
+                    style: key,
+                    line,
+                });
+            }
         }
         let (plot_x, plot_y) = chart.plotting_area().get_base_pixel();
         let plot_w = chart.plotting_area().dim_in_pixel().0 as i32;

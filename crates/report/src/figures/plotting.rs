@@ -163,12 +163,52 @@ pub fn thin(points: &[(f64, f64)], x_span: f64, y_span: f64, min_step: f64) -> V
     kept
 }
 
+/// How a curve is stroked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Line {
+    Solid,
+    Dashed,
+    Dotted,
+}
+
+impl Line {
+    /// (dash, gap) in pixels along the curve; `None` when solid.
+    pub fn pattern(self) -> Option<(u32, u32)> {
+        match self {
+            Line::Solid => None,
+            Line::Dashed => Some((12, 8)),
+            Line::Dotted => Some((2, 6)),
+        }
+    }
+}
+
+/// Draws `points` as one curve of `chart` in `line`'s pattern.
+pub fn draw_curve<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<Axis, Axis>>,
+    figure: &str,
+    points: Vec<(f64, f64)>,
+    line: Line,
+    style: ShapeStyle,
+) -> Result<(), ReportError> {
+    let err = |e| ReportError::plot(figure, e);
+    match line.pattern() {
+        None => chart
+            .draw_series(LineSeries::new(points, style))
+            .map(|_| ())
+            .map_err(err),
+        Some((dash, gap)) => chart
+            .draw_series(DashedLineSeries::new(points, dash, gap, style))
+            .map(|_| ())
+            .map_err(err),
+    }
+}
+
 /// One line of a hand-drawn legend.
 #[derive(Clone, Debug)]
 pub struct LegendEntry {
     pub label: String,
     pub style: ShapeStyle,
-    pub dashed: bool,
+    pub line: Line,
 }
 
 /// Draws a legend as a column of swatches and labels with its top-left
@@ -185,10 +225,18 @@ pub fn draw_legend<DB: DrawingBackend>(
     let swatch_px = (size * 1.8) as i32;
     for (i, e) in entries.iter().enumerate() {
         let yy = y + i as i32 * line_px + line_px / 2;
-        if e.dashed {
-            area.draw(&dashed_swatch((x, yy), swatch_px, e.style))
-        } else {
-            area.draw(&solid_swatch((x, yy), swatch_px, e.style))
+        match e.line {
+            Line::Solid => area.draw(&solid_swatch((x, yy), swatch_px, e.style)),
+            Line::Dashed => area.draw(&dashed_swatch((x, yy), swatch_px, e.style)),
+            Line::Dotted => {
+                let (dash, gap) = e.line.pattern().unwrap_or((1, 0));
+                area.draw(&DashedPathElement::new(
+                    vec![(x, yy), (x + swatch_px, yy)],
+                    dash as i32,
+                    gap as i32,
+                    e.style,
+                ))
+            }
         }
         .map_err(|err| ReportError::plot(figure, err))?;
         area.draw(&Text::new(
