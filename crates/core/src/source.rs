@@ -23,6 +23,20 @@ pub fn read_regular_file(path: &Path) -> Result<Vec<u8>, StageError> {
     std::fs::read(path).map_err(|e| StageError::file(path, e.to_string()))
 }
 
+/// Whether `name` stays inside the folder it is joined to: relative, no
+/// `..` (the lab's own index files name frames and tiles; they must not
+/// reach elsewhere on the disk).
+fn inside(name: &str) -> bool {
+    let path = Path::new(name);
+    !name.is_empty()
+        && path.components().all(|c| {
+            matches!(
+                c,
+                std::path::Component::Normal(_) | std::path::Component::CurDir
+            )
+        })
+}
+
 /// A set of named files.
 #[derive(Clone, Debug)]
 pub enum FileSource<'a> {
@@ -67,7 +81,7 @@ impl<'a> FileSource<'a> {
     pub fn exists(&self, name: &str) -> bool {
         match self {
             FileSource::Files { files, .. } => files.files.contains_key(name),
-            FileSource::Dir(dir) => dir.join(name).is_file(),
+            FileSource::Dir(dir) => inside(name) && dir.join(name).is_file(),
         }
     }
 
@@ -79,6 +93,11 @@ impl<'a> FileSource<'a> {
                 .get(name)
                 .map(|b| Cow::Borrowed(b.as_slice()))
                 .ok_or_else(|| StageError::file(self.display(name), "no such file in the input")),
+            FileSource::Dir(dir) if !inside(name) => Err(StageError::file(
+                self.display(name),
+                "lies outside the folder: names in a folder's files (frames.csv, \
+                 positions.csv) must be relative paths without `..`",
+            )),
             FileSource::Dir(dir) => read_regular_file(&dir.join(name)).map(Cow::Owned),
         }
     }
@@ -166,6 +185,14 @@ mod tests {
             e.contains("sub.csv") && e.contains("not a regular file"),
             "{e}"
         );
+        // Names reaching out of the folder are refused, not followed.
+        std::fs::write(dir.join("../hc-outside.csv"), "x\n1\n").unwrap();
+        for name in ["../hc-outside.csv", "/etc/hostname", "a/../../x.csv"] {
+            assert!(!from_dir.exists(name), "{name}");
+            let e = from_dir.read(name).unwrap_err().to_string();
+            assert!(e.contains("outside the folder"), "{name}: {e}");
+        }
+        std::fs::remove_file(dir.join("../hc-outside.csv")).unwrap();
         std::fs::remove_dir_all(dir).unwrap();
     }
 }

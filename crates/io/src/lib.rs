@@ -102,7 +102,16 @@ where
 }
 
 /// Reads a Parquet file from disk.
+/// Anything but a regular file (a folder, a device, a pipe) is refused
+/// before reading, as core's readers do.
 pub fn read_parquet_file(path: &Path) -> Result<Table, StageError> {
+    let meta = std::fs::metadata(path).map_err(|e| StageError::file(path, e.to_string()))?;
+    if !meta.is_file() {
+        return Err(StageError::file(
+            path,
+            "is not a regular file (a folder, a device or a pipe)",
+        ));
+    }
     let file = std::fs::File::open(path).map_err(|e| StageError::file(path, e.to_string()))?;
     read_parquet(file).map_err(|e| StageError::file(path, e.to_string()))
 }
@@ -143,6 +152,14 @@ mod tests {
         assert_eq!(back.str("mode").unwrap(), ["UT", "BT"]);
         assert!(back.f64("stretch").unwrap()[1].is_nan());
         assert_eq!(back.i64("frame").unwrap(), &[3, 4]);
+    }
+
+    #[test]
+    fn devices_and_folders_are_refused_before_reading() {
+        for path in ["/dev/zero", "/dev/null", "/tmp"] {
+            let e = read_parquet_file(Path::new(path)).unwrap_err().to_string();
+            assert!(e.contains(path) && e.contains("not a regular file"), "{e}");
+        }
     }
 
     #[test]

@@ -4,8 +4,12 @@ use std::fs;
 use std::io;
 use std::path::Path;
 
-/// BLAKE3 of a file's bytes, hex.
+/// BLAKE3 of a file's bytes, hex. Anything but a regular file (a device
+/// such as `/dev/zero`, a pipe) is refused: reading one may never end.
 pub fn file_hash(path: &Path) -> io::Result<String> {
+    if !fs::metadata(path)?.is_file() {
+        return Err(not_regular());
+    }
     let mut hasher = blake3::Hasher::new();
     hasher.update_mmap_rayon(path)?;
     Ok(hasher.finalize().to_hex().to_string())
@@ -21,6 +25,14 @@ pub fn path_hash(path: &Path) -> io::Result<String> {
     } else {
         file_hash(path)
     }
+}
+
+/// The error for a path that is neither a regular file nor a folder.
+pub fn not_regular() -> io::Error {
+    io::Error::new(
+        io::ErrorKind::InvalidInput,
+        "not a regular file or folder (a device or a pipe cannot be read to its end)",
+    )
 }
 
 fn hash_dir(root: &Path, rel: &Path, hasher: &mut blake3::Hasher) -> io::Result<()> {
@@ -96,6 +108,15 @@ pub fn text_hash(text: &str) -> String {
 mod tests {
     use super::*;
     use serde_json::json;
+
+    #[test]
+    fn devices_are_refused_not_read() {
+        for path in ["/dev/zero", "/dev/null"] {
+            let e = path_hash(Path::new(path)).unwrap_err();
+            assert_eq!(e.kind(), io::ErrorKind::InvalidInput, "{path}");
+            assert!(e.to_string().contains("not a regular file"), "{e}");
+        }
+    }
 
     #[test]
     fn canonical_json_ignores_key_order_and_float_spelling() {

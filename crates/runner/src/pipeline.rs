@@ -254,12 +254,17 @@ impl Pipeline {
                 None => None,
                 Some(with_file) => {
                     let path = dir.join(with_file);
-                    let text = std::fs::read_to_string(&path).map_err(|e| {
-                        locate(
-                            format!("with_file: cannot read {}: {e}", path.display()),
-                            at(&["with_file"]),
-                        )
-                    })?;
+                    let text = std::fs::metadata(&path)
+                        .and_then(|m| match m.is_file() {
+                            true => std::fs::read_to_string(&path),
+                            false => Err(crate::hash::not_regular()),
+                        })
+                        .map_err(|e| {
+                            locate(
+                                format!("with_file: cannot read {}: {e}", path.display()),
+                                at(&["with_file"]),
+                            )
+                        })?;
                     let recipe = Located::parse(&text).map_err(|e| {
                         PipelineError::new(&path, e.message)
                             .located(e.at)

@@ -46,6 +46,7 @@ const MAX_DEPTH: usize = 128;
 impl Located {
     /// Parses one YAML document (an empty text is `null`).
     pub fn parse(text: &str) -> Result<Self, YamlError> {
+        check_depth(text)?;
         let docs = MarkedYaml::load_from_str(text).map_err(|e| {
             let at = location(e.marker());
             let message = match (e.info(), key_at(text, at)) {
@@ -111,6 +112,33 @@ impl Located {
             spans,
         }
     }
+}
+
+/// saphyr's loader recurses once per nesting level, so block nesting some
+/// ten thousand levels deep (`- - - …`) overflows the stack; its event
+/// parser does not. The events are walked first and what `convert` would
+/// refuse is refused before loading.
+fn check_depth(text: &str) -> Result<(), YamlError> {
+    use saphyr_parser::{Event, Parser};
+    let mut depth = 0usize;
+    for event in Parser::new_from_str(text) {
+        match event {
+            Ok((Event::SequenceStart(..) | Event::MappingStart(..), span)) => {
+                depth += 1;
+                if depth > MAX_DEPTH + 1 {
+                    return Err(YamlError {
+                        at: Some(location(&span.start)),
+                        message: format!("nested more than {MAX_DEPTH} levels deep"),
+                    });
+                }
+            }
+            Ok((Event::SequenceEnd | Event::MappingEnd, _)) => depth = depth.saturating_sub(1),
+            Ok(_) => {}
+            // The loader reports a syntax error with its own message.
+            Err(_) => break,
+        }
+    }
+    Ok(())
 }
 
 fn location(marker: &saphyr::Marker) -> Location {

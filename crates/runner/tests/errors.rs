@@ -166,6 +166,24 @@ fn pipeline_refusals() {
             ),
         ),
         (
+            "with_file a device",
+            refusal(
+                &BASIC.replace("with: { value: 2.0e-5, n: 5 }", "with_file: /dev/zero"),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "file parameter a device",
+            refusal(
+                "name: x\nstages:\n  c:\n    uses: count-lines\n    with:\n      lookup: { table: /dev/zero }\n",
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
             "with_file not YAML",
             refusal(
                 &BASIC.replace("with: { value: 2.0e-5, n: 5 }", "with_file: recipe.yaml"),
