@@ -97,12 +97,13 @@ fn load_step_2048() {
 }
 
 /// The stage as a pipeline runs it (defaults: free, 40 steps to A/A0 = 0.9,
-/// tolerance 1e-8, hyperelastic, maps at 0.1/0.5/0.9), on a 450² map.
+/// tolerance 1e-8, hyperelastic, maps at 0.1/0.5/0.9), on a 453² map (the size
+/// of the paper pipeline's stitched T1 at 20 µm).
 fn curve_450() {
     use hypercontact_bem::stage::{Bem, BemParams};
     use hypercontact_core::{Context, Field, Inputs, Params, Product, Stage, Table};
 
-    let n = 450;
+    let n = 453;
     let heights = ndarray::Array2::from_shape_vec((n, n), map(n)).unwrap();
     let inputs = Inputs::new()
         .with(
@@ -126,7 +127,7 @@ fn curve_450() {
     let iterations: i64 = response.i64("iterations").unwrap().iter().sum();
     let fractions = response.f64("area_fraction").unwrap();
     println!(
-        "stage bem on 450² (free, 40 steps to A/A0 = {:.3}): {elapsed:.2?} ({iterations} \
+        "stage bem on 453² (free, 40 steps to A/A0 = {:.3}): {elapsed:.2?} ({iterations} \
          iterations, {} threads)",
         fractions[fractions.len() - 1],
         rayon::current_num_threads()

@@ -36,7 +36,7 @@
 
 use rayon::prelude::*;
 
-use crate::fft2::{Factor, Fft2, Workspace, fast_even_size};
+use crate::fft2::{self, Factor, Fft2, fast_even_size};
 
 /// How the map continues beyond its edges.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, hypercontact_core::Choice)]
@@ -59,6 +59,16 @@ pub struct Influence {
     /// u everywhere under a unit pressure on pixel [0, 0]: K at every
     /// offset (the kernel is even in x and in y), m.
     response_m: Vec<f64>,
+    /// Free boundary: the preconditioner's own grid, the map's size
+    /// rounded up to a fast one, with Love's kernel wrapped on it (a
+    /// quarter of the padded grid's transforms).
+    pre: Option<(Fft2, Vec<f64>)>,
+}
+
+/// Buffers the operator and its preconditioner need, kept between calls.
+pub struct Workspace {
+    main: fft2::Workspace,
+    pre: Option<fft2::Workspace>,
 }
 
 impl Influence {
@@ -73,6 +83,15 @@ impl Influence {
             Boundary::Free => fft.spectrum(love_kernel(mx, my, dx_m, dy_m)),
             Boundary::Periodic => periodic_spectrum(mx, my, dx_m, dy_m),
         };
+        let pre = match boundary {
+            Boundary::Free => {
+                let (px, py) = (fast_even_size(nx), fast_even_size(ny));
+                let fft = Fft2::new(nx, ny, px, py);
+                let spectrum = fft.spectrum(love_kernel(px, py, dx_m, dy_m));
+                Some((fft, spectrum))
+            }
+            Boundary::Periodic => None,
+        };
         let mut influence = Self {
             nx,
             ny,
@@ -80,6 +99,7 @@ impl Influence {
             fft,
             spectrum,
             response_m: Vec::new(),
+            pre,
         };
         let mut unit = vec![0.0; nx * ny];
         unit[0] = 1.0;
@@ -144,7 +164,10 @@ impl Influence {
     }
 
     pub fn workspace(&self) -> Workspace {
-        self.fft.workspace()
+        Workspace {
+            main: self.fft.workspace(),
+            pre: self.pre.as_ref().map(|(fft, _)| fft.workspace()),
+        }
     }
 
     /// `displacement = K * pressure` on the map (E* = 1).
@@ -154,7 +177,7 @@ impl Influence {
             &self.spectrum,
             Factor::Multiply,
             displacement,
-            work,
+            &mut work.main,
         );
     }
 
@@ -162,8 +185,18 @@ impl Influence {
     /// grid (the pseudo-inverse for a periodic map: zero at q = 0), the
     /// solver's preconditioner.
     pub fn precondition(&self, gap: &[f64], pressure: &mut [f64], work: &mut Workspace) {
-        self.fft
-            .convolve(gap, &self.spectrum, Factor::Divide, pressure, work);
+        match (&self.pre, &mut work.pre) {
+            (Some((fft, spectrum)), Some(w)) => {
+                fft.convolve(gap, spectrum, Factor::Divide, pressure, w)
+            }
+            _ => self.fft.convolve(
+                gap,
+                &self.spectrum,
+                Factor::Divide,
+                pressure,
+                &mut work.main,
+            ),
+        }
     }
 }
 

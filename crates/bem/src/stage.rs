@@ -120,7 +120,7 @@ static INFO: StageInfo = StageInfo {
           p^(q) / (E* |q|), mean of u zero. SOLVER: Polonsky & Keer's constrained conjugate \
           gradient (Wear 231, 1999) under rigid-plane approach control, with an FFT \
           preconditioner after Vollebregt (J. Comput. Phys. 257, 2014: the operator's inverse on \
-          the transform grid), each solve warm-started from the previous two; a solve is \
+          a transform grid; for free maps the unpadded one, kernel wrapped), each solve warm-started from the previous two; a solve is \
           accepted when the rms of the complementarity violation (gap on {p > 0}, negative gap \
           elsewhere) divided by the approach is at most `tolerance` (at 1e-8 the contact set is \
           exact to the pixel and the load to ~1e-9); otherwise the stage fails naming the step, \
