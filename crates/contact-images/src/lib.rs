@@ -41,7 +41,7 @@ pub use error::ImageError;
 pub use frame::Frame;
 pub use label::{Labels, label};
 pub use mask::Mask;
-
+pub use multi_otsu::{MultiOtsu, MultiOtsuThresholds, multi_otsu};
 pub use otsu::{Otsu, otsu};
 
 /// The largest number of pixels a frame or mask may have: labels and patch

@@ -134,7 +134,7 @@ pub fn otsu(histogram: &[u64]) -> Result<Otsu, ImageError> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::Frame;
     use proptest::prelude::*;
