@@ -57,6 +57,8 @@ pub enum ImageError {
         reference_width: usize,
         reference_height: usize,
     },
+    #[error("the frame is {frame_bits}-bit but the reference is {reference_bits}-bit")]
+    ReferenceBits { frame_bits: u8, reference_bits: u8 },
     #[error(
         "no pixel of the reference frame is brighter than dark_level + min_reference = {floor}: \
          nothing can be flat-fielded"

@@ -37,6 +37,7 @@ pub mod mask;
 pub mod multi_otsu;
 pub mod otsu;
 
+pub use calibrated::{Calibrated, CalibratedSegmentation, Level, segment_calibrated};
 pub use error::ImageError;
 pub use frame::Frame;
 pub use label::{Labels, label};

@@ -171,22 +171,24 @@ pub fn multi_otsu(
     // start[c][j]: where its last class starts (the lowest on ties).
     let mut best = vec![vec![f64::NEG_INFINITY; m + 1]; k];
     let mut start = vec![vec![0_usize; m + 1]; k];
-    for j in 1..=m {
-        best[0][j] = cost(0, j);
+    for (j, value) in best[0].iter_mut().enumerate().skip(1) {
+        *value = cost(0, j);
     }
     for c in 1..k {
+        let (done, todo) = best.split_at_mut(c);
+        let previous = &done[c - 1];
         // c + 1 classes need c + 1 bins; leave one bin to each later class.
         for j in (c + 1)..=(m - (k - 1 - c)) {
             let mut value = f64::NEG_INFINITY;
             let mut arg = c;
-            for i in c..j {
-                let candidate = best[c - 1][i] + cost(i, j);
+            for (i, &head) in previous.iter().enumerate().take(j).skip(c) {
+                let candidate = head + cost(i, j);
                 if candidate > value {
                     value = candidate;
                     arg = i;
                 }
             }
-            best[c][j] = value;
+            todo[0][j] = value;
             start[c][j] = arg;
         }
     }

@@ -204,8 +204,8 @@ pub(crate) mod tests {
                 }
                 // Blocks of equal counts: long plateaus of equal variance.
                 for (start, width, n) in modes {
-                    for v in start..(start + width).min(levels) {
-                        h[v] += n;
+                    for count in h.iter_mut().skip(start).take(width) {
+                        *count += n;
                     }
                 }
                 h
