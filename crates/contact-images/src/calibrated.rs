@@ -24,6 +24,7 @@
 //! 4. **Minimum patch size:** patches of fewer than `min_patch_pixels` pixels
 //!    are dropped.
 
+use crate::percentile::percentiles;
 use crate::{Frame, ImageError, Labels, Mask, label};
 
 /// How a reference-normalised level is found.
@@ -148,20 +149,6 @@ pub struct CalibratedSegmentation {
     pub join_threshold: f64,
 }
 
-/// The `p`-th percentile of `values`, interpolating linearly between order
-/// statistics; reorders `values`.
-fn percentile(values: &mut [f32], p: f64) -> f64 {
-    let position = p / 100.0 * (values.len() - 1) as f64;
-    let below = (position.floor() as usize).min(values.len() - 1);
-    let (_, &mut low, above) = values.select_nth_unstable_by(below, f32::total_cmp);
-    let low = f64::from(low);
-    let weight = position - below as f64;
-    match above.iter().copied().min_by(f32::total_cmp) {
-        Some(high) if weight > 0.0 => low + weight * (f64::from(high) - low),
-        _ => low,
-    }
-}
-
 /// Segments `frame` against the no-contact `reference` (same size and bit depth).
 pub fn segment_calibrated(
     frame: &Frame,
@@ -200,23 +187,27 @@ pub fn segment_calibrated(
         })
         .collect();
 
-    let needs_percentiles = matches!(params.contact_level, Level::Percentile(_))
-        || matches!(params.background_level, Level::Percentile(_));
-    let mut usable: Vec<f32> = if needs_percentiles {
-        ratio.iter().copied().filter(|r| r.is_finite()).collect()
-    } else {
+    let wanted: Vec<f64> = [params.contact_level, params.background_level]
+        .iter()
+        .filter_map(|level| match level {
+            Level::Percentile(p) => Some(*p),
+            Level::Given(_) => None,
+        })
+        .collect();
+    let mut found = if wanted.is_empty() {
         Vec::new()
-    };
-    if needs_percentiles && usable.is_empty() {
-        return Err(ImageError::NoUsableReference { floor });
+    } else {
+        percentiles(&ratio, &wanted).ok_or(ImageError::NoUsableReference { floor })?
     }
+    .into_iter();
     let mut level = |level: Level| match level {
         Level::Given(v) => v,
-        Level::Percentile(p) => percentile(&mut usable, p),
+        Level::Percentile(_) => found.next().unwrap_or(f64::NAN),
     };
     let contact_level = level(params.contact_level);
     let background_level = level(params.background_level);
-    if contact_level >= background_level {
+    // Also refuses a NaN level.
+    if contact_level.partial_cmp(&background_level) != Some(std::cmp::Ordering::Less) {
         return Err(ImageError::NoContrast {
             contact: contact_level,
             background: background_level,
@@ -256,36 +247,9 @@ pub fn segment_calibrated(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use proptest::prelude::*;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
     use rand_distr::{Distribution, Normal};
-
-    /// Brute force: sort, then interpolate at `p / 100 · (n − 1)`.
-    fn sorted_percentile(values: &[f32], p: f64) -> f64 {
-        let mut sorted = values.to_vec();
-        sorted.sort_by(f32::total_cmp);
-        let position = p / 100.0 * (sorted.len() - 1) as f64;
-        let below = position.floor() as usize;
-        let above = (below + 1).min(sorted.len() - 1);
-        let weight = position - below as f64;
-        f64::from(sorted[below]) * (1.0 - weight) + f64::from(sorted[above]) * weight
-    }
-
-    proptest! {
-        #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
-
-        #[test]
-        fn percentile_equals_sorting(
-            values in prop::collection::vec(0.0_f32..4.0, 1..300),
-            p in prop_oneof![Just(0.0), Just(50.0), Just(100.0), 0.0_f64..=100.0],
-        ) {
-            let expected = sorted_percentile(&values, p);
-            let got = percentile(&mut values.clone(), p);
-            prop_assert!((got - expected).abs() <= 1e-12 * expected.abs().max(1.0),
-                "{got} against {expected}");
-        }
-    }
 
     /// Frame and reference from a ratio map: `reference = 1000`, `frame =
     /// 1000 · ratio`, 8-bit-free 16-bit values.

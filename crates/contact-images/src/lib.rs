@@ -19,11 +19,11 @@
 //! Modules:
 //! - [`frame`]: the grey frame, its histogram and its thresholded mask;
 //! - [`mask`]: the binary contact map;
-//! - [`otsu`]: global Otsu on the full `2^bits`-bin histogram (the paper's);
-//! - [`multi_otsu`]: Otsu with 2 to 5 classes on a re-binned histogram;
+//! - [`mod@otsu`]: global Otsu on the full `2^bits`-bin histogram (the paper's);
+//! - [`mod@multi_otsu`]: Otsu with 2 to 5 classes on a re-binned histogram;
 //! - [`calibrated`]: flat-field, a threshold calibrated between the contact
 //!   and background levels, hysteresis and a minimum patch size (the lab's);
-//! - [`label`]: 8-connected components, ordered by first pixel.
+//! - [`mod@label`]: 8-connected components, ordered by first pixel.
 //!
 //! Everything runs on one thread, so results are identical bytes whatever the
 //! machine's thread count.
@@ -36,6 +36,7 @@ pub mod label;
 pub mod mask;
 pub mod multi_otsu;
 pub mod otsu;
+mod percentile;
 
 pub use calibrated::{Calibrated, CalibratedSegmentation, Level, segment_calibrated};
 pub use error::ImageError;

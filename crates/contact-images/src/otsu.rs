@@ -10,7 +10,7 @@
 //! total sum `S`, `σ_B² = D² / (N² n0 n1)` with the integer `D = N S0 − n0 S`.
 //! One pass of cumulative sums gives `n0` and `S0` for every `t` (O(bins)),
 //! and the candidates are ordered by comparing `D² / (n0 n1)` exactly in
-//! integer arithmetic ([`crate::exact`]), so ties are real ties.
+//! integer arithmetic (the private `exact` module), so ties are real ties.
 //!
 //! **Tie rule.** `σ_B²` is constant on every run of empty levels (moving `t`
 //! across an empty level changes no class), so every maximum is a plateau.
