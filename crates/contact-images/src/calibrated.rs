@@ -187,6 +187,9 @@ pub fn segment_calibrated(
         })
         .collect();
 
+    if !ratio.iter().any(|r| r.is_finite()) {
+        return Err(ImageError::NoUsableReference { floor });
+    }
     let wanted: Vec<f64> = [params.contact_level, params.background_level]
         .iter()
         .filter_map(|level| match level {
@@ -197,7 +200,7 @@ pub fn segment_calibrated(
     let mut found = if wanted.is_empty() {
         Vec::new()
     } else {
-        percentiles(&ratio, &wanted).ok_or(ImageError::NoUsableReference { floor })?
+        percentiles(&ratio, &wanted).unwrap_or_default()
     }
     .into_iter();
     let mut level = |level: Level| match level {
@@ -494,16 +497,18 @@ mod tests {
             result.mask.pixels(),
             &[false, false, true, false, false, false]
         );
-        // With percentiles and no usable pixel, an error rather than NaN.
-        let params = Calibrated {
-            dark_level: 50.0,
-            min_reference: 4000.0,
-            ..Calibrated::default()
-        };
-        assert_eq!(
-            segment_calibrated(&frame, &reference, &params),
-            Err(ImageError::NoUsableReference { floor: 4050.0 })
-        );
+        // No usable pixel: an error rather than NaN levels or an empty mask.
+        for levels in [Calibrated::default(), given(1)] {
+            let params = Calibrated {
+                dark_level: 50.0,
+                min_reference: 4000.0,
+                ..levels
+            };
+            assert_eq!(
+                segment_calibrated(&frame, &reference, &params),
+                Err(ImageError::NoUsableReference { floor: 4050.0 })
+            );
+        }
     }
 
     #[test]
