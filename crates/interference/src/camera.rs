@@ -184,7 +184,7 @@ impl Camera {
 
     /// Counts of a row-major `width × height` reflectance map
     /// (`reflectance[y * width + x]`, finite and ≥ 0), with the noise drawn
-    /// from `seed`.
+    /// from `seed` (give every frame of a sequence its own).
     pub fn capture(
         &self,
         reflectance: &[f64],
@@ -247,8 +247,9 @@ impl Camera {
                     let shot_e = shot(mean_e, &mut rng).min(p.full_well_e);
                     let read: f64 = StandardNormal.sample(&mut rng);
                     let signal_e = shot_e + p.read_noise_e * read;
-                    let dn = (signal_e / self.gain + p.black_level_dn).round();
-                    *out = dn.clamp(0.0, full_scale) as u16;
+                    // round half up by truncation (`round` is a library call)
+                    let dn = (signal_e / self.gain + p.black_level_dn).clamp(0.0, full_scale);
+                    *out = (dn + 0.5) as u16;
                 }
             });
         Ok(Frame {

@@ -523,6 +523,26 @@ mod tests {
     }
 
     #[test]
+    fn white_light_tends_to_the_incoherent_sum() {
+        let s = stack();
+        let (r1, r2) = (s.r_glass_gap(), s.r_gap_rubber());
+        let incoherent = (r1 * r1 + r2 * r2 - 2.0 * r1 * r1 * r2 * r2) / (1.0 - r1 * r1 * r2 * r2);
+        // a grid that resolves six harmonics out to 60 µm
+        let avg = SpectralAverage::new(s, &Spectrum::white_led(), 0.1).unwrap();
+        let swing = |from_m: f64| {
+            (0..400)
+                .map(|k| (avg.reflectance(from_m + k as f64 * 1.7e-9) - incoherent).abs())
+                .fold(0.0, f64::max)
+        };
+        // the fringes die out with the blue line's coherence
+        assert!(swing(2e-6) > 1e-3);
+        assert!(swing(6e-6) > 1e-5);
+        for from_m in [12e-6, 20e-6, 35e-6, 50e-6] {
+            assert!(swing(from_m) < 5e-8, "{from_m}: {}", swing(from_m));
+        }
+    }
+
+    #[test]
     fn bad_indices_are_refused() {
         for (bad, name) in [
             (

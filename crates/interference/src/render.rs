@@ -46,3 +46,70 @@ pub fn render_frame(
     table.apply(&mut reflectance);
     camera.capture(&reflectance, grid.width_px, grid.height_px, seed)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::CameraParams;
+    use ndarray::Array2;
+
+    /// A sphere of radius 5 mm touching the glass: contact disc, Newton's
+    /// rings around it, an unmeasured strip.
+    #[test]
+    fn newton_rings_frame() {
+        let table = OpticsParams::default().build().unwrap();
+        let (n, dx_m) = (64, 5e-6);
+        let radius_m: f64 = 5e-3;
+        let contact_m = 40e-6;
+        let field = Array2::from_shape_fn((n, n), |(i, j)| {
+            if j < 4 {
+                return f64::NAN;
+            }
+            let x = (i as f64 - 31.5) * dx_m;
+            let y = (j as f64 - 31.5) * dx_m;
+            let r2 = x * x + y * y - contact_m * contact_m;
+            (r2 / (2.0 * radius_m)).max(0.0)
+        });
+        let gap = GapMap {
+            gap_m: field.view(),
+            dx_m,
+            dy_m: dx_m,
+        };
+        let grid = CameraGrid {
+            width_px: 64,
+            height_px: 64,
+            pixel_m: dx_m,
+        };
+        let params = CameraParams {
+            vignetting: 0.0,
+            ..CameraParams::default()
+        };
+        let camera = Camera::new(params, table.max_reflectance()).unwrap();
+        let render = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| {
+                    render_frame(&gap, &Placement::default(), &grid, &table, &camera, 9).unwrap()
+                })
+        };
+        let frame = render(1);
+        assert_eq!(frame, render(2));
+        let counts_per_reflectance = 0.8 * 65535.0 / table.max_reflectance();
+        let at = |x: usize, y: usize| frame.counts[y * 64 + x] as f64;
+        // contact (centre) is near black, the unmeasured strip at the background
+        let noise = 4.0 * (counts_per_reflectance * table.background() * params.gain()).sqrt()
+            / params.gain();
+        assert!(at(31, 31) < 0.01 * 65535.0, "{}", at(31, 31));
+        assert!((at(31, 1) - counts_per_reflectance * table.background()).abs() < noise);
+        // the first bright ring where g ≈ 131 nm: r² = c² + 2 R g
+        let r_bright = (contact_m * contact_m + 2.0 * radius_m * 131e-9).sqrt();
+        let x_bright = (31.5 + r_bright / dx_m).round() as usize;
+        assert!(
+            at(x_bright, 31) > 0.9 * 0.8 * 65535.0,
+            "{}",
+            at(x_bright, 31)
+        );
+    }
+}

@@ -98,7 +98,7 @@ impl Spectrum {
         }
     }
 
-    /// S(λ); 0 outside the band.
+    /// S(λ); 0 outside the band (and for samples [`Spectrum::check`] refuses).
     pub fn power(&self, wavelength_nm: f64) -> f64 {
         let (min_nm, max_nm) = self.band_nm();
         if !(wavelength_nm >= min_nm && wavelength_nm <= max_nm) {
@@ -110,6 +110,9 @@ impl Spectrum {
                 wavelength_nm: x,
                 relative_power: y,
             } => {
+                if x.len() != y.len() {
+                    return 0.0;
+                }
                 // the first sample at or above λ
                 let k = x.partition_point(|&xk| xk < wavelength_nm).min(x.len() - 1);
                 if k == 0 {
@@ -277,6 +280,11 @@ mod tests {
         }
         assert_eq!(s.power(399.0), 0.0);
         assert_eq!(s.power(f64::NAN), 0.0);
+        let unchecked = Spectrum::Sampled {
+            wavelength_nm: vec![500.0],
+            relative_power: vec![],
+        };
+        assert_eq!(unchecked.power(500.0), 0.0);
     }
 
     #[test]
