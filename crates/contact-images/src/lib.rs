@@ -23,9 +23,11 @@
 //! - [`mod@multi_otsu`]: Otsu with 2 to 5 classes on a re-binned histogram;
 //! - [`calibrated`]: flat-field, a threshold calibrated between the contact
 //!   and background levels, hysteresis and a minimum patch size (the lab's);
-//! - [`mod@label`]: 8-connected components, ordered by first pixel.
+//! - [`mod@label`]: 8-connected components, ordered by first pixel;
+//! - [`sync`]: the camera-to-force-log clock offset from first contact;
+//! - [`stage`]: the `contact-images` stage.
 //!
-//! Everything runs on one thread, so results are identical bytes whatever the
+//! The cores run on one thread, so results are identical bytes whatever the
 //! machine's thread count.
 
 pub mod calibrated;
@@ -37,6 +39,8 @@ pub mod mask;
 pub mod multi_otsu;
 pub mod otsu;
 mod percentile;
+pub mod stage;
+pub mod sync;
 
 pub use calibrated::{Calibrated, CalibratedSegmentation, Level, segment_calibrated};
 pub use error::ImageError;
@@ -45,6 +49,11 @@ pub use label::{Labels, label};
 pub use mask::Mask;
 pub use multi_otsu::{MultiOtsu, MultiOtsuThresholds, multi_otsu};
 pub use otsu::{Otsu, otsu};
+
+/// Registers this crate's stage kinds.
+pub fn register(registry: &mut hypercontact_core::Registry) {
+    registry.add(stage::ContactImages);
+}
 
 /// The largest number of pixels a frame or mask may have: labels and patch
 /// indices are `u32`, as in the `truncation` stage's union–find.

@@ -24,6 +24,7 @@ pub mod png;
 pub mod product;
 pub mod registry;
 pub mod schema;
+pub mod sequence;
 pub mod source;
 pub mod stage;
 pub mod table;

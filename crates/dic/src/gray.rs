@@ -3,6 +3,9 @@
 //! 8- and 16-bit files are both mapped to fractions of their full scale, so
 //! thresholds (markers, noise) mean the same thing for either bit depth.
 
+use hypercontact_core::StageError;
+use hypercontact_core::sequence::GrayFrame;
+
 use crate::DicError;
 
 /// A grayscale image, row-major (`pixels[y * width + x]`), x = column.
@@ -36,38 +39,24 @@ impl GrayImage {
     /// Decodes a PNG or TIFF file's bytes; `name` only labels errors.
     /// Colour images are converted to luma.
     pub fn decode(name: &str, bytes: &[u8]) -> Result<Self, DicError> {
-        let decoded = image::load_from_memory(bytes).map_err(|e| DicError::File {
-            file: name.to_owned(),
-            message: format!("not a readable PNG/TIFF image: {e}"),
-        })?;
-        let (width, height) = (decoded.width() as usize, decoded.height() as usize);
-        let sixteen_bit = matches!(
-            decoded.color(),
-            image::ColorType::L16
-                | image::ColorType::La16
-                | image::ColorType::Rgb16
-                | image::ColorType::Rgba16
-                | image::ColorType::Rgb32F
-                | image::ColorType::Rgba32F
-        );
-        let pixels: Vec<f64> = if sixteen_bit {
-            decoded
-                .into_luma16()
-                .into_raw()
-                .into_iter()
-                .map(|v| f64::from(v) / 65535.0)
-                .collect()
-        } else {
-            decoded
-                .into_luma8()
-                .into_raw()
-                .into_iter()
-                .map(|v| f64::from(v) / 255.0)
-                .collect()
-        };
-        Self::new(width, height, pixels).map_err(|e| DicError::File {
-            file: name.to_owned(),
-            message: e.to_string(),
-        })
+        let frame =
+            GrayFrame::decode(name, bytes).map_err(|e| DicError::file(name, strip(e, name)))?;
+        Self::from_frame(&frame).map_err(|e| DicError::file(name, e.to_string()))
+    }
+
+    /// A decoded frame as fractions of its container's full scale.
+    pub fn from_frame(frame: &GrayFrame) -> Result<Self, DicError> {
+        let full = frame.full_scale();
+        let pixels = frame.data.iter().map(|&v| f64::from(v) / full).collect();
+        Self::new(frame.width, frame.height, pixels)
+    }
+}
+
+/// The message of a file error about `name`, without the name (the caller
+/// puts it back in its own error).
+fn strip(e: StageError, name: &str) -> String {
+    match e {
+        StageError::File { message, .. } => message,
+        other => other.to_string().replacen(&format!("{name}: "), "", 1),
     }
 }

@@ -1,0 +1,444 @@
+//! Stage `contact-images`: a contact-interference image sequence and its
+//! force log in, the measured contact area and patch count per frame out
+//! (the paper's Section 3 experiment), with binary contact maps for Fig. 6.
+//! The physics of the methods is in [`crate::otsu`], [`crate::multi_otsu`]
+//! and [`crate::calibrated`]; reading in [`hypercontact_core::sequence`].
+
+use hypercontact_core::sequence::{GrayFrame, Sequence};
+use hypercontact_core::{
+    Arity, Checked, Choice, Context, FileSource, Files, InputPath, InputSpec, Inputs, OutputSpec,
+    Outputs, ParamError, Schema, Stage, StageError, StageInfo, params,
+};
+
+use crate::calibrated::{Calibrated, Level, segment_calibrated};
+use crate::sync::{contact_onset_s, force_onset_s};
+use crate::{Frame, ImageError, Mask, MultiOtsu, label, multi_otsu, otsu};
+
+/// How contact is told from the rest of a frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Choice)]
+pub enum Method {
+    /// flat-field with the reference frame, threshold between contact and background, hysteresis, minimum patch
+    #[default]
+    Calibrated,
+    /// the paper's: global Otsu per frame on the full histogram
+    Otsu,
+    /// three-class Otsu, the darkest class is contact
+    MultiOtsu,
+}
+
+impl Method {
+    fn label(self) -> &'static str {
+        match self {
+            Method::Calibrated => "calibrated",
+            Method::Otsu => "otsu",
+            Method::MultiOtsu => "multi-otsu",
+        }
+    }
+}
+
+/// Parameters of `contact-images`.
+#[params(check = consistent)]
+pub struct ContactImagesParams {
+    /// segmentation method
+    #[param(default = Method::Calibrated)]
+    pub method: Method,
+    /// folder with frames.csv, the frames and force.csv (instead of the `sequence` input)
+    pub dir: Option<InputPath>,
+    /// the camera's bit depth when the files' container is deeper (a 12-bit camera in 16-bit files: 12)
+    #[param(range = 1..=16)]
+    pub bits: Option<u8>,
+    /// camera pixel size on the sample (sensor pixel / magnification)
+    #[param(default = 6.5e-6, unit = "m", positive)]
+    pub pixel_m: f64,
+    /// exposure time; force is read at mid-exposure (0: frames.csv times are mid-exposure)
+    #[param(default = 0.0, unit = "s", range = 0.0..)]
+    pub exposure_s: f64,
+    /// force-log time minus camera time (default: estimated from first contact)
+    #[param(unit = "s")]
+    pub clock_offset_s: Option<f64>,
+    /// force-log resolution, for the onset of the force in the offset estimate
+    #[param(default = 0.01, unit = "N", range = 0.0..)]
+    pub force_resolution_n: f64,
+    /// calibrated: index (in frames.csv order) of a frame without contact, the flat field
+    #[param(default = 0)]
+    pub reference_frame: usize,
+    /// calibrated: camera dark offset in counts
+    #[param(default = 0.0, range = 0.0..)]
+    pub dark_level: f64,
+    /// calibrated: intensity of contact relative to the reference (≈ 0: contact is black)
+    #[param(default = 0.0, range = 0.0..)]
+    pub contact_level: f64,
+    /// calibrated: intensity of the background relative to the reference (1: same illumination)
+    #[param(default = 1.0, positive)]
+    pub background_level: f64,
+    /// calibrated: contact joins below this fraction of the way from contact to background
+    #[param(default = 0.2, positive, range = ..1.0)]
+    pub fraction: f64,
+    /// calibrated: contact seeds below this fraction (hysteresis; = fraction turns it off)
+    #[param(default = 0.1, positive, range = ..1.0)]
+    pub seed_fraction: f64,
+    /// calibrated: smallest patch kept
+    #[param(default = 4, unit = "px", range = 1..)]
+    pub min_patch_pixels: u64,
+    /// A/A0 at which `contact_maps` holds the binary contact map (nearest frame)
+    #[param(default = vec![0.1, 0.5, 0.9], positive, range = ..=1.0)]
+    pub map_fractions: Vec<f64>,
+}
+
+fn consistent(p: &ContactImagesParams) -> Result<(), ParamError> {
+    if p.seed_fraction > p.fraction {
+        return Err(ParamError::new(
+            "seed_fraction",
+            format!(
+                "{} lies above fraction ({}): seeds must be darker than what joins them",
+                p.seed_fraction, p.fraction
+            ),
+        ));
+    }
+    if p.contact_level >= p.background_level {
+        return Err(ParamError::new(
+            "contact_level",
+            format!(
+                "{} is not below background_level ({})",
+                p.contact_level, p.background_level
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The `contact` table: one row per frame.
+#[derive(Clone, Debug, PartialEq, Schema)]
+pub struct ContactTable {
+    /// frame number as frames.csv gives it
+    pub frame: Vec<i64>,
+    /// camera time at mid-exposure
+    #[column(unit = "s")]
+    pub time_s: Vec<f64>,
+    /// force interpolated at time_s + clock offset
+    #[column(unit = "N")]
+    pub force_n: Vec<f64>,
+    /// contact pixels / analysed pixels
+    pub area_fraction: Vec<f64>,
+    /// contact pixels × pixel area
+    #[column(unit = "m²")]
+    pub contact_area_m2: Vec<f64>,
+    /// 8-connected contact patches
+    pub patches: Vec<i64>,
+    /// the threshold used (counts for otsu/multi-otsu; intensity relative to the reference for calibrated)
+    pub threshold: Vec<f64>,
+    /// segmentation method
+    pub method: Vec<String>,
+}
+
+/// The `sync` table: one row.
+#[derive(Clone, Debug, PartialEq, Schema)]
+pub struct SyncTable {
+    /// force-log time minus camera time
+    #[column(unit = "s")]
+    pub clock_offset_s: Vec<f64>,
+    /// 1 when estimated from first contact, 0 when given
+    pub estimated: Vec<i64>,
+    /// force-log time at which the force leaves its baseline (NaN if given or not found)
+    #[column(unit = "s")]
+    pub force_onset_s: Vec<f64>,
+    /// camera time of the first frame with contact (NaN if given or not found)
+    #[column(unit = "s")]
+    pub contact_onset_s: Vec<f64>,
+}
+
+/// The `contact-images` stage.
+pub struct ContactImages;
+
+static INFO: StageInfo = StageInfo {
+    kind: "contact-images",
+    version: 1,
+    summary: "Contact area and patches per frame from contact-interference images and a force log",
+    doc: "Reads frames.csv (frame, time_s, file), the frames it lists (PNG or TIFF, 8 or 16 bit; \
+          `bits` for a camera shallower than its files, e.g. 12-bit data in 16-bit files, which \
+          are then NOT rescaled, and values at or above 2^bits are refused) and force.csv \
+          (time_s, force_n), from the `sequence` input (the synthetic lab's files) or `dir`. \
+          Contact regions are dark (the half-wave loss at the rubber). METHODS: `calibrated` \
+          (default): each frame divided by the reference frame (a frame without contact: the \
+          flat field, vignetting and illumination cancel), contact where the ratio is below \
+          contact_level + fraction (background_level - contact_level), grown from seeds below \
+          seed_fraction (hysteresis, 8-connected), patches under min_patch_pixels dropped; \
+          pixels whose reference is dark are never contact. With the defaults (0, 1, 0.2, \
+          seeds 0.1) contact means an intensity below a fifth of the background's: 'optical \
+          contact', a gap of at most a few tens of nm under white light (half the background \
+          is reached at 42 nm, crate `interference`), so A is overestimated where the gap \
+          opens slowly (a sphere of R = 5 mm: +23 % at A/A0 = 0.04, +2 % at 0.65). `otsu`: the paper's global Otsu \
+          threshold per frame on the full 2^bits histogram; it counts dark interference \
+          fringes (the second dark fringe near 265 nm is a third of the background) and dim \
+          corners as contact, so it overestimates A at low load. `multi-otsu`: three classes, \
+          the darkest is contact. A0 = the frame's pixels (all pixels are the sample's); area = \
+          contact pixels x pixel_m². Patches: 8-connected components. SYNC: force-log time = \
+          camera time + clock_offset_s; force linearly interpolated at mid-exposure (time_s + \
+          exposure_s/2). Without clock_offset_s the offset is estimated as the time the force \
+          leaves its baseline (6 robust sigma of the first 16 samples, at least twice \
+          force_resolution_n) minus the time of the first frame with contact: good to about \
+          one frame interval when the sequence starts before contact. CONTACT_MAPS: for each \
+          of map_fractions, the frame whose A/A0 is nearest, as mask_a<fraction>.png (8-bit, \
+          255 = contact) and maps.csv (requested_area_fraction, area_fraction, frame, time_s, \
+          force_n, file, pixel_m).",
+    inputs: &[InputSpec::files(
+        "sequence",
+        Arity::Optional,
+        "the synthetic lab's files (or use `dir`)",
+    )],
+    outputs: &[
+        OutputSpec::table::<ContactTable>("contact", "one row per frame"),
+        OutputSpec::table::<SyncTable>("sync", "the clock offset used, and how it was found"),
+        OutputSpec::files(
+            "contact_maps",
+            "binary contact maps (PNG) at map_fractions, with maps.csv",
+        ),
+    ],
+};
+
+/// One frame's segmentation.
+struct Segmented {
+    mask: Mask,
+    patches: usize,
+    threshold: f64,
+}
+
+impl Stage for ContactImages {
+    type Params = ContactImagesParams;
+
+    fn info(&self) -> &'static StageInfo {
+        &INFO
+    }
+
+    fn run(
+        &self,
+        p: &Checked<ContactImagesParams>,
+        inputs: &Inputs,
+        ctx: &Context,
+    ) -> Result<Outputs, StageError> {
+        let source = FileSource::input_or_dir(inputs, "sequence", "dir", p.dir.as_ref())?;
+        let sequence = Sequence::open(source)?;
+        let n = sequence.frames.len();
+        let frame = |k: usize| -> Result<Frame, StageError> {
+            let raw = sequence.frame(k)?;
+            camera_frame(raw, p.bits).map_err(|e| {
+                StageError::file(sequence.display(&sequence.frames[k].file), e.to_string())
+            })
+        };
+        let reference = match p.method {
+            Method::Calibrated => {
+                if p.reference_frame >= n {
+                    return Err(StageError::invalid(format!(
+                        "parameter `reference_frame` = {}: the sequence has {n} frames",
+                        p.reference_frame
+                    )));
+                }
+                Some(frame(p.reference_frame)?)
+            }
+            _ => None,
+        };
+        let calibrated = Calibrated {
+            dark_level: p.dark_level,
+            contact_level: Level::Given(p.contact_level),
+            background_level: Level::Given(p.background_level),
+            fraction: p.fraction,
+            seed_fraction: p.seed_fraction,
+            min_patch_pixels: p.min_patch_pixels,
+            ..Calibrated::default()
+        };
+
+        let progress = ctx.progress(n as u64, "frames");
+        let mut rows = Vec::with_capacity(n);
+        let mut maps: Vec<Option<(usize, Mask)>> = p.map_fractions.iter().map(|_| None).collect();
+        for k in 0..n {
+            let image = frame(k)?;
+            let at = |e: ImageError| {
+                StageError::file(sequence.display(&sequence.frames[k].file), e.to_string())
+            };
+            let s = segment(&image, reference.as_ref(), p.method, &calibrated).map_err(at)?;
+            let fraction = s.mask.area_fraction();
+            for (slot, &want) in maps.iter_mut().zip(&p.map_fractions) {
+                let nearer = slot.as_ref().is_none_or(|(j, _)| {
+                    let have: &(f64, usize, f64) = &rows[*j];
+                    (fraction - want).abs() < (have.0 - want).abs()
+                });
+                if nearer {
+                    *slot = Some((k, s.mask.clone()));
+                }
+            }
+            rows.push((fraction, s.patches, s.threshold));
+            progress.inc(1);
+        }
+        drop(progress);
+
+        let mid_s = |k: usize| sequence.frames[k].time_s + 0.5 * p.exposure_s;
+        let times_s: Vec<f64> = (0..n).map(mid_s).collect();
+        let fractions: Vec<f64> = rows.iter().map(|r| r.0).collect();
+        let sync = match p.clock_offset_s {
+            Some(offset) => SyncTable {
+                clock_offset_s: vec![offset],
+                estimated: vec![0],
+                force_onset_s: vec![f64::NAN],
+                contact_onset_s: vec![f64::NAN],
+            },
+            None => {
+                let force = force_onset_s(&sequence.force, p.force_resolution_n)
+                    .map_err(|e| StageError::file(sequence.display("force.csv"), e.to_string()))?;
+                let contact = contact_onset_s(&times_s, &fractions);
+                let (Some(force), Some(contact)) = (force, contact) else {
+                    return Err(StageError::invalid(format!(
+                        "cannot estimate the clock offset: {}; give `clock_offset_s`",
+                        match (force, contact) {
+                            (None, _) => "the force never leaves its baseline".to_owned(),
+                            _ => "no frame without contact precedes the first with contact"
+                                .to_owned(),
+                        }
+                    )));
+                };
+                SyncTable {
+                    clock_offset_s: vec![force - contact],
+                    estimated: vec![1],
+                    force_onset_s: vec![force],
+                    contact_onset_s: vec![contact],
+                }
+            }
+        };
+        let offset = sync.clock_offset_s[0];
+        let force_n = (0..n)
+            .map(|k| sequence.force_at(times_s[k] + offset, &sequence.frames[k]))
+            .collect::<Result<Vec<f64>, StageError>>()?;
+        let pixel_m2 = p.pixel_m * p.pixel_m;
+        let pixels = reference
+            .as_ref()
+            .map_or_else(|| frame(0).map(|f| f.data().len()), |r| Ok(r.data().len()))?
+            as f64;
+        let table = ContactTable {
+            frame: sequence.frames.iter().map(|f| f.frame).collect(),
+            time_s: times_s.clone(),
+            force_n: force_n.clone(),
+            area_fraction: fractions.clone(),
+            contact_area_m2: fractions.iter().map(|a| a * pixels * pixel_m2).collect(),
+            patches: rows.iter().map(|r| r.1 as i64).collect(),
+            threshold: rows.iter().map(|r| r.2).collect(),
+            method: vec![p.method.label().to_owned(); n],
+        };
+        ctx.note(&format!(
+            "{n} frames, A/A0 up to {:.4}, clock offset {offset:.4} s ({})",
+            fractions.iter().copied().fold(0.0, f64::max),
+            if p.clock_offset_s.is_some() {
+                "given"
+            } else {
+                "estimated"
+            }
+        ));
+        let files = map_files(maps, &table, p)?;
+        Ok(Outputs::new()
+            .table("contact", table.into_table())
+            .table("sync", sync.into_table())
+            .files("contact_maps", files))
+    }
+}
+
+/// A decoded file as the camera's frame: its container depth, or `bits`.
+fn camera_frame(raw: GrayFrame, bits: Option<u8>) -> Result<Frame, ImageError> {
+    let bits = bits.unwrap_or(raw.bits).min(raw.bits);
+    Frame::new(raw.width, raw.height, bits, raw.data)
+}
+
+fn segment(
+    image: &Frame,
+    reference: Option<&Frame>,
+    method: Method,
+    calibrated: &Calibrated,
+) -> Result<Segmented, ImageError> {
+    match (method, reference) {
+        (Method::Calibrated, Some(reference)) => {
+            let s = segment_calibrated(image, reference, calibrated)?;
+            Ok(Segmented {
+                patches: s.patches.count(),
+                threshold: s.join_threshold,
+                mask: s.mask,
+            })
+        }
+        (Method::Otsu, _) => match otsu(&image.histogram()) {
+            Ok(t) => Ok(labelled(
+                image.dark_mask(t.threshold),
+                f64::from(t.threshold),
+            )),
+            // One level everywhere: nothing to separate, no contact.
+            Err(ImageError::SingleLevel { .. }) => empty(image),
+            Err(e) => Err(e),
+        },
+        (Method::MultiOtsu, _) | (Method::Calibrated, None) => {
+            match multi_otsu(&image.histogram(), &MultiOtsu::default()) {
+                Ok(t) => {
+                    let threshold = t.contact_threshold();
+                    Ok(labelled(image.dark_mask(threshold), f64::from(threshold)))
+                }
+                Err(ImageError::SingleLevel { .. } | ImageError::TooFewLevels { .. }) => {
+                    empty(image)
+                }
+                Err(e) => Err(e),
+            }
+        }
+    }
+}
+
+fn labelled(mask: Mask, threshold: f64) -> Segmented {
+    Segmented {
+        patches: label(&mask).count(),
+        mask,
+        threshold,
+    }
+}
+
+/// No contact: a frame of one level (or too few for three classes).
+fn empty(image: &Frame) -> Result<Segmented, ImageError> {
+    let mask = Mask::new(
+        image.width(),
+        image.height(),
+        vec![false; image.data().len()],
+    )?;
+    Ok(Segmented {
+        mask,
+        patches: 0,
+        threshold: f64::NAN,
+    })
+}
+
+/// `a0.100` for 0.1: the fraction in file names (as `bem` names its maps).
+fn map_label(fraction: f64) -> String {
+    format!("a{fraction:.3}")
+}
+
+fn map_files(
+    maps: Vec<Option<(usize, Mask)>>,
+    table: &ContactTable,
+    p: &ContactImagesParams,
+) -> Result<Files, StageError> {
+    let mut files = Files::new();
+    let mut csv =
+        String::from("requested_area_fraction,area_fraction,frame,time_s,force_n,file,pixel_m\n");
+    for (slot, &want) in maps.into_iter().zip(&p.map_fractions) {
+        let Some((k, mask)) = slot else { continue };
+        let name = format!("mask_{}.png", map_label(want));
+        let pixels: Vec<u8> = mask
+            .pixels()
+            .iter()
+            .map(|&c| if c { 255 } else { 0 })
+            .collect();
+        let png = hypercontact_core::png::encode_png(
+            mask.width() as u32,
+            mask.height() as u32,
+            hypercontact_core::png::Pixels::Gray8(pixels),
+        )
+        .map_err(StageError::invalid)?;
+        csv.push_str(&format!(
+            "{want},{},{},{},{},{name},{}\n",
+            table.area_fraction[k], table.frame[k], table.time_s[k], table.force_n[k], p.pixel_m
+        ));
+        files.files.insert(name, png);
+    }
+    files.files.insert("maps.csv".to_owned(), csv.into_bytes());
+    Ok(files)
+}
