@@ -176,8 +176,10 @@ static INFO: StageInfo = StageInfo {
           camera time + clock_offset_s; force linearly interpolated at mid-exposure (time_s + \
           exposure_s/2). Without clock_offset_s the offset is estimated as the time the force \
           leaves its baseline (6 robust sigma of the first 16 samples, at least twice \
-          force_resolution_n) minus the time of the first frame with contact: good to about \
-          one frame interval when the sequence starts before contact. CONTACT_MAPS: for each \
+          force_resolution_n) minus the time of the first frame with contact as the \
+          calibrated method sees it (whatever `method` is: a global threshold finds \
+          'contact' in every frame), so it needs reference_frame: good to about one frame \
+          interval when the sequence starts before contact. CONTACT_MAPS: for each \
           of map_fractions, the frame whose A/A0 is nearest, as mask_a<fraction>.png (8-bit, \
           255 = contact) and maps.csv (requested_area_fraction, area_fraction, frame, time_s, \
           force_n, file, pixel_m).",
@@ -225,8 +227,12 @@ impl Stage for ContactImages {
                 StageError::file(sequence.display(&sequence.frames[k].file), e.to_string())
             })
         };
-        let reference = match p.method {
-            Method::Calibrated => {
+        // The reference frame: the calibrated method's flat field, and what
+        // the first contact is found against when the clock offset is
+        // estimated (a global threshold finds "contact" in every frame).
+        let estimate_offset = p.clock_offset_s.is_none();
+        let reference = match (p.method, estimate_offset) {
+            (Method::Calibrated, _) | (_, true) => {
                 if p.reference_frame >= n {
                     return Err(StageError::invalid(format!(
                         "parameter `reference_frame` = {}: the sequence has {n} frames",
@@ -237,6 +243,9 @@ impl Stage for ContactImages {
             }
             _ => None,
         };
+        let method_reference = reference
+            .as_ref()
+            .filter(|_| p.method == Method::Calibrated);
         let calibrated = Calibrated {
             dark_level: p.dark_level,
             contact_level: Level::Given(p.contact_level),
@@ -249,14 +258,25 @@ impl Stage for ContactImages {
 
         let progress = ctx.progress(n as u64, "frames");
         let mut rows = Vec::with_capacity(n);
+        let mut onset_fractions = Vec::with_capacity(n);
         let mut maps: Vec<Option<(usize, Mask)>> = p.map_fractions.iter().map(|_| None).collect();
         for k in 0..n {
             let image = frame(k)?;
             let at = |e: ImageError| {
                 StageError::file(sequence.display(&sequence.frames[k].file), e.to_string())
             };
-            let s = segment(&image, reference.as_ref(), p.method, &calibrated).map_err(at)?;
+            let s = segment(&image, method_reference, p.method, &calibrated).map_err(at)?;
             let fraction = s.mask.area_fraction();
+            // Contact as the calibrated method sees it, for the clock offset.
+            let onset_fraction = match (&reference, p.method, estimate_offset) {
+                (Some(r), method, true) if method != Method::Calibrated => {
+                    segment_calibrated(&image, r, &calibrated)
+                        .map_err(at)?
+                        .mask
+                        .area_fraction()
+                }
+                _ => fraction,
+            };
             for (slot, &want) in maps.iter_mut().zip(&p.map_fractions) {
                 let nearer = slot.as_ref().is_none_or(|(j, _)| {
                     let have: &(f64, usize, f64) = &rows[*j];
@@ -267,6 +287,7 @@ impl Stage for ContactImages {
                 }
             }
             rows.push((fraction, s.patches, s.threshold));
+            onset_fractions.push(onset_fraction);
             progress.inc(1);
         }
         drop(progress);
@@ -284,7 +305,7 @@ impl Stage for ContactImages {
             None => {
                 let force = force_onset_s(&sequence.force, p.force_resolution_n)
                     .map_err(|e| StageError::file(sequence.display("force.csv"), e.to_string()))?;
-                let contact = contact_onset_s(&times_s, &fractions);
+                let contact = contact_onset_s(&times_s, &onset_fractions);
                 let (Some(force), Some(contact)) = (force, contact) else {
                     return Err(StageError::invalid(format!(
                         "cannot estimate the clock offset: {}; give `clock_offset_s`",
