@@ -2,6 +2,7 @@
 //! (interferometer tiles, ...) from a known ground truth, which they emit
 //! separately so tests can score the stages that read those files.
 
+pub mod contact;
 pub mod surface;
 pub mod tensile;
 
