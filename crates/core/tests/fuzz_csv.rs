@@ -7,25 +7,8 @@
 
 use hypercontact_core::csv_table::{RowPlace, read_csv_bytes_with_lines};
 use hypercontact_core::{ColumnData, Table};
+use hypercontact_fuzz::config;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngSeed};
-
-fn config(cases: u32) -> Config {
-    let defaults = Config::default();
-    Config {
-        cases: if std::env::var_os("PROPTEST_CASES").is_some() {
-            defaults.cases
-        } else {
-            cases
-        },
-        rng_seed: match defaults.rng_seed {
-            RngSeed::Random => RngSeed::Fixed(12),
-            fixed => fixed,
-        },
-        failure_persistence: None,
-        ..defaults
-    }
-}
 
 const NAME: &str = "data/t.csv";
 

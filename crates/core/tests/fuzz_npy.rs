@@ -10,26 +10,9 @@ use std::path::PathBuf;
 
 use hypercontact_core::context::BasicReader;
 use hypercontact_core::{Field, ProductReader};
+use hypercontact_fuzz::{config, splice};
 use ndarray::Array2;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngSeed};
-
-fn config(cases: u32) -> Config {
-    let defaults = Config::default();
-    Config {
-        cases: if std::env::var_os("PROPTEST_CASES").is_some() {
-            defaults.cases
-        } else {
-            cases
-        },
-        rng_seed: match defaults.rng_seed {
-            RngSeed::Random => RngSeed::Fixed(12),
-            fixed => fixed,
-        },
-        failure_persistence: None,
-        ..defaults
-    }
-}
 
 /// A file path of this test, one per property (cases run one after the
 /// other within a property).
@@ -122,15 +105,6 @@ fn splices() -> impl Strategy<Value = Vec<(usize, usize, Vec<u8>)>> {
         ),
         1..6,
     )
-}
-
-fn splice(mut bytes: Vec<u8>, edits: &[(usize, usize, Vec<u8>)]) -> Vec<u8> {
-    for (at, remove, insert) in edits {
-        let at = at % (bytes.len() + 1);
-        let end = (at + remove).min(bytes.len());
-        bytes.splice(at..end, insert.iter().copied());
-    }
-    bytes
 }
 
 proptest! {

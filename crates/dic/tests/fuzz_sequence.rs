@@ -15,27 +15,10 @@ use std::sync::OnceLock;
 
 use hypercontact_core::Files;
 use hypercontact_dic::{DicParams, GrayImage};
+use hypercontact_fuzz::{config, splice};
 use hypercontact_synth::tensile::{SynthTensileParams, encode_png};
 use image::{DynamicImage, ImageBuffer, ImageFormat, Luma, Rgb};
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngSeed};
-
-fn config(cases: u32) -> Config {
-    let defaults = Config::default();
-    Config {
-        cases: if std::env::var_os("PROPTEST_CASES").is_some() {
-            defaults.cases
-        } else {
-            cases
-        },
-        rng_seed: match defaults.rng_seed {
-            RngSeed::Random => RngSeed::Fixed(12),
-            fixed => fixed,
-        },
-        failure_persistence: None,
-        ..defaults
-    }
-}
 
 #[derive(Clone, Copy, Debug)]
 enum Format {
@@ -123,15 +106,6 @@ fn edits() -> impl Strategy<Value = Vec<(usize, usize, Vec<u8>)>> {
         ],
         1..5,
     )
-}
-
-fn splice(mut bytes: Vec<u8>, edits: &[(usize, usize, Vec<u8>)]) -> Vec<u8> {
-    for (at, remove, insert) in edits {
-        let at = at % (bytes.len() + 1);
-        let end = (at + remove).min(bytes.len());
-        bytes.splice(at..end, insert.iter().copied());
-    }
-    bytes
 }
 
 /// CRC-32 (IEEE, as PNG uses it), bit by bit: test code, a few bytes.

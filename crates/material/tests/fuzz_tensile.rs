@@ -10,28 +10,11 @@
 use std::path::PathBuf;
 
 use hypercontact_core::{Context, Inputs, Params, Product, Stage, StageError, Table};
+use hypercontact_fuzz::{config, splice};
 use hypercontact_material::fit_stage::{MaterialFit, MaterialFitParams};
 use hypercontact_material::tensile_stage::{TensileTable, TensileTableParams};
 use hypercontact_material::{Family, TensileData};
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngSeed};
-
-fn config(cases: u32) -> Config {
-    let defaults = Config::default();
-    Config {
-        cases: if std::env::var_os("PROPTEST_CASES").is_some() {
-            defaults.cases
-        } else {
-            cases
-        },
-        rng_seed: match defaults.rng_seed {
-            RngSeed::Random => RngSeed::Fixed(12),
-            fixed => fixed,
-        },
-        failure_persistence: None,
-        ..defaults
-    }
-}
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("hc-fuzz-tensile-{}", std::process::id()));
@@ -229,15 +212,6 @@ fn splices() -> impl Strategy<Value = Vec<(usize, usize, Vec<u8>)>> {
         ),
         0..3,
     )
-}
-
-fn splice(mut bytes: Vec<u8>, edits: &[(usize, usize, Vec<u8>)]) -> Vec<u8> {
-    for (at, remove, insert) in edits {
-        let at = at % (bytes.len() + 1);
-        let end = (at + remove).min(bytes.len());
-        bytes.splice(at..end, insert.iter().copied());
-    }
-    bytes
 }
 
 /// Fits a quick model to a loaded table; a failure must name the model.

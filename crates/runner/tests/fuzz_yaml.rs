@@ -11,27 +11,10 @@ mod common;
 
 use std::path::Path;
 
+use hypercontact_fuzz::config;
 use hypercontact_runner::Pipeline;
 use hypercontact_runner::yaml::Located;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngSeed};
-
-fn config(cases: u32) -> Config {
-    let defaults = Config::default();
-    Config {
-        cases: if std::env::var_os("PROPTEST_CASES").is_some() {
-            defaults.cases
-        } else {
-            cases
-        },
-        rng_seed: match defaults.rng_seed {
-            RngSeed::Random => RngSeed::Fixed(12),
-            fixed => fixed,
-        },
-        failure_persistence: None,
-        ..defaults
-    }
-}
 
 /// The name the pipelines are parsed under; a folder that does not exist,
 /// so no `with_file:` or `path:` an edit makes up reads a real file.

@@ -7,28 +7,11 @@
 //! `PROPTEST_CASES` and `PROPTEST_RNG_SEED` widen or move the search.
 
 use hypercontact_core::{Context, Field, FileSource, Files, Inputs, Params, Product, Stage};
+use hypercontact_fuzz::config;
 use hypercontact_surface::surface_stage::{Surface, SurfaceParams};
 use hypercontact_surface::tiles::{POSITIONS, read_tiles};
 use ndarray::Array2;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngSeed};
-
-fn config(cases: u32) -> Config {
-    let defaults = Config::default();
-    Config {
-        cases: if std::env::var_os("PROPTEST_CASES").is_some() {
-            defaults.cases
-        } else {
-            cases
-        },
-        rng_seed: match defaults.rng_seed {
-            RngSeed::Random => RngSeed::Fixed(12),
-            fixed => fixed,
-        },
-        failure_persistence: None,
-        ..defaults
-    }
-}
 
 const SIDE: usize = 40;
 const PIXEL_M: f64 = 1e-6;

@@ -1,0 +1,50 @@
+//! What the readers' property tests share (a dev-dependency only): one
+//! configuration, so every fuzz test in CI is bounded and seeded alike, and
+//! the byte splice they mutate files with.
+
+use proptest::test_runner::{Config, RngSeed};
+
+/// `cases` cases from a fixed seed (12) without failure files, so CI runs
+/// the same bounded search every time; `PROPTEST_CASES` and
+/// `PROPTEST_RNG_SEED` widen or move it.
+pub fn config(cases: u32) -> Config {
+    let defaults = Config::default();
+    Config {
+        cases: if std::env::var_os("PROPTEST_CASES").is_some() {
+            defaults.cases
+        } else {
+            cases
+        },
+        rng_seed: match defaults.rng_seed {
+            RngSeed::Random => RngSeed::Fixed(12),
+            fixed => fixed,
+        },
+        failure_persistence: None,
+        ..defaults
+    }
+}
+
+/// `bytes` with each edit `(at, remove, insert)` applied in turn: `remove`
+/// bytes from `at` (wrapped into the current length) replaced by `insert`.
+pub fn splice(mut bytes: Vec<u8>, edits: &[(usize, usize, Vec<u8>)]) -> Vec<u8> {
+    for (at, remove, insert) in edits {
+        let at = at % (bytes.len() + 1);
+        let end = (at + remove).min(bytes.len());
+        bytes.splice(at..end, insert.iter().copied());
+    }
+    bytes
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn splices_wrap_and_clip() {
+        let b = b"abcdef".to_vec();
+        assert_eq!(splice(b.clone(), &[(1, 2, b"X".to_vec())]), b"aXdef");
+        assert_eq!(splice(b.clone(), &[(7, 0, b"Z".to_vec())]), b"aZbcdef");
+        assert_eq!(splice(b, &[(4, 10, Vec::new())]), b"abcd");
+        assert_eq!(config(7).cases, 7);
+    }
+}
