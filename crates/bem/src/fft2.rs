@@ -264,24 +264,32 @@ fn gather_rows(columns: &[Complex64], hy: usize, mx: usize, i0: usize, band: &mu
     }
 }
 
-/// The smallest even n ≥ `min` of the form 2^a 3^b 5^c: a size the FFTs
-/// handle fast.
-pub fn fast_even_size(min: usize) -> usize {
-    let mut n = min.max(2);
+/// The smallest n ≥ `min` of the form 2^a 3^b 5^c, a size FFTs handle
+/// fast (the synthetic surfaces use it too).
+pub fn fast_size(min: usize) -> usize {
+    let mut n = min.max(1);
     loop {
-        if n.is_multiple_of(2) {
-            let mut m = n;
-            for p in [2, 3, 5] {
-                while m.is_multiple_of(p) {
-                    m /= p;
-                }
+        let mut m = n;
+        for p in [2, 3, 5] {
+            while m.is_multiple_of(p) {
+                m /= p;
             }
-            if m == 1 {
-                return n;
-            }
+        }
+        if m == 1 {
+            return n;
         }
         n += 1;
     }
+}
+
+/// The smallest even [`fast_size`] ≥ `min` (a real FFT's half spectrum
+/// wants an even length).
+pub fn fast_even_size(min: usize) -> usize {
+    let mut n = fast_size(min.max(2));
+    while !n.is_multiple_of(2) {
+        n = fast_size(n + 1);
+    }
+    n
 }
 
 #[cfg(test)]
@@ -368,6 +376,13 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn fast_sizes_have_small_factors() {
+        assert_eq!(fast_size(1), 1);
+        assert_eq!(fast_size(7), 8);
+        assert_eq!(fast_size(1025), 1080);
     }
 
     #[test]

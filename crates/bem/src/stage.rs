@@ -5,6 +5,7 @@
 
 use std::sync::Arc;
 
+use hypercontact_core::contact::area_fraction_label;
 use hypercontact_core::{
     Arity, Checked, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs, ParamError,
     Schema, Stage, StageError, StageInfo, params,
@@ -61,7 +62,7 @@ fn maps_within_curve(p: &BemParams) -> Result<(), ParamError> {
         }
         if let Some(j) = p.map_fractions[..i]
             .iter()
-            .position(|&g| map_label(g) == map_label(f))
+            .position(|&g| area_fraction_label(g) == area_fraction_label(f))
         {
             return Err(ParamError::new(
                 &format!("map_fractions.{i}"),
@@ -359,11 +360,6 @@ fn not_converged(e: CurveError, z_of: &dyn Fn(f64) -> f64, load_per_pressure_n: 
     }
 }
 
-/// `a0.100` for 0.1: the fraction in file names.
-fn map_label(fraction: f64) -> String {
-    format!("a{fraction:.3}")
-}
-
 /// The `contact_maps` product: pressure (Pa) and gap (m) at the chosen
 /// steps, and maps.csv.
 fn map_files(
@@ -386,8 +382,8 @@ fn map_files(
         let k = map.step;
         // p in Pa: the unit-modulus pressure times the secant modulus F/f.
         let secant_pa = response.load_n[k] / unit_load_m2[k];
-        let pressure_file = format!("pressure_{}.npy", map_label(map.requested));
-        let gap_file = format!("gap_{}.npy", map_label(map.requested));
+        let pressure_file = format!("pressure_{}.npy", area_fraction_label(map.requested));
+        let gap_file = format!("gap_{}.npy", area_fraction_label(map.requested));
         files.files.insert(
             pressure_file.clone(),
             npy(map.pressure.iter().map(|p| p * secant_pa).collect())?,

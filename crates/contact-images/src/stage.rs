@@ -4,6 +4,7 @@
 //! The physics of the methods is in [`crate::otsu`], [`crate::multi_otsu`]
 //! and [`crate::calibrated`]; reading in [`hypercontact_core::sequence`].
 
+use hypercontact_core::contact::area_fraction_label;
 use hypercontact_core::sequence::{GrayFrame, Sequence};
 use hypercontact_core::{
     Arity, Checked, Choice, Context, FileSource, Files, InputPath, InputSpec, Inputs, OutputSpec,
@@ -198,6 +199,14 @@ static INFO: StageInfo = StageInfo {
     ],
 };
 
+/// One frame's numbers in the `contact` table.
+struct Row {
+    fraction: f64,
+    patches: usize,
+    threshold: f64,
+    contact_pixels: usize,
+}
+
 /// One frame's segmentation.
 struct Segmented {
     mask: Mask,
@@ -257,7 +266,7 @@ impl Stage for ContactImages {
         };
 
         let progress = ctx.progress(n as u64, "frames");
-        let mut rows = Vec::with_capacity(n);
+        let mut rows: Vec<Row> = Vec::with_capacity(n);
         let mut onset_fractions = Vec::with_capacity(n);
         let mut maps: Vec<Option<(usize, Mask)>> = p.map_fractions.iter().map(|_| None).collect();
         for k in 0..n {
@@ -279,14 +288,18 @@ impl Stage for ContactImages {
             };
             for (slot, &want) in maps.iter_mut().zip(&p.map_fractions) {
                 let nearer = slot.as_ref().is_none_or(|(j, _)| {
-                    let have: &(f64, usize, f64) = &rows[*j];
-                    (fraction - want).abs() < (have.0 - want).abs()
+                    (fraction - want).abs() < (rows[*j].fraction - want).abs()
                 });
                 if nearer {
                     *slot = Some((k, s.mask.clone()));
                 }
             }
-            rows.push((fraction, s.patches, s.threshold));
+            rows.push(Row {
+                fraction,
+                patches: s.patches,
+                threshold: s.threshold,
+                contact_pixels: s.mask.count(),
+            });
             onset_fractions.push(onset_fraction);
             progress.inc(1);
         }
@@ -294,7 +307,7 @@ impl Stage for ContactImages {
 
         let mid_s = |k: usize| sequence.frames[k].time_s + 0.5 * p.exposure_s;
         let times_s: Vec<f64> = (0..n).map(mid_s).collect();
-        let fractions: Vec<f64> = rows.iter().map(|r| r.0).collect();
+        let fractions: Vec<f64> = rows.iter().map(|r| r.fraction).collect();
         let sync = match p.clock_offset_s {
             Some(offset) => SyncTable {
                 clock_offset_s: vec![offset],
@@ -329,18 +342,17 @@ impl Stage for ContactImages {
             .map(|k| sequence.force_at(times_s[k] + offset, &sequence.frames[k]))
             .collect::<Result<Vec<f64>, StageError>>()?;
         let pixel_m2 = p.pixel_m * p.pixel_m;
-        let pixels = reference
-            .as_ref()
-            .map_or_else(|| frame(0).map(|f| f.data().len()), |r| Ok(r.data().len()))?
-            as f64;
         let table = ContactTable {
             frame: sequence.frames.iter().map(|f| f.frame).collect(),
             time_s: times_s.clone(),
             force_n: force_n.clone(),
             area_fraction: fractions.clone(),
-            contact_area_m2: fractions.iter().map(|a| a * pixels * pixel_m2).collect(),
-            patches: rows.iter().map(|r| r.1 as i64).collect(),
-            threshold: rows.iter().map(|r| r.2).collect(),
+            contact_area_m2: rows
+                .iter()
+                .map(|r| r.contact_pixels as f64 * pixel_m2)
+                .collect(),
+            patches: rows.iter().map(|r| r.patches as i64).collect(),
+            threshold: rows.iter().map(|r| r.threshold).collect(),
             method: vec![p.method.label().to_owned(); n],
         };
         ctx.note(&format!(
@@ -427,11 +439,6 @@ fn empty(image: &Frame) -> Result<Segmented, ImageError> {
     })
 }
 
-/// `a0.100` for 0.1: the fraction in file names (as `bem` names its maps).
-fn map_label(fraction: f64) -> String {
-    format!("a{fraction:.3}")
-}
-
 fn map_files(
     maps: Vec<Option<(usize, Mask)>>,
     table: &ContactTable,
@@ -442,7 +449,7 @@ fn map_files(
         String::from("requested_area_fraction,area_fraction,frame,time_s,force_n,file,pixel_m\n");
     for (slot, &want) in maps.into_iter().zip(&p.map_fractions) {
         let Some((k, mask)) = slot else { continue };
-        let name = format!("mask_{}.png", map_label(want));
+        let name = format!("mask_{}.png", area_fraction_label(want));
         let pixels: Vec<u8> = mask
             .pixels()
             .iter()

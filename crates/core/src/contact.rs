@@ -25,3 +25,10 @@ pub struct ResponseTable {
     /// E_t*(S) / E0*; 1 for a linear model
     pub tangent_ratio: Vec<f64>,
 }
+
+/// `a0.100` for A/A0 = 0.1: how a contact model or the experiment names the
+/// map it keeps at a requested area fraction (`pressure_a0.100.npy`,
+/// `mask_a0.100.png`), so the comparison finds them alike.
+pub fn area_fraction_label(fraction: f64) -> String {
+    format!("a{fraction:.3}")
+}

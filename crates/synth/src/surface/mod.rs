@@ -167,7 +167,7 @@ fn grid_px(p: &SynthSurfaceParams, size: [usize; 2]) -> [usize; 2] {
     let pad = ((p.lambda_max_m / p.pixel_m).ceil() as usize).max(size[0].max(size[1]) / 4);
     size.map(|n| match n.saturating_add(pad) {
         n if n > MAX_GRID_SIDE => n,
-        n => fast_size(n),
+        n => hypercontact_bem::fft2::fast_size(n),
     })
 }
 
@@ -251,23 +251,6 @@ static INFO: StageInfo = StageInfo {
         OutputSpec::table::<TruthOffsets>("truth_offsets", "the truth about each tile"),
     ],
 };
-
-/// The smallest n ≥ `min` of the form 2^a 3^b 5^c, a size FFTs handle fast.
-fn fast_size(min: usize) -> usize {
-    let mut n = min.max(1);
-    loop {
-        let mut m = n;
-        for p in [2, 3, 5] {
-            while m.is_multiple_of(p) {
-                m /= p;
-            }
-        }
-        if m == 1 {
-            return n;
-        }
-        n += 1;
-    }
-}
 
 /// The tiles, the truth and the truth table, as library calls can use them.
 pub struct SynthScan {
@@ -462,12 +445,5 @@ mod tests {
         .unwrap();
         let scan = synthesise(&p).unwrap();
         assert!(scan.truth.values.iter().all(|h| h.is_finite()));
-    }
-
-    #[test]
-    fn fast_sizes_have_small_factors() {
-        assert_eq!(fast_size(1), 1);
-        assert_eq!(fast_size(7), 8);
-        assert_eq!(fast_size(1025), 1080);
     }
 }
