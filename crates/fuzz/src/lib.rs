@@ -43,7 +43,7 @@ mod tests {
     fn splices_wrap_and_clip() {
         let b = b"abcdef".to_vec();
         assert_eq!(splice(b.clone(), &[(1, 2, b"X".to_vec())]), b"aXdef");
-        assert_eq!(splice(b.clone(), &[(7, 0, b"Z".to_vec())]), b"aZbcdef");
+        assert_eq!(splice(b.clone(), &[(8, 0, b"Z".to_vec())]), b"aZbcdef");
         assert_eq!(splice(b, &[(4, 10, Vec::new())]), b"abcd");
         assert_eq!(config(7).cases, 7);
     }
