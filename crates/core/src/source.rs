@@ -13,6 +13,13 @@ use crate::{Files, InputPath, Inputs, StageError, Table};
 /// folder, a device such as `/dev/zero`, a pipe) is refused before reading:
 /// reading one may never end.
 pub fn read_regular_file(path: &Path) -> Result<Vec<u8>, StageError> {
+    check_regular_file(path)?;
+    std::fs::read(path).map_err(|e| StageError::file(path, e.to_string()))
+}
+
+/// Refuses anything but a regular file before a reader opens it: a folder,
+/// a device such as `/dev/zero`, a pipe.
+pub fn check_regular_file(path: &Path) -> Result<(), StageError> {
     let meta = std::fs::metadata(path).map_err(|e| StageError::file(path, e.to_string()))?;
     if !meta.is_file() {
         return Err(StageError::file(
@@ -20,7 +27,7 @@ pub fn read_regular_file(path: &Path) -> Result<Vec<u8>, StageError> {
             "is not a regular file (a folder, a device or a pipe)",
         ));
     }
-    std::fs::read(path).map_err(|e| StageError::file(path, e.to_string()))
+    Ok(())
 }
 
 /// Whether `name` stays inside the folder it is joined to: relative, no

@@ -27,6 +27,17 @@ pub enum DicError {
 }
 
 impl DicError {
+    /// A core reader's error as the crate's: a file error keeps its file.
+    pub fn from_stage(e: hypercontact_core::StageError) -> Self {
+        match e {
+            hypercontact_core::StageError::File { path, message } => DicError::File {
+                file: path.display().to_string(),
+                message,
+            },
+            other => DicError::Invalid(other.to_string()),
+        }
+    }
+
     pub fn file(file: &str, message: impl Into<String>) -> Self {
         DicError::File {
             file: file.to_owned(),

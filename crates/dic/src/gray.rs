@@ -3,7 +3,6 @@
 //! 8- and 16-bit files are both mapped to fractions of their full scale, so
 //! thresholds (markers, noise) mean the same thing for either bit depth.
 
-use hypercontact_core::StageError;
 use hypercontact_core::sequence::GrayFrame;
 
 use crate::DicError;
@@ -39,8 +38,7 @@ impl GrayImage {
     /// Decodes a PNG or TIFF file's bytes; `name` only labels errors.
     /// Colour images are converted to luma.
     pub fn decode(name: &str, bytes: &[u8]) -> Result<Self, DicError> {
-        let frame =
-            GrayFrame::decode(name, bytes).map_err(|e| DicError::file(name, strip(e, name)))?;
+        let frame = GrayFrame::decode(name, bytes).map_err(DicError::from_stage)?;
         Self::from_frame(&frame).map_err(|e| DicError::file(name, e.to_string()))
     }
 
@@ -49,14 +47,5 @@ impl GrayImage {
         let full = frame.full_scale();
         let pixels = frame.data.iter().map(|&v| f64::from(v) / full).collect();
         Self::new(frame.width, frame.height, pixels)
-    }
-}
-
-/// The message of a file error about `name`, without the name (the caller
-/// puts it back in its own error).
-fn strip(e: StageError, name: &str) -> String {
-    match e {
-        StageError::File { message, .. } => message,
-        other => other.to_string().replacen(&format!("{name}: "), "", 1),
     }
 }

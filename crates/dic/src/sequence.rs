@@ -3,9 +3,9 @@
 //! and, optionally, `specimen.json` (`mode`, `gauge_width_m`, `thickness_m`,
 //! `pixel_m`, `roi_px`), in the layout `synth-tensile` writes.
 
+use hypercontact_core::FileSource;
 pub use hypercontact_core::sequence::FrameEntry;
 use hypercontact_core::sequence::Sequence as LabSequence;
-use hypercontact_core::{FileSource, StageError};
 use serde::Deserialize;
 
 use crate::DicError;
@@ -27,16 +27,15 @@ pub struct Specimen {
 /// The opened test.
 pub struct Sequence<'a> {
     lab: LabSequence<'a>,
-    pub frames: Vec<FrameEntry>,
     pub specimen: Specimen,
 }
 
 impl<'a> Sequence<'a> {
     pub fn open(source: FileSource<'a>) -> Result<Self, DicError> {
-        let lab = LabSequence::open(source).map_err(from_source)?;
+        let lab = LabSequence::open(source).map_err(DicError::from_stage)?;
         let mut specimen = Specimen::default();
         if lab.exists("specimen.json") {
-            let bytes = lab.read("specimen.json").map_err(from_source)?;
+            let bytes = lab.read("specimen.json").map_err(DicError::from_stage)?;
             specimen = serde_json::from_slice(&bytes).map_err(|e| {
                 DicError::file(
                     &lab.display("specimen.json"),
@@ -44,19 +43,20 @@ impl<'a> Sequence<'a> {
                 )
             })?;
         }
-        Ok(Sequence {
-            frames: lab.frames.clone(),
-            lab,
-            specimen,
-        })
+        Ok(Sequence { lab, specimen })
+    }
+
+    /// The frames as frames.csv lists them.
+    pub fn frames(&self) -> &[FrameEntry] {
+        &self.lab.frames
     }
 
     /// Decodes frame `k` (index into `frames`).
     pub fn image(&self, k: usize) -> Result<GrayImage, DicError> {
-        let frame = self.lab.frame(k).map_err(from_source)?;
+        let frame = self.lab.frame(k).map_err(DicError::from_stage)?;
         GrayImage::from_frame(&frame).map_err(|e| match e {
             DicError::Invalid(message) => {
-                DicError::file(&self.lab.display(&self.frames[k].file), message)
+                DicError::file(&self.lab.display(&self.frames()[k].file), message)
             }
             other => other,
         })
@@ -65,18 +65,7 @@ impl<'a> Sequence<'a> {
     /// The force at `t_s` by linear interpolation of the log; an error names
     /// the frame if the log does not cover it.
     pub fn force_at(&self, t_s: f64, frame: &FrameEntry) -> Result<f64, DicError> {
-        self.lab.force_at(t_s, frame).map_err(from_source)
-    }
-}
-
-/// A file error of the source as the crate's error.
-fn from_source(e: StageError) -> DicError {
-    match e {
-        StageError::File { path, message } => DicError::File {
-            file: path.display().to_string(),
-            message,
-        },
-        other => DicError::Invalid(other.to_string()),
+        self.lab.force_at(t_s, frame).map_err(DicError::from_stage)
     }
 }
 
@@ -104,7 +93,7 @@ mod tests {
         };
         let s = Sequence::open(source).unwrap();
         assert_eq!(s.specimen.mode.as_deref(), Some("UT"));
-        assert_eq!(s.frames.len(), 2);
+        assert_eq!(s.frames().len(), 2);
         let e = s.image(0).unwrap_err().to_string();
         assert!(
             e.contains("a.png") && e.contains("not a readable PNG/TIFF"),

@@ -249,7 +249,7 @@ pub fn analyse(
     };
 
     let frame0 = sequence.image(0)?;
-    let n_frames = sequence.frames.len();
+    let n_frames = sequence.frames().len();
     let progress = ctx.progress(n_frames as u64, "correlating frames");
     let mut gradients = Vec::with_capacity(n_frames);
     let mut valid_fraction = Vec::with_capacity(n_frames);
@@ -272,7 +272,7 @@ pub fn analyse(
             let mut last: Vec<Option<[f64; 2]>> =
                 tracker.grid().points.iter().copied().map(Some).collect();
             for k in 1..n_frames {
-                let entry = &sequence.frames[k];
+                let entry = &sequence.frames()[k];
                 let image = sequence.image(k)?;
                 let track = tracker.track(image, k, &entry.file)?;
                 gradients.push(gauge_gradient(
@@ -305,12 +305,12 @@ pub fn analyse(
                 max_jump_px: p.marker_max_jump_px,
             };
             let mut tracker =
-                MarkerTracker::new(settings, &frame0, roi_px, &sequence.frames[0].file)?;
+                MarkerTracker::new(settings, &frame0, roi_px, &sequence.frames()[0].file)?;
             gradients.push([[1.0, 0.0], [0.0, 1.0]]);
             valid_fraction.push(1.0);
             progress.inc(1);
             for k in 1..n_frames {
-                let entry = &sequence.frames[k];
+                let entry = &sequence.frames()[k];
                 let image = sequence.image(k)?;
                 let found = tracker.track(&image, k, &entry.file)?;
                 gradients.push(gauge_gradient(&tracker.reference, &found, k, &entry.file)?);
@@ -334,7 +334,7 @@ pub fn analyse(
     let mut stretch = Vec::with_capacity(n_frames);
     let mut stretch_2 = Vec::with_capacity(n_frames);
     let mut force = Vec::with_capacity(n_frames);
-    for (entry, f) in sequence.frames.iter().zip(&gradients) {
+    for (entry, f) in sequence.frames().iter().zip(&gradients) {
         let (l1, l2) = principal_stretches(f);
         stretch.push(l1);
         stretch_2.push(l2);
@@ -342,8 +342,8 @@ pub fn analyse(
     }
     let table = DicTensileTable {
         mode: vec![mode.label().to_owned(); n_frames],
-        frame: sequence.frames.iter().map(|f| f.frame).collect(),
-        time_s: sequence.frames.iter().map(|f| f.time_s).collect(),
+        frame: sequence.frames().iter().map(|f| f.frame).collect(),
+        time_s: sequence.frames().iter().map(|f| f.time_s).collect(),
         strain: stretch.iter().map(|l| l - 1.0).collect(),
         stretch,
         stretch_2,

@@ -105,13 +105,7 @@ where
 /// Anything but a regular file (a folder, a device, a pipe) is refused
 /// before reading, as core's readers do.
 pub fn read_parquet_file(path: &Path) -> Result<Table, StageError> {
-    let meta = std::fs::metadata(path).map_err(|e| StageError::file(path, e.to_string()))?;
-    if !meta.is_file() {
-        return Err(StageError::file(
-            path,
-            "is not a regular file (a folder, a device or a pipe)",
-        ));
-    }
+    hypercontact_core::source::check_regular_file(path)?;
     let file = std::fs::File::open(path).map_err(|e| StageError::file(path, e.to_string()))?;
     read_parquet(file).map_err(|e| StageError::file(path, e.to_string()))
 }
