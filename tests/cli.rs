@@ -331,7 +331,7 @@ fn the_quick_paper_pipeline_writes_the_report() {
     let t = tempfile::tempdir().unwrap();
     let out = run_pipeline(t.path(), "pipelines/quick.yaml", &[]);
     assert!(out.status.success(), "{}", text(&out));
-    assert!(text(&out).contains("36 ran, 0 cached"), "{}", text(&out));
+    assert!(text(&out).contains("45 ran, 0 cached"), "{}", text(&out));
     let report = t.path().join("out/report");
 
     // Issue 6: the images → DIC → fit chain recovers the generating
@@ -434,11 +434,37 @@ fn the_quick_paper_pipeline_writes_the_report() {
         "F/(E0* A0) at A/A0 = 0.5: {at_half:?}"
     );
 
+    // Issue 14: the contact experiment's tables for T1–T4, 16 frames each,
+    // three before contact, then area and force growing towards A/A0 ≈ 0.9,
+    // the clock offset (0.37 s in synth-contact) found within a frame.
+    for n in 1..=4 {
+        let contact = parquet(t.path(), &format!("t{n}-images/contact.parquet"));
+        let area = contact.f64("area_fraction").unwrap();
+        let force = contact.f64("force_n").unwrap();
+        let time = contact.f64("time_s").unwrap();
+        assert_eq!(area.len(), 16, "T{n}");
+        assert_eq!(area[..3], [0.0; 3], "T{n}");
+        assert!(
+            area[3] > 0.0 && area[15] > 0.8 && area[15] < 0.95,
+            "T{n}: {area:?}"
+        );
+        assert!(area[3..].windows(2).all(|w| w[1] > w[0]), "T{n}: {area:?}");
+        assert!(
+            force[15] > force[5] && force[5] > force[4],
+            "T{n}: {force:?}"
+        );
+        let sync = parquet(t.path(), &format!("t{n}-images/sync.parquet"));
+        let offset = sync.f64("clock_offset_s").unwrap()[0];
+        assert!((offset - 0.37).abs() < time[1] - time[0], "T{n}: {offset}");
+    }
+    let otsu = parquet(t.path(), "t1-images-otsu/contact.parquet");
+    assert_eq!(otsu.str("method").unwrap()[0], "otsu");
+
     // A second run is all cache; one sample's truncation changed reruns
     // exactly that sample's downstream stages and the report.
     let again = run_pipeline(t.path(), "pipelines/quick.yaml", &[]);
     assert!(
-        text(&again).contains("0 ran, 29 cached, 7 temporary not needed"),
+        text(&again).contains("0 ran, 34 cached, 11 temporary not needed"),
         "{}",
         text(&again)
     );
@@ -449,7 +475,7 @@ fn the_quick_paper_pipeline_writes_the_report() {
     );
     assert!(changed.status.success(), "{}", text(&changed));
     assert!(
-        text(&changed).contains("4 ran, 25 cached, 7 temporary not needed"),
+        text(&changed).contains("4 ran, 30 cached, 11 temporary not needed"),
         "{}",
         text(&changed)
     );

@@ -151,12 +151,13 @@ pub fn solve_curve(
 }
 
 /// The start of a solve at `approach_m`: the pressure linearly extrapolated
-/// (or interpolated) from the last two solves, clipped at zero; the last
+/// (or interpolated) from the last two solves (`recent`: at most two
+/// (approach, pressure), most recent last), clipped at zero; the last
 /// solve alone when there is one; none at first. Starting from the last
 /// pressure alone, the whole rim the plane newly overlaps enters contact in
 /// the first iteration and the solver spends tens of iterations getting it
 /// out again.
-fn warm_start(recent: &[(f64, Vec<f64>)], approach_m: f64) -> Option<Vec<f64>> {
+pub fn warm_start(recent: &[(f64, Vec<f64>)], approach_m: f64) -> Option<Vec<f64>> {
     match recent {
         [] => None,
         [(_, p)] => Some(p.clone()),

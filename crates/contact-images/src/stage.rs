@@ -143,7 +143,7 @@ pub struct SyncTable {
     /// force-log time at which the force leaves its baseline (NaN if given or not found)
     #[column(unit = "s")]
     pub force_onset_s: Vec<f64>,
-    /// camera time of the first frame with contact (NaN if given or not found)
+    /// camera time half-way between the last frame without contact and the first with (NaN if given or not found)
     #[column(unit = "s")]
     pub contact_onset_s: Vec<f64>,
 }
@@ -153,7 +153,7 @@ pub struct ContactImages;
 
 static INFO: StageInfo = StageInfo {
     kind: "contact-images",
-    version: 1,
+    version: 2,
     summary: "Contact area and patches per frame from contact-interference images and a force log",
     doc: "Reads frames.csv (frame, time_s, file), the frames it lists (PNG or TIFF, 8 or 16 bit; \
           `bits` for a camera shallower than its files, e.g. 12-bit data in 16-bit files, which \
@@ -168,16 +168,21 @@ static INFO: StageInfo = StageInfo {
           seeds 0.1) contact means an intensity below a fifth of the background's: 'optical \
           contact', a gap of at most a few tens of nm under white light (half the background \
           is reached at 42 nm, crate `interference`), so A is overestimated where the gap \
-          opens slowly (a sphere of R = 5 mm: +23 % at A/A0 = 0.04, +2 % at 0.65). `otsu`: the paper's global Otsu \
+          opens slowly (a sphere of R = 5 mm: +23 % at A/A0 = 0.04, +2 % at 0.65; a rough \
+          self-affine sample from synth-contact: +9 to +12 % over 0.02-0.9). `otsu`: the paper's global Otsu \
           threshold per frame on the full 2^bits histogram; it counts dark interference \
           fringes (the second dark fringe near 265 nm is a third of the background) and dim \
-          corners as contact, so it overestimates A at low load. `multi-otsu`: three classes, \
+          corners as contact, so it overestimates A at low load (the sphere: several-fold at \
+          first contact; the rough sample: +16 to +20 % up to A/A0 = 0.3 and 5 to 10 times the \
+          patches, the fringe rings and noise specks) and splits a frame without contact into \
+          two classes (44 % 'contact' on a vignetted no-contact frame). `multi-otsu`: three classes, \
           the darkest is contact. A0 = the frame's pixels (all pixels are the sample's); area = \
           contact pixels x pixel_m². Patches: 8-connected components. SYNC: force-log time = \
           camera time + clock_offset_s; force linearly interpolated at mid-exposure (time_s + \
           exposure_s/2). Without clock_offset_s the offset is estimated as the time the force \
-          leaves its baseline (6 robust sigma of the first 16 samples, at least twice \
-          force_resolution_n) minus the time of the first frame with contact as the \
+          leaves its baseline (detected at 6 robust sigma of the first 16 samples, at least \
+          twice force_resolution_n, and dated back to the last sample at the baseline) minus \
+          the time half-way between the last frame without contact and the first with, as the \
           calibrated method sees it (whatever `method` is: a global threshold finds \
           'contact' in every frame), so it needs reference_frame: good to about one frame \
           interval when the sequence starts before contact. CONTACT_MAPS: for each \

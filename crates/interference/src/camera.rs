@@ -49,6 +49,9 @@ pub struct CameraParams {
     pub black_level_dn: f64,
     /// relative fall-off of the flat field at the image corners, 0 …< 1
     pub vignetting: f64,
+    /// shot and read noise on (off: the mean signal, only quantised; for
+    /// tests that need the optics alone)
+    pub noise: bool,
 }
 
 impl Default for CameraParams {
@@ -61,6 +64,7 @@ impl Default for CameraParams {
             gain_e_per_dn: None,
             black_level_dn: 0.0,
             vignetting: 0.15,
+            noise: true,
         }
     }
 }
@@ -244,9 +248,13 @@ impl Camera {
                     let dx = x as f64 - cx;
                     let mean_e =
                         self.electrons_per_reflectance * (1.0 - falloff * (dx * dx + dy2)) * r;
-                    let shot_e = shot(mean_e, &mut rng).min(p.full_well_e);
-                    let read: f64 = StandardNormal.sample(&mut rng);
-                    let signal_e = shot_e + p.read_noise_e * read;
+                    let signal_e = if p.noise {
+                        let shot_e = shot(mean_e, &mut rng).min(p.full_well_e);
+                        let read: f64 = StandardNormal.sample(&mut rng);
+                        shot_e + p.read_noise_e * read
+                    } else {
+                        mean_e.min(p.full_well_e)
+                    };
                     // round half up by truncation (`round` is a library call)
                     let dn = (signal_e / self.gain + p.black_level_dn).clamp(0.0, full_scale);
                     *out = (dn + 0.5) as u16;
@@ -300,6 +308,26 @@ mod tests {
         camera
             .capture(&vec![reflectance; n * n], n, n, seed)
             .unwrap()
+    }
+
+    #[test]
+    fn without_noise_the_counts_are_the_rounded_mean_signal() {
+        let params = CameraParams {
+            exposure_fraction: 0.5,
+            vignetting: 0.0,
+            black_level_dn: 100.0,
+            noise: false,
+            ..CameraParams::default()
+        };
+        let camera = Camera::new(params, 0.07).unwrap();
+        let a = flat(&camera, 16, 0.07, 1);
+        assert_eq!(a, flat(&camera, 16, 0.07, 2));
+        let want = (0.5 * 30_000.0 / params.gain() + 100.0).round() as u16;
+        assert!(
+            a.counts.iter().all(|&c| c == want),
+            "{:?} vs {want}",
+            &a.counts[..4]
+        );
     }
 
     #[test]

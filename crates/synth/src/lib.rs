@@ -10,6 +10,7 @@ use hypercontact_core::Registry;
 
 /// Registers this crate's stage kinds.
 pub fn register(registry: &mut Registry) {
+    registry.add(contact::SynthContact);
     registry.add(surface::SynthSurface);
     registry.add(tensile::SynthTensile);
 }

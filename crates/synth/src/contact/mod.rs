@@ -1,7 +1,622 @@
-//! The synthetic contact experiment (issue #14, work in progress): the
-//! sample's contact with the glass at each camera frame's penetration, as
-//! the `synth-contact` stage will render it into interference images.
-//! Here: the contact solve per frame ([`solve`]); the rig (camera, force
-//! sensor, clocks) and the stage come next.
+//! Stage `synth-contact`: the paper's in-situ contact experiment (Section 3,
+//! Fig. 3) as a lab would record it: 16-bit interference frames of the
+//! sample pressed onto quartz glass, the frame times, a 50 Hz force log on
+//! the sensor's own clock; apart, the ground truth that made them.
+//!
+//! - [`solve`]: the contact per frame (boundary elements, the `bem` stage's
+//!   physics);
+//! - [`rig`]: servo ramp, camera timing, force sensor;
+//! - [`view`]: the solved gap drawn onto the camera and the true contact
+//!   map on its pixels.
+//!
+//! Files of the `sequence` product (the layout `contact-images` reads, also
+//! from a folder of real data): `frame_NNN.png` (16-bit grey; a camera of
+//! fewer bits writes its counts unscaled in the 16-bit container),
+//! `frames.csv` (`frame, time_s, file`; time_s = exposure start, camera
+//! clock), `force.csv` (`time_s, force_n`, sensor clock).
 
+pub mod rig;
 pub mod solve;
+pub mod view;
+
+use std::sync::Arc;
+
+use hypercontact_bem::{Boundary, SolverOptions};
+use hypercontact_core::contact::area_fraction_label;
+use hypercontact_core::png::Pixels;
+use hypercontact_core::{
+    Arity, Checked, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs, ParamError,
+    Schema, Stage, StageError, StageInfo, params,
+};
+use hypercontact_icm::{CompositeModulus, Model, Scheme};
+use hypercontact_interference::{
+    Camera, CameraGrid, CameraParams, GapMap, OpticsParams, Placement, resample,
+};
+use hypercontact_material::Poisson;
+use hypercontact_material::table::MaterialTable;
+use ndarray::ArrayView2;
+use rayon::prelude::*;
+
+use rig::{ForceSensor, Ramp, interpolate_force};
+use solve::{contact_sequence, penetration_at_m};
+
+/// Parameters of `synth-contact`.
+#[params(check = consistent)]
+pub struct SynthContactParams {
+    /// contact law of the experiment's physics (as `bem`)
+    #[param(default = Model::Hyperelastic)]
+    pub model: Model,
+    /// integration of the hyperelastic load (as `bem`)
+    #[param(default = Scheme::Heun)]
+    pub scheme: Scheme,
+    /// Poisson's ratio ν of the composite moduli
+    #[param(default = Poisson::INCOMPRESSIBLE)]
+    pub poisson: Poisson,
+    /// how the sample continues beyond the map (as `bem`)
+    #[param(default = Boundary::Free)]
+    pub boundary: Boundary,
+    /// spacing of the contact solve: the surface is low-pass filtered to it (as `surface`)
+    #[param(default = 2e-5, unit = "m", positive)]
+    pub resolution_m: f64,
+    /// camera frames
+    #[param(default = 30, range = 3..=100_000)]
+    pub frames: usize,
+    /// frames before first contact (the flat-field reference and the clock)
+    #[param(default = 3, range = 1..=100_000)]
+    pub frames_before_contact: usize,
+    /// where first contact falls before the first frame in contact, in frame intervals
+    #[param(default = 0.3, positive, range = ..=1.0)]
+    pub contact_phase: f64,
+    /// A/A0 of the solve at the last frame
+    #[param(default = 0.9, positive, range = ..=0.99)]
+    pub max_area_fraction: f64,
+    /// servo speed (the paper's: 3 µm/s)
+    #[param(default = 3e-6, unit = "m/s", positive)]
+    pub speed_m_per_s: f64,
+    /// exposure time (the paper's: 50 ms)
+    #[param(default = 0.05, unit = "s", positive)]
+    pub exposure_s: f64,
+    /// sensor width (pco.panda 4.2: 2048)
+    #[param(default = 2048, unit = "px", range = 8..=16384)]
+    pub width_px: usize,
+    /// sensor height
+    #[param(default = 2048, unit = "px", range = 8..=16384)]
+    pub height_px: usize,
+    /// sensor pixel pitch (pco.panda 4.2: 6.5 µm)
+    #[param(default = 6.5e-6, unit = "m", positive)]
+    pub sensor_pixel_m: f64,
+    /// optical magnification (pixel on the sample = sensor pixel / magnification)
+    #[param(default = 2.0, positive)]
+    pub magnification: f64,
+    /// camera bit depth (counts written unscaled in 16-bit files above 8)
+    #[param(default = 16, range = 8..=16)]
+    pub bits: u32,
+    /// signal of the brightest gap at the image centre, fraction of the full well
+    #[param(default = 0.8, positive, range = ..=2.0)]
+    pub exposure_fraction: f64,
+    /// full-well capacity
+    #[param(default = 30000.0, unit = "e", positive)]
+    pub full_well_e: f64,
+    /// read noise, rms
+    #[param(default = 1.6, unit = "e", range = 0.0..)]
+    pub read_noise_e: f64,
+    /// flat-field fall-off at the image corners
+    #[param(default = 0.15, range = 0.0..=0.9)]
+    pub vignetting: f64,
+    /// shot and read noise (false: only the optics, for tests)
+    #[param(default = true)]
+    pub noise: bool,
+    /// turn of the camera against the scan's axes
+    #[param(default = 2.5, unit = "deg", range = -180.0..=180.0)]
+    pub angle_deg: f64,
+    /// scan point under the image centre, from the map's centre, x
+    #[param(default = 1.5e-4, unit = "m")]
+    pub shift_x_m: f64,
+    /// scan point under the image centre, from the map's centre, y
+    #[param(default = -1e-4, unit = "m")]
+    pub shift_y_m: f64,
+    /// force sampling rate (the paper's: 50 Hz)
+    #[param(default = 50.0, unit = "Hz", positive)]
+    pub force_rate_hz: f64,
+    /// force resolution (the paper's: 0.01 N)
+    #[param(default = 0.01, unit = "N", positive)]
+    pub force_resolution_n: f64,
+    /// force noise, rms, before quantisation
+    #[param(default = 0.005, unit = "N", range = 0.0..)]
+    pub force_noise_n: f64,
+    /// force-sensor clock minus camera clock
+    #[param(default = 0.37, unit = "s", range = -3600.0..=3600.0)]
+    pub clock_offset_s: f64,
+    /// relative tolerance of each contact solve (as `bem`)
+    #[param(default = 1e-8, positive, range = ..=0.1)]
+    pub tolerance: f64,
+    /// conjugate-gradient iterations per solve
+    #[param(default = 2000, range = 1..=10_000_000)]
+    pub max_iterations: usize,
+    /// A/A0 (true, in the camera's view) of the frames whose true contact map is written
+    #[param(default = vec![0.1, 0.5, 0.9], positive, range = ..=1.0)]
+    pub map_fractions: Vec<f64>,
+    /// random seed (camera and force noise)
+    #[param(default = 1)]
+    pub seed: u64,
+}
+
+fn consistent(p: &SynthContactParams) -> Result<(), ParamError> {
+    if p.frames_before_contact + 1 >= p.frames {
+        return Err(ParamError::new(
+            "frames_before_contact",
+            format!(
+                "{} leaves no frame in contact of {}",
+                p.frames_before_contact, p.frames
+            ),
+        ));
+    }
+    for (i, &f) in p.map_fractions.iter().enumerate() {
+        if let Some(j) = p.map_fractions[..i]
+            .iter()
+            .position(|&g| area_fraction_label(g) == area_fraction_label(f))
+        {
+            return Err(ParamError::new(
+                &format!("map_fractions.{i}"),
+                format!("{f} gives the same file names as map_fractions.{j}"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+impl SynthContactParams {
+    /// The camera pixel on the sample.
+    pub fn pixel_m(&self) -> f64 {
+        self.sensor_pixel_m / self.magnification
+    }
+
+    pub fn placement(&self) -> Placement {
+        Placement {
+            angle_rad: self.angle_deg.to_radians(),
+            shift_x_m: self.shift_x_m,
+            shift_y_m: self.shift_y_m,
+        }
+    }
+
+    pub fn grid(&self) -> CameraGrid {
+        CameraGrid {
+            width_px: self.width_px,
+            height_px: self.height_px,
+            pixel_m: self.pixel_m(),
+        }
+    }
+
+    pub fn camera(&self) -> CameraParams {
+        CameraParams {
+            bits: self.bits,
+            full_well_e: self.full_well_e,
+            exposure_fraction: self.exposure_fraction,
+            read_noise_e: self.read_noise_e,
+            gain_e_per_dn: None,
+            black_level_dn: 0.0,
+            vignetting: self.vignetting,
+            noise: self.noise,
+        }
+    }
+
+    pub fn sensor(&self) -> ForceSensor {
+        ForceSensor {
+            rate_hz: self.force_rate_hz,
+            resolution_n: self.force_resolution_n,
+            noise_n: self.force_noise_n,
+            clock_offset_s: self.clock_offset_s,
+        }
+    }
+}
+
+/// The `truth` table: one row per frame.
+#[derive(Clone, Debug, PartialEq, Schema)]
+pub struct ContactTruthTable {
+    /// frame index
+    pub frame: Vec<i64>,
+    /// exposure start, camera clock (as frames.csv)
+    #[column(unit = "s")]
+    pub time_s: Vec<f64>,
+    /// mid-exposure, camera clock (the state drawn)
+    #[column(unit = "s")]
+    pub mid_time_s: Vec<f64>,
+    /// rigid-plane penetration from first contact (< 0: open)
+    #[column(unit = "m")]
+    pub penetration_m: Vec<f64>,
+    /// contact points / points of the whole solved map
+    pub area_fraction: Vec<f64>,
+    /// contact / seen camera pixels (nearest solve point): what the images can measure
+    pub view_area_fraction: Vec<f64>,
+    /// true force (noise-free, unquantised)
+    #[column(unit = "N")]
+    pub force_n: Vec<f64>,
+}
+
+/// The `truth_rig` table: one row.
+#[derive(Clone, Debug, PartialEq, Schema)]
+pub struct RigTruthTable {
+    /// turn of the camera's x axis in the scan's axes
+    #[column(unit = "rad")]
+    pub angle_rad: Vec<f64>,
+    /// scan point under the image centre, from the solved map's centre
+    #[column(unit = "m")]
+    pub shift_x_m: Vec<f64>,
+    #[column(unit = "m")]
+    pub shift_y_m: Vec<f64>,
+    /// camera pixel on the sample
+    #[column(unit = "m")]
+    pub pixel_m: Vec<f64>,
+    /// force-sensor clock minus camera clock
+    #[column(unit = "s")]
+    pub clock_offset_s: Vec<f64>,
+    /// time between exposure starts
+    #[column(unit = "s")]
+    pub frame_interval_s: Vec<f64>,
+    /// camera time of first contact
+    #[column(unit = "s")]
+    pub contact_time_s: Vec<f64>,
+    /// spacing of the contact solve
+    #[column(unit = "m")]
+    pub solve_dx_m: Vec<f64>,
+    /// solve grid along x
+    pub solve_nx: Vec<i64>,
+    /// solve grid along y
+    pub solve_ny: Vec<i64>,
+}
+
+/// The `truth_maps` index, `maps.csv`.
+const MAPS_COLUMNS: &str = "requested_area_fraction,view_area_fraction,frame,file";
+
+/// The `synth-contact` stage.
+pub struct SynthContact;
+
+static INFO: StageInfo = StageInfo {
+    kind: "synth-contact",
+    version: 1,
+    summary: "Synthetic contact experiment: interference frames, frame times and force log \
+              of a rough sample pressed onto glass, with the ground truth",
+    doc: "The paper's in-situ rig (Section 3, Fig. 3). SAMPLE: the height map (use the \
+          synthetic sample's ground truth, `synth-surface`'s `truth`, so experiment and model \
+          see the surface through different instruments) is low-pass filtered to \
+          `resolution_m` exactly as `surface` filters a stitched scan (Gaussian, cut-off twice \
+          the spacing); the contact with the rigid glass is solved on that grid by the `bem` \
+          solver (same boundary, tolerance and law: `hyperelastic` by default, the force by \
+          the tangent-modulus integral over the solved frames), each frame warm-started from \
+          the previous one. RAMP: the servo advances at `speed_m_per_s` (the paper: 3 µm/s, \
+          quasi-static); the last frame's penetration is where the solve first reaches \
+          `max_area_fraction` (found by the `bem` curve search); frames are evenly spaced in \
+          time, `frames_before_contact` of them with an open gap, first contact \
+          `contact_phase` of an interval before the next frame's mid-exposure, so the frame interval \
+          follows (an error if shorter than the exposure); each frame shows the state at \
+          mid-exposure (no motion blur: 0.15 µm of travel in 50 ms). IMAGES: the gap of the \
+          solve is drawn onto the camera's pixels: a pixel whose nearest solve point is in \
+          contact has gap 0 (the solve's pixel-wise contact), elsewhere the gap is bilinear, \
+          contact nodes at a patch edge carrying minus their open neighbours' mean gap so that \
+          it rises from zero at the edge of the contact cell; seen through a known rotation `angle_deg` and shift of \
+          the camera against the scan (pixel on the sample = sensor_pixel_m / magnification); \
+          each gap's reflectance is the glass-air-rubber thin film (Airy; quartz 1.458, \
+          rubber 1.50, the half-wave loss at the rubber) averaged over a white LED's spectrum; \
+          then vignetting, shot and read noise, quantisation to `bits` (files are 16-bit PNG \
+          with the counts unscaled when bits > 8). Outside the solved map the camera sees the \
+          background. Contact is near black; gaps of 60 nm are half-way to the background; \
+          the second dark fringe (~270 nm) of a phosphor white LED falls to ~0.3 of the \
+          background, which a global Otsu threshold counts as contact at low load. FORCE: \
+          the true force at the ramp's penetration (linear between the solved frames, 0 \
+          before contact), Gaussian noise `force_noise_n`, quantised to `force_resolution_n`, \
+          sampled at `force_rate_hz` on the sensor's clock (sensor time = camera time + \
+          clock_offset_s) from 1 s (or two frame intervals) before the first frame to as long after the last. TRUTH (never \
+          read by the analysis): `truth` per frame (penetration, A/A0 of the whole map and of \
+          the camera's view, force), `truth_rig` (transform, pixel size, clock offset, \
+          timing, solve grid), `truth_maps` (the true contact on the camera's pixels as 8-bit \
+          PNG masks, 255 = contact, at the frames nearest map_fractions of view A/A0, and \
+          maps.csv).",
+    inputs: &[
+        InputSpec::field(
+            "surface",
+            Arity::One,
+            "the sample's true height map, metres (synth-surface's truth)",
+        ),
+        InputSpec::table::<MaterialTable>(
+            "material",
+            Arity::One,
+            "the rubber's material (the true one: synth-tensile's material)",
+        ),
+    ],
+    outputs: &[
+        OutputSpec::files(
+            "sequence",
+            "frame_NNN.png (16-bit), frames.csv, force.csv: what contact-images reads",
+        ),
+        OutputSpec::table::<ContactTruthTable>("truth", "the true contact per frame"),
+        OutputSpec::table::<RigTruthTable>("truth_rig", "the true transform, clock and timing"),
+        OutputSpec::files(
+            "truth_maps",
+            "mask_aX.png (true contact on the camera's pixels) and maps.csv",
+        ),
+    ],
+};
+
+impl Stage for SynthContact {
+    type Params = SynthContactParams;
+
+    fn info(&self) -> &'static StageInfo {
+        &INFO
+    }
+
+    fn run(
+        &self,
+        p: &Checked<SynthContactParams>,
+        inputs: &Inputs,
+        ctx: &Context,
+    ) -> Result<Outputs, StageError> {
+        let surface = filtered(inputs.field("surface")?, p.resolution_m)?;
+        let material = hypercontact_material::table::from_table(inputs.table("material")?)
+            .map_err(|e| StageError::invalid(format!("material: {e}")))?;
+        let modulus = CompositeModulus::new(Arc::from(material), p.model, p.poisson.0)
+            .map_err(|e| StageError::invalid(format!("material: {e}")))?;
+        let solver = SolverOptions {
+            tolerance: p.tolerance,
+            max_iterations: p.max_iterations,
+            ..SolverOptions::default()
+        };
+        let (nx, ny) = (surface.nx(), surface.ny());
+        let placement = p.placement();
+        let grid = p.grid();
+        check_view_inside(&surface, &placement, &grid)?;
+
+        let max_m = penetration_at_m(&surface, p.boundary, solver, p.max_area_fraction)
+            .map_err(StageError::other)?;
+        let ramp = Ramp::new(
+            p.frames,
+            p.frames_before_contact,
+            p.contact_phase,
+            max_m,
+            p.speed_m_per_s,
+            p.exposure_s,
+        )
+        .map_err(StageError::invalid)?;
+        let progress = ctx.progress(p.frames as u64, "contact solves");
+        let contacts = contact_sequence(
+            &surface,
+            &modulus,
+            p.scheme,
+            p.boundary,
+            solver,
+            &ramp.penetrations_m(),
+            &mut |_| progress.inc(1),
+        )
+        .map_err(StageError::other)?;
+        drop(progress);
+
+        // Images, in parallel over frames (each frame's noise from its own seed).
+        let table = OpticsParams::default()
+            .build()
+            .map_err(|e| StageError::invalid(e.to_string()))?;
+        let camera = Camera::new(p.camera(), table.max_reflectance())
+            .map_err(|e| StageError::invalid(e.to_string()))?;
+        let measured: Vec<bool> = surface.values.iter().map(|h| !h.is_nan()).collect();
+        let digits = (p.frames - 1).to_string().len().max(3);
+        let progress = ctx.progress(p.frames as u64, "rendering frames");
+        let rendered: Vec<(Vec<u8>, Vec<Option<bool>>)> = contacts
+            .par_iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let drawn = view::drawing_gap(&c.gap_m, &c.in_contact, nx, ny);
+                let drawn = ArrayView2::from_shape((nx, ny), &drawn)
+                    .map_err(|e| StageError::invalid(e.to_string()))?;
+                let gap = GapMap {
+                    gap_m: drawn,
+                    dx_m: surface.dx_m,
+                    dy_m: surface.dy_m,
+                };
+                let truth = view::true_view(
+                    &c.in_contact,
+                    &measured,
+                    (nx, ny),
+                    (surface.dx_m, surface.dy_m),
+                    &placement,
+                    &grid,
+                )
+                .map_err(|e| StageError::invalid(e.to_string()))?;
+                let mut reflectance = resample(&gap, &placement, &grid)
+                    .map_err(|e| StageError::invalid(e.to_string()))?;
+                for (r, t) in reflectance.iter_mut().zip(&truth) {
+                    // a pixel on a contact cell touches; NaN stays NaN (background)
+                    *r = if *t == Some(true) { 0.0 } else { r.max(0.0) };
+                }
+                table.apply(&mut reflectance);
+                let frame = camera
+                    .capture(
+                        &reflectance,
+                        grid.width_px,
+                        grid.height_px,
+                        frame_seed(p.seed, k),
+                    )
+                    .map_err(|e| StageError::invalid(e.to_string()))?;
+                let pixels = if p.bits == 8 {
+                    Pixels::Gray8(frame.counts.iter().map(|&c| c as u8).collect())
+                } else {
+                    Pixels::Gray16(frame.counts)
+                };
+                let png = hypercontact_core::png::encode_png(
+                    grid.width_px as u32,
+                    grid.height_px as u32,
+                    pixels,
+                )
+                .map_err(StageError::invalid)?;
+                progress.inc(1);
+                Ok((png, truth))
+            })
+            .collect::<Result<_, StageError>>()?;
+        drop(progress);
+
+        let mut files = Files::new();
+        let mut frames_csv = String::from("frame,time_s,file\n");
+        let mut views = Vec::with_capacity(p.frames);
+        for (k, (png, truth)) in rendered.into_iter().enumerate() {
+            let name = format!("frame_{k:0digits$}.png");
+            frames_csv.push_str(&format!("{k},{},{name}\n", ramp.start_s(k)));
+            files = files.with(&name, png);
+            views.push(truth);
+        }
+
+        // The force log from the solved (penetration, force) points.
+        let mut points = vec![(0.0, 0.0)];
+        points.extend(
+            contacts
+                .iter()
+                .filter(|c| c.penetration_m > 0.0)
+                .map(|c| (c.penetration_m, c.force_n)),
+        );
+        let sensor = p.sensor();
+        let decimals = sensor.decimals();
+        let mut force_csv = String::from("time_s,force_n\n");
+        for (t, f) in sensor.log(&ramp, |d| interpolate_force(&points, d), p.seed) {
+            force_csv.push_str(&format!("{t:.6},{f:.decimals$}\n"));
+        }
+        files = files
+            .with("frames.csv", frames_csv.into_bytes())
+            .with("force.csv", force_csv.into_bytes());
+
+        let view_fractions: Vec<f64> = views.iter().map(|v| view::view_fraction(v)).collect();
+        let truth = ContactTruthTable {
+            frame: (0..p.frames as i64).collect(),
+            time_s: (0..p.frames).map(|k| ramp.start_s(k)).collect(),
+            mid_time_s: (0..p.frames).map(|k| ramp.mid_s(k)).collect(),
+            penetration_m: contacts.iter().map(|c| c.penetration_m).collect(),
+            area_fraction: contacts.iter().map(|c| c.area_fraction).collect(),
+            view_area_fraction: view_fractions.clone(),
+            force_n: contacts.iter().map(|c| c.force_n).collect(),
+        };
+        let rig = RigTruthTable {
+            angle_rad: vec![placement.angle_rad],
+            shift_x_m: vec![placement.shift_x_m],
+            shift_y_m: vec![placement.shift_y_m],
+            pixel_m: vec![grid.pixel_m],
+            clock_offset_s: vec![p.clock_offset_s],
+            frame_interval_s: vec![ramp.frame_interval_s],
+            contact_time_s: vec![ramp.contact_time_s],
+            solve_dx_m: vec![surface.dx_m],
+            solve_nx: vec![nx as i64],
+            solve_ny: vec![ny as i64],
+        };
+        let maps = truth_maps(&p.map_fractions, &view_fractions, &views, &grid)?;
+        ctx.note(&format!(
+            "{} frames every {:.3} s, penetration to {:.3} µm, A/A0 up to {:.3} ({}×{} solve grid)",
+            p.frames,
+            ramp.frame_interval_s,
+            max_m * 1e6,
+            contacts.last().map_or(0.0, |c| c.area_fraction),
+            nx,
+            ny
+        ));
+        Ok(Outputs::new()
+            .files("sequence", files)
+            .table("truth", truth.into_table())
+            .table("truth_rig", rig.into_table())
+            .files("truth_maps", maps))
+    }
+}
+
+/// Frame k's noise seed.
+fn frame_seed(seed: u64, k: usize) -> u64 {
+    seed.wrapping_mul(1_000_003).wrapping_add(k as u64)
+}
+
+/// The map filtered to the solve spacing (as `surface` filters a scan), or
+/// as it is when it is already that coarse.
+fn filtered(surface: &Field, resolution_m: f64) -> Result<Field, StageError> {
+    if surface.dx_m >= resolution_m && surface.dy_m >= resolution_m {
+        return Ok(surface.clone());
+    }
+    let values = hypercontact_surface::filter::gaussian_resample(
+        &surface.values,
+        surface.dx_m,
+        surface.dy_m,
+        resolution_m,
+    );
+    if values.nrows() < 2 || values.ncols() < 2 {
+        return Err(StageError::invalid(format!(
+            "the surface ({} × {} points of {:.3e} m) filtered to {resolution_m:e} m leaves {} × {} \
+             points: too small a map for the resolution",
+            surface.nx(),
+            surface.ny(),
+            surface.dx_m,
+            values.nrows(),
+            values.ncols()
+        )));
+    }
+    Field::new(values, resolution_m, resolution_m).map_err(|e| StageError::invalid(e.to_string()))
+}
+
+/// Refuses a camera view that reaches beyond the solved map: the images
+/// would show an edge no lab sample has in its view.
+fn check_view_inside(
+    surface: &Field,
+    placement: &Placement,
+    grid: &CameraGrid,
+) -> Result<(), StageError> {
+    let (nx, ny) = (surface.nx(), surface.ny());
+    let similarity = hypercontact_interference::Similarity::new(
+        placement,
+        grid,
+        (nx, ny),
+        surface.dx_m,
+        surface.dy_m,
+    )
+    .map_err(|e| StageError::invalid(e.to_string()))?;
+    let (w, h) = (grid.width_px as f64 - 1.0, grid.height_px as f64 - 1.0);
+    for (x, y) in [(0.0, 0.0), (w, 0.0), (0.0, h), (w, h)] {
+        let (ix, iy) = similarity.apply(x, y);
+        if !(ix >= 0.0 && iy >= 0.0 && ix <= (nx - 1) as f64 && iy <= (ny - 1) as f64) {
+            return Err(StageError::invalid(format!(
+                "the camera's view ({:.2} × {:.2} mm, turned {:.2}°, centre shifted by ({:.3}, \
+                 {:.3}) mm) reaches beyond the {:.2} × {:.2} mm map: raise the magnification, \
+                 use fewer pixels or a larger sample",
+                grid.width_px as f64 * grid.pixel_m * 1e3,
+                grid.height_px as f64 * grid.pixel_m * 1e3,
+                placement.angle_rad.to_degrees(),
+                placement.shift_x_m * 1e3,
+                placement.shift_y_m * 1e3,
+                (nx - 1) as f64 * surface.dx_m * 1e3,
+                (ny - 1) as f64 * surface.dy_m * 1e3,
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The true contact masks at the frames nearest each requested view A/A0.
+fn truth_maps(
+    requested: &[f64],
+    fractions: &[f64],
+    views: &[Vec<Option<bool>>],
+    grid: &CameraGrid,
+) -> Result<Files, StageError> {
+    let mut files = Files::new();
+    let mut index = format!("{MAPS_COLUMNS}\n");
+    for &want in requested {
+        let Some(k) = (0..fractions.len()).min_by(|&a, &b| {
+            (fractions[a] - want)
+                .abs()
+                .total_cmp(&(fractions[b] - want).abs())
+        }) else {
+            continue;
+        };
+        let name = format!("mask_{}.png", area_fraction_label(want));
+        let pixels = views[k]
+            .iter()
+            .map(|v| if *v == Some(true) { 255 } else { 0 })
+            .collect();
+        let png = hypercontact_core::png::encode_png(
+            grid.width_px as u32,
+            grid.height_px as u32,
+            Pixels::Gray8(pixels),
+        )
+        .map_err(StageError::invalid)?;
+        files = files.with(&name, png);
+        index.push_str(&format!("{want},{},{k},{name}\n", fractions[k]));
+    }
+    Ok(files.with("maps.csv", index.into_bytes()))
+}

@@ -5,8 +5,11 @@
 //! computes it), so the synthetic experiment and the `bem` model share one
 //! physics.
 
+use hypercontact_bem::curve::warm_start;
 use hypercontact_bem::tangent::integrate;
-use hypercontact_bem::{Boundary, Control, Influence, Problem, SolverOptions};
+use hypercontact_bem::{
+    Boundary, Control, CurveOptions, Influence, Problem, SolverOptions, solve_curve,
+};
 use hypercontact_core::Field;
 use hypercontact_icm::{CompositeModulus, Scheme};
 
@@ -20,6 +23,8 @@ pub struct FrameContact {
     pub gap_m: Vec<f64>,
     /// Points in contact (p > 0).
     pub contact_points: usize,
+    /// p > 0 per point of the solve grid, row-major as `gap_m`.
+    pub in_contact: Vec<bool>,
     /// Contact points / measured points.
     pub area_fraction: f64,
     /// Total load, N.
@@ -47,9 +52,41 @@ pub enum ContactError {
     Force(String),
 }
 
+/// The rigid-plane penetration at which the contact first covers
+/// `area_fraction` of the measured points (within a few per cent above it:
+/// the `bem` stage's curve search, two steps), m.
+pub fn penetration_at_m(
+    heights: &Field,
+    boundary: Boundary,
+    solver: SolverOptions,
+    area_fraction: f64,
+) -> Result<f64, ContactError> {
+    let h: Vec<f64> = heights.values.iter().copied().collect();
+    let influence = Influence::new(
+        heights.nx(),
+        heights.ny(),
+        heights.dx_m,
+        heights.dy_m,
+        boundary,
+    );
+    let problem = Problem::new(&influence, &h).map_err(|e| ContactError::Problem(e.to_string()))?;
+    let options = CurveOptions {
+        steps: 2,
+        max_area_fraction: area_fraction,
+        solver,
+    };
+    let rows =
+        solve_curve(&problem, options, &mut |_, _, _| {}).map_err(|e| ContactError::Solve {
+            frame: 0,
+            penetration_m: e.approach_m,
+            cause: format!("finding the penetration for A/A0 = {area_fraction}: {e}"),
+        })?;
+    Ok(rows.last().map_or(0.0, |r| r.approach_m))
+}
+
 /// Solves every frame's contact. `penetrations_m` increase; frames at or
 /// below 0 have no contact (their gap is the plane's height above the
-/// surface).
+/// surface). `on_frame(k)` is called as frame k is done.
 pub fn contact_sequence(
     heights: &Field,
     modulus: &CompositeModulus,
@@ -57,6 +94,7 @@ pub fn contact_sequence(
     boundary: Boundary,
     solver: SolverOptions,
     penetrations_m: &[f64],
+    on_frame: &mut dyn FnMut(usize),
 ) -> Result<Vec<FrameContact>, ContactError> {
     for (k, w) in penetrations_m.windows(2).enumerate() {
         if w[1] <= w[0] {
@@ -80,7 +118,9 @@ pub fn contact_sequence(
     // tangent-modulus integral (F = 0 there).
     let mut unit_load_m2 = vec![0.0];
     let mut area_m2 = vec![0.0];
-    let mut warm: Option<Vec<f64>> = None;
+    // The last two solves (penetration, pressure), most recent last: the
+    // next one starts from their extrapolation, as the `bem` stage's steps.
+    let mut recent: Vec<(f64, Vec<f64>)> = Vec::with_capacity(2);
     for (k, &delta) in penetrations_m.iter().enumerate() {
         if delta <= 0.0 {
             let plane = top_m - delta;
@@ -88,13 +128,19 @@ pub fn contact_sequence(
                 penetration_m: delta,
                 gap_m: h.iter().map(|z| plane - z).collect(),
                 contact_points: 0,
+                in_contact: vec![false; h.len()],
                 area_fraction: 0.0,
                 force_n: 0.0,
             });
+            on_frame(k);
             continue;
         }
         let s = problem
-            .solve(Control::Approach(delta), solver, warm.as_deref())
+            .solve(
+                Control::Approach(delta),
+                solver,
+                warm_start(&recent, delta).as_deref(),
+            )
             .map_err(|e| ContactError::Solve {
                 frame: k,
                 penetration_m: delta,
@@ -105,11 +151,16 @@ pub fn contact_sequence(
         frames.push(FrameContact {
             penetration_m: delta,
             gap_m: s.gap_m,
+            in_contact: s.pressure.iter().map(|p| *p > 0.0).collect(),
             contact_points: s.contact_pixels,
             area_fraction: s.contact_pixels as f64 / measured,
             force_n: 0.0,
         });
-        warm = Some(s.pressure);
+        if recent.len() == 2 {
+            recent.remove(0);
+        }
+        recent.push((delta, s.pressure));
+        on_frame(k);
     }
     let load = integrate(&unit_load_m2, &area_m2, scheme, &mut |stress| {
         modulus.at_stress_pa(stress).map_err(|e| e.to_string())
@@ -158,6 +209,7 @@ mod tests {
             Boundary::Free,
             SolverOptions::default(),
             &deltas,
+            &mut |_| {},
         )
         .unwrap();
         assert_eq!(frames[0].contact_points, 0);
@@ -190,6 +242,7 @@ mod tests {
                 Boundary::Free,
                 SolverOptions::default(),
                 &deltas,
+                &mut |_| {},
             )
             .unwrap()
         };
@@ -211,6 +264,7 @@ mod tests {
             Boundary::Free,
             SolverOptions::default(),
             &[1e-6, 1e-6],
+            &mut |_| {},
         )
         .unwrap_err();
         assert!(e.to_string().contains("must increase"), "{e}");
