@@ -169,13 +169,13 @@ static INFO: StageInfo = StageInfo {
           contact', a gap of at most a few tens of nm under white light (half the background \
           is reached at 42 nm, crate `interference`), so A is overestimated where the gap \
           opens slowly (a sphere of R = 5 mm: +23 % at A/A0 = 0.04, +2 % at 0.65; a rough \
-          self-affine sample from synth-contact: +9 to +12 % over 0.02-0.9). `otsu`: the paper's global Otsu \
+          self-affine sample from synth-contact: +10 % at A/A0 = 0.06, +3 % at 0.84). `otsu`: the paper's global Otsu \
           threshold per frame on the full 2^bits histogram; it counts dark interference \
           fringes (the second dark fringe near 265 nm is a third of the background) and dim \
-          corners as contact, so it overestimates A at low load (the sphere: several-fold at \
-          first contact; the rough sample: +16 to +20 % up to A/A0 = 0.3 and 5 to 10 times the \
-          patches, the fringe rings and noise specks) and splits a frame without contact into \
-          two classes (44 % 'contact' on a vignetted no-contact frame). `multi-otsu`: three classes, \
+          corners as contact, so it overestimates A at low load (the rough sample: +16 to +20 % \
+          up to A/A0 = 0.25, +5 to +8 % above 0.6, and 2 to 56 times the patches, the fringe \
+          rings and noise specks) and splits a frame without contact into two classes (44 % \
+          'contact' on a vignetted no-contact frame). `multi-otsu`: three classes, \
           the darkest is contact. A0 = the frame's pixels (all pixels are the sample's); area = \
           contact pixels x pixel_m². Patches: 8-connected components. SYNC: force-log time = \
           camera time + clock_offset_s; force linearly interpolated at mid-exposure (time_s + \
