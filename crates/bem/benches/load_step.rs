@@ -22,8 +22,8 @@ fn map(n: usize) -> Vec<f64> {
         lambda_min_m: 40e-6,
         lambda_max_m: 5e-3,
     }
-    .periodic(2 * n, 2 * n, 20e-6, 101);
-    (0..n * n).map(|k| surface[[k / n, k % n]]).collect()
+    .non_periodic(n, n, 20e-6, 101);
+    surface.iter().copied().collect()
 }
 
 fn load_step_2048() {

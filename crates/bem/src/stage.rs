@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use hypercontact_core::contact::area_fraction_label;
+use hypercontact_core::contact::{area_fraction_label, check_map_fraction};
 use hypercontact_core::{
     Arity, Checked, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs, ParamError,
     Schema, Stage, StageError, StageInfo, params,
@@ -60,15 +60,7 @@ fn maps_within_curve(p: &BemParams) -> Result<(), ParamError> {
                 format!("{f} lies above max_area_fraction ({})", p.max_area_fraction),
             ));
         }
-        if let Some(j) = p.map_fractions[..i]
-            .iter()
-            .position(|&g| area_fraction_label(g) == area_fraction_label(f))
-        {
-            return Err(ParamError::new(
-                &format!("map_fractions.{i}"),
-                format!("{f} gives the same file names as map_fractions.{j}"),
-            ));
-        }
+        check_map_fraction(&p.map_fractions, i)?;
     }
     Ok(())
 }

@@ -24,14 +24,13 @@ fn sample_256() -> Field {
 
 /// A small non-periodic self-affine map with a few unmeasured points.
 fn small_map(nx: usize, ny: usize) -> Field {
-    let surface = hypercontact_synth::surface::SelfAffine {
+    let mut values = hypercontact_synth::surface::SelfAffine {
         hurst: 0.8,
         rms_m: 1e-5,
         lambda_min_m: 4e-5,
         lambda_max_m: 2e-3,
     }
-    .periodic(2 * nx, 2 * ny, 2e-5, 7);
-    let mut values = Array2::from_shape_fn((nx, ny), |(i, j)| surface[[i, j]]);
+    .non_periodic(nx, ny, 2e-5, 7);
     values[[3, 5]] = f64::NAN;
     values[[nx - 1, ny / 2]] = f64::NAN;
     Field::new(values, 2e-5, 2e-5).unwrap()

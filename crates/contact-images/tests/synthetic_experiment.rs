@@ -15,19 +15,17 @@ use hypercontact_core::{
 use hypercontact_synth::contact::{
     ContactTruthTable, RigTruthTable, SynthContact, SynthContactParams,
 };
-use ndarray::Array2;
 
 /// A rough sample of 2.05 mm square at 4 µm (H = 0.7, 6 µm rms).
 fn sample() -> Field {
     let n = 512;
-    let periodic = hypercontact_synth::surface::SelfAffine {
+    let values = hypercontact_synth::surface::SelfAffine {
         hurst: 0.7,
         rms_m: 6e-6,
         lambda_min_m: 2e-5,
         lambda_max_m: 1e-3,
     }
-    .periodic(2 * n, 2 * n, 4e-6, 21);
-    let values = Array2::from_shape_fn((n, n), |(i, j)| periodic[[i, j]]);
+    .non_periodic(n, n, 4e-6, 21);
     Field::new(values, 4e-6, 4e-6).unwrap()
 }
 

@@ -4,7 +4,8 @@ mod common;
 
 use hypercontact_core::{Context, Files, Inputs, Params, Stage};
 use hypercontact_dic::{Dic, DicParams};
-use hypercontact_synth::tensile::{SynthTensileParams, encode_png};
+use hypercontact_synth::encode_png;
+use hypercontact_synth::tensile::SynthTensileParams;
 
 fn small() -> Files {
     common::synth(&SynthTensileParams {

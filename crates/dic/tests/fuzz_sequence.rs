@@ -16,7 +16,8 @@ use std::sync::OnceLock;
 use hypercontact_core::Files;
 use hypercontact_dic::{DicParams, GrayImage};
 use hypercontact_fuzz::{config, splice};
-use hypercontact_synth::tensile::{SynthTensileParams, encode_png};
+use hypercontact_synth::encode_png;
+use hypercontact_synth::tensile::SynthTensileParams;
 use image::{DynamicImage, ImageBuffer, ImageFormat, Luma, Rgb};
 use proptest::prelude::*;
 

@@ -14,8 +14,8 @@ use hypercontact_dic::icgn::IcgnSettings;
 use hypercontact_dic::poi_grid::PoiGrid;
 use hypercontact_dic::strain::{affine_fit, principal_stretches};
 use hypercontact_dic::subset_tracking::{SubsetSettings, SubsetTracker};
+use hypercontact_synth::encode_png;
 use hypercontact_synth::tensile::SynthTensileParams;
-use hypercontact_synth::tensile::encode_png;
 use hypercontact_synth::tensile::experiment::{Experiment, expose};
 
 #[test]

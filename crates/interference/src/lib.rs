@@ -25,5 +25,5 @@ pub use error::InterferenceError;
 pub use film::{Indices, SpectralAverage, Stack};
 pub use geometry::{CameraGrid, GapMap, Placement, Similarity, resample};
 pub use lookup::{ReflectanceTable, TableParams};
-pub use render::{OpticsParams, render_frame};
+pub use render::{OpticsParams, expose, render_frame};
 pub use spectrum::{GaussianLine, Spectrum};

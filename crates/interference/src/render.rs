@@ -42,9 +42,21 @@ pub fn render_frame(
     camera: &Camera,
     seed: u64,
 ) -> Result<Frame, InterferenceError> {
-    let mut reflectance = resample(gap, placement, grid)?;
-    table.apply(&mut reflectance);
-    camera.capture(&reflectance, grid.width_px, grid.height_px, seed)
+    expose(resample(gap, placement, grid)?, grid, table, camera, seed)
+}
+
+/// The frame the camera records of gaps already on its pixels (row-major
+/// `[y * width + x]`, m; NaN = the background), e.g. a resampled gap field
+/// a caller has edited; its noise drawn from `seed`.
+pub fn expose(
+    mut gap_m: Vec<f64>,
+    grid: &CameraGrid,
+    table: &ReflectanceTable,
+    camera: &Camera,
+    seed: u64,
+) -> Result<Frame, InterferenceError> {
+    table.apply(&mut gap_m);
+    camera.capture(&gap_m, grid.width_px, grid.height_px, seed)
 }
 
 #[cfg(test)]

@@ -10,19 +10,17 @@ use std::path::PathBuf;
 
 use hypercontact_surface::psd::{Spectrum, Window, psd_radial, psd_x, psd_y};
 use hypercontact_synth::surface::SelfAffine;
-use ndarray::Array2;
 
 fn main() -> std::io::Result<()> {
     let out_dir = PathBuf::from(std::env::args().nth(1).expect("argument: output directory"));
     let (n, pixel_m) = (512, 1e-6);
-    let full = SelfAffine {
+    let h = SelfAffine {
         hurst: 0.8,
         rms_m: 1e-6,
         lambda_min_m: 4e-6,
         lambda_max_m: 2e-4,
     }
-    .periodic(2 * n, 2 * n, pixel_m, 9);
-    let h = Array2::from_shape_fn((n, n), |(i, j)| full[[i, j]]);
+    .non_periodic(n, n, pixel_m, 9);
     let bytes: Vec<u8> = h.iter().flat_map(|v| v.to_le_bytes()).collect();
     std::fs::write(out_dir.join("map_512.f64"), bytes)?;
     let mut csv = String::from("case,q_per_m,c\n");

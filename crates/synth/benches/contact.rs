@@ -12,18 +12,16 @@ use std::time::Instant;
 use hypercontact_core::{Context, Field, Inputs, Params, Product, Stage};
 use hypercontact_synth::contact::{SynthContact, SynthContactParams};
 use hypercontact_synth::surface::SelfAffine;
-use ndarray::Array2;
 
 fn main() {
     let n = 454;
-    let periodic = SelfAffine {
+    let values = SelfAffine {
         hurst: 0.65,
         rms_m: 15e-6,
         lambda_min_m: 40e-6,
         lambda_max_m: 5e-3,
     }
-    .periodic(2 * n, 2 * n, 20e-6, 101);
-    let values = Array2::from_shape_fn((n, n), |(i, j)| periodic[[i, j]]);
+    .non_periodic(n, n, 20e-6, 101);
     let surface = Field::new(values, 20e-6, 20e-6).unwrap();
     let material = hypercontact_material::presets::preset("paper-epdm").unwrap();
     let inputs = Inputs::new().with("surface", Product::Field(surface)).with(

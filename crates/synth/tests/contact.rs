@@ -1,6 +1,9 @@
 //! Stage `synth-contact`: the lab files it writes and their truth.
 
-use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Schema, Stage, Table};
+use hypercontact_core::sequence::Sequence;
+use hypercontact_core::{
+    Context, Field, FileSource, Files, Inputs, Params, Product, Schema, Stage, Table,
+};
 use hypercontact_synth::contact::{
     ContactTruthTable, RigTruthTable, SynthContact, SynthContactParams,
 };
@@ -55,22 +58,24 @@ const SMALL: &str = r#""width_px": 96, "height_px": 80, "resolution_m": 1e-5,
 fn writes_the_lab_files_and_a_consistent_truth() {
     let (sequence, truth, rig, maps) =
         run(&format!("{{{SMALL}, \"frames\": 8, \"bits\": 12}}")).unwrap();
+    // The lab files as the analysis reads them (the workspace's one reader).
+    let lab = Sequence::open(FileSource::Files {
+        files: &sequence,
+        input: "sequence".into(),
+    })
+    .unwrap();
     // frames.csv: exposure starts, every frame interval
     let frames = String::from_utf8(sequence.files["frames.csv"].clone()).unwrap();
-    let rows: Vec<Vec<&str>> = frames
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').collect())
-        .collect();
     assert_eq!(frames.lines().next(), Some("frame,time_s,file"));
-    assert_eq!(rows.len(), 8);
+    assert_eq!(lab.frames.len(), 8);
     let interval = rig.frame_interval_s[0];
-    for (k, row) in rows.iter().enumerate() {
-        let t: f64 = row[1].parse().unwrap();
+    for (k, entry) in lab.frames.iter().enumerate() {
+        let t = entry.time_s;
+        assert_eq!(entry.frame, k as i64);
         assert!((t - k as f64 * interval).abs() < 1e-9 * (1.0 + t));
-        assert_eq!(row[2], format!("frame_{k:03}.png"));
+        assert_eq!(entry.file, format!("frame_{k:03}.png"));
         // a 12-bit camera's counts, unscaled in a 16-bit PNG
-        let png = image::load_from_memory(&sequence.files[row[2]]).unwrap();
+        let png = image::load_from_memory(&sequence.files[&entry.file]).unwrap();
         assert_eq!((png.width(), png.height()), (96, 80));
         assert_eq!(png.color(), image::ColorType::L16);
         let counts = png.into_luma16().into_raw();
@@ -97,15 +102,8 @@ fn writes_the_lab_files_and_a_consistent_truth() {
     // The force log on the sensor's clock: 50 Hz, multiples of 0.01 N,
     // the true force within resolution and noise (5 σ).
     let force = String::from_utf8(sequence.files["force.csv"].clone()).unwrap();
-    let log: Vec<(f64, f64)> = force
-        .lines()
-        .skip(1)
-        .map(|l| {
-            let (t, f) = l.split_once(',').unwrap();
-            (t.parse().unwrap(), f.parse().unwrap())
-        })
-        .collect();
     assert!(!force.contains("-0.00\n"));
+    let log = &lab.force;
     for k in 3..8 {
         let sensor_s = truth.mid_time_s[k] + 0.37;
         let j = log.partition_point(|(t, _)| *t < sensor_s);

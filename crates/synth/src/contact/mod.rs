@@ -21,24 +21,24 @@ pub mod view;
 
 use std::sync::Arc;
 
-use hypercontact_bem::{Boundary, SolverOptions};
-use hypercontact_core::contact::area_fraction_label;
-use hypercontact_core::png::Pixels;
+use hypercontact_bem::{Boundary, Influence, Problem, SolverOptions};
+use hypercontact_core::contact::{area_fraction_label, check_map_fraction};
 use hypercontact_core::{
     Arity, Checked, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs, ParamError,
     Schema, Stage, StageError, StageInfo, params,
 };
 use hypercontact_icm::{CompositeModulus, Model, Scheme};
 use hypercontact_interference::{
-    Camera, CameraGrid, CameraParams, GapMap, OpticsParams, Placement, resample,
+    Camera, CameraGrid, CameraParams, GapMap, OpticsParams, Placement, expose, resample,
 };
 use hypercontact_material::Poisson;
 use hypercontact_material::table::MaterialTable;
 use ndarray::ArrayView2;
 use rayon::prelude::*;
 
+use crate::encode_png;
 use rig::{ForceSensor, Ramp, interpolate_force};
-use solve::{contact_sequence, penetration_at_m};
+use solve::{ContactError, contact_sequence, penetration_at_m};
 
 /// Parameters of `synth-contact`.
 #[params(check = consistent)]
@@ -151,18 +151,7 @@ fn consistent(p: &SynthContactParams) -> Result<(), ParamError> {
             ),
         ));
     }
-    for (i, &f) in p.map_fractions.iter().enumerate() {
-        if let Some(j) = p.map_fractions[..i]
-            .iter()
-            .position(|&g| area_fraction_label(g) == area_fraction_label(f))
-        {
-            return Err(ParamError::new(
-                &format!("map_fractions.{i}"),
-                format!("{f} gives the same file names as map_fractions.{j}"),
-            ));
-        }
-    }
-    Ok(())
+    (0..p.map_fractions.len()).try_for_each(|i| check_map_fraction(&p.map_fractions, i))
 }
 
 impl SynthContactParams {
@@ -365,8 +354,13 @@ impl Stage for SynthContact {
         let grid = p.grid();
         check_view_inside(&surface, &placement, &grid)?;
 
-        let max_m = penetration_at_m(&surface, p.boundary, solver, p.max_area_fraction)
-            .map_err(StageError::other)?;
+        // One operator for the search of the last penetration and the frames.
+        let heights_m: Vec<f64> = surface.values.iter().copied().collect();
+        let influence = Influence::new(nx, ny, surface.dx_m, surface.dy_m, p.boundary);
+        let problem = Problem::new(&influence, &heights_m)
+            .map_err(|e| StageError::other(ContactError::Problem(e.to_string())))?;
+        let max_m =
+            penetration_at_m(&problem, solver, p.max_area_fraction).map_err(StageError::other)?;
         let ramp = Ramp::new(
             p.frames,
             p.frames_before_contact,
@@ -378,10 +372,10 @@ impl Stage for SynthContact {
         .map_err(StageError::invalid)?;
         let progress = ctx.progress(p.frames as u64, "contact solves");
         let contacts = contact_sequence(
-            &surface,
+            &problem,
+            surface.dx_m * surface.dy_m,
             &modulus,
             p.scheme,
-            p.boundary,
             solver,
             &ramp.penetrations_m(),
             &mut |_| progress.inc(1),
@@ -419,32 +413,15 @@ impl Stage for SynthContact {
                     &grid,
                 )
                 .map_err(|e| StageError::invalid(e.to_string()))?;
-                let mut reflectance = resample(&gap, &placement, &grid)
+                let mut gap_m = resample(&gap, &placement, &grid)
                     .map_err(|e| StageError::invalid(e.to_string()))?;
-                for (r, t) in reflectance.iter_mut().zip(&truth) {
+                for (g, t) in gap_m.iter_mut().zip(&truth) {
                     // a pixel on a contact cell touches; NaN stays NaN (background)
-                    *r = if *t == Some(true) { 0.0 } else { r.max(0.0) };
+                    *g = if *t == Some(true) { 0.0 } else { g.max(0.0) };
                 }
-                table.apply(&mut reflectance);
-                let frame = camera
-                    .capture(
-                        &reflectance,
-                        grid.width_px,
-                        grid.height_px,
-                        frame_seed(p.seed, k),
-                    )
+                let frame = expose(gap_m, &grid, &table, &camera, frame_seed(p.seed, k))
                     .map_err(|e| StageError::invalid(e.to_string()))?;
-                let pixels = if p.bits == 8 {
-                    Pixels::Gray8(frame.counts.iter().map(|&c| c as u8).collect())
-                } else {
-                    Pixels::Gray16(frame.counts)
-                };
-                let png = hypercontact_core::png::encode_png(
-                    grid.width_px as u32,
-                    grid.height_px as u32,
-                    pixels,
-                )
-                .map_err(StageError::invalid)?;
+                let png = encode_png(grid.width_px, grid.height_px, p.bits, frame.counts)?;
                 progress.inc(1);
                 Ok((png, truth))
             })
@@ -480,13 +457,14 @@ impl Stage for SynthContact {
             .with("force.csv", force_csv.into_bytes());
 
         let view_fractions: Vec<f64> = views.iter().map(|v| view::view_fraction(v)).collect();
+        let maps = truth_maps(&p.map_fractions, &view_fractions, &views, &grid)?;
         let truth = ContactTruthTable {
             frame: (0..p.frames as i64).collect(),
             time_s: (0..p.frames).map(|k| ramp.start_s(k)).collect(),
             mid_time_s: (0..p.frames).map(|k| ramp.mid_s(k)).collect(),
             penetration_m: contacts.iter().map(|c| c.penetration_m).collect(),
             area_fraction: contacts.iter().map(|c| c.area_fraction).collect(),
-            view_area_fraction: view_fractions.clone(),
+            view_area_fraction: view_fractions,
             force_n: contacts.iter().map(|c| c.force_n).collect(),
         };
         let rig = RigTruthTable {
@@ -501,7 +479,6 @@ impl Stage for SynthContact {
             solve_nx: vec![nx as i64],
             solve_ny: vec![ny as i64],
         };
-        let maps = truth_maps(&p.map_fractions, &view_fractions, &views, &grid)?;
         ctx.note(&format!(
             "{} frames every {:.3} s, penetration to {:.3} µm, A/A0 up to {:.3} ({}×{} solve grid)",
             p.frames,
@@ -609,12 +586,7 @@ fn truth_maps(
             .iter()
             .map(|v| if *v == Some(true) { 255 } else { 0 })
             .collect();
-        let png = hypercontact_core::png::encode_png(
-            grid.width_px as u32,
-            grid.height_px as u32,
-            Pixels::Gray8(pixels),
-        )
-        .map_err(StageError::invalid)?;
+        let png = encode_png(grid.width_px, grid.height_px, 8, pixels)?;
         files = files.with(&name, png);
         index.push_str(&format!("{want},{},{k},{name}\n", fractions[k]));
     }

@@ -1,16 +1,13 @@
 //! The sample against the glass at a sequence of penetrations: one
 //! boundary-element solve per frame (crate `hypercontact-bem`), each
-//! warm-started from the previous frame's pressure, and the force with the
+//! warm-started from the last two frames' pressures, and the force with the
 //! paper's tangent modulus on the coupled contact (as the `bem` stage
 //! computes it), so the synthetic experiment and the `bem` model share one
 //! physics.
 
 use hypercontact_bem::curve::warm_start;
 use hypercontact_bem::tangent::integrate;
-use hypercontact_bem::{
-    Boundary, Control, CurveOptions, Influence, Problem, SolverOptions, solve_curve,
-};
-use hypercontact_core::Field;
+use hypercontact_bem::{Control, CurveOptions, Problem, SolverOptions, solve_curve};
 use hypercontact_icm::{CompositeModulus, Scheme};
 
 /// The contact at one frame.
@@ -56,27 +53,17 @@ pub enum ContactError {
 /// `area_fraction` of the measured points (within a few per cent above it:
 /// the `bem` stage's curve search, two steps), m.
 pub fn penetration_at_m(
-    heights: &Field,
-    boundary: Boundary,
+    problem: &Problem,
     solver: SolverOptions,
     area_fraction: f64,
 ) -> Result<f64, ContactError> {
-    let h: Vec<f64> = heights.values.iter().copied().collect();
-    let influence = Influence::new(
-        heights.nx(),
-        heights.ny(),
-        heights.dx_m,
-        heights.dy_m,
-        boundary,
-    );
-    let problem = Problem::new(&influence, &h).map_err(|e| ContactError::Problem(e.to_string()))?;
     let options = CurveOptions {
         steps: 2,
         max_area_fraction: area_fraction,
         solver,
     };
     let rows =
-        solve_curve(&problem, options, &mut |_, _, _| {}).map_err(|e| ContactError::Solve {
+        solve_curve(problem, options, &mut |_, _, _| {}).map_err(|e| ContactError::Solve {
             frame: 0,
             penetration_m: e.approach_m,
             cause: format!("finding the penetration for A/A0 = {area_fraction}: {e}"),
@@ -84,14 +71,15 @@ pub fn penetration_at_m(
     Ok(rows.last().map_or(0.0, |r| r.approach_m))
 }
 
-/// Solves every frame's contact. `penetrations_m` increase; frames at or
-/// below 0 have no contact (their gap is the plane's height above the
-/// surface). `on_frame(k)` is called as frame k is done.
+/// Solves every frame's contact on `problem` (a grid of cells of
+/// `pixel_m2`). `penetrations_m` increase; frames at or below 0 have no
+/// contact (their gap is the plane's height above the surface).
+/// `on_frame(k)` is called as frame k is done.
 pub fn contact_sequence(
-    heights: &Field,
+    problem: &Problem,
+    pixel_m2: f64,
     modulus: &CompositeModulus,
     scheme: Scheme,
-    boundary: Boundary,
     solver: SolverOptions,
     penetrations_m: &[f64],
     on_frame: &mut dyn FnMut(usize),
@@ -105,12 +93,8 @@ pub fn contact_sequence(
             });
         }
     }
-    let (nx, ny) = (heights.nx(), heights.ny());
-    let h: Vec<f64> = heights.values.iter().copied().collect();
-    let influence = Influence::new(nx, ny, heights.dx_m, heights.dy_m, boundary);
-    let problem = Problem::new(&influence, &h).map_err(|e| ContactError::Problem(e.to_string()))?;
+    let h = problem.heights_m();
     let measured = problem.measured() as f64;
-    let pixel_m2 = heights.dx_m * heights.dy_m;
     let top_m = problem.top_m();
 
     let mut frames = Vec::with_capacity(penetrations_m.len());
@@ -126,7 +110,11 @@ pub fn contact_sequence(
             let plane = top_m - delta;
             frames.push(FrameContact {
                 penetration_m: delta,
-                gap_m: h.iter().map(|z| plane - z).collect(),
+                // unmeasured points (−∞ in the problem) have no gap: NaN
+                gap_m: h
+                    .iter()
+                    .map(|&z| if z.is_finite() { plane - z } else { f64::NAN })
+                    .collect(),
                 contact_points: 0,
                 in_contact: vec![false; h.len()],
                 area_fraction: 0.0,
@@ -178,6 +166,8 @@ pub fn contact_sequence(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use hypercontact_bem::{Boundary, Influence};
+    use hypercontact_core::Field;
     use hypercontact_icm::Model;
     use hypercontact_material::{Ogden, Poisson};
     use ndarray::Array2;
@@ -199,19 +189,27 @@ mod tests {
         CompositeModulus::new(Arc::new(neo), model, Poisson::INCOMPRESSIBLE.0).unwrap()
     }
 
+    /// The sphere's frames at `deltas` under `model`.
+    fn sequence(model: Model, deltas: &[f64]) -> Result<Vec<FrameContact>, ContactError> {
+        let field = sphere();
+        let heights: Vec<f64> = field.values.iter().copied().collect();
+        let influence = Influence::new(64, 64, field.dx_m, field.dy_m, Boundary::Free);
+        let problem = Problem::new(&influence, &heights).unwrap();
+        contact_sequence(
+            &problem,
+            field.dx_m * field.dy_m,
+            &modulus(model),
+            Scheme::Heun,
+            SolverOptions::default(),
+            deltas,
+            &mut |_| {},
+        )
+    }
+
     #[test]
     fn frames_before_contact_are_open_and_loads_grow_with_penetration() {
         let deltas = [-1e-6, 0.0, 0.5e-6, 1e-6, 2e-6];
-        let frames = contact_sequence(
-            &sphere(),
-            &modulus(Model::Linear),
-            Scheme::Heun,
-            Boundary::Free,
-            SolverOptions::default(),
-            &deltas,
-            &mut |_| {},
-        )
-        .unwrap();
+        let frames = sequence(Model::Linear, &deltas).unwrap();
         assert_eq!(frames[0].contact_points, 0);
         assert!(frames[0].gap_m.iter().all(|g| *g >= 1e-6 - 1e-15));
         for w in frames[2..].windows(2) {
@@ -234,18 +232,7 @@ mod tests {
     #[test]
     fn hyperelastic_needs_more_force_and_penetrations_must_increase() {
         let deltas = [0.5e-6, 1e-6, 2e-6];
-        let run = |model| {
-            contact_sequence(
-                &sphere(),
-                &modulus(model),
-                Scheme::Heun,
-                Boundary::Free,
-                SolverOptions::default(),
-                &deltas,
-                &mut |_| {},
-            )
-            .unwrap()
-        };
+        let run = |model| sequence(model, &deltas).unwrap();
         let (linear, hyper) = (run(Model::Linear), run(Model::Hyperelastic));
         for (l, h) in linear.iter().zip(&hyper) {
             // Same contact set (linear half-space), E_t*/E0* ≥ 2 from first contact.
@@ -257,16 +244,7 @@ mod tests {
                 l.force_n
             );
         }
-        let e = contact_sequence(
-            &sphere(),
-            &modulus(Model::Linear),
-            Scheme::Heun,
-            Boundary::Free,
-            SolverOptions::default(),
-            &[1e-6, 1e-6],
-            &mut |_| {},
-        )
-        .unwrap_err();
+        let e = sequence(Model::Linear, &[1e-6, 1e-6]).unwrap_err();
         assert!(e.to_string().contains("must increase"), "{e}");
     }
 }

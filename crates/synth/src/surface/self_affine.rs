@@ -95,6 +95,14 @@ impl SelfAffine {
         });
         heights
     }
+
+    /// A non-periodic nx × ny map: the corner of a periodic realisation
+    /// twice as large each way, so opposite edges do not match (as on a
+    /// measured sample), metres.
+    pub fn non_periodic(&self, nx: usize, ny: usize, pixel_m: f64, seed: u64) -> Array2<f64> {
+        let full = self.periodic(2 * nx, 2 * ny, pixel_m, seed);
+        Array2::from_shape_fn((nx, ny), |(i, j)| full[[i, j]])
+    }
 }
 
 /// The signed wavevector (rad/m) of FFT index `i` on `n` points over `l`.
@@ -193,6 +201,16 @@ mod tests {
         // The rms of one realisation scatters with the few long-wavelength
         // modes of the roll-off: a few per cent here.
         assert!((rms / 1e-6 - 1.0).abs() < 0.1, "rms {rms}");
+    }
+
+    #[test]
+    fn a_non_periodic_map_is_the_corner_of_a_doubled_periodic_one() {
+        let corner = spec(0.8).non_periodic(40, 30, 1e-6, 5);
+        let full = spec(0.8).periodic(80, 60, 1e-6, 5);
+        assert_eq!(corner.dim(), (40, 30));
+        for ((i, j), h) in corner.indexed_iter() {
+            assert_eq!(*h, full[[i, j]]);
+        }
     }
 
     #[test]

@@ -15,7 +15,6 @@ pub mod experiment;
 pub mod render;
 pub mod speckle;
 
-use hypercontact_core::png::Pixels;
 use hypercontact_core::{
     Checked, Context, Files, Inputs, Mode, OutputSpec, Outputs, Schema, Stage, StageError,
     StageInfo, params,
@@ -23,6 +22,7 @@ use hypercontact_core::{
 use hypercontact_material::presets::Preset;
 use hypercontact_material::table::MaterialTable;
 
+use crate::encode_png;
 use experiment::{Experiment, Recipe, expose, in_plane_stretches};
 
 /// Parameters of `synth-tensile`.
@@ -294,28 +294,6 @@ impl Stage for SynthTensile {
     }
 }
 
-/// A grayscale PNG of camera counts: 8-bit (counts above 255 saturate) or
-/// 16-bit, through the workspace's one encoder.
-pub fn encode_png(
-    width: usize,
-    height: usize,
-    bit_depth: u32,
-    counts: Vec<u16>,
-) -> Result<Vec<u8>, StageError> {
-    let pixels = if bit_depth == 8 {
-        Pixels::Gray8(counts.into_iter().map(|c| c.min(255) as u8).collect())
-    } else {
-        Pixels::Gray16(counts)
-    };
-    let side = |n: usize| {
-        u32::try_from(n).map_err(|_| {
-            StageError::invalid(format!("an image side of {n} px is beyond PNG's limit"))
-        })
-    };
-    hypercontact_core::png::encode_png(side(width)?, side(height)?, pixels)
-        .map_err(StageError::invalid)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -372,15 +350,13 @@ mod tests {
 
         // The force log is the true force within half a resolution step plus
         // the noise (4 σ), at 50 Hz over the whole test.
-        let force = String::from_utf8(files.files["force.csv"].clone()).unwrap();
-        let rows: Vec<(f64, f64)> = force
-            .lines()
-            .skip(1)
-            .map(|l| {
-                let (t, f) = l.split_once(',').unwrap();
-                (t.parse().unwrap(), f.parse().unwrap())
+        let lab =
+            hypercontact_core::sequence::Sequence::open(hypercontact_core::FileSource::Files {
+                files,
+                input: "sequence".into(),
             })
-            .collect();
+            .unwrap();
+        let rows = &lab.force;
         assert_eq!(rows.len(), 51);
         let area = 40e-3 * 1.5e-3;
         let (t_end, f_end) = rows[50];
