@@ -491,6 +491,14 @@ stages:
     with: { dir: seq }
 ";
 
+const CONTACT_IMAGES: &str = "\
+name: contact
+stages:
+  c:
+    uses: contact-images
+    with: { dir: seq }
+";
+
 fn dic_folder(case: Case) -> Case {
     case.file(
         "seq/frames.csv",
@@ -727,6 +735,18 @@ cases! {
         .file("seq/frame_000.png", &png()[..60])
         .file("seq/frame_001.png", png());
     dic_missing_image: dic_folder(Case::run(DIC, &[])).file("seq/frame_000.png", png());
+    // No frames.csv and no times in the names: the error says what a name
+    // must carry.
+    dic_frames_without_times: Case::run(DIC, &[])
+        .file("seq/frame_000.png", png())
+        .file("seq/frame_001.png", png())
+        .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n0.5,1.0\n")
+        .mentions(&["<dir>/seq/frame_000.png", "frames.csv", "img_000_t0.000s.tif"]);
+    contact_images_two_frames_of_one_time: Case::run(CONTACT_IMAGES, &[])
+        .file("seq/img_1_t1s.png", png())
+        .file("seq/img_2_t1000ms.png", png())
+        .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n0.5,1.0\n")
+        .mentions(&["<dir>/seq/img_2_t1000ms.png", "img_1_t1s.png", "`c`"]);
     dic_text_in_frames_csv: Case::run(DIC, &[])
         .file("seq/frames.csv", "frame,time_s,file\n0,0.0,frame_000.png\n1,half,frame_001.png\n")
         .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n0.5,1.0\n");

@@ -4,7 +4,7 @@
 //! The physics of the methods is in [`crate::otsu`], [`crate::multi_otsu`]
 //! and [`crate::calibrated`]; reading in [`hypercontact_core::sequence`].
 
-use hypercontact_core::contact::area_fraction_label;
+use hypercontact_core::contact::{area_fraction_label, check_map_fraction};
 use hypercontact_core::sequence::{GrayFrame, Sequence};
 use hypercontact_core::{
     Arity, Checked, Choice, Context, FileSource, Files, InputPath, InputSpec, Inputs, OutputSpec,
@@ -43,7 +43,7 @@ pub struct ContactImagesParams {
     /// segmentation method
     #[param(default = Method::Calibrated)]
     pub method: Method,
-    /// folder with frames.csv, the frames and force.csv (instead of the `sequence` input)
+    /// folder with the frames (listed in frames.csv, or with their times in their names) and force.csv (instead of the `sequence` input)
     pub dir: Option<InputPath>,
     /// the camera's bit depth when the files' container is deeper (a 12-bit camera in 16-bit files: 12)
     #[param(range = 1..=16)]
@@ -51,7 +51,7 @@ pub struct ContactImagesParams {
     /// camera pixel size on the sample (sensor pixel / magnification)
     #[param(default = 6.5e-6, unit = "m", positive)]
     pub pixel_m: f64,
-    /// exposure time; force is read at mid-exposure (0: frames.csv times are mid-exposure)
+    /// exposure time; force is read at mid-exposure (0: the frame times are mid-exposure)
     #[param(default = 0.0, unit = "s", range = 0.0..)]
     pub exposure_s: f64,
     /// force-log time minus camera time (default: estimated from first contact)
@@ -60,7 +60,7 @@ pub struct ContactImagesParams {
     /// force-log resolution, for the onset of the force in the offset estimate
     #[param(default = 0.01, unit = "N", range = 0.0..)]
     pub force_resolution_n: f64,
-    /// calibrated: index (in frames.csv order) of a frame without contact, the flat field
+    /// calibrated: index (in time order, from 0) of a frame without contact, the flat field
     #[param(default = 0)]
     pub reference_frame: usize,
     /// calibrated: camera dark offset in counts
@@ -105,7 +105,7 @@ fn consistent(p: &ContactImagesParams) -> Result<(), ParamError> {
             ),
         ));
     }
-    Ok(())
+    (0..p.map_fractions.len()).try_for_each(|i| check_map_fraction(&p.map_fractions, i))
 }
 
 /// The `contact` table: one row per frame.
@@ -153,9 +153,13 @@ pub struct ContactImages;
 
 static INFO: StageInfo = StageInfo {
     kind: "contact-images",
-    version: 2,
+    version: 3,
     summary: "Contact area and patches per frame from contact-interference images and a force log",
-    doc: "Reads frames.csv (frame, time_s, file), the frames it lists (PNG or TIFF, 8 or 16 bit; \
+    doc: "Reads frames.csv (frame, time_s, file; time_s = exposure start on the camera's clock) \
+          or, without it, every PNG/TIFF file whose name carries its time (a field such as \
+          `t1.25s`, `1250ms` or `250000us` between `_`, `-` or spaces: img_0007_t1.25s.tif; the \
+          frames in time order, the frame number the name's digit field), the frames (PNG or \
+          TIFF, 8 or 16 bit; \
           `bits` for a camera shallower than its files, e.g. 12-bit data in 16-bit files, which \
           are then NOT rescaled, and values at or above 2^bits are refused) and force.csv \
           (time_s, force_n), from the `sequence` input (the synthetic lab's files) or `dir`. \

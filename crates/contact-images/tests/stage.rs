@@ -232,4 +232,58 @@ fn a_given_clock_offset_is_used_and_bad_sequences_are_named() {
         .check()
         .unwrap_err();
     assert_eq!(e.param, "seed_fraction");
+    // Two fractions that would write one mask file.
+    let e = serde_json::from_str::<ContactImagesParams>(r#"{"map_fractions": [0.1, 0.5, 0.1004]}"#)
+        .unwrap()
+        .check()
+        .unwrap_err();
+    assert_eq!(e.param, "map_fractions.2");
+    assert!(
+        e.to_string().contains("same file names as map_fractions.0"),
+        "{e}"
+    );
+}
+
+/// The lab's frames as 16-bit TIFFs in a folder, their times in their names
+/// (milliseconds, as many acquisition scripts write them) and no
+/// frames.csv: the same table as the PNGs listed in frames.csv.
+#[test]
+fn a_folder_of_tiffs_timed_by_their_names_reads_as_its_frames_csv() {
+    let (files, _) = lab(16, 1, 7);
+    let dir = std::env::temp_dir().join(format!("hc-contact-named-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for k in 0..FRAMES {
+        let png = &files.files[&format!("frame_{k:03}.png")];
+        let image = image::load_from_memory(png).unwrap();
+        assert_eq!(image.color(), image::ColorType::L16);
+        // frames.csv's time of frame k is k s.
+        let name = format!("img_{k:04}_{}ms.tif", k * 1000);
+        image
+            .save_with_format(dir.join(name), image::ImageFormat::Tiff)
+            .unwrap();
+    }
+    std::fs::write(dir.join("force.csv"), &files.files["force.csv"]).unwrap();
+    std::fs::write(dir.join("notes.txt"), b"rig 2, quartz flat").unwrap();
+    let folder = format!(r#"{{"dir": "{}"}}"#, dir.display());
+    let p = serde_json::from_str::<ContactImagesParams>(&folder)
+        .unwrap()
+        .check()
+        .unwrap();
+    let inputs = Inputs::new();
+    let out = ContactImages.run(&p, &inputs, &Context::new("contact-images"));
+    let (listed, listed_sync, _) = run(&params("{}"), files).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    let out = out.unwrap();
+    let table = |name: &str| match out.get(name) {
+        Some(Product::Table(t)) => t.clone(),
+        _ => panic!("no table {name}"),
+    };
+    let named = ContactTable::from_table(&table("contact")).unwrap();
+    let named_sync = SyncTable::from_table(&table("sync")).unwrap();
+    assert_eq!(named.frame, listed.frame);
+    assert_eq!(named.time_s, listed.time_s);
+    assert_eq!(named.area_fraction, listed.area_fraction);
+    assert_eq!(named.patches, listed.patches);
+    assert_eq!(named.force_n, listed.force_n);
+    assert_eq!(named_sync.clock_offset_s, listed_sync.clock_offset_s);
 }

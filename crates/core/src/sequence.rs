@@ -2,6 +2,8 @@
 //! synthetic lab's) or a folder of real data, in one layout: `frames.csv`
 //! (`frame, time_s, file`), the images it names (PNG or TIFF, 8 or 16 bit,
 //! grey or colour) and `force.csv` (`time_s, force_n`, increasing times).
+//! Without `frames.csv` the frames are the folder's PNG/TIFF files whose
+//! names carry their time (`img_0007_t1.25s.tif`, see [`time_in_name`]).
 //! Other files (a specimen or rig description) are read by name. The
 //! tensile test's DIC and the contact experiment's image analysis read their
 //! sequences through this one reader, so both name files and lines alike.
@@ -17,8 +19,9 @@ pub struct FrameEntry {
     pub frame: i64,
     pub time_s: f64,
     pub file: String,
-    /// Where frames.csv lists it (`line 3`).
-    pub listed: RowPlace,
+    /// Where frames.csv lists it (`line 3`); `None` for a frame found by
+    /// its file name.
+    pub listed: Option<RowPlace>,
 }
 
 /// The opened sequence.
@@ -85,12 +88,18 @@ impl GrayFrame {
 }
 
 impl<'a> Sequence<'a> {
+    /// Opens the sequence: the frames from `frames.csv`, or, without one,
+    /// from the image files' names ([`frames_from_names`]).
     pub fn open(source: FileSource<'a>) -> Result<Self, StageError> {
-        let frames = parse_frames(&Log::read(
-            &source,
-            "frames.csv",
-            &["frame", "time_s", "file"],
-        )?)?;
+        let frames = if source.exists("frames.csv") {
+            parse_frames(&Log::read(
+                &source,
+                "frames.csv",
+                &["frame", "time_s", "file"],
+            )?)?
+        } else {
+            frames_from_names(&source)?
+        };
         let force = parse_force(&Log::read(&source, "force.csv", &["time_s", "force_n"])?)?;
         Ok(Sequence {
             source,
@@ -119,10 +128,11 @@ impl<'a> Sequence<'a> {
         let entry = &self.frames[k];
         let name = &entry.file;
         if !self.source.exists(name) {
-            return Err(StageError::file(
-                self.source.display(name),
-                format!("missing (frames.csv lists it on {})", entry.listed),
-            ));
+            let why = match entry.listed {
+                Some(line) => format!("missing (frames.csv lists it on {line})"),
+                None => "missing".to_owned(),
+            };
+            return Err(StageError::file(self.source.display(name), why));
         }
         GrayFrame::decode(&self.source.display(name), &self.read(name)?)
     }
@@ -267,13 +277,170 @@ fn parse_frames(log: &Log) -> Result<Vec<FrameEntry>, StageError> {
             frame,
             time_s,
             file,
-            listed: log.line(row),
+            listed: Some(log.line(row)),
         });
     }
     if frames.len() < 2 {
         return Err(log.error("lists fewer than 2 frames".into()));
     }
     Ok(frames)
+}
+
+/// How a folder without `frames.csv` must look, for the errors.
+const NAMED_FRAMES_HELP: &str = "a sequence needs frames.csv (columns frame, time_s, file; \
+     e.g. the lines `frame,time_s,file` and `0,0.0,img_000.tif`), or image files (PNG/TIFF) \
+     whose names carry their camera time as a field of digits and a unit s, ms or us, \
+     optionally after `t` or `t=`, between `_`, `-` or spaces: `img_000_t0.000s.tif`, \
+     `frame-0012-1250ms.png`";
+
+/// Whether `name` is one of a sequence's image files: a PNG or TIFF, not
+/// hidden (a leading `.`: macOS writes `._img.tif` resource forks beside
+/// the images on foreign disks).
+fn is_frame_file(name: &str) -> bool {
+    if name.starts_with('.') || name.contains('/') {
+        return false;
+    }
+    let lower = name.to_ascii_lowercase();
+    [".png", ".tif", ".tiff"]
+        .iter()
+        .any(|ext| lower.ends_with(ext))
+}
+
+/// What a file name says of its frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NameTime {
+    /// Exactly one time field, in seconds; `frame` the name's last field of
+    /// plain digits, if any.
+    Time { time_s: f64, frame: Option<i64> },
+    /// No time field.
+    None,
+    /// More than one time field (the fields, as written).
+    Ambiguous(Vec<String>),
+}
+
+/// The camera time written in an image file's name. The stem (the name
+/// without its extension) is split at `_`, `-` and spaces; a time field is
+/// a decimal number with a unit `s`, `ms`, `us` or `µs`, optionally after
+/// `t` or `t=` (`0.250s`, `t1.25s`, `t=1250ms`, `1250000us`). A field of
+/// plain digits is the frame number (the last such field). Negative times
+/// cannot be written this way (`-` separates fields).
+pub fn time_in_name(name: &str) -> NameTime {
+    let stem = name.rsplit_once('.').map_or(name, |(stem, _)| stem);
+    let mut times: Vec<(f64, &str)> = Vec::new();
+    let mut frame = None;
+    for field in stem.split(['_', '-', ' ']).filter(|f| !f.is_empty()) {
+        if field.bytes().all(|b| b.is_ascii_digit()) {
+            frame = field.parse::<i64>().ok().or(frame);
+        } else if let Some(t) = time_field(field) {
+            times.push((t, field));
+        }
+    }
+    match times.as_slice() {
+        [] => NameTime::None,
+        [(time_s, _)] => NameTime::Time {
+            time_s: *time_s,
+            frame,
+        },
+        _ => NameTime::Ambiguous(times.iter().map(|(_, f)| (*f).to_owned()).collect()),
+    }
+}
+
+/// A time field's seconds: `[t|t=]<digits>[.<digits>]<unit>`.
+fn time_field(field: &str) -> Option<f64> {
+    let body = field
+        .strip_prefix("t=")
+        .or_else(|| field.strip_prefix('t'))
+        .unwrap_or(field);
+    // Longest unit first: `ms` before `s`.
+    let (number, scale) = [("ms", 1e-3), ("us", 1e-6), ("µs", 1e-6), ("s", 1.0)]
+        .iter()
+        .find_map(|(unit, scale)| body.strip_suffix(unit).map(|n| (n, *scale)))?;
+    let (whole, fraction) = number.split_once('.').unwrap_or((number, ""));
+    let digits = |s: &str| s.bytes().all(|b| b.is_ascii_digit());
+    if whole.is_empty() || !digits(whole) || !digits(fraction) || number.ends_with('.') {
+        return None;
+    }
+    let value: f64 = number.parse().ok()?;
+    Some(value * scale).filter(|t| t.is_finite())
+}
+
+/// The frames of a source without `frames.csv`: its PNG/TIFF files, each
+/// name carrying its time ([`time_in_name`]), in order of time. The frame
+/// number is the name's digit field, or else the position (from 0). An
+/// error names the file whose name has no time, or two files of one time.
+pub fn frames_from_names(source: &FileSource) -> Result<Vec<FrameEntry>, StageError> {
+    let mut images: Vec<String> = source
+        .names()?
+        .into_iter()
+        .filter(|n| is_frame_file(n))
+        .collect();
+    // Natural order (`img_2` before `img_10`), for the order of the errors
+    // and as the tie-breaker of the frame numbers below.
+    alphanumeric_sort::sort_str_slice(&mut images);
+    if images.is_empty() {
+        return Err(StageError::file(
+            source.display("frames.csv"),
+            format!("missing, and there are no PNG/TIFF frames either: {NAMED_FRAMES_HELP}"),
+        ));
+    }
+    let mut frames = Vec::with_capacity(images.len());
+    for name in images {
+        match time_in_name(&name) {
+            NameTime::Time { time_s, frame } => frames.push((time_s, frame, name)),
+            NameTime::None => {
+                return Err(StageError::file(
+                    source.display(&name),
+                    format!(
+                        "has no time in its name and there is no frames.csv: {NAMED_FRAMES_HELP}"
+                    ),
+                ));
+            }
+            NameTime::Ambiguous(fields) => {
+                return Err(StageError::file(
+                    source.display(&name),
+                    format!(
+                        "names more than one time ({}); rename it to carry one, or list the \
+                         frames in frames.csv",
+                        fields.join(", ")
+                    ),
+                ));
+            }
+        }
+    }
+    // Stable: equal times keep the natural order, and are refused next.
+    frames.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for pair in frames.windows(2) {
+        if pair[0].0 == pair[1].0 {
+            return Err(StageError::file(
+                source.display(&pair[1].2),
+                format!(
+                    "has the time {} s in its name, as {} does: two frames of one time",
+                    pair[1].0, pair[0].2
+                ),
+            ));
+        }
+    }
+    if frames.len() < 2 {
+        return Err(StageError::file(
+            source.display(&frames[0].2),
+            format!("is the only frame (a sequence needs at least 2): {NAMED_FRAMES_HELP}"),
+        ));
+    }
+    let numbered = frames.iter().all(|f| f.1.is_some());
+    Ok(frames
+        .into_iter()
+        .enumerate()
+        .map(|(k, (time_s, frame, file))| FrameEntry {
+            frame: if numbered {
+                frame.unwrap_or(k as i64)
+            } else {
+                k as i64
+            },
+            time_s,
+            file,
+            listed: None,
+        })
+        .collect())
 }
 
 fn parse_force(log: &Log) -> Result<Vec<(f64, f64)>, StageError> {
@@ -393,5 +560,157 @@ mod tests {
             e.contains("frames.csv") && e.contains("no data rows"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn time_fields_in_names() {
+        let time = |name: &str| match time_in_name(name) {
+            NameTime::Time { time_s, frame } => (time_s, frame),
+            other => panic!("{name}: {other:?}"),
+        };
+        assert_eq!(time("img_0007_t1.25s.tif"), (1.25, Some(7)));
+        assert_eq!(time("frame-0012-1250ms.png"), (1.25, Some(12)));
+        assert_eq!(time("t=0.5s.PNG"), (0.5, None));
+        assert_eq!(time("run 3 250000us.tiff"), (0.25, Some(3)));
+        assert_eq!(time("a_2µs.tif").0, 2e-6);
+        assert_eq!(time("x_10s_5.png"), (10.0, Some(5)));
+        for none in [
+            "img_0007.tif",
+            "sample1s.png",
+            "img_1.s.tif",
+            "img_.5s.tif",
+            "img_t.png",
+            "img_1e3s.png",
+            "img_1.2.3s.png",
+            "img_s.png",
+        ] {
+            assert_eq!(time_in_name(none), NameTime::None, "{none}");
+        }
+        assert_eq!(
+            time_in_name("a_1s_2s.png"),
+            NameTime::Ambiguous(vec!["1s".into(), "2s".into()])
+        );
+    }
+
+    #[test]
+    fn frames_from_names_without_frames_csv() {
+        let force = b"time_s,force_n\n0,0\n5,1\n".to_vec();
+        // Natural order and time order agree here; a `._` fork and other
+        // files are not frames.
+        let f = Files::new()
+            .with("img_10_t2.5s.tif", vec![])
+            .with("img_2_t0.5s.tif", vec![])
+            .with("img_9_t=2000ms.tif", vec![])
+            .with("._img_2_t0.5s.tif", vec![])
+            .with("notes.txt", vec![])
+            .with("force.csv", force.clone());
+        let s = Sequence::open(source(&f)).unwrap();
+        let got: Vec<(i64, f64, &str)> = s
+            .frames
+            .iter()
+            .map(|e| (e.frame, e.time_s, e.file.as_str()))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                (2, 0.5, "img_2_t0.5s.tif"),
+                (9, 2.0, "img_9_t=2000ms.tif"),
+                (10, 2.5, "img_10_t2.5s.tif")
+            ]
+        );
+        assert!(s.frames.iter().all(|e| e.listed.is_none()));
+        // Times in the names decide the order, not the names' own order
+        // (`t1.5s` sorts after `t1.25s` naturally).
+        let f = Files::new()
+            .with("t1.5s.png", vec![])
+            .with("t1.25s.png", vec![])
+            .with("force.csv", force.clone());
+        let s = Sequence::open(source(&f)).unwrap();
+        let got: Vec<(i64, &str)> = s
+            .frames
+            .iter()
+            .map(|e| (e.frame, e.file.as_str()))
+            .collect();
+        assert_eq!(got, [(0, "t1.25s.png"), (1, "t1.5s.png")]);
+        // A folder reads alike.
+        let dir = std::env::temp_dir().join(format!("hc-seq-names-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (name, bytes) in [
+            ("b_0100ms.png", vec![]),
+            ("a_0.2s.png", vec![]),
+            ("force.csv", force.clone()),
+        ] {
+            std::fs::write(dir.join(name), bytes).unwrap();
+        }
+        let s = Sequence::open(FileSource::Dir(dir.clone())).unwrap();
+        let got: Vec<&str> = s.frames.iter().map(|e| e.file.as_str()).collect();
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(got, ["b_0100ms.png", "a_0.2s.png"]);
+    }
+
+    #[test]
+    fn named_frames_errors_say_what_a_name_must_carry() {
+        let force = b"time_s,force_n\n0,0\n".to_vec();
+        let open = |names: &[&str]| {
+            let mut f = Files::new().with("force.csv", force.clone());
+            for name in names {
+                f = f.with(name, vec![]);
+            }
+            Sequence::open(source(&f)).err().unwrap().to_string()
+        };
+        let e = open(&["img_001_t0s.tif", "img_002.tif"]);
+        assert!(
+            e.contains("img_002.tif: has no time in its name") && e.contains("frames.csv (columns"),
+            "{e}"
+        );
+        let e = open(&["a_1s.png", "b_1000ms.png"]);
+        assert!(
+            e.contains("b_1000ms.png: has the time 1 s in its name, as a_1s.png"),
+            "{e}"
+        );
+        let e = open(&["a_1s_2ms.png", "b_3s.png"]);
+        assert!(
+            e.contains("a_1s_2ms.png: names more than one time (1s, 2ms)"),
+            "{e}"
+        );
+        let e = open(&["a_1s.png"]);
+        assert!(e.contains("a_1s.png: is the only frame"), "{e}");
+        let e = open(&["readme.txt"]);
+        assert!(
+            e.contains("frames.csv: missing, and there are no PNG/TIFF frames")
+                && e.contains("img_000_t0.000s.tif"),
+            "{e}"
+        );
+        // A frame named but gone by the time it is read: no listing line.
+        let f = Files::new()
+            .with("force.csv", force.clone())
+            .with("a_0s.png", vec![])
+            .with("b_1s.png", vec![]);
+        let mut s = Sequence::open(source(&f)).unwrap();
+        s.frames[1].file = "c_1s.png".into();
+        let e = s.frame(1).unwrap_err().to_string();
+        assert!(e.ends_with("c_1s.png: missing"), "{e}");
+    }
+
+    proptest::proptest! {
+        /// Any name is read without a panic; a time written with a unit
+        /// reads back.
+        #[test]
+        fn names_never_panic_and_written_times_read_back(
+            name in "\\PC{0,40}",
+            k in 0u32..100_000,
+            ms in 0u64..10_000_000,
+        ) {
+            let _ = time_in_name(&name);
+            let written = format!("img_{k:05}_t{}.{:03}s.tif", ms / 1000, ms % 1000);
+            let read = time_in_name(&written);
+            proptest::prop_assert_eq!(
+                read,
+                NameTime::Time { time_s: ms as f64 / 1000.0, frame: Some(i64::from(k)) }
+            );
+            let written = format!("cam-{ms}ms.png");
+            let read = time_in_name(&written);
+            proptest::prop_assert_eq!(read, NameTime::Time { time_s: ms as f64 * 1e-3, frame: None });
+        }
     }
 }

@@ -122,7 +122,7 @@ pub struct Dic;
 pub struct DicTensileTable {
     /// UT, PT or BT
     pub mode: Vec<String>,
-    /// frame number from frames.csv
+    /// frame number from frames.csv (or the image file's name)
     pub frame: Vec<i64>,
     /// frame time
     #[column(unit = "s")]
@@ -148,7 +148,8 @@ static INFO: StageInfo = StageInfo {
     version: 1,
     summary: "Digital image correlation of a tensile test: stretch, strain, force, nominal stress per frame",
     doc: "Reads frames.csv, the images it lists (PNG/TIFF, 8/16 bit), force.csv and specimen.json \
-          from the `sequence` input or the folder `dir`. method `subset`: POIs on a grid in the \
+          from the `sequence` input or the folder `dir`; without frames.csv, the PNG/TIFF files \
+          whose names carry their time (img_0007_t1.25s.tif, as contact-images). method `subset`: POIs on a grid in the \
           ROI; FFT ZNCC integer seed, reliability-guided propagation, IC-GN with a first-order \
           shape function and bicubic B-spline interpolation (Pan et al. 2013), POIs below \
           `min_zncc` or not converged are invalid; incremental reference updating when the \
