@@ -69,4 +69,22 @@ pub enum ImageError {
          (reference-normalised intensity): no contrast to threshold"
     )]
     NoContrast { contact: f64, background: f64 },
+    #[error(
+        "column `camera_trigger` shows {exposures} complete exposures but the sequence has \
+         {frames} frames: match the frames to their exposures (a frame dropped, a test shot, \
+         the log started or stopped mid-sequence, or exposures shorter than the log's sample \
+         spacing), or give `clock_offset_s`"
+    )]
+    TriggerCount { exposures: usize, frames: usize },
+    #[error(
+        "column `camera_trigger`: exposure {index} lies {deviation_s} s from the clock offset \
+         the others agree on ({offset_s} s), more than two log samples ({tolerance_s} s): the \
+         exposures do not match the frame times (a dropped frame?); give `clock_offset_s`"
+    )]
+    TriggerMismatch {
+        index: usize,
+        deviation_s: f64,
+        offset_s: f64,
+        tolerance_s: f64,
+    },
 }

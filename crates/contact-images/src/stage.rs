@@ -12,7 +12,7 @@ use hypercontact_core::{
 };
 
 use crate::calibrated::{Calibrated, Level, segment_calibrated};
-use crate::sync::{contact_onset_s, force_onset_s};
+use crate::sync::{contact_onset_s, force_onset_s, trigger_offset_s};
 use crate::{Frame, ImageError, Mask, MultiOtsu, label, multi_otsu, otsu};
 
 /// How contact is told from the rest of a frame.
@@ -138,8 +138,10 @@ pub struct SyncTable {
     /// force-log time minus camera time
     #[column(unit = "s")]
     pub clock_offset_s: Vec<f64>,
-    /// 1 when estimated from first contact, 0 when given
+    /// 1 when estimated (from the trigger or first contact), 0 when given
     pub estimated: Vec<i64>,
+    /// how: given, trigger (the camera's exposure signal in force.csv) or first-contact
+    pub source: Vec<String>,
     /// force-log time at which the force leaves its baseline (NaN if given or not found)
     #[column(unit = "s")]
     pub force_onset_s: Vec<f64>,
@@ -183,13 +185,23 @@ static INFO: StageInfo = StageInfo {
           the darkest is contact. A0 = the frame's pixels (all pixels are the sample's); area = \
           contact pixels x pixel_m². Patches: 8-connected components. SYNC: force-log time = \
           camera time + clock_offset_s; force linearly interpolated at mid-exposure (time_s + \
-          exposure_s/2). Without clock_offset_s the offset is estimated as the time the force \
+          exposure_s/2). Without clock_offset_s, when force.csv has a column camera_trigger (the \
+          camera's exposure signal logged with the force: 0/1 or volts), each run of high \
+          samples is one exposure, its centre the mean of the middles of its rising and falling \
+          gaps, and the offset is the median of (centre - frame mid-exposure time); the \
+          exposures must match the frames one to one (good to a fraction of a log sample: \
+          within 5 ms at 50 Hz). Otherwise the offset is estimated as the time the force \
           leaves its baseline (detected at 6 robust sigma of the first 16 samples, at least \
           twice force_resolution_n, and dated back to the last sample at the baseline) minus \
           the time half-way between the last frame without contact and the first with, as the \
           calibrated method sees it (whatever `method` is: a global threshold finds \
           'contact' in every frame), so it needs reference_frame: good to about one frame \
-          interval when the sequence starts before contact. CONTACT_MAPS: for each \
+          interval when the sequence starts before contact, and late by both the position of \
+          the touch between two frames and the time the force takes to rise out of the log's \
+          noise (measured on synth-contact's rough samples at frame intervals of 2.3-12.3 s: \
+          1.1-3.7 s late, 0.30-0.46 of an interval, so the force was read 26-41 % high at \
+          A/A0 = 0.1 and 4-5 % at 0.5; log the camera's trigger when the load matters at low \
+          area). CONTACT_MAPS: for each \
           of map_fractions, the frame whose A/A0 is nearest, as mask_a<fraction>.png (8-bit, \
           255 = contact) and maps.csv (requested_area_fraction, area_fraction, frame, time_s, \
           force_n, file, pixel_m).",
@@ -248,7 +260,7 @@ impl Stage for ContactImages {
         // The reference frame: the calibrated method's flat field, and what
         // the first contact is found against when the clock offset is
         // estimated (a global threshold finds "contact" in every frame).
-        let estimate_offset = p.clock_offset_s.is_none();
+        let estimate_offset = p.clock_offset_s.is_none() && sequence.trigger.is_none();
         let reference = match (p.method, estimate_offset) {
             (Method::Calibrated, _) | (_, true) => {
                 if p.reference_frame >= n {
@@ -317,14 +329,27 @@ impl Stage for ContactImages {
         let mid_s = |k: usize| sequence.frames[k].time_s + 0.5 * p.exposure_s;
         let times_s: Vec<f64> = (0..n).map(mid_s).collect();
         let fractions: Vec<f64> = rows.iter().map(|r| r.fraction).collect();
-        let sync = match p.clock_offset_s {
-            Some(offset) => SyncTable {
+        let sync = match (p.clock_offset_s, &sequence.trigger) {
+            (Some(offset), _) => SyncTable {
                 clock_offset_s: vec![offset],
                 estimated: vec![0],
+                source: vec!["given".into()],
                 force_onset_s: vec![f64::NAN],
                 contact_onset_s: vec![f64::NAN],
             },
-            None => {
+            (None, Some(trigger)) => {
+                let log_s: Vec<f64> = sequence.force.iter().map(|(t, _)| *t).collect();
+                let offset = trigger_offset_s(&log_s, trigger, &times_s)
+                    .map_err(|e| StageError::file(sequence.display("force.csv"), e.to_string()))?;
+                SyncTable {
+                    clock_offset_s: vec![offset],
+                    estimated: vec![1],
+                    source: vec!["trigger".into()],
+                    force_onset_s: vec![f64::NAN],
+                    contact_onset_s: vec![f64::NAN],
+                }
+            }
+            (None, None) => {
                 let force = force_onset_s(&sequence.force, p.force_resolution_n)
                     .map_err(|e| StageError::file(sequence.display("force.csv"), e.to_string()))?;
                 let contact = contact_onset_s(&times_s, &onset_fractions);
@@ -341,6 +366,7 @@ impl Stage for ContactImages {
                 SyncTable {
                     clock_offset_s: vec![force - contact],
                     estimated: vec![1],
+                    source: vec!["first-contact".into()],
                     force_onset_s: vec![force],
                     contact_onset_s: vec![contact],
                 }
@@ -367,11 +393,7 @@ impl Stage for ContactImages {
         ctx.note(&format!(
             "{n} frames, A/A0 up to {:.4}, clock offset {offset:.4} s ({})",
             fractions.iter().copied().fold(0.0, f64::max),
-            if p.clock_offset_s.is_some() {
-                "given"
-            } else {
-                "estimated"
-            }
+            sync.source[0]
         ));
         let files = map_files(maps, &table, p)?;
         Ok(Outputs::new()

@@ -137,27 +137,59 @@ fn calibrated_area_within_a_quarter_clock_within_a_frame_and_otsu_is_off() {
     // Before contact the paper's Otsu splits the vignetted background.
     assert!(otsu.area_fraction[0] > 0.1, "{}", otsu.area_fraction[0]);
 
-    // The estimated clock offset, within one frame interval of the truth.
-    let interval = lab.rig.frame_interval_s[0];
-    let error = sync.clock_offset_s[0] - lab.rig.clock_offset_s[0];
-    eprintln!("clock offset error {error:.3} s, frame interval {interval:.3} s");
-    assert_eq!(sync.estimated, [1]);
-    assert!(error.abs() < interval, "{error} vs {interval}");
-    // With the true offset the forces are the true ones within the sensor's
+    // The lab logs the camera's trigger: the offset to a fraction of a log
+    // sample (20 ms), and the forces are the true ones within the sensor's
     // resolution and noise (and the ramp's linear force interpolation).
-    let (given, _) = analyse(
-        lab.sequence,
+    let error = sync.clock_offset_s[0] - lab.rig.clock_offset_s[0];
+    eprintln!("clock offset from the trigger: error {error:.4} s");
+    assert_eq!(sync.source, ["trigger"]);
+    assert!(error.abs() < 0.01, "{error}");
+    let close = |table: &ContactTable, what: &str| {
+        for k in 0..truth.frame.len() {
+            assert!(
+                (table.force_n[k] - truth.force_n[k]).abs() < 0.03 + 0.01 * truth.force_n[k],
+                "{what}, frame {k}: {} vs {}",
+                table.force_n[k],
+                truth.force_n[k]
+            );
+        }
+    };
+    close(&calibrated, "trigger");
+    let (given, given_sync) = analyse(
+        lab.sequence.clone(),
         &format!(r#"{{{ANALYSIS}, "clock_offset_s": 0.37}}"#),
     );
-    let last = truth.frame.len() - 1;
-    for k in 0..=last {
-        assert!(
-            (given.force_n[k] - truth.force_n[k]).abs() < 0.03 + 0.01 * truth.force_n[k],
-            "frame {k}: {} vs {}",
-            given.force_n[k],
-            truth.force_n[k]
-        );
-    }
+    assert_eq!(given_sync.source, ["given"]);
+    close(&given, "given");
+
+    // Without the trigger column: the offset from first contact, within one
+    // frame interval of the truth.
+    let (_, sync) = analyse(without_trigger(lab.sequence), &format!("{{{ANALYSIS}}}"));
+    let interval = lab.rig.frame_interval_s[0];
+    let error = sync.clock_offset_s[0] - lab.rig.clock_offset_s[0];
+    eprintln!(
+        "clock offset from first contact: error {error:.3} s, frame interval {interval:.3} s"
+    );
+    assert_eq!(
+        (sync.estimated[0], sync.source[0].as_str()),
+        (1, "first-contact")
+    );
+    assert!(error.abs() < interval, "{error} vs {interval}");
+}
+
+/// The lab's files with force.csv's `camera_trigger` column dropped.
+fn without_trigger(mut sequence: Files) -> Files {
+    let log = String::from_utf8(sequence.files["force.csv"].clone()).unwrap();
+    assert!(
+        log.starts_with("time_s,force_n,camera_trigger\n"),
+        "{log:.60}"
+    );
+    let cut: String = log
+        .lines()
+        .map(|line| format!("{}\n", line.rsplit_once(',').unwrap().0))
+        .collect();
+    sequence.files.insert("force.csv".into(), cut.into_bytes());
+    sequence
 }
 
 /// Patch counts need the camera's pixels to tile the solve's cells: turned

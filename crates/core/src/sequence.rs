@@ -30,6 +30,11 @@ pub struct Sequence<'a> {
     pub frames: Vec<FrameEntry>,
     /// (time_s, force_n), increasing in time.
     pub force: Vec<(f64, f64)>,
+    /// The camera's exposure signal logged beside the force (force.csv's
+    /// optional column `camera_trigger`), high at each force sample taken
+    /// while the shutter was open: 0/1, or volts (high above the middle of
+    /// the logged range).
+    pub trigger: Option<Vec<bool>>,
 }
 
 /// A decoded grey frame as the camera's integers: row-major
@@ -100,11 +105,14 @@ impl<'a> Sequence<'a> {
         } else {
             frames_from_names(&source)?
         };
-        let force = parse_force(&Log::read(&source, "force.csv", &["time_s", "force_n"])?)?;
+        let log = Log::read(&source, "force.csv", &["time_s", "force_n"])?;
+        let force = parse_force(&log)?;
+        let trigger = parse_trigger(&log)?;
         Ok(Sequence {
             source,
             frames,
             force,
+            trigger,
         })
     }
 
@@ -284,6 +292,29 @@ fn parse_frames(log: &Log) -> Result<Vec<FrameEntry>, StageError> {
         return Err(log.error("lists fewer than 2 frames".into()));
     }
     Ok(frames)
+}
+
+/// force.csv's optional `camera_trigger` column as high/low samples.
+fn parse_trigger(log: &Log) -> Result<Option<Vec<bool>>, StageError> {
+    if log.table.column("camera_trigger").is_err() {
+        return Ok(None);
+    }
+    let values = (0..log.rows())
+        .map(|row| log.number("camera_trigger", row))
+        .collect::<Result<Vec<f64>, StageError>>()?;
+    let (low, high) = values
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
+    if high <= low {
+        return Err(log.error(format!(
+            "column `camera_trigger` is {low} throughout: it never shows an exposure \
+             (log the camera's trigger output, or drop the column)"
+        )));
+    }
+    let middle = 0.5 * (low + high);
+    Ok(Some(values.iter().map(|&v| v > middle).collect()))
 }
 
 /// How a folder without `frames.csv` must look, for the errors.
@@ -489,6 +520,36 @@ mod tests {
         assert_eq!(s.frames[1].file, "b.png");
         let force = s.force_at(0.5, &s.frames[1]).unwrap();
         assert!((force - (1.0 + 0.48 / 0.5)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_trigger_column_is_read_as_high_and_low() {
+        let f = files(
+            "frame,time_s,file\n0,0.0,a.png\n1,0.5,b.png\n",
+            "time_s,force_n,camera_trigger\n0,0,0.02\n0.02,1,4.98\n0.04,1,5.01\n0.06,2,0\n",
+        );
+        let s = Sequence::open(source(&f)).unwrap();
+        assert_eq!(s.trigger, Some(vec![false, true, true, false]));
+        let f = files(
+            "frame,time_s,file\n0,0.0,a.png\n1,0.5,b.png\n",
+            "time_s,force_n\n0,0\n",
+        );
+        assert_eq!(Sequence::open(source(&f)).unwrap().trigger, None);
+        let f = files(
+            "frame,time_s,file\n0,0.0,a.png\n1,0.5,b.png\n",
+            "time_s,force_n,camera_trigger\n0,0,1\n0.02,1,1\n",
+        );
+        let e = Sequence::open(source(&f)).err().unwrap().to_string();
+        assert!(
+            e.contains("force.csv: column `camera_trigger` is 1 throughout"),
+            "{e}"
+        );
+        let f = files(
+            "frame,time_s,file\n0,0.0,a.png\n1,0.5,b.png\n",
+            "time_s,force_n,camera_trigger\n0,0,1\n0.02,1,high\n",
+        );
+        let e = Sequence::open(source(&f)).err().unwrap().to_string();
+        assert!(e.contains("line 3, column `camera_trigger`: `high`"), "{e}");
     }
 
     #[test]

@@ -13,7 +13,8 @@
 //! from a folder of real data): `frame_NNN.png` (16-bit grey; a camera of
 //! fewer bits writes its counts unscaled in the 16-bit container),
 //! `frames.csv` (`frame, time_s, file`; time_s = exposure start, camera
-//! clock), `force.csv` (`time_s, force_n`, sensor clock).
+//! clock), `force.csv` (`time_s, force_n`, sensor clock; with `trigger`,
+//! also `camera_trigger`: 1 at the samples taken while the shutter was open).
 
 pub mod rig;
 pub mod solve;
@@ -127,6 +128,9 @@ pub struct SynthContactParams {
     /// force-sensor clock minus camera clock
     #[param(default = 0.37, unit = "s", range = -3600.0..=3600.0)]
     pub clock_offset_s: f64,
+    /// log the camera's exposure signal beside the force (column camera_trigger, 0/1), as a DAQ wired to the camera's trigger output does
+    #[param(default = true)]
+    pub trigger: bool,
     /// relative tolerance of each contact solve (as `bem`)
     #[param(default = 1e-8, positive, range = ..=0.1)]
     pub tolerance: f64,
@@ -262,7 +266,7 @@ pub struct SynthContact;
 
 static INFO: StageInfo = StageInfo {
     kind: "synth-contact",
-    version: 1,
+    version: 2,
     summary: "Synthetic contact experiment: interference frames, frame times and force log \
               of a rough sample pressed onto glass, with the ground truth",
     doc: "The paper's in-situ rig (Section 3, Fig. 3). SAMPLE: the height map (use the \
@@ -294,7 +298,10 @@ static INFO: StageInfo = StageInfo {
           the true force at the ramp's penetration (linear between the solved frames, 0 \
           before contact), Gaussian noise `force_noise_n`, quantised to `force_resolution_n`, \
           sampled at `force_rate_hz` on the sensor's clock (sensor time = camera time + \
-          clock_offset_s) from 1 s (or two frame intervals) before the first frame to as long after the last. TRUTH (never \
+          clock_offset_s) from 1 s (or two frame intervals) before the first frame to as long after \
+          the last; with `trigger` (default) the log has a column camera_trigger, 1 at the \
+          samples taken while the shutter was open (a DAQ wired to the camera's trigger \
+          output), from which contact-images finds the clock offset. TRUTH (never \
           read by the analysis): `truth` per frame (penetration, A/A0 of the whole map and of \
           the camera's view, force), `truth_rig` (transform, pixel size, clock offset, \
           timing, solve grid), `truth_maps` (the true contact on the camera's pixels as 8-bit \
@@ -448,9 +455,18 @@ impl Stage for SynthContact {
         );
         let sensor = p.sensor();
         let decimals = sensor.decimals();
-        let mut force_csv = String::from("time_s,force_n\n");
+        let mut force_csv = String::from(if p.trigger {
+            "time_s,force_n,camera_trigger\n"
+        } else {
+            "time_s,force_n\n"
+        });
         for (t, f) in sensor.log(&ramp, |d| interpolate_force(&points, d), p.seed) {
-            force_csv.push_str(&format!("{t:.6},{f:.decimals$}\n"));
+            force_csv.push_str(&format!("{t:.6},{f:.decimals$}"));
+            if p.trigger {
+                let open = ramp.exposing(t - sensor.clock_offset_s);
+                force_csv.push_str(if open { ",1" } else { ",0" });
+            }
+            force_csv.push('\n');
         }
         files = files
             .with("frames.csv", frames_csv.into_bytes())

@@ -112,6 +112,13 @@ impl Ramp {
     pub fn end_s(&self) -> f64 {
         self.start_s(self.frames - 1) + self.exposure_s
     }
+
+    /// Whether the shutter is open at camera time t (the camera's trigger
+    /// output: high from an exposure's start to its end).
+    pub fn exposing(&self, t_s: f64) -> bool {
+        let k = (t_s / self.frame_interval_s).floor();
+        (0.0..self.frames as f64).contains(&k) && t_s - self.start_s(k as usize) < self.exposure_s
+    }
 }
 
 /// The force sensor: sampling rate, resolution (the logged value is a
@@ -182,6 +189,19 @@ pub fn interpolate_force(points: &[(f64, f64)], penetration_m: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_shutter_is_open_from_each_start_for_one_exposure() {
+        let ramp = Ramp::new(5, 1, 0.5, 1e-5, 1e-6, 0.05).unwrap();
+        let dt = ramp.frame_interval_s;
+        for k in 0..5 {
+            let start = ramp.start_s(k);
+            assert!(ramp.exposing(start) && ramp.exposing(start + 0.049));
+            assert!(!ramp.exposing(start + 0.051) && !ramp.exposing(start - 0.001));
+            assert!(!ramp.exposing(start + 0.5 * dt));
+        }
+        assert!(!ramp.exposing(-0.01) && !ramp.exposing(ramp.start_s(5) + 0.01));
+    }
 
     #[test]
     fn frames_hit_the_schedule() {
