@@ -15,6 +15,7 @@ pub fn registry() -> Registry {
     hypercontact_synth::register(&mut registry);
     hypercontact_dic::register(&mut registry);
     hypercontact_contact_images::register(&mut registry);
+    hypercontact_compare::register(&mut registry);
     hypercontact_report::register(&mut registry);
     registry
 }

@@ -331,7 +331,7 @@ fn the_quick_paper_pipeline_writes_the_report() {
     let t = tempfile::tempdir().unwrap();
     let out = run_pipeline(t.path(), "pipelines/quick.yaml", &[]);
     assert!(out.status.success(), "{}", text(&out));
-    assert!(text(&out).contains("45 ran, 0 cached"), "{}", text(&out));
+    assert!(text(&out).contains("49 ran, 0 cached"), "{}", text(&out));
     let report = t.path().join("out/report");
 
     // Issue 6: the images → DIC → fit chain recovers the generating
@@ -436,7 +436,8 @@ fn the_quick_paper_pipeline_writes_the_report() {
 
     // Issue 14: the contact experiment's tables for T1–T4, 16 frames each,
     // three before contact, then area and force growing towards A/A0 ≈ 0.9,
-    // the clock offset (0.37 s in synth-contact) found within a frame.
+    // the clock offset (0.37 s in synth-contact) found from the camera's
+    // trigger logged with the force.
     for n in 1..=4 {
         let contact = parquet(t.path(), &format!("t{n}-images/contact.parquet"));
         let area = contact.f64("area_fraction").unwrap();
@@ -455,7 +456,45 @@ fn the_quick_paper_pipeline_writes_the_report() {
         );
         let sync = parquet(t.path(), &format!("t{n}-images/sync.parquet"));
         let offset = sync.f64("clock_offset_s").unwrap()[0];
-        assert!((offset - 0.37).abs() < time[1] - time[0], "T{n}: {offset}");
+        assert_eq!(sync.str("source").unwrap()[0], "trigger");
+        assert!((offset - 0.37).abs() < 0.01, "T{n}: {offset}");
+        assert!(time[1] - time[0] > 0.05, "T{n}: {time:?}");
+    }
+
+    // Issue 15: the camera's view registered onto the stitched scan (the
+    // lab turned it 2.5° and shifted it by (150, -100) µm against the true
+    // surface; the stitched grid sits within about a scan pixel of the
+    // truth's), the maps overlapped, and the lab's own physics (the
+    // hyperelastic BEM) ranked first, profile theory's linear law last.
+    for n in 1..=4 {
+        let transform = parquet(t.path(), &format!("t{n}-compare/transform.parquet"));
+        assert_eq!(transform.str("against").unwrap()[0], "bem");
+        let angle = transform.f64("angle_deg").unwrap()[0];
+        let (x, y) = (
+            transform.f64("shift_x_m").unwrap()[0],
+            transform.f64("shift_y_m").unwrap()[0],
+        );
+        assert!((angle - 2.5).abs() < 0.2, "T{n}: {angle}°");
+        assert!((x - 150e-6).hypot(y + 100e-6) < 25e-6, "T{n}: ({x}, {y})");
+        let overlap = parquet(t.path(), &format!("t{n}-compare/overlap.parquet"));
+        assert_eq!(overlap.str("model").unwrap().len(), 6, "T{n}");
+        assert!(
+            overlap
+                .f64("dice")
+                .unwrap()
+                .iter()
+                .all(|d| (0.2..=1.0).contains(d))
+        );
+        let agreement = parquet(t.path(), &format!("t{n}-compare/agreement.parquet"));
+        let models = agreement.str("model").unwrap();
+        let rank = agreement.i64("rank").unwrap();
+        let rank_of = |m: &str| rank[models.iter().position(|x| x == m).unwrap()];
+        assert_eq!(
+            (rank_of("bem"), rank_of("icm-linear")),
+            (1, 4),
+            "T{n}: {rank:?}"
+        );
+        assert!(agreement.i64("points").unwrap().iter().all(|p| *p >= 8));
     }
     let otsu = parquet(t.path(), "t1-images-otsu/contact.parquet");
     assert_eq!(otsu.str("method").unwrap()[0], "otsu");
@@ -464,7 +503,7 @@ fn the_quick_paper_pipeline_writes_the_report() {
     // exactly that sample's downstream stages and the report.
     let again = run_pipeline(t.path(), "pipelines/quick.yaml", &[]);
     assert!(
-        text(&again).contains("0 ran, 34 cached, 11 temporary not needed"),
+        text(&again).contains("0 ran, 38 cached, 11 temporary not needed"),
         "{}",
         text(&again)
     );
@@ -475,7 +514,7 @@ fn the_quick_paper_pipeline_writes_the_report() {
     );
     assert!(changed.status.success(), "{}", text(&changed));
     assert!(
-        text(&changed).contains("4 ran, 30 cached, 11 temporary not needed"),
+        text(&changed).contains("5 ran, 33 cached, 11 temporary not needed"),
         "{}",
         text(&changed)
     );

@@ -11,7 +11,7 @@ use std::hint::black_box;
 
 use common::{SCAN_M, Spec, build};
 use criterion::{Criterion, criterion_group, criterion_main};
-use hypercontact_compare::{ObservedMask, PredictedMap, RegisterSettings, register};
+use hypercontact_compare::register::{ObservedMask, PredictedMap, RegisterSettings, register};
 
 fn registration(c: &mut Criterion) {
     let mut group = c.benchmark_group("register");

@@ -55,6 +55,12 @@ pub enum CompareError {
         map_y_mm: f64,
         min_overlap: f64,
     },
+    /// A load–area curve that cannot be read as one.
+    #[error("the load–area curve of {what}: {message}")]
+    Curve { what: String, message: String },
+    /// Two things to compare that share nothing to compare on.
+    #[error("{message}")]
+    NoOverlap { message: String },
     /// A step that cannot fail on checked inputs did (a bug to report).
     #[error("internal error: {0}")]
     Internal(String),

@@ -1,14 +1,28 @@
 //! Model against experiment (issue #15): the predicted contact map of a
-//! model set beside the contact the camera observed.
+//! model set beside the contact the camera observed, and the models'
+//! load–area curves against the measured one.
 //!
 //! - [`register`]: finds where the camera looked on the scanned sample — the
 //!   rotation, shift and scale that map the predicted contact map onto the
-//!   observed binary mask (the paper's Fig. 6 alignment, done by hand there).
+//!   observed binary mask (the paper's Fig. 6 alignment, done by hand there);
+//! - [`overlap`]: confusion counts and Dice/IoU/precision/recall of a
+//!   predicted and an observed map;
+//! - [`agreement`]: a model's load at the measured contact areas against the
+//!   measured load;
+//! - [`stage`]: the `contact-compare` stage.
 
+pub mod agreement;
 pub mod error;
+pub mod overlap;
 pub mod register;
+pub mod stage;
 
 pub use error::CompareError;
 pub use register::{
-    ObservedMask, PredictedMap, RegisterSettings, Registration, register, sample_predicted, zncc,
+    ObservedMask, PredictedMap, RegisterSettings, Registration, sample_predicted, zncc,
 };
+
+/// Adds this crate's stage to the registry.
+pub fn register(registry: &mut hypercontact_core::Registry) {
+    registry.add(stage::ContactCompare);
+}

@@ -6,7 +6,9 @@
 mod common;
 
 use common::{SCAN_M, Scene, Spec, build};
-use hypercontact_compare::{ObservedMask, PredictedMap, RegisterSettings, Registration, register};
+use hypercontact_compare::register::{
+    ObservedMask, PredictedMap, RegisterSettings, Registration, register,
+};
 use hypercontact_interference::Placement;
 
 /// The bounds.

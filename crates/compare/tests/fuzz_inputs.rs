@@ -1,0 +1,193 @@
+//! `contact-compare`'s readers on edited inputs: maps.csv, the mask PNGs
+//! and a model's maps.csv and pressure `.npy` of a small valid comparison,
+//! with bytes overwritten, inserted or cut. The stage returns a result or
+//! an error, never panics; the untouched inputs compare.
+
+use hypercontact_compare::stage::{ContactCompare, ContactCompareParams};
+use hypercontact_contact_images::stage::ContactTable;
+use hypercontact_core::png::{Pixels, encode_png};
+use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Schema, Stage};
+use hypercontact_fuzz::{config, splice};
+use hypercontact_interference::{CameraGrid, GapMap, Placement, resample};
+use proptest::prelude::*;
+
+const N: usize = 120;
+const DX_M: f64 = 2e-5;
+const CAMERA_PX: usize = 96;
+const CAMERA_M: f64 = 1e-5;
+
+fn surface() -> Field {
+    let values = hypercontact_synth::surface::SelfAffine {
+        hurst: 0.8,
+        rms_m: 5e-6,
+        lambda_min_m: 6e-5,
+        lambda_max_m: 1e-3,
+    }
+    .non_periodic(N, N, DX_M, 5);
+    Field::new(values, DX_M, DX_M).unwrap()
+}
+
+/// The heights above the level of `fraction` of the points, on the camera
+/// (turned 3°, shifted 0.1 mm), as an 8-bit mask PNG.
+fn mask_png(surface: &Field, fraction: f64) -> Vec<u8> {
+    let mut sorted: Vec<f64> = surface.values.iter().copied().collect();
+    sorted.sort_by(|a, b| b.total_cmp(a));
+    let level = sorted[(fraction * sorted.len() as f64) as usize];
+    let gap = surface.values.mapv(|h| level - h);
+    let seen = resample(
+        &GapMap {
+            gap_m: gap.view(),
+            dx_m: DX_M,
+            dy_m: DX_M,
+        },
+        &Placement {
+            angle_rad: 3f64.to_radians(),
+            shift_x_m: 1e-4,
+            shift_y_m: -5e-5,
+        },
+        &CameraGrid {
+            width_px: CAMERA_PX,
+            height_px: CAMERA_PX,
+            pixel_m: CAMERA_M,
+        },
+    )
+    .unwrap();
+    let pixels = seen
+        .iter()
+        .map(|g| if *g <= 0.0 { 255 } else { 0 })
+        .collect();
+    encode_png(CAMERA_PX as u32, CAMERA_PX as u32, Pixels::Gray8(pixels)).unwrap()
+}
+
+fn npy(values: ndarray::Array2<f64>) -> Vec<u8> {
+    let mut bytes = Vec::new();
+    Field::new(values, DX_M, DX_M)
+        .unwrap()
+        .write_npy(&mut bytes)
+        .unwrap();
+    bytes
+}
+
+/// A valid comparison: the observed maps, a "model" whose pressure is the
+/// heights above the median, and a measured curve.
+fn inputs(observed: Files, model: Files) -> Inputs {
+    let contact = ContactTable {
+        frame: vec![0, 1, 2],
+        time_s: vec![0.0, 1.0, 2.0],
+        force_n: vec![0.0, 1.0, 3.0],
+        area_fraction: vec![0.0, 0.3, 0.5],
+        contact_area_m2: vec![0.0; 3],
+        patches: vec![0; 3],
+        threshold: vec![0.0; 3],
+        method: vec!["calibrated".into(); 3],
+    };
+    Inputs::new()
+        .with("contact", Product::Table(contact.into_table()))
+        .with("observed_maps", Product::Files(observed))
+        .with("surface", Product::Field(surface()))
+        .with("model_maps.m", Product::Files(model))
+}
+
+fn observed() -> Files {
+    let s = surface();
+    Files::new()
+        .with("mask_a0.300.png", mask_png(&s, 0.3))
+        .with("mask_a0.500.png", mask_png(&s, 0.5))
+        .with(
+            "maps.csv",
+            b"requested_area_fraction,area_fraction,frame,time_s,force_n,file,pixel_m\n\
+              0.3,0.3,1,1.0,1.0,mask_a0.300.png,1e-5\n\
+              0.5,0.5,2,2.0,3.0,mask_a0.500.png,1e-5\n"
+                .to_vec(),
+        )
+}
+
+fn model() -> Files {
+    let s = surface();
+    let mut sorted: Vec<f64> = s.values.iter().copied().collect();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[sorted.len() / 2];
+    Files::new()
+        .with("pressure_a0.500.npy", npy(s.values.mapv(|h| (h - median).max(0.0) * 1e9)))
+        .with(
+            "maps.csv",
+            format!(
+                "requested_area_fraction,area_fraction,step,z_m,load_n,pressure_file,gap_file,dx_m,dy_m\n\
+                 0.5,0.5,3,0,2,pressure_a0.500.npy,gap_a0.500.npy,{DX_M},{DX_M}\n"
+            )
+            .into_bytes(),
+        )
+}
+
+fn compare(inputs: &Inputs) -> Result<(), String> {
+    let p = ContactCompareParams::default().check().unwrap();
+    ContactCompare
+        .run(&p, inputs, &Context::new("contact-compare"))
+        .map(|_| ())
+        .map_err(|e| e.to_string())
+}
+
+#[test]
+fn the_untouched_inputs_compare_and_missing_files_are_named() {
+    compare(&inputs(observed(), model())).unwrap();
+    let mut gone = observed();
+    gone.files.remove("mask_a0.500.png");
+    let e = compare(&inputs(gone, model())).unwrap_err();
+    assert!(
+        e.contains("observed_maps") && e.contains("mask_a0.500.png"),
+        "{e}"
+    );
+    let mut gone = model();
+    gone.files.remove("maps.csv");
+    let e = compare(&inputs(observed(), gone)).unwrap_err();
+    assert!(e.contains("model_maps.m") && e.contains("maps.csv"), "{e}");
+    let e = {
+        let p = serde_json::from_str::<ContactCompareParams>(r#"{"register_with": "bem"}"#)
+            .unwrap()
+            .check()
+            .unwrap();
+        ContactCompare
+            .run(
+                &p,
+                &inputs(observed(), model()),
+                &Context::new("contact-compare"),
+            )
+            .unwrap_err()
+            .to_string()
+    };
+    assert!(e.contains("register_with") && e.contains("m"), "{e}");
+}
+
+/// Overwrites (same length) or splices (length changed) of a byte string.
+fn edits() -> impl Strategy<Value = Vec<(usize, usize, Vec<u8>)>> {
+    prop::collection::vec(
+        prop_oneof![
+            3 => (any::<usize>(), prop::collection::vec(any::<u8>(), 1..4))
+                .prop_map(|(at, bytes)| (at, bytes.len(), bytes)),
+            1 => (
+                any::<usize>(),
+                prop_oneof![Just(0usize), 1usize..4, 0usize..300],
+                prop::collection::vec(any::<u8>(), 0..4),
+            ),
+        ],
+        1..5,
+    )
+}
+
+proptest! {
+    #![proptest_config(config(48))]
+
+    #[test]
+    fn edited_inputs_never_panic(which in 0usize..4, edits in edits()) {
+        let (mut obs, mut m) = (observed(), model());
+        let (files, name) = match which {
+            0 => (&mut obs, "maps.csv"),
+            1 => (&mut obs, "mask_a0.500.png"),
+            2 => (&mut m, "maps.csv"),
+            _ => (&mut m, "pressure_a0.500.npy"),
+        };
+        let bytes = files.files[name].clone();
+        files.files.insert(name.into(), splice(bytes, &edits));
+        let _ = compare(&inputs(obs, m));
+    }
+}

@@ -1,0 +1,278 @@
+//! `contact-compare` on the synthetic lab: for samples made from the T1–T4
+//! recipes at the quick pipeline's sizes, `synth-contact` renders the
+//! experiment (camera turned 2.5° and shifted against the scan),
+//! `contact-images` measures it, and the registration must recover the
+//! injected turn within 0.2° and shift within one camera pixel. The height
+//! map registered against is the true surface filtered to 20 µm by the
+//! filter `synth-contact` solves on, with its `bem` contact maps (the
+//! default prediction to register against), so the truth's transform is
+//! the answer (a stitched scan's grid sits a few µm from it: the
+//! pipelines report that transform, not this one).
+
+use hypercontact_compare::stage::{
+    AgreementTable, ContactCompare, ContactCompareParams, LoadRatioTable, OverlapTable,
+    RegistrationsTable, TransformTable,
+};
+use hypercontact_contact_images::stage::{ContactImages, ContactImagesParams, ContactTable};
+use hypercontact_core::contact::ResponseTable;
+use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Schema, Stage, Table};
+use hypercontact_synth::contact::{RigTruthTable, SynthContact, SynthContactParams};
+
+/// Hurst exponent, rms height and seed of data/samples/T1.yaml … T4.yaml.
+const RECIPES: [(&str, f64, f64, u64); 4] = [
+    ("T1", 0.65, 15e-6, 101),
+    ("T2", 0.72, 11e-6, 202),
+    ("T3", 0.8, 8e-6, 303),
+    ("T4", 0.88, 5.5e-6, 404),
+];
+
+/// The quick pipeline's sample: ~2.76 mm square at 4 µm.
+fn sample(hurst: f64, rms_m: f64, seed: u64) -> Field {
+    let n = 690;
+    let values = hypercontact_synth::surface::SelfAffine {
+        hurst,
+        rms_m,
+        lambda_min_m: 2e-5,
+        lambda_max_m: 5e-3,
+    }
+    .non_periodic(n, n, 4e-6, seed);
+    Field::new(values, 4e-6, 4e-6).unwrap()
+}
+
+fn table(out: &hypercontact_core::Outputs, name: &str) -> Table {
+    match out.get(name) {
+        Some(Product::Table(t)) => t.clone(),
+        _ => panic!("no table {name}"),
+    }
+}
+
+fn files(out: &hypercontact_core::Outputs, name: &str) -> Files {
+    match out.get(name) {
+        Some(Product::Files(f)) => f.clone(),
+        _ => panic!("no files {name}"),
+    }
+}
+
+/// The lab, the analysis and the comparison of one sample.
+struct Run {
+    rig: RigTruthTable,
+    contact: ContactTable,
+    transform: TransformTable,
+    registrations: RegistrationsTable,
+    overlap: OverlapTable,
+    agreement: AgreementTable,
+    load_ratio: LoadRatioTable,
+    figures: Files,
+}
+
+fn run(surface: Field, compare: &str, responses: &[(&str, f64)]) -> Run {
+    let material = hypercontact_material::presets::preset("paper-epdm").unwrap();
+    let lab_params = serde_json::from_str::<SynthContactParams>(
+        r#"{"width_px": 512, "height_px": 512, "magnification": 1.5, "frames": 12}"#,
+    )
+    .unwrap()
+    .check()
+    .unwrap();
+    let lab = SynthContact
+        .run(
+            &lab_params,
+            &Inputs::new()
+                .with("surface", Product::Field(surface.clone()))
+                .with(
+                    "material",
+                    Product::Table(hypercontact_material::table::to_table(material.as_ref())),
+                ),
+            &Context::new("synth-contact"),
+        )
+        .unwrap();
+    let rig = RigTruthTable::from_table(&table(&lab, "truth_rig")).unwrap();
+    let images_params = serde_json::from_str::<ContactImagesParams>(
+        r#"{"pixel_m": 4.3333333333e-6, "exposure_s": 0.05}"#,
+    )
+    .unwrap()
+    .check()
+    .unwrap();
+    let images = ContactImages
+        .run(
+            &images_params,
+            &Inputs::new().with("sequence", Product::Files(files(&lab, "sequence"))),
+            &Context::new("contact-images"),
+        )
+        .unwrap();
+    let contact = ContactTable::from_table(&table(&images, "contact")).unwrap();
+    // The scan the comparison sees: the truth on synth-contact's solve grid.
+    let filtered = hypercontact_surface::filter::gaussian_resample(
+        &surface.values,
+        surface.dx_m,
+        surface.dy_m,
+        2e-5,
+    );
+    let scan = Field::new(filtered, 2e-5, 2e-5).unwrap();
+    let bem_params = serde_json::from_str::<hypercontact_bem::stage::BemParams>(
+        r#"{"map_fractions": [0.1, 0.5, 0.9]}"#,
+    )
+    .unwrap()
+    .check()
+    .unwrap();
+    let bem = hypercontact_bem::stage::Bem
+        .run(
+            &bem_params,
+            &Inputs::new()
+                .with("surface", Product::Field(scan.clone()))
+                .with(
+                    "material",
+                    Product::Table(hypercontact_material::table::to_table(material.as_ref())),
+                ),
+            &Context::new("bem"),
+        )
+        .unwrap();
+    let mut inputs = Inputs::new()
+        .with(
+            "model_maps.bem",
+            Product::Files(files(&bem, "contact_maps")),
+        )
+        .with("contact", Product::Table(table(&images, "contact")))
+        .with(
+            "observed_maps",
+            Product::Files(files(&images, "contact_maps")),
+        )
+        .with("surface", Product::Field(scan));
+    for (label, factor) in responses {
+        let response = ResponseTable {
+            z_m: vec![0.0; contact.frame.len()],
+            area_fraction: contact.area_fraction.clone(),
+            load_n: contact.force_n.iter().map(|f| f * factor).collect(),
+            load_norm: vec![0.0; contact.frame.len()],
+            mean_stress_pa: vec![0.0; contact.frame.len()],
+            tangent_ratio: vec![1.0; contact.frame.len()],
+        };
+        inputs = inputs.with(
+            &format!("responses.{label}"),
+            Product::Table(response.into_table()),
+        );
+    }
+    let p = serde_json::from_str::<ContactCompareParams>(compare)
+        .unwrap()
+        .check()
+        .unwrap();
+    let out = ContactCompare
+        .run(&p, &inputs, &Context::new("contact-compare"))
+        .unwrap();
+    Run {
+        rig,
+        contact,
+        transform: TransformTable::from_table(&table(&out, "transform")).unwrap(),
+        registrations: RegistrationsTable::from_table(&table(&out, "registrations")).unwrap(),
+        overlap: OverlapTable::from_table(&table(&out, "overlap")).unwrap(),
+        agreement: AgreementTable::from_table(&table(&out, "agreement")).unwrap(),
+        load_ratio: LoadRatioTable::from_table(&table(&out, "load_ratio")).unwrap(),
+        figures: files(&out, "figures"),
+    }
+}
+
+#[test]
+fn registration_recovers_the_injected_turn_and_shift_on_t1_to_t4() {
+    for (name, hurst, rms_m, seed) in RECIPES {
+        let r = run(sample(hurst, rms_m, seed), "{}", &[]);
+        let t = &r.transform;
+        let pixel_m = r.rig.pixel_m[0];
+        let angle_error = t.angle_deg[0] - r.rig.angle_rad[0].to_degrees();
+        let shift_error =
+            (t.shift_x_m[0] - r.rig.shift_x_m[0]).hypot(t.shift_y_m[0] - r.rig.shift_y_m[0]);
+        eprintln!(
+            "{name}: turn {:.4}° (error {angle_error:+.4}°, sd {:.4}°), shift ({:.2}, {:.2}) µm \
+             (error {:.2} µm = {:.2} camera px), scale {:.4}, ZNCC {:.3} at frame {} (A/A0 {:.3})",
+            t.angle_deg[0],
+            t.angle_sd_deg[0],
+            t.shift_x_m[0] * 1e6,
+            t.shift_y_m[0] * 1e6,
+            shift_error * 1e6,
+            shift_error / pixel_m,
+            t.scale[0],
+            t.zncc[0],
+            t.frame[0],
+            t.area_fraction[0],
+        );
+        for k in 0..r.registrations.frame.len() {
+            eprintln!(
+                "  frame {} (A/A0 {:.3}): turn {:.4}°, shift ({:.2}, {:.2}) µm, ZNCC {:.3}",
+                r.registrations.frame[k],
+                r.registrations.area_fraction[k],
+                r.registrations.angle_deg[k],
+                r.registrations.shift_x_m[k] * 1e6,
+                r.registrations.shift_y_m[k] * 1e6,
+                r.registrations.zncc[k]
+            );
+        }
+        assert!(angle_error.abs() < 0.2, "{name}: {angle_error}°");
+        assert!(shift_error < pixel_m, "{name}: {} µm", shift_error * 1e6);
+        assert!(
+            (t.scale[0] - 1.0).abs() < 0.01,
+            "{name}: scale {}",
+            t.scale[0]
+        );
+        assert_eq!(t.registrations[0], 3);
+        assert_eq!(t.against, ["bem"]);
+        assert!(t.angle_sd_deg[0].is_finite());
+        // The lab's physics is the BEM's: its maps overlap the observed
+        // ones at least as well as profile theory's at every frame.
+        assert_eq!(r.overlap.model.len(), 6);
+        for k in 0..r.overlap.model.len() {
+            eprintln!(
+                "  {} at A/A0 {:.3} (its map {:.3}): Dice {:.3}, precision {:.3}, recall {:.3}",
+                r.overlap.model[k],
+                r.overlap.area_fraction[k],
+                r.overlap.model_area_fraction[k],
+                r.overlap.dice[k],
+                r.overlap.precision[k],
+                r.overlap.recall[k]
+            );
+        }
+        for k in (0..6).step_by(2) {
+            assert_eq!(
+                (&*r.overlap.model[k], &*r.overlap.model[k + 1]),
+                ("truncation", "bem")
+            );
+            assert!(
+                r.overlap.dice[k + 1] >= r.overlap.dice[k],
+                "{name}, row {k}"
+            );
+        }
+        assert!(
+            r.figures
+                .files
+                .contains_key("overlay_truncation_a0.500.png")
+        );
+        assert!(r.figures.files.contains_key("overlay_bem_a0.500.png"));
+    }
+}
+
+/// A model equal to the experiment scores 0 and ranks first; the same load
+/// doubled scores ln 2 and ranks below it; the load ratio says 1 and 2.
+#[test]
+fn agreement_ranks_the_experiment_itself_first_and_a_doubled_load_below() {
+    let (_, hurst, rms_m, seed) = RECIPES[2];
+    let r = run(
+        sample(hurst, rms_m, seed),
+        r#"{"area_fractions": [0.1, 0.5]}"#,
+        &[("double", 2.0), ("itself", 1.0)],
+    );
+    let a = &r.agreement;
+    assert_eq!(a.model, ["double", "itself"]);
+    assert_eq!(a.rank, [2, 1]);
+    assert_eq!(a.rms_log_ratio[1], 0.0);
+    assert_eq!(a.outside_model, [0, 0]);
+    assert!((a.rms_log_ratio[0] - 2f64.ln()).abs() < 1e-12);
+    let scored = r
+        .contact
+        .area_fraction
+        .iter()
+        .zip(&r.contact.force_n)
+        .filter(|(a, f)| (0.01..=0.9).contains(*a) && **f > 0.0)
+        .count();
+    assert_eq!(a.points[1], scored as i64);
+    assert_eq!(r.load_ratio.model, ["double", "double", "itself", "itself"]);
+    for (k, want) in [2.0, 2.0, 1.0, 1.0].iter().enumerate() {
+        assert!((r.load_ratio.load_ratio[k] - want).abs() < 1e-12);
+    }
+}
