@@ -495,7 +495,46 @@ fn the_quick_paper_pipeline_writes_the_report() {
             "T{n}: {rank:?}"
         );
         assert!(agreement.i64("points").unwrap().iter().all(|p| *p >= 8));
+        // The report's summary.json repeats them exactly.
+        let json = &samples[n - 1]["agreement"];
+        let rms = agreement.f64("rms_log_ratio").unwrap();
+        for (k, model) in models.iter().enumerate() {
+            assert_eq!(json[k]["model"], model.as_str(), "T{n}");
+            assert_eq!(
+                json[k]["rms_log_ratio"].as_f64().unwrap(),
+                rms[k],
+                "T{n} {model}"
+            );
+            assert_eq!(json[k]["rank"].as_i64().unwrap(), rank[k], "T{n} {model}");
+        }
+        assert_eq!(
+            samples[n - 1]["transform"]["angle_deg"].as_f64().unwrap(),
+            angle
+        );
     }
+    // Fig. 6 (T1: observed, predicted and overlay maps with a scale bar) and
+    // the experiment's points in Fig. 7, with the agreement table under it.
+    assert!(html.contains("<figure id=\"fig6\">"), "no Fig. 6");
+    for name in [
+        "observed_a0.500",
+        "overlay_bem_a0.500",
+        "predicted_truncation_a0.100",
+    ] {
+        let png = std::fs::read(report.join(format!("fig6_T1_{name}.png"))).unwrap();
+        let image = image::load_from_memory(&png).unwrap();
+        assert_eq!((image.width(), image.height()), (512, 512), "{name}");
+    }
+    assert!(html.contains("Agreement of the models with the contact experiment"));
+    assert!(html.contains("Registration of the camera"));
+    let fig7 = std::fs::read_to_string(report.join("fig7.svg")).unwrap();
+    assert!(
+        fig7.contains(">\nexperiment\n</text>"),
+        "Fig. 7 has no experiment key"
+    );
+    assert!(
+        fig7.matches("<circle").count() >= 4 * 12,
+        "Fig. 7: too few measured points"
+    );
     let otsu = parquet(t.path(), "t1-images-otsu/contact.parquet");
     assert_eq!(otsu.str("method").unwrap()[0], "otsu");
 

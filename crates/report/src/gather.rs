@@ -9,8 +9,10 @@
 
 use std::collections::BTreeMap;
 
+use hypercontact_compare::stage::{AgreementTable, LoadRatioTable, TransformTable};
+use hypercontact_contact_images::stage::ContactTable;
 use hypercontact_core::contact::ResponseTable;
-use hypercontact_core::{Field, Inputs, Mode, Product, Schema, Table};
+use hypercontact_core::{Field, Files, Inputs, Mode, Product, Schema, Table};
 use hypercontact_material::fit_stage::{
     ComparisonTable, CurvesTable, ParamsTable, QualityTable, StabilityTable,
 };
@@ -69,6 +71,17 @@ pub struct Response {
     /// The E0* that `load_norm` was divided by; `None` when no row carries
     /// load.
     pub e0_star_pa: Option<f64>,
+    /// 1/(E0* A0): `load_norm` per newton of load, to put a measured force
+    /// on the same axis; `None` when no row carries load.
+    pub per_newton: Option<f64>,
+}
+
+/// The contact experiment's measured curve (contact-images' `contact`
+/// table), in frame order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Experiment {
+    pub area_fraction: Vec<f64>,
+    pub force_n: Vec<f64>,
 }
 
 /// Everything the report knows about one sample.
@@ -88,9 +101,24 @@ pub struct Sample<'a> {
     /// Hyperelastic and linear boundary elements.
     pub bem: Option<Response>,
     pub bem_linear: Option<Response>,
+    /// The contact experiment and its comparison with the models
+    /// (contact-images, contact-compare).
+    pub experiment: Option<Experiment>,
+    pub agreement: Option<AgreementTable>,
+    pub load_ratio: Option<LoadRatioTable>,
+    pub transform: Option<TransformTable>,
+    pub compare_figures: Option<&'a Files>,
 }
 
 impl Sample<'_> {
+    /// `load_norm` per newton for this sample's measured forces: that of
+    /// its first wired response carrying load.
+    pub fn per_newton(&self) -> Option<f64> {
+        self.responses()
+            .into_iter()
+            .find_map(|(_, r)| r.and_then(|r| r.per_newton))
+    }
+
     /// Every wired contact-model response with its input's name.
     pub fn responses(&self) -> [(&'static str, Option<&Response>); 4] {
         [
@@ -356,6 +384,44 @@ fn read_samples(inputs: &Inputs) -> Result<Vec<Sample<'_>>, ReportError> {
             *field = Some(r);
         }
     }
+    for (label, t) in labelled(inputs, "experiments", |input, p| {
+        let t: ContactTable = sample_table(input, p)?;
+        finite!(input, t.area_fraction)?;
+        finite!(input, t.force_n)?;
+        Ok(t)
+    })? {
+        slot(&mut map, label).experiment = Some(Experiment {
+            area_fraction: t.area_fraction,
+            force_n: t.force_n,
+        });
+    }
+    for (label, t) in labelled(inputs, "agreement", sample_table::<AgreementTable>)? {
+        slot(&mut map, label).agreement = Some(t);
+    }
+    for (label, t) in labelled(inputs, "load_ratio", sample_table::<LoadRatioTable>)? {
+        slot(&mut map, label).load_ratio = Some(t);
+    }
+    for (label, t) in labelled(inputs, "transforms", |input, p| {
+        let t: TransformTable = sample_table(input, p)?;
+        if t.angle_deg.len() != 1 {
+            return Err(ReportError::input(
+                input,
+                format!("has {} rows; a transform table has one", t.angle_deg.len()),
+            ));
+        }
+        Ok(t)
+    })? {
+        slot(&mut map, label).transform = Some(t);
+    }
+    for (label, f) in labelled(inputs, "compare_figures", |input, p| match p {
+        Product::Files(f) => Ok(f),
+        other => Err(ReportError::input(
+            input,
+            format!("is a {}, expected files", other.kind()),
+        )),
+    })? {
+        slot(&mut map, label).compare_figures = Some(f);
+    }
     let mut samples: Vec<Sample<'_>> = map.into_values().collect();
     samples.sort_by_key(|s| natural_key(&s.label));
     Ok(samples)
@@ -425,7 +491,16 @@ pub(crate) fn read_response(input: &str, table: ResponseTable) -> Result<Respons
         load_norm,
         tangent_ratio,
         e0_star_pa: normalising_modulus_pa(&table),
+        per_newton: load_norm_per_newton(&table),
     })
+}
+
+/// load_norm / load_n at the most loaded row (1/(E0* A0)).
+fn load_norm_per_newton(table: &ResponseTable) -> Option<f64> {
+    let row =
+        (0..table.load_n.len()).max_by(|&i, &j| table.load_n[i].total_cmp(&table.load_n[j]))?;
+    let (f, norm) = (table.load_n[row], table.load_norm[row]);
+    (f > 0.0 && norm > 0.0 && f.is_finite()).then(|| norm / f)
 }
 
 /// The E0* of `load_norm` = F/(E0* A0), from the table's own columns:

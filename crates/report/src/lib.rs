@@ -15,6 +15,7 @@
 //! [`report::render_report`] with it; the stage passes none yet.
 
 pub mod error;
+pub mod experiment;
 pub mod figures;
 pub mod gather;
 pub mod html;

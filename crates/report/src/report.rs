@@ -12,7 +12,7 @@ use crate::figures::fig4::Fig4;
 use crate::figures::fig7::{Fig7, SampleResponses};
 use crate::figures::fig8::Fig8;
 use crate::figures::{Rendered, render};
-use crate::gather::ReportData;
+use crate::gather::{ReportData, Response};
 use crate::html::{escape, fmt_sig, generic_table, page, provenance_section, simple_table};
 use crate::material::MaterialSummary;
 use crate::summary::{FigureStatus, Summary};
@@ -92,9 +92,36 @@ fn responses<'a>(data: &'a ReportData<'a>, hyperelastic_only: bool) -> Vec<Sampl
             linear: s.response_linear.as_ref().filter(|_| !hyperelastic_only),
             bem: s.bem.as_ref(),
             bem_linear: s.bem_linear.as_ref().filter(|_| !hyperelastic_only),
+            experiment: if hyperelastic_only {
+                None
+            } else {
+                experiment_points(s)
+            },
         })
         .filter(|s| s.curves().next().is_some())
         .collect()
+}
+
+/// The sample's measured (A/A0, F) on Fig. 7's axes: F/(E0* A0) with the
+/// E0* A0 of its responses; frames without load (before contact, or noise
+/// at or below zero) cannot be drawn on the log axis.
+fn experiment_points(s: &crate::gather::Sample<'_>) -> Option<Response> {
+    let e = s.experiment.as_ref()?;
+    let per_newton = s.per_newton()?;
+    let (area_fraction, load_norm): (Vec<f64>, Vec<f64>) = e
+        .area_fraction
+        .iter()
+        .zip(&e.force_n)
+        .filter(|(a, f)| **a > 0.0 && **f > 0.0)
+        .map(|(a, f)| (*a, f * per_newton))
+        .unzip();
+    (!area_fraction.is_empty()).then(|| Response {
+        tangent_ratio: vec![f64::NAN; area_fraction.len()],
+        area_fraction,
+        load_norm,
+        e0_star_pa: None,
+        per_newton: Some(per_newton),
+    })
 }
 
 /// Decides on and renders one figure.
@@ -233,8 +260,11 @@ const CAPTIONS: [(&str, &str, &str); 4] = [
          hyperelastic tangent modulus (solid) and with the constant modulus of the linear \
          model (dashed). Where boundary-element responses (BEM: the same map as an elastic \
          half-space, with the coupling between asperities that profile theory leaves out) \
-         are wired, one panel per sample on common axes: ICM black, BEM vermillion, same \
-         strokes for the two laws.",
+         or the contact experiment are wired, one panel per sample on common axes, as the \
+         paper draws model against experiment: the measured points as blue circles (the \
+         measured force over the models' E<sub>0</sub>* A<sub>0</sub>; the measured area is \
+         the camera's view), hyperelastic ICM black solid, linear ICM black dashed, \
+         hyperelastic BEM vermillion dotted, linear BEM vermillion dashed.",
     ),
     (
         "fig8",
@@ -579,10 +609,21 @@ pub fn build_report(
     if let Some(o) = by_name("fig4") {
         body.push_str(&figure_html(o));
     }
+    let (fig6_html, fig6_images) = crate::experiment::fig6(data)?;
+    let compared = data
+        .samples
+        .iter()
+        .any(|s| s.compare_figures.is_some() || s.transform.is_some());
+    if compared {
+        body.push_str("<h2>Contact experiment: observed against predicted contact</h2>\n");
+        body.push_str(&fig6_html);
+        body.push_str(&crate::experiment::transform_table(data));
+    }
     body.push_str("<h2>Contact: incremental contact model and boundary elements</h2>\n");
     if let Some(o) = by_name("fig7") {
         body.push_str(&figure_html(o));
     }
+    body.push_str(&crate::experiment::agreement_table(data));
     body.push_str(&icm_bem_table(&summary));
     if let Some(o) = by_name("fig8") {
         body.push_str(&figure_html(o));
@@ -594,6 +635,9 @@ pub fn build_report(
     let mut files = Files::new()
         .with("index.html", page(&options.title, &body).into_bytes())
         .with("summary.json", summary.to_json());
+    for (name, png) in fig6_images {
+        files = files.with(&name, png);
+    }
     for o in outcomes {
         if let Some(r) = o.rendered {
             files = files

@@ -2,6 +2,8 @@
 //! comparison and a per-sample summary, as one `Files` product `report`
 //! (`index.html`, `figN.png`, `figN.svg`, `summary.json`).
 
+use hypercontact_compare::stage::{AgreementTable, LoadRatioTable, TransformTable};
+use hypercontact_contact_images::stage::ContactTable;
 use hypercontact_core::contact::ResponseTable;
 use hypercontact_core::{
     Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, Stage, StageError, StageInfo,
@@ -54,8 +56,8 @@ pub struct Report;
 
 static INFO: StageInfo = StageInfo {
     kind: "report",
-    version: 3,
-    summary: "HTML report with the paper's Figs. 2, 4, 7, 8 (PNG + SVG), Table 1 and a summary",
+    version: 4,
+    summary: "HTML report with the paper's Figs. 2, 4, 6, 7, 8 (PNG + SVG), Table 1 and a summary",
     doc: "Every input is optional: a figure whose inputs are not wired is skipped and the \
           page says why (e.g. a pipeline without the tensile branch still gets Figs. 4, 7 \
           and 8). Per-sample inputs are labelled by sample (`responses: {T1: icm1, ...}`); \
@@ -65,7 +67,11 @@ static INFO: StageInfo = StageInfo {
           log-log least-squares fit); Fig. 7 any of `responses`, `responses_linear` (ICM, \
           hyperelastic and linear), `responses_bem`, `responses_bem_linear` (boundary \
           elements), with the ICM/BEM load ratio at `area_fractions` per sample and law where \
-          both are wired; Fig. 8 `responses` and/or `responses_bem`. Table 1 decodes `material` and gives its initial moduli μ0, E0 and \
+          both are wired, and the measured points of `experiments` (contact-images' contact, \
+          the force over the models' E0* A0) with the agreement table of `agreement` and \
+          `load_ratio` (contact-compare) under it; Fig. 6 the first sample's \
+          `compare_figures` (observed, predicted and overlay maps at one scale with a bar) with \
+          the registrations of `transforms`; Fig. 8 `responses` and/or `responses_bem`. Table 1 decodes `material` and gives its initial moduli μ0, E0 and \
           E0* at Poisson's ratio `poisson`. One E0* on the page: each wired response must \
           have been normalised by Table 1's (its E0* is mean_stress_pa · area_fraction / \
           load_norm, from the response alone), and a wired `params` must be the fit of \
@@ -116,6 +122,31 @@ static INFO: StageInfo = StageInfo {
             "responses_bem_linear",
             Arity::Many,
             "linear boundary elements per sample",
+        ),
+        InputSpec::table::<ContactTable>(
+            "experiments",
+            Arity::Many,
+            "contact experiment per sample (contact-images' contact): Fig. 7's symbols",
+        ),
+        InputSpec::table::<AgreementTable>(
+            "agreement",
+            Arity::Many,
+            "contact-compare's agreement per sample: the table under Fig. 7",
+        ),
+        InputSpec::table::<LoadRatioTable>(
+            "load_ratio",
+            Arity::Many,
+            "contact-compare's load ratios per sample",
+        ),
+        InputSpec::table::<TransformTable>(
+            "transforms",
+            Arity::Many,
+            "contact-compare's registration per sample",
+        ),
+        InputSpec::files(
+            "compare_figures",
+            Arity::Many,
+            "contact-compare's figures per sample: Fig. 6 (the first sample wired)",
         ),
     ],
     outputs: &[OutputSpec::files(

@@ -6,7 +6,7 @@
 use serde::Serialize;
 use serde_json::{Map, Value};
 
-use hypercontact_core::{ColumnData, Table};
+use hypercontact_core::{ColumnData, Schema, Table};
 
 use crate::gather::{ReportData, Response};
 use crate::interp::interpolate;
@@ -52,6 +52,11 @@ pub struct SampleSummary {
     pub hurst_radial: Option<f64>,
     /// F/(E0* A0) read off each response at the requested A/A0.
     pub load_norm: Vec<LoadAtArea>,
+    /// contact-compare's tables as they are: the models against the
+    /// experiment, and the registration of the camera onto the scan.
+    pub agreement: Option<Vec<Map<String, Value>>>,
+    pub load_ratio: Option<Vec<Map<String, Value>>>,
+    pub transform: Option<Map<String, Value>>,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -191,6 +196,12 @@ impl Summary {
                             .iter()
                             .map(|&a| LoadAtArea::read(s, a))
                             .collect(),
+                        agreement: s.agreement.clone().map(|t| table_rows(&t.into_table())),
+                        load_ratio: s.load_ratio.clone().map(|t| table_rows(&t.into_table())),
+                        transform: s
+                            .transform
+                            .clone()
+                            .and_then(|t| table_rows(&t.into_table()).into_iter().next()),
                     }
                 })
                 .collect(),

@@ -536,3 +536,131 @@ fn bem_alone_draws_figs_7_and_8() {
     assert!(l["bem_hyperelastic"].as_f64().is_some());
     assert!(l["hyperelastic"].is_null() && l["icm_over_bem"].is_null());
 }
+
+/// A 40 × 40 RGB PNG of one colour.
+fn flat_png(rgb: [u8; 3]) -> Vec<u8> {
+    let pixels: Vec<u8> = (0..40 * 40).flat_map(|_| rgb).collect();
+    hypercontact_core::png::encode_png(40, 40, hypercontact_core::png::Pixels::Rgb8(pixels))
+        .unwrap()
+}
+
+/// T1 with the contact experiment and contact-compare's products.
+fn with_experiment() -> Inputs {
+    use hypercontact_compare::stage::{AgreementTable, LoadRatioTable, TransformTable};
+    use hypercontact_contact_images::stage::ContactTable;
+    let mut inputs = common::inputs(ALL, MAP_N, LEVELS);
+    let table = |t: Table| std::sync::Arc::new(Product::Table(t));
+    let experiment = ContactTable {
+        frame: (0..7).collect(),
+        time_s: (0..7).map(f64::from).collect(),
+        // Frame 1 before contact, frame 2 a noisy negative force: not drawn.
+        force_n: vec![0.0, 0.0, -0.01, 0.5, 2.0, 5.0, 9.0],
+        area_fraction: vec![0.0, 0.0, 0.01, 0.1, 0.3, 0.6, 0.85],
+        contact_area_m2: vec![0.0; 7],
+        patches: vec![0; 7],
+        threshold: vec![0.0; 7],
+        method: vec!["calibrated".into(); 7],
+    };
+    inputs.insert("experiments.T1", table(experiment.into_table()));
+    let agreement = AgreementTable {
+        model: vec!["icm".into(), "bem".into()],
+        rms_log_ratio: vec![1.25, 0.125],
+        mean_log_ratio: vec![-1.0, -0.1],
+        points: vec![4, 4],
+        outside_model: vec![0, 0],
+        rank: vec![2, 1],
+    };
+    inputs.insert("agreement.T1", table(agreement.into_table()));
+    let ratios = LoadRatioTable {
+        model: vec!["icm".into(), "bem".into()],
+        area_fraction: vec![0.5, 0.5],
+        load_ratio: vec![0.375, f64::NAN],
+    };
+    inputs.insert("load_ratio.T1", table(ratios.into_table()));
+    let transform = TransformTable {
+        against: vec!["truncation".into()],
+        frame: vec![5],
+        area_fraction: vec![0.6],
+        angle_deg: vec![2.5],
+        shift_x_m: vec![1.5e-4],
+        shift_y_m: vec![-1e-4],
+        scale: vec![1.0],
+        zncc: vec![0.8],
+        registrations: vec![1],
+        angle_sd_deg: vec![f64::NAN],
+        shift_x_sd_m: vec![f64::NAN],
+        shift_y_sd_m: vec![f64::NAN],
+        scale_sd: vec![f64::NAN],
+    };
+    inputs.insert("transforms.T1", table(transform.into_table()));
+    let figures = Files::new()
+        .with("observed_a0.500.png", flat_png([0, 0, 0]))
+        .with("predicted_truncation_a0.500.png", flat_png([255, 255, 255]))
+        .with("overlay_truncation_a0.500.png", flat_png([213, 94, 0]))
+        .with(
+            "figures.csv",
+            b"model,requested_area_fraction,area_fraction,model_area_fraction,frame,observed_file,\
+              predicted_file,overlay_file,pixel_m,width_px,height_px\n\
+              truncation,0.5,0.6,0.6,5,observed_a0.500.png,predicted_truncation_a0.500.png,\
+              overlay_truncation_a0.500.png,1e-5,40,40\n"
+                .to_vec(),
+        );
+    inputs.insert(
+        "compare_figures.T1",
+        std::sync::Arc::new(Product::Files(figures)),
+    );
+    inputs
+}
+
+#[test]
+fn the_experiment_adds_fig6_its_points_in_fig7_and_the_agreement_table() {
+    let files = run(&with_experiment());
+    let html = text(&files, "index.html");
+    assert!(html.contains("<figure id=\"fig6\">"));
+    // 40 px of 10 µm: the bar is the longest of the list under a quarter
+    // of the 0.4 mm width, 100 µm, drawn into each panel's copy.
+    assert!(html.contains("bar = 100 µm"), "no scale");
+    for name in ["observed", "predicted_truncation", "overlay_truncation"] {
+        let png = &files.files[&format!("fig6_T1_{name}_a0.500.png")];
+        let image = image::load_from_memory(png).unwrap().into_rgb8();
+        // Bar pixels black on a white margin, at the lower left.
+        let black = image.pixels().filter(|p| p.0 == [0, 0, 0]).count();
+        assert!(name == "observed" || black >= 10, "{name}: {black}");
+    }
+    let registration = &html[html.find("Registration of the camera").unwrap()..];
+    assert!(registration.contains("<td>T1</td><td>truncation</td><td>5 (0.6)</td><td>2.5</td>"));
+    // Agreement: best first, a missing ratio as n/a.
+    let agreement = &html[html.find("Agreement of the models").unwrap()..];
+    let agreement = &agreement[..agreement.find("</table>").unwrap()];
+    let bem = agreement
+        .find("<td>T1</td><td>1</td><td>bem</td><td>0.125</td>")
+        .unwrap();
+    let icm = agreement
+        .find("<td>T1</td><td>2</td><td>icm</td><td>1.25</td>")
+        .unwrap();
+    assert!(
+        bem < icm && agreement.contains("<td>n/a</td>") && agreement.contains("<td>0.375</td>")
+    );
+    assert!(html.contains("synthetic lab"));
+    // Fig. 7: four measured points (positive area and force) and the key.
+    let fig7 = text(&files, "fig7.svg");
+    assert_eq!(fig7.matches("<circle").count(), 4 + 1);
+    // summary.json: the tables as they are (NaN as null).
+    let summary: Value = serde_json::from_slice(&files.files["summary.json"]).unwrap();
+    let t1 = &summary["samples"][0];
+    assert_eq!(t1["agreement"][1]["rms_log_ratio"], 0.125);
+    assert!(t1["load_ratio"][1]["load_ratio"].is_null());
+    assert_eq!(t1["transform"]["angle_deg"], 2.5);
+    assert!(summary["samples"][1]["agreement"].is_null());
+    // A figures product without its listing is named.
+    let mut broken = with_experiment();
+    broken.insert(
+        "compare_figures.T1",
+        std::sync::Arc::new(Product::Files(Files::new())),
+    );
+    let e = run_with(&ReportParams::default(), &broken).unwrap_err();
+    assert!(
+        e.contains("compare_figures.T1") && e.contains("figures.csv"),
+        "{e}"
+    );
+}

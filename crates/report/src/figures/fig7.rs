@@ -4,10 +4,13 @@
 //!
 //! With the incremental contact model alone it is the paper's single panel:
 //! every sample in its colour, hyperelastic ICM solid and linear (Wang's
-//! original) ICM dashed. Where boundary-element responses are wired, one
-//! panel per sample on common axes instead (sixteen curves in one panel
-//! cannot be told apart): colour = model (ICM black, BEM vermillion), stroke
-//! = law (hyperelastic solid, linear dashed).
+//! original) ICM dashed. Where boundary-element responses or the contact
+//! experiment are wired, one panel per sample on common axes instead
+//! (sixteen curves in one panel cannot be told apart), as the paper draws
+//! model against experiment: the experiment as circles (Okabe–Ito blue),
+//! the models as lines, colour = model (ICM black, BEM vermillion), stroke =
+//! law (hyperelastic ICM solid, linear ICM dashed, hyperelastic BEM dotted,
+//! linear BEM dashed).
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -32,6 +35,8 @@ pub struct SampleResponses<'a> {
     pub bem: Option<&'a Response>,
     /// Linear boundary elements.
     pub bem_linear: Option<&'a Response>,
+    /// The contact experiment: (A/A0, F/(E0* A0)), positive loads only.
+    pub experiment: Option<Response>,
 }
 
 /// The four curves a sample can have.
@@ -57,7 +62,8 @@ impl Curve {
 
     fn line(self) -> Line {
         match self {
-            Curve::Icm | Curve::Bem => Line::Solid,
+            Curve::Icm => Line::Solid,
+            Curve::Bem => Line::Dotted,
             Curve::IcmLinear | Curve::BemLinear => Line::Dashed,
         }
     }
@@ -71,6 +77,8 @@ impl Curve {
 /// the boundary elements).
 const ICM_COLOUR: RGBColor = RGBColor(0, 0, 0);
 const BEM_COLOUR: RGBColor = RGBColor(213, 94, 0);
+/// The experiment's symbols (Okabe–Ito blue).
+const EXPERIMENT_COLOUR: RGBColor = RGBColor(0, 114, 178);
 
 impl<'a> SampleResponses<'a> {
     /// The wired curves, in the key's order.
@@ -121,7 +129,7 @@ impl Fig7<'_> {
     fn per_sample(&self) -> bool {
         self.samples
             .iter()
-            .any(|s| s.curves().any(|(_, c)| c.is_bem()))
+            .any(|s| s.experiment.is_some() || s.curves().any(|(_, c)| c.is_bem()))
     }
 
     fn rows(&self) -> usize {
@@ -129,7 +137,11 @@ impl Fig7<'_> {
     }
 
     fn ranges(&self) -> Ranges {
-        let responses = || self.samples.iter().flat_map(|s| s.curves().map(|(r, _)| r));
+        let responses = || {
+            self.samples
+                .iter()
+                .flat_map(|s| s.curves().map(|(r, _)| r).chain(s.experiment.as_ref()))
+        };
         let (y_lo, y_hi) = log_range(responses().flat_map(|r| r.load_norm.iter().copied()), 5.0);
         let x_hi = responses()
             .flat_map(|r| r.area_fraction.iter().copied())
@@ -237,11 +249,13 @@ impl Fig7<'_> {
             colour.stroke_width(if c.is_bem() { 3 } else { 2 })
         };
         let panels = plot.split_evenly((self.rows(), COLUMNS));
+        let measured = EXPERIMENT_COLOUR.stroke_width(2);
         for (area, s) in panels.iter().zip(&self.samples) {
-            let curves: Vec<_> = s.curves().map(|(r, c)| (r, style(c), c.line())).collect();
+            let mut curves: Vec<_> = s.curves().map(|(r, c)| (r, style(c), c.line())).collect();
+            curves.extend(s.experiment.as_ref().map(|e| (e, measured, Line::Circles)));
             self.panel(area, sizes, ranges, Some(s.label), &curves)?;
         }
-        Ok(Curve::ALL
+        let mut legend: Vec<LegendEntry> = Curve::ALL
             .into_iter()
             .filter(|&c| self.samples.iter().any(|s| s.curves().any(|(_, k)| k == c)))
             .map(|c| LegendEntry {
@@ -249,7 +263,15 @@ impl Fig7<'_> {
                 style: style(c),
                 line: c.line(),
             })
-            .collect())
+            .collect();
+        if self.samples.iter().any(|s| s.experiment.is_some()) {
+            legend.push(LegendEntry {
+                label: "experiment".into(),
+                style: measured,
+                line: Line::Circles,
+            });
+        }
+        Ok(legend)
     }
 }
 

@@ -169,13 +169,18 @@ pub enum Line {
     Solid,
     Dashed,
     Dotted,
+    /// Not a line: a circle at every point (measured data).
+    Circles,
 }
 
+/// Radius of [`Line::Circles`]' symbols, pixels.
+const CIRCLE_PX: i32 = 5;
+
 impl Line {
-    /// (dash, gap) in pixels along the curve; `None` when solid.
+    /// (dash, gap) in pixels along the curve; `None` when solid (or not a line).
     pub fn pattern(self) -> Option<(u32, u32)> {
         match self {
-            Line::Solid => None,
+            Line::Solid | Line::Circles => None,
             Line::Dashed => Some((12, 8)),
             Line::Dotted => Some((2, 6)),
         }
@@ -191,6 +196,16 @@ pub fn draw_curve<DB: DrawingBackend>(
     style: ShapeStyle,
 ) -> Result<(), ReportError> {
     let err = |e| ReportError::plot(figure, e);
+    if line == Line::Circles {
+        return chart
+            .draw_series(
+                points
+                    .into_iter()
+                    .map(|p| Circle::new(p, CIRCLE_PX, style.stroke_width(2))),
+            )
+            .map(|_| ())
+            .map_err(err);
+    }
     match line.pattern() {
         None => chart
             .draw_series(LineSeries::new(points, style))
@@ -228,6 +243,11 @@ pub fn draw_legend<DB: DrawingBackend>(
         match e.line {
             Line::Solid => area.draw(&solid_swatch((x, yy), swatch_px, e.style)),
             Line::Dashed => area.draw(&dashed_swatch((x, yy), swatch_px, e.style)),
+            Line::Circles => area.draw(&Circle::new(
+                (x + swatch_px / 2, yy),
+                CIRCLE_PX,
+                e.style.stroke_width(2),
+            )),
             Line::Dotted => {
                 let (dash, gap) = e.line.pattern().unwrap_or((1, 0));
                 area.draw(&DashedPathElement::new(

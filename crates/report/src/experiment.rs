@@ -1,0 +1,394 @@
+//! The contact experiment against the models (contact-compare's products):
+//! Fig. 6, the observed and predicted contact maps of one sample side by
+//! side and overlaid, each with a scale bar; the registration of every
+//! sample; and the agreement table under Fig. 7.
+
+use hypercontact_core::{FileSource, Files};
+use image::{Rgb, RgbImage};
+
+use crate::ReportError;
+use crate::gather::{ReportData, Sample};
+use crate::html::{escape, fmt_sig, simple_table};
+
+/// Scale-bar lengths tried, metres (the longest not above a quarter of the
+/// image is drawn).
+const BAR_LENGTHS_M: [f64; 12] = [
+    5e-6, 1e-5, 2e-5, 5e-5, 1e-4, 2e-4, 5e-4, 1e-3, 2e-3, 5e-3, 1e-2, 2e-2,
+];
+
+/// A file name and its PNG bytes.
+pub type NamedPng = (String, Vec<u8>);
+
+/// One row of contact-compare's figures.csv.
+struct FigureRow {
+    model: String,
+    requested: f64,
+    area_fraction: f64,
+    model_area_fraction: f64,
+    frame: i64,
+    observed: String,
+    predicted: String,
+    overlay: String,
+    pixel_m: f64,
+}
+
+fn read_rows(label: &str, files: &Files) -> Result<Vec<FigureRow>, ReportError> {
+    let input = format!("compare_figures.{label}");
+    let source = FileSource::Files {
+        files,
+        input: input.clone(),
+    };
+    let table = source
+        .read_csv("figures.csv")
+        .map_err(|e| ReportError::input(&input, e.to_string()))?;
+    let err = |e: hypercontact_core::TableError| ReportError::table(&input, e);
+    let text = |name: &str| -> Result<Vec<String>, ReportError> {
+        match table.column(name).map_err(err)? {
+            hypercontact_core::ColumnData::Str(v) => Ok(v.clone()),
+            other => Err(ReportError::input(
+                &input,
+                format!(
+                    "figures.csv column `{name}` holds {:?} values, not names",
+                    other.dtype()
+                ),
+            )),
+        }
+    };
+    let number = |name: &str| table.to_f64(name).map_err(err);
+    let (model, observed, predicted, overlay) = (
+        text("model")?,
+        text("observed_file")?,
+        text("predicted_file")?,
+        text("overlay_file")?,
+    );
+    let (requested, area, model_area, frame, pixel) = (
+        number("requested_area_fraction")?,
+        number("area_fraction")?,
+        number("model_area_fraction")?,
+        number("frame")?,
+        number("pixel_m")?,
+    );
+    Ok((0..model.len())
+        .map(|k| FigureRow {
+            model: model[k].clone(),
+            requested: requested[k],
+            area_fraction: area[k],
+            model_area_fraction: model_area[k],
+            frame: frame[k] as i64,
+            observed: observed[k].clone(),
+            predicted: predicted[k].clone(),
+            overlay: overlay[k].clone(),
+            pixel_m: pixel[k],
+        })
+        .collect())
+}
+
+/// An RGB PNG of the figures with a scale bar of `bar_px` drawn at its
+/// lower left (black on a white margin), as a data URI for the page.
+fn with_bar(input: &str, name: &str, bytes: &[u8], bar_px: u32) -> Result<Vec<u8>, ReportError> {
+    let mut image: RgbImage = image::load_from_memory(bytes)
+        .map_err(|e| ReportError::input(input, format!("{name}: {e}")))?
+        .into_rgb8();
+    let (w, h) = image.dimensions();
+    let thick = (h / 60).max(2);
+    let margin = (w / 40).max(2);
+    let (x0, y1) = (margin, h.saturating_sub(margin));
+    let y0 = y1.saturating_sub(thick);
+    let pad = (thick / 2).max(1);
+    for y in y0.saturating_sub(pad)..(y1 + pad).min(h) {
+        for x in x0.saturating_sub(pad)..(x0 + bar_px + pad).min(w) {
+            let inside = y >= y0 && y < y1 && x >= x0 && x < x0 + bar_px;
+            image.put_pixel(
+                x,
+                y,
+                if inside {
+                    Rgb([0, 0, 0])
+                } else {
+                    Rgb([255, 255, 255])
+                },
+            );
+        }
+    }
+    let mut png = Vec::new();
+    image
+        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+        .map_err(|e| ReportError::input(input, format!("{name}: {e}")))?;
+    Ok(png)
+}
+
+fn data_uri(png: &[u8]) -> String {
+    use base64::Engine;
+    format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(png)
+    )
+}
+
+/// A length for the bar, as the caption writes it.
+fn length_text(m: f64) -> String {
+    if m >= 1e-3 {
+        format!("{} mm", fmt_sig(m * 1e3, 3))
+    } else {
+        format!("{} µm", fmt_sig(m * 1e6, 3))
+    }
+}
+
+/// Fig. 6 for the first sample with contact-compare's figures: per mapped
+/// area fraction, the observed map, and each model's predicted map and its
+/// overlay on the observed one; every image at one scale with one bar.
+/// Returns the HTML and the images it embeds (also written beside it).
+pub fn fig6(data: &ReportData<'_>) -> Result<(String, Vec<NamedPng>), ReportError> {
+    let Some(sample) = data.samples.iter().find(|s| s.compare_figures.is_some()) else {
+        return Ok((
+            "<p class=\"skipped\" id=\"fig6\"><b>Fig. 6</b> skipped: no `compare_figures` \
+             (contact-compare's figures) is wired.</p>\n"
+                .into(),
+            Vec::new(),
+        ));
+    };
+    let files = sample.compare_figures.expect("found above");
+    let input = format!("compare_figures.{}", sample.label);
+    let rows = read_rows(&sample.label, files)?;
+    let Some(first) = rows.first() else {
+        return Ok((
+            format!(
+                "<p class=\"skipped\" id=\"fig6\"><b>Fig. 6</b> skipped: {} lists no map.</p>\n",
+                escape(&input)
+            ),
+            Vec::new(),
+        ));
+    };
+    let width_px = {
+        let bytes = files
+            .files
+            .get(&first.observed)
+            .ok_or_else(|| ReportError::input(&input, format!("{} is missing", first.observed)))?;
+        image::load_from_memory(bytes)
+            .map_err(|e| ReportError::input(&input, format!("{}: {e}", first.observed)))?
+            .width()
+    };
+    let width_m = f64::from(width_px) * first.pixel_m;
+    let bar_m = BAR_LENGTHS_M
+        .iter()
+        .copied()
+        .rfind(|l| *l <= 0.25 * width_m)
+        .unwrap_or(BAR_LENGTHS_M[0]);
+    let bar_px = (bar_m / first.pixel_m).round() as u32;
+    let mut models: Vec<&str> = Vec::new();
+    for r in &rows {
+        if !models.contains(&r.model.as_str()) {
+            models.push(&r.model);
+        }
+    }
+    let mut requested: Vec<f64> = Vec::new();
+    for r in &rows {
+        if !requested.contains(&r.requested) {
+            requested.push(r.requested);
+        }
+    }
+    let mut images = Vec::new();
+    let mut cell = |name: &str| -> Result<String, ReportError> {
+        let bytes = files
+            .files
+            .get(name)
+            .ok_or_else(|| ReportError::input(&input, format!("{name} is missing")))?;
+        let png = with_bar(&input, name, bytes, bar_px)?;
+        let out = format!("fig6_{}_{name}", sample.label);
+        let html = format!(
+            "<td><img src=\"{}\" alt=\"{}\" style=\"width:100%\"></td>",
+            data_uri(&png),
+            escape(&out)
+        );
+        images.push((out, png));
+        Ok(html)
+    };
+    let mut html = String::from(
+        "<figure id=\"fig6\"><table class=\"fig6\"><thead><tr><th></th><th>observed</th>",
+    );
+    for m in &models {
+        html.push_str(&format!(
+            "<th>{} predicted</th><th>{} overlay</th>",
+            escape(m),
+            escape(m)
+        ));
+    }
+    html.push_str("</tr></thead><tbody>\n");
+    for &want in &requested {
+        let of_fraction: Vec<&FigureRow> = rows.iter().filter(|r| r.requested == want).collect();
+        let head = of_fraction[0];
+        html.push_str(&format!(
+            "<tr><th>frame {}<br>A/A<sub>0</sub> = {}</th>{}",
+            head.frame,
+            fmt_sig(head.area_fraction, 3),
+            cell(&head.observed)?
+        ));
+        for m in &models {
+            match of_fraction.iter().find(|r| r.model == *m) {
+                Some(r) => {
+                    html.push_str(&cell(&r.predicted)?);
+                    html.push_str(&cell(&r.overlay)?);
+                }
+                None => html.push_str("<td></td><td></td>"),
+            }
+        }
+        html.push_str("</tr>\n");
+    }
+    html.push_str(&format!(
+        "</tbody></table><figcaption><b>Fig. 6.</b> Sample {}: contact observed by the camera \
+         (black) and predicted by each model on the registered scan, at the mapped frames; \
+         overlay: black = contact in both, vermillion = predicted only, sky blue = observed \
+         only, white = neither, grey = off the scan. Truncation = the height map cut at the \
+         observed A/A<sub>0</sub> (profile theory); a model's map is its own at the nearest \
+         A/A<sub>0</sub> ({}). All panels at one scale: bar = {}.</figcaption></figure>\n",
+        escape(&sample.label),
+        rows.iter()
+            .filter(|r| r.model != "truncation")
+            .map(|r| format!("{} {}", escape(&r.model), fmt_sig(r.model_area_fraction, 3)))
+            .collect::<Vec<_>>()
+            .join(", "),
+        length_text(bar_m),
+    ));
+    Ok((html, images))
+}
+
+/// The registration of each sample's camera view onto its scan.
+pub fn transform_table(data: &ReportData<'_>) -> String {
+    let rows: Vec<Vec<String>> = data
+        .samples
+        .iter()
+        .filter_map(|s| Some((s, s.transform.as_ref()?)))
+        .map(|(s, t)| {
+            let pm = |v: f64, sd: f64, scale: f64, digits: usize| {
+                if sd.is_finite() {
+                    format!(
+                        "{} ± {}",
+                        fmt_sig(v * scale, digits),
+                        fmt_sig(sd * scale, 2)
+                    )
+                } else {
+                    fmt_sig(v * scale, digits)
+                }
+            };
+            vec![
+                escape(&s.label),
+                escape(&t.against[0]),
+                format!("{} ({})", t.frame[0], fmt_sig(t.area_fraction[0], 3)),
+                pm(t.angle_deg[0], t.angle_sd_deg[0], 1.0, 4),
+                pm(t.shift_x_m[0], t.shift_x_sd_m[0], 1e6, 4),
+                pm(t.shift_y_m[0], t.shift_y_sd_m[0], 1e6, 4),
+                pm(t.scale[0], t.scale_sd[0], 1.0, 5),
+                fmt_sig(t.zncc[0], 3),
+            ]
+        })
+        .collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    let header: Vec<String> = [
+        "sample",
+        "registered against",
+        "frame (A/A<sub>0</sub>)",
+        "turn (°)",
+        "shift x (µm)",
+        "shift y (µm)",
+        "scale",
+        "ZNCC",
+    ]
+    .map(String::from)
+    .to_vec();
+    let mut html = simple_table(
+        "Registration of the camera's view onto the scan (contact-compare)",
+        &header,
+        &rows,
+    );
+    html.push_str(
+        "<p class=\"note\">The camera pixel at p from the frame's centre sees the scan point \
+         R(turn) p + shift from the scan's centre; scale = the camera's pixel on the sample \
+         over the nominal one. ± = standard deviation of the registrations made at each mapped \
+         frame on its own.</p>\n",
+    );
+    html
+}
+
+/// The agreement of each model's load–area curve with the experiment, per
+/// sample, best first, with the load ratios.
+pub fn agreement_table(data: &ReportData<'_>) -> String {
+    let samples: Vec<&Sample<'_>> = data
+        .samples
+        .iter()
+        .filter(|s| s.agreement.is_some())
+        .collect();
+    if samples.is_empty() {
+        return String::new();
+    }
+    let mut fractions: Vec<f64> = Vec::new();
+    for s in &samples {
+        for &a in s.load_ratio.iter().flat_map(|r| &r.area_fraction) {
+            if !fractions.contains(&a) {
+                fractions.push(a);
+            }
+        }
+    }
+    let mut rows = Vec::new();
+    for s in &samples {
+        let a = s.agreement.as_ref().expect("filtered above");
+        let mut order: Vec<usize> = (0..a.model.len()).collect();
+        order.sort_by_key(|&k| a.rank[k]);
+        for k in order {
+            let mut row = vec![
+                escape(&s.label),
+                a.rank[k].to_string(),
+                escape(&a.model[k]),
+                fmt_sig(a.rms_log_ratio[k], 3),
+                fmt_sig(a.mean_log_ratio[k], 3),
+                a.points[k].to_string(),
+            ];
+            for &want in &fractions {
+                let ratio = s.load_ratio.as_ref().and_then(|r| {
+                    (0..r.model.len())
+                        .find(|&i| r.model[i] == a.model[k] && r.area_fraction[i] == want)
+                        .map(|i| r.load_ratio[i])
+                });
+                row.push(match ratio {
+                    Some(v) if v.is_finite() => fmt_sig(v, 3),
+                    _ => "n/a".into(),
+                });
+            }
+            rows.push(row);
+        }
+    }
+    let mut header: Vec<String> = [
+        "sample",
+        "rank",
+        "model",
+        "rms ln(F<sub>model</sub>/F<sub>exp</sub>)",
+        "mean ln(F<sub>model</sub>/F<sub>exp</sub>)",
+        "frames",
+    ]
+    .map(String::from)
+    .to_vec();
+    header.extend(
+        fractions
+            .iter()
+            .map(|a| format!("F<sub>model</sub>/F<sub>exp</sub> at A/A<sub>0</sub> = {a}")),
+    );
+    let mut html = simple_table(
+        "Agreement of the models with the contact experiment (load at equal contact area)",
+        &header,
+        &rows,
+    );
+    html.push_str(
+        "<p class=\"note\">At every measured frame in the scored range the model's load at the \
+         measured A/A<sub>0</sub> (interpolated log-log on its curve, never extrapolated) over \
+         the measured force; rank 1 = the smallest rms. A mean below 0: the model reaches the \
+         area at a smaller load than measured. The measured A/A<sub>0</sub> is that of the \
+         camera's view, the models' that of the whole scan. <b>What the score measures \
+         depends on where the images come from.</b> When the experiment is the synthetic \
+         lab's (<code>synth-contact</code>, as in the shipped pipelines), its physics is the \
+         hyperelastic BEM on the true surface: against it the hyperelastic BEM's score \
+         measures only what the image analysis, the clock sync and the scan (stitching, \
+         filtering) add, and the ICM's score what profile theory misses. On a lab's real \
+         images every model is judged alike, against the rubber itself.</p>\n",
+    );
+    html
+}
