@@ -477,14 +477,26 @@ fn the_quick_paper_pipeline_writes_the_report() {
         assert!((angle - 2.5).abs() < 0.2, "T{n}: {angle}°");
         assert!((x - 150e-6).hypot(y + 100e-6) < 25e-6, "T{n}: ({x}, {y})");
         let overlap = parquet(t.path(), &format!("t{n}-compare/overlap.parquet"));
-        assert_eq!(overlap.str("model").unwrap().len(), 6, "T{n}");
-        assert!(
-            overlap
-                .f64("dice")
-                .unwrap()
-                .iter()
-                .all(|d| (0.2..=1.0).contains(d))
-        );
+        // Six mapped frames (map_fractions 0.05 … 0.9) × truncation and bem.
+        assert_eq!(overlap.str("model").unwrap().len(), 12, "T{n}");
+        // Where the lab's physics (bem) predicts contact, the camera mostly
+        // sees it (precision 0.83-1 measured; a map placed at random would
+        // score about the frame's A/A0). Dice also depends on how near the
+        // bem map's A/A0 is to the frame's: T2 at 0.16 against 0.09, 0.37.
+        let dice = overlap.f64("dice").unwrap();
+        let precision = overlap.f64("precision").unwrap();
+        let area = overlap.f64("area_fraction").unwrap();
+        for (k, model) in overlap.str("model").unwrap().iter().enumerate() {
+            assert!((0.0..=1.0).contains(&dice[k]), "T{n}: {}", dice[k]);
+            if model == "bem" && area[k] >= 0.1 {
+                assert!(
+                    precision[k] > 0.75,
+                    "T{n}: bem precision {} at {}",
+                    precision[k],
+                    area[k]
+                );
+            }
+        }
         let agreement = parquet(t.path(), &format!("t{n}-compare/agreement.parquet"));
         let models = agreement.str("model").unwrap();
         let rank = agreement.i64("rank").unwrap();

@@ -33,6 +33,9 @@ pub struct ContactCompareParams {
     pub register_at: f64,
     /// the prediction registered against: `truncation` (the height map cut at the observed A/A0) or a label of `model_maps` (default: the first model_maps label, else truncation)
     pub register_with: Option<String>,
+    /// maps with less measured contact are not registered (a handful of spots pins no turn); they are still scored
+    #[param(default = 0.02, range = 0.0..=1.0)]
+    pub min_register_fraction: f64,
     /// the camera's expected turn against the scan
     #[param(default = 0.0, unit = "deg", range = -180.0..=180.0)]
     pub angle_deg: f64,
@@ -54,6 +57,9 @@ pub struct ContactCompareParams {
     /// A/A0 at which the load ratio F_model / F_experiment is reported
     #[param(default = vec![0.1, 0.5, 0.9], positive, range = ..=1.0)]
     pub area_fractions: Vec<f64>,
+    /// the observed maps drawn as figures, by their requested A/A0 (contact-images' map_fractions); every map is scored
+    #[param(default = vec![0.1, 0.5, 0.9], range = 0.0..=1.0)]
+    pub figure_fractions: Vec<f64>,
     /// the figures' longest side (the camera's maps are subsampled to it)
     #[param(default = 1024, unit = "px", range = 16..=16384)]
     pub figure_px: usize,
@@ -96,7 +102,7 @@ pub struct TransformTable {
     pub zncc: Vec<f64>,
     /// maps registered independently (for the spreads below)
     pub registrations: Vec<i64>,
-    /// standard deviation of the angle over the independent registrations (NaN for one)
+    /// robust standard deviation (1.4826 MAD) of the angle over the independent registrations (NaN for one)
     #[column(unit = "deg")]
     pub angle_sd_deg: Vec<f64>,
     /// the same for shift_x_m
@@ -185,7 +191,7 @@ pub struct ContactCompare;
 
 static INFO: StageInfo = StageInfo {
     kind: "contact-compare",
-    version: 1,
+    version: 2,
     summary: "Models against the contact experiment: registration of the observed contact \
               maps, overlap per frame and agreement of the load-area curves (Figs. 6, 7)",
     doc: "REGISTRATION: the observed map (contact-images' contact_maps, maps.csv) nearest \
@@ -217,7 +223,8 @@ static INFO: StageInfo = StageInfo {
           the camera's view, the models' of the whole scan. FIGURES: per observed map and \
           model, observed.png/predicted.png (contact black) and an overlay (black: both, \
           vermillion: predicted only, sky blue: observed only, white: neither, grey: off the \
-          scan), subsampled to figure_px, listed in figures.csv.",
+          scan), for the maps requested at figure_fractions, subsampled to figure_px, listed in \
+          figures.csv.",
     inputs: &[
         InputSpec::table::<ContactTable>("contact", Arity::One, "contact-images' contact table"),
         InputSpec::files(
@@ -324,9 +331,21 @@ impl Stage for ContactCompare {
             scale_range: p.scale_range,
             ..RegisterSettings::default()
         };
-        let progress = ctx.progress(observed.len() as u64, "registrations");
-        let mut found = Vec::with_capacity(observed.len());
-        for map in &observed {
+        let registered: Vec<&ObservedMap> = observed
+            .iter()
+            .filter(|m| m.area_fraction >= p.min_register_fraction)
+            .collect();
+        if registered.is_empty() {
+            return Err(StageError::invalid(format!(
+                "no observed map has A/A0 >= min_register_fraction ({}): the largest is {:.4}; \
+                 map frames with more contact (contact-images' map_fractions)",
+                p.min_register_fraction,
+                observed.iter().map(|m| m.area_fraction).fold(0.0, f64::max)
+            )));
+        }
+        let progress = ctx.progress(registered.len() as u64, "registrations");
+        let mut found = Vec::with_capacity(registered.len());
+        for map in &registered {
             let (_, field) = predicted_for(against, map.area_fraction)?;
             let registration = register(&predicted(&field), &mask(map), &settings)
                 .map_err(|e| {
@@ -339,16 +358,16 @@ impl Stage for ContactCompare {
             progress.inc(1);
         }
         drop(progress);
-        let adopted = (0..observed.len())
+        let adopted = (0..registered.len())
             .min_by(|&i, &j| {
-                let d = |k: usize| (observed[k].area_fraction - p.register_at).abs();
+                let d = |k: usize| (registered[k].area_fraction - p.register_at).abs();
                 d(i).total_cmp(&d(j))
             })
-            .expect("read_observed refuses an empty maps.csv");
-        let transform = transform_table(against, &observed, &found, adopted);
+            .expect("refused above when empty");
+        let transform = transform_table(against, &registered, &found, adopted);
         let registrations = RegistrationsTable {
-            frame: observed.iter().map(|m| m.frame).collect(),
-            area_fraction: observed.iter().map(|m| m.area_fraction).collect(),
+            frame: registered.iter().map(|m| m.frame).collect(),
+            area_fraction: registered.iter().map(|m| m.area_fraction).collect(),
             angle_deg: found
                 .iter()
                 .map(|r| r.placement.angle_rad.to_degrees())
@@ -379,10 +398,16 @@ impl Stage for ContactCompare {
                 pixel_m: map.pixel_m,
             };
             let figure = Subsample::new(map.width, map.height, p.figure_px);
-            figures.files.insert(
-                observed_file.clone(),
-                figure.png(|i| if map.contact[i] { [0; 3] } else { [255; 3] })?,
-            );
+            let drawn = p
+                .figure_fractions
+                .iter()
+                .any(|f| (f - map.requested).abs() < 1e-9);
+            if drawn {
+                figures.files.insert(
+                    observed_file.clone(),
+                    figure.png(|i| if map.contact[i] { [0; 3] } else { [255; 3] })?,
+                );
+            }
             for model in &model_names {
                 let (model_fraction, field) = predicted_for(model, map.area_fraction)?;
                 let sampled = sample_predicted(&predicted(&field), &registration, &camera)
@@ -407,6 +432,9 @@ impl Stage for ContactCompare {
                 overlaps.false_negative.push(o.false_negative as i64);
                 overlaps.true_negative.push(o.true_negative as i64);
 
+                if !drawn {
+                    continue;
+                }
                 let predicted_file = format!("predicted_{model}_{label}.png");
                 let overlay_file = format!("overlay_{model}_{label}.png");
                 figures.files.insert(
@@ -733,24 +761,36 @@ fn read_model_maps(inputs: &Inputs) -> Result<Vec<ModelMaps>, StageError> {
     Ok(models)
 }
 
-/// Sample standard deviation (NaN for fewer than two values); a fixed-order sum.
-fn sd(values: &[f64]) -> f64 {
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
     let n = values.len();
-    if n < 2 {
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        0.5 * (values[n / 2 - 1] + values[n / 2])
+    }
+}
+
+/// A robust standard deviation: 1.4826 × the median absolute deviation
+/// from the median (equal to σ for Gaussian scatter, and not thrown by one
+/// map that registers badly); NaN for fewer than two values.
+fn robust_sd(values: &[f64]) -> f64 {
+    if values.len() < 2 {
         return f64::NAN;
     }
-    let mean = values.iter().sum::<f64>() / n as f64;
-    (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt()
+    let centre = median(&mut values.to_vec());
+    let mut deviations: Vec<f64> = values.iter().map(|v| (v - centre).abs()).collect();
+    1.4826 * median(&mut deviations)
 }
 
 fn transform_table(
     against: &str,
-    observed: &[ObservedMap],
+    observed: &[&ObservedMap],
     found: &[Registration],
     adopted: usize,
 ) -> TransformTable {
     let r = &found[adopted];
-    let of = |f: fn(&Registration) -> f64| sd(&found.iter().map(f).collect::<Vec<_>>());
+    let of = |f: fn(&Registration) -> f64| robust_sd(&found.iter().map(f).collect::<Vec<_>>());
     TransformTable {
         against: vec![against.to_owned()],
         frame: vec![observed[adopted].frame],
@@ -788,5 +828,36 @@ fn agreement_table(scores: &[(String, crate::agreement::Agreement)]) -> Agreemen
         points: scores.iter().map(|s| s.1.points as i64).collect(),
         outside_model: scores.iter().map(|s| s.1.outside_model as i64).collect(),
         rank,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_spread_is_not_thrown_by_one_bad_registration() {
+        // 1.4826 × MAD: for ±1 about 0 (MAD 1) it is 1.4826; one wild
+        // value among five moves it little, where the plain sd explodes.
+        assert!((robust_sd(&[-1.0, 1.0, 0.0, -1.0, 1.0]) - 1.4826).abs() < 1e-12);
+        assert!((robust_sd(&[-1.0, 1.0, 0.0, -1.0, 100.0]) - 1.4826).abs() < 1e-12);
+        assert!(robust_sd(&[2.5]).is_nan());
+        assert_eq!(median(&mut [3.0, 1.0, 2.0, 10.0]), 2.5);
+    }
+
+    #[test]
+    fn truncation_keeps_the_highest_points_and_skips_unmeasured_ones() {
+        let values =
+            ndarray::Array2::from_shape_vec((2, 3), vec![1.0, 5.0, f64::NAN, 3.0, 4.0, 2.0])
+                .unwrap();
+        let surface = Field::new(values, 1e-5, 1e-5).unwrap();
+        let (fraction, cut) = truncate(&surface, 0.4);
+        assert_eq!(fraction, 0.4);
+        let got: Vec<f64> = cut.values.iter().copied().collect();
+        assert_eq!(got[..2], [0.0, 1.0]);
+        assert!(got[2].is_nan());
+        assert_eq!(got[3..], [0.0, 1.0, 0.0]);
+        let (none, _) = truncate(&surface, 0.0);
+        assert_eq!(none, 0.0);
     }
 }
