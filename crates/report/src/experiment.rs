@@ -339,6 +339,7 @@ pub fn agreement_table(data: &ReportData<'_>) -> String {
                 escape(&s.label),
                 a.rank[k].to_string(),
                 escape(&a.model[k]),
+                escape(&a.area[k]),
                 fmt_sig(a.rms_log_ratio[k], 3),
                 fmt_sig(a.mean_log_ratio[k], 3),
                 a.points[k].to_string(),
@@ -361,6 +362,7 @@ pub fn agreement_table(data: &ReportData<'_>) -> String {
         "sample",
         "rank",
         "model",
+        "model A/A<sub>0</sub> read on",
         "rms ln(F<sub>model</sub>/F<sub>exp</sub>)",
         "mean ln(F<sub>model</sub>/F<sub>exp</sub>)",
         "frames",
@@ -382,7 +384,10 @@ pub fn agreement_table(data: &ReportData<'_>) -> String {
          measured A/A<sub>0</sub> (interpolated log-log on its curve, never extrapolated) over \
          the measured force; rank 1 = the smallest rms. A mean below 0: the model reaches the \
          area at a smaller load than measured. The measured A/A<sub>0</sub> is that of the \
-         camera's view, the models' that of the whole scan. <b>What the score measures \
+         camera's view; a model's is read on the view (its own contact maps, or profile \
+         theory's truncation, inside the registered view) or on the whole scan, as the second \
+         column says (the rim of a free sample lifts off, so the two differ by up to a third \
+         at A/A<sub>0</sub> = 0.5). <b>What the score measures \
          depends on where the images come from.</b> When the experiment is the synthetic \
          lab's (<code>synth-contact</code>, as in the shipped pipelines), its physics is the \
          hyperelastic BEM on the true surface: against it the hyperelastic BEM's score \

@@ -568,6 +568,7 @@ fn with_experiment() -> Inputs {
         mean_log_ratio: vec![-1.0, -0.1],
         points: vec![4, 4],
         outside_model: vec![0, 0],
+        area: vec!["view (truncation)".into(), "view (bem)".into()],
         rank: vec![2, 1],
     };
     inputs.insert("agreement.T1", table(agreement.into_table()));
@@ -633,10 +634,10 @@ fn the_experiment_adds_fig6_its_points_in_fig7_and_the_agreement_table() {
     let agreement = &html[html.find("Agreement of the models").unwrap()..];
     let agreement = &agreement[..agreement.find("</table>").unwrap()];
     let bem = agreement
-        .find("<td>T1</td><td>1</td><td>bem</td><td>0.125</td>")
+        .find("<td>T1</td><td>1</td><td>bem</td><td>view (bem)</td><td>0.125</td>")
         .unwrap();
     let icm = agreement
-        .find("<td>T1</td><td>2</td><td>icm</td><td>1.25</td>")
+        .find("<td>T1</td><td>2</td><td>icm</td><td>view (truncation)</td><td>1.25</td>")
         .unwrap();
     assert!(
         bem < icm && agreement.contains("<td>n/a</td>") && agreement.contains("<td>0.375</td>")
