@@ -5,6 +5,8 @@
 //! Convention: a force-log time is the camera time plus the offset,
 //! `t_force = t_camera + offset_s`.
 
+use hypercontact_core::robust::{median, median_and_sigma};
+
 use crate::ImageError;
 
 /// Samples at the start of the log that set its baseline and noise.
@@ -30,11 +32,9 @@ pub fn force_onset_s(force: &[(f64, f64)], resolution_n: f64) -> Result<Option<f
             expected: "a log of more than 16 samples, starting before contact",
         });
     }
-    let mut first: Vec<f64> = force[..BASELINE_SAMPLES].iter().map(|s| s.1).collect();
-    let baseline = median(&mut first);
-    let mut deviations: Vec<f64> = first.iter().map(|f| (f - baseline).abs()).collect();
+    let first: Vec<f64> = force[..BASELINE_SAMPLES].iter().map(|s| s.1).collect();
     // 1.4826 · MAD estimates σ of Gaussian noise.
-    let sigma = 1.4826 * median(&mut deviations);
+    let (baseline, sigma) = median_and_sigma(&first);
     let rise = (ONSET_SIGMAS * sigma).max(2.0 * resolution_n.max(0.0));
     let Some(detected) = force.iter().position(|(_, f)| *f > baseline + rise) else {
         return Ok(None);
@@ -108,9 +108,9 @@ pub fn trigger_offset_s(
         .zip(mid_exposure_s)
         .map(|(log, camera)| log - camera)
         .collect();
-    let offset_s = median(&mut offsets.clone());
-    let mut spacings: Vec<f64> = log_times_s.windows(2).map(|w| w[1] - w[0]).collect();
-    let tolerance_s = 2.0 * median(&mut spacings);
+    let offset_s = median(&offsets);
+    let spacings: Vec<f64> = log_times_s.windows(2).map(|w| w[1] - w[0]).collect();
+    let tolerance_s = 2.0 * median(&spacings);
     if let Some((index, deviation_s)) = offsets
         .iter()
         .map(|o| (o - offset_s).abs())
@@ -125,16 +125,6 @@ pub fn trigger_offset_s(
         });
     }
     Ok(offset_s)
-}
-
-fn median(values: &mut [f64]) -> f64 {
-    values.sort_by(f64::total_cmp);
-    let n = values.len();
-    if n % 2 == 1 {
-        values[n / 2]
-    } else {
-        0.5 * (values[n / 2 - 1] + values[n / 2])
-    }
 }
 
 #[cfg(test)]

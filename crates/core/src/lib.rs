@@ -23,6 +23,7 @@ pub mod param;
 pub mod png;
 pub mod product;
 pub mod registry;
+pub mod robust;
 pub mod schema;
 pub mod sequence;
 pub mod source;
