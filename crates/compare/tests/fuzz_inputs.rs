@@ -7,7 +7,7 @@ use hypercontact_compare::stage::{ContactCompare, ContactCompareParams};
 use hypercontact_contact_images::stage::ContactTable;
 use hypercontact_core::png::{Pixels, encode_png};
 use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Schema, Stage};
-use hypercontact_fuzz::{config, splice};
+use hypercontact_fuzz::{byte_edits, config, splice};
 use hypercontact_interference::{CameraGrid, GapMap, Placement, resample};
 use proptest::prelude::*;
 
@@ -158,27 +158,11 @@ fn the_untouched_inputs_compare_and_missing_files_are_named() {
     assert!(e.contains("register_with") && e.contains("m"), "{e}");
 }
 
-/// Overwrites (same length) or splices (length changed) of a byte string.
-fn edits() -> impl Strategy<Value = Vec<(usize, usize, Vec<u8>)>> {
-    prop::collection::vec(
-        prop_oneof![
-            3 => (any::<usize>(), prop::collection::vec(any::<u8>(), 1..4))
-                .prop_map(|(at, bytes)| (at, bytes.len(), bytes)),
-            1 => (
-                any::<usize>(),
-                prop_oneof![Just(0usize), 1usize..4, 0usize..300],
-                prop::collection::vec(any::<u8>(), 0..4),
-            ),
-        ],
-        1..5,
-    )
-}
-
 proptest! {
     #![proptest_config(config(48))]
 
     #[test]
-    fn edited_inputs_never_panic(which in 0usize..4, edits in edits()) {
+    fn edited_inputs_never_panic(which in 0usize..4, edits in byte_edits()) {
         let (mut obs, mut m) = (observed(), model());
         let (files, name) = match which {
             0 => (&mut obs, "maps.csv"),

@@ -15,7 +15,7 @@ use std::sync::OnceLock;
 
 use hypercontact_core::Files;
 use hypercontact_dic::{DicParams, GrayImage};
-use hypercontact_fuzz::{config, splice};
+use hypercontact_fuzz::{byte_edits, config, splice};
 use hypercontact_synth::encode_png;
 use hypercontact_synth::tensile::SynthTensileParams;
 use image::{DynamicImage, ImageBuffer, ImageFormat, Luma, Rgb};
@@ -91,22 +91,6 @@ fn valid_image() -> impl Strategy<Value = (Vec<u8>, (usize, usize), &'static str
                 name,
             )
         })
-}
-
-/// Overwrites (same length) or splices (length changed) of a byte string.
-fn edits() -> impl Strategy<Value = Vec<(usize, usize, Vec<u8>)>> {
-    prop::collection::vec(
-        prop_oneof![
-            3 => (any::<usize>(), prop::collection::vec(any::<u8>(), 1..4))
-                .prop_map(|(at, bytes)| (at, bytes.len(), bytes)),
-            1 => (
-                any::<usize>(),
-                prop_oneof![Just(0usize), 1usize..4, 0usize..300],
-                prop::collection::vec(any::<u8>(), 0..4),
-            ),
-        ],
-        1..5,
-    )
 }
 
 /// CRC-32 (IEEE, as PNG uses it), bit by bit: test code, a few bytes.
@@ -190,7 +174,7 @@ proptest! {
     #[test]
     fn edited_images_never_panic(
         (bytes, _, name) in valid_image(),
-        edits in edits(),
+        edits in byte_edits(),
         fix_crcs in any::<bool>(),
     ) {
         let mut bytes = splice(bytes, &edits);
@@ -217,7 +201,7 @@ proptest! {
     /// A frame edited inside a sequence: the stage errors naming the frame,
     /// or (the edit hit nothing that matters) runs.
     #[test]
-    fn an_edited_frame_never_panics_the_stage(edits in edits()) {
+    fn an_edited_frame_never_panics_the_stage(edits in byte_edits()) {
         let mut files = sequence().clone();
         let frame = files.files["frame_001.png"].clone();
         files

@@ -1,7 +1,8 @@
 //! What the readers' property tests share (a dev-dependency only): one
 //! configuration, so every fuzz test in CI is bounded and seeded alike, and
-//! the byte splice they mutate files with.
+//! the byte splice and edits they mutate files with.
 
+use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 
 /// `cases` cases from a fixed seed (12) without failure files, so CI runs
@@ -33,6 +34,24 @@ pub fn splice(mut bytes: Vec<u8>, edits: &[(usize, usize, Vec<u8>)]) -> Vec<u8> 
         bytes.splice(at..end, insert.iter().copied());
     }
     bytes
+}
+
+/// One to four [`splice`] edits of a binary file: mostly overwrites of 1–3
+/// bytes (the length kept, so headers and offsets still point into the
+/// file), sometimes a cut of up to 300 bytes or an insertion.
+pub fn byte_edits() -> impl Strategy<Value = Vec<(usize, usize, Vec<u8>)>> {
+    prop::collection::vec(
+        prop_oneof![
+            3 => (any::<usize>(), prop::collection::vec(any::<u8>(), 1..4))
+                .prop_map(|(at, bytes)| (at, bytes.len(), bytes)),
+            1 => (
+                any::<usize>(),
+                prop_oneof![Just(0usize), 1usize..4, 0usize..300],
+                prop::collection::vec(any::<u8>(), 0..4),
+            ),
+        ],
+        1..5,
+    )
 }
 
 #[cfg(test)]
