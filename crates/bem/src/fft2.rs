@@ -264,23 +264,9 @@ fn gather_rows(columns: &[Complex64], hy: usize, mx: usize, i0: usize, band: &mu
     }
 }
 
-/// The smallest n ≥ `min` of the form 2^a 3^b 5^c, a size FFTs handle
-/// fast (the synthetic surfaces use it too).
-pub fn fast_size(min: usize) -> usize {
-    let mut n = min.max(1);
-    loop {
-        let mut m = n;
-        for p in [2, 3, 5] {
-            while m.is_multiple_of(p) {
-                m /= p;
-            }
-        }
-        if m == 1 {
-            return n;
-        }
-        n += 1;
-    }
-}
+/// The smallest n ≥ `min` of the form 2^a 3^b 5^c (the one fast size of
+/// the workspace).
+pub use hypercontact_core::fft::fast_size;
 
 /// The smallest even [`fast_size`] ≥ `min` (a real FFT's half spectrum
 /// wants an even length).

@@ -16,6 +16,7 @@
 
 use std::sync::Arc;
 
+use hypercontact_core::fft::fast_size;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
@@ -69,7 +70,7 @@ impl Correlator {
         let mean = template.iter().sum::<f64>() / cells as f64;
         let centred: Vec<f64> = template.iter().map(|t| t - mean).collect();
         let template_sum_sq = centred.iter().map(|t| t * t).sum();
-        let fft = Fft2::new(smooth_size(image_w), smooth_size(image_h));
+        let fft = Fft2::new(fast_size(image_w), fast_size(image_h));
         let template_spectrum = fft.forward(&fft.pad(&centred, template_w, template_h))?;
         let partial = min_overlap < 1.0;
         let squares_spectrum = if partial {
@@ -255,23 +256,6 @@ impl SummedArea {
     }
 }
 
-/// The smallest n' ≥ n with no prime factor above 7 (fast FFT lengths).
-pub(crate) fn smooth_size(n: usize) -> usize {
-    let mut m = n.max(1);
-    loop {
-        let mut r = m;
-        for p in [2, 3, 5, 7] {
-            while r.is_multiple_of(p) {
-                r /= p;
-            }
-        }
-        if r == 1 {
-            return m;
-        }
-        m += 1;
-    }
-}
-
 /// A 2-D FFT of real, row-major arrays: real FFTs along the rows, complex
 /// FFTs down the columns of the half spectrum, kept transposed
 /// (`[kx * height + y]`) so the columns are contiguous.
@@ -431,15 +415,6 @@ mod tests {
                 }
             })
             .collect()
-    }
-
-    #[test]
-    fn smooth_sizes_have_only_small_factors() {
-        assert_eq!(smooth_size(0), 1);
-        assert_eq!(smooth_size(131), 135);
-        assert_eq!(smooth_size(262), 270);
-        assert_eq!(smooth_size(512), 512);
-        assert_eq!(smooth_size(1031), 1050);
     }
 
     #[test]
