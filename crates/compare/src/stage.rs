@@ -341,9 +341,10 @@ impl Stage for ContactCompare {
                 labels(&models)
             )));
         }
+        let truncation = Truncation::new(surface);
         let predicted_for = |model: &str, fraction: f64| -> Result<(f64, Field), StageError> {
             if model == TRUNCATION {
-                Ok(truncate(surface, fraction))
+                Ok(truncation.cut(fraction))
             } else {
                 let maps = models.iter().find(|m| m.label == model).ok_or_else(|| {
                     StageError::invalid(format!("no model_maps labelled `{model}`"))
@@ -534,7 +535,7 @@ impl Stage for ContactCompare {
                         let relation = match models.iter().find(|m| m.label == maps_label) {
                             Some(m) => view_relation_of_maps(&m.maps, &registration, &camera),
                             None if maps_label == TRUNCATION => {
-                                view_relation_of_truncation(surface, &registration, &camera)
+                                view_relation_of_truncation(&truncation, &registration, &camera)
                             }
                             None => Err(StageError::invalid(format!(
                                 "parameter `view_maps.{label}` = {maps_label}: not `{TRUNCATION}` \
@@ -655,41 +656,57 @@ impl Subsample {
     }
 }
 
-/// The height map cut at area fraction `fraction`: 1 where the height is
-/// at or above the level with that share of the measured points above it
-/// (profile theory's contact), 0 below, NaN where not measured; with the
-/// map's own A/A0.
-fn truncate(surface: &Field, fraction: f64) -> (f64, Field) {
-    let mut heights: Vec<f64> = surface
-        .values
-        .iter()
-        .copied()
-        .filter(|h| !h.is_nan())
-        .collect();
-    heights.sort_by(|a, b| b.total_cmp(a));
-    let n = heights.len();
-    let k = ((fraction * n as f64).round() as usize).min(n);
-    let level = if k == 0 {
-        f64::INFINITY
-    } else {
-        heights[k - 1]
-    };
-    let values = surface.values.mapv(|h| {
-        if h.is_nan() {
-            f64::NAN
-        } else if h >= level {
-            1.0
-        } else {
-            0.0
+/// Profile theory's contact maps of one height map: its measured heights
+/// sorted once, highest first, and cut at any area fraction.
+struct Truncation<'a> {
+    surface: &'a Field,
+    descending: Vec<f64>,
+}
+
+impl<'a> Truncation<'a> {
+    fn new(surface: &'a Field) -> Self {
+        let mut descending: Vec<f64> = surface
+            .values
+            .iter()
+            .copied()
+            .filter(|h| !h.is_nan())
+            .collect();
+        descending.sort_by(|a, b| b.total_cmp(a));
+        Self {
+            surface,
+            descending,
         }
-    });
-    let inside = values.iter().filter(|v| **v == 1.0).count();
-    let field = Field {
-        values,
-        dx_m: surface.dx_m,
-        dy_m: surface.dy_m,
-    };
-    (inside as f64 / n.max(1) as f64, field)
+    }
+
+    /// The height map cut at area fraction `fraction`: 1 where the height
+    /// is at or above the level with that share of the measured points
+    /// above it (profile theory's contact), 0 below, NaN where not
+    /// measured; with the map's own A/A0.
+    fn cut(&self, fraction: f64) -> (f64, Field) {
+        let n = self.descending.len();
+        let k = ((fraction * n as f64).round() as usize).min(n);
+        let level = if k == 0 {
+            f64::INFINITY
+        } else {
+            self.descending[k - 1]
+        };
+        let values = self.surface.values.mapv(|h| {
+            if h.is_nan() {
+                f64::NAN
+            } else if h >= level {
+                1.0
+            } else {
+                0.0
+            }
+        });
+        let inside = values.iter().filter(|v| **v == 1.0).count();
+        let field = Field {
+            values,
+            dx_m: self.surface.dx_m,
+            dy_m: self.surface.dy_m,
+        };
+        (inside as f64 / n.max(1) as f64, field)
+    }
 }
 
 /// The share of the camera's pixels on the scan that `field` (1 =
@@ -734,14 +751,14 @@ fn view_relation_of_maps(
 /// Profile theory's relation: the height map cut at A/A0 = 0.01 … 0.99 and
 /// read in the view.
 fn view_relation_of_truncation(
-    surface: &Field,
+    truncation: &Truncation,
     registration: &Registration,
     camera: &CameraGrid,
 ) -> Result<Vec<(f64, f64)>, StageError> {
     let levels = [
         0.005, 0.01, 0.02, 0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95, 0.99,
     ];
-    let maps: Vec<(f64, Field)> = levels.iter().map(|&a| truncate(surface, a)).collect();
+    let maps: Vec<(f64, Field)> = levels.iter().map(|&a| truncation.cut(a)).collect();
     view_relation_of_maps(&maps, registration, camera)
 }
 
@@ -808,14 +825,10 @@ fn column_f64(table: &Table, name: &str, shown: &str) -> Result<Vec<f64>, StageE
 }
 
 fn column_str(table: &Table, name: &str, shown: &str) -> Result<Vec<String>, StageError> {
-    match table.column(name) {
-        Ok(hypercontact_core::ColumnData::Str(v)) => Ok(v.clone()),
-        Ok(_) => Err(StageError::file(
-            shown,
-            format!("column `{name}` holds numbers, not file names"),
-        )),
-        Err(e) => Err(StageError::file(shown, e.to_string())),
-    }
+    table
+        .str(name)
+        .map(<[String]>::to_vec)
+        .map_err(|e| StageError::file(shown, e.to_string()))
 }
 
 /// contact-images' maps: maps.csv and the masks it names.
@@ -984,13 +997,14 @@ mod tests {
             ndarray::Array2::from_shape_vec((2, 3), vec![1.0, 5.0, f64::NAN, 3.0, 4.0, 2.0])
                 .unwrap();
         let surface = Field::new(values, 1e-5, 1e-5).unwrap();
-        let (fraction, cut) = truncate(&surface, 0.4);
+        let truncation = Truncation::new(&surface);
+        let (fraction, cut) = truncation.cut(0.4);
         assert_eq!(fraction, 0.4);
         let got: Vec<f64> = cut.values.iter().copied().collect();
         assert_eq!(got[..2], [0.0, 1.0]);
         assert!(got[2].is_nan());
         assert_eq!(got[3..], [0.0, 1.0, 0.0]);
-        let (none, _) = truncate(&surface, 0.0);
+        let (none, _) = truncation.cut(0.0);
         assert_eq!(none, 0.0);
     }
 }
