@@ -29,7 +29,9 @@ struct FigureRow {
     observed: String,
     predicted: String,
     overlay: String,
+    /// the figure's pixel on the sample and its width in pixels
     pixel_m: f64,
+    width_px: f64,
 }
 
 fn read_rows(label: &str, files: &Files) -> Result<Vec<FigureRow>, ReportError> {
@@ -42,18 +44,7 @@ fn read_rows(label: &str, files: &Files) -> Result<Vec<FigureRow>, ReportError> 
         .read_csv("figures.csv")
         .map_err(|e| ReportError::input(&input, e.to_string()))?;
     let err = |e: hypercontact_core::TableError| ReportError::table(&input, e);
-    let text = |name: &str| -> Result<Vec<String>, ReportError> {
-        match table.column(name).map_err(err)? {
-            hypercontact_core::ColumnData::Str(v) => Ok(v.clone()),
-            other => Err(ReportError::input(
-                &input,
-                format!(
-                    "figures.csv column `{name}` holds {:?} values, not names",
-                    other.dtype()
-                ),
-            )),
-        }
-    };
+    let text = |name: &str| table.str(name).map(<[String]>::to_vec).map_err(err);
     let number = |name: &str| table.to_f64(name).map_err(err);
     let (model, observed, predicted, overlay) = (
         text("model")?,
@@ -61,12 +52,13 @@ fn read_rows(label: &str, files: &Files) -> Result<Vec<FigureRow>, ReportError> 
         text("predicted_file")?,
         text("overlay_file")?,
     );
-    let (requested, area, model_area, frame, pixel) = (
+    let (requested, area, model_area, frame, pixel, width) = (
         number("requested_area_fraction")?,
         number("area_fraction")?,
         number("model_area_fraction")?,
         number("frame")?,
         number("pixel_m")?,
+        number("width_px")?,
     );
     Ok((0..model.len())
         .map(|k| FigureRow {
@@ -79,12 +71,13 @@ fn read_rows(label: &str, files: &Files) -> Result<Vec<FigureRow>, ReportError> 
             predicted: predicted[k].clone(),
             overlay: overlay[k].clone(),
             pixel_m: pixel[k],
+            width_px: width[k],
         })
         .collect())
 }
 
 /// An RGB PNG of the figures with a scale bar of `bar_px` drawn at its
-/// lower left (black on a white margin), as a data URI for the page.
+/// lower left (black on a white margin).
 fn with_bar(input: &str, name: &str, bytes: &[u8], bar_px: u32) -> Result<Vec<u8>, ReportError> {
     let mut image: RgbImage = image::load_from_memory(bytes)
         .map_err(|e| ReportError::input(input, format!("{name}: {e}")))?
@@ -158,16 +151,7 @@ pub fn fig6(data: &ReportData<'_>) -> Result<(String, Vec<NamedPng>), ReportErro
             Vec::new(),
         ));
     };
-    let width_px = {
-        let bytes = files
-            .files
-            .get(&first.observed)
-            .ok_or_else(|| ReportError::input(&input, format!("{} is missing", first.observed)))?;
-        image::load_from_memory(bytes)
-            .map_err(|e| ReportError::input(&input, format!("{}: {e}", first.observed)))?
-            .width()
-    };
-    let width_m = f64::from(width_px) * first.pixel_m;
+    let width_m = first.width_px * first.pixel_m;
     let bar_m = BAR_LENGTHS_M
         .iter()
         .copied()
