@@ -9,9 +9,9 @@ mod common;
 
 use std::hint::black_box;
 
-use common::{SCAN_M, Spec, build};
+use common::{Spec, build};
 use criterion::{Criterion, criterion_group, criterion_main};
-use hypercontact_compare::register::{ObservedMask, PredictedMap, RegisterSettings, register};
+use hypercontact_compare::register::{RegisterSettings, register};
 
 fn registration(c: &mut Criterion) {
     let mut group = c.benchmark_group("register");
@@ -21,17 +21,7 @@ fn registration(c: &mut Criterion) {
         ("512px_4.33um_vs_450_scan", Spec::quick()),
     ] {
         let scene = build(&spec);
-        let predicted = PredictedMap {
-            fraction: scene.predicted.view(),
-            dx_m: SCAN_M,
-            dy_m: SCAN_M,
-        };
-        let observed = ObservedMask {
-            contact: &scene.mask,
-            width_px: spec.camera.width_px,
-            height_px: spec.camera.height_px,
-            pixel_m: spec.camera.pixel_m,
-        };
+        let (predicted, observed) = (scene.predicted_map(), scene.observed_mask());
         let settings = RegisterSettings::default();
         group.bench_function(name, |b| {
             b.iter(|| register(black_box(&predicted), black_box(&observed), &settings).unwrap())

@@ -5,28 +5,15 @@
 
 mod common;
 
-use common::{SCAN_M, Scene, Spec, build};
-use hypercontact_compare::register::{
-    ObservedMask, PredictedMap, RegisterSettings, Registration, register,
-};
+use common::{Scene, Spec, build};
+use hypercontact_compare::register::{RegisterSettings, Registration, register};
 use hypercontact_interference::Placement;
 
 /// The bounds.
 const MAX_TURN_DEG: f64 = 0.2;
 
 fn run(scene: &Scene, settings: &RegisterSettings) -> Registration {
-    let predicted = PredictedMap {
-        fraction: scene.predicted.view(),
-        dx_m: SCAN_M,
-        dy_m: SCAN_M,
-    };
-    let observed = ObservedMask {
-        contact: &scene.mask,
-        width_px: scene.spec.camera.width_px,
-        height_px: scene.spec.camera.height_px,
-        pixel_m: scene.spec.camera.pixel_m,
-    };
-    register(&predicted, &observed, settings).unwrap()
+    register(&scene.predicted_map(), &scene.observed_mask(), settings).unwrap()
 }
 
 /// Turn error (°) and shift error (camera pixels), printed for the record.

@@ -6,6 +6,7 @@
 
 #![allow(dead_code)]
 
+use hypercontact_compare::register::{ObservedMask, PredictedMap};
 use hypercontact_interference::{CameraGrid, GapMap, Placement, resample};
 use hypercontact_synth::surface::SelfAffine;
 use ndarray::Array2;
@@ -77,6 +78,27 @@ pub struct Scene {
     pub predicted: Array2<f64>,
     /// row-major camera mask
     pub mask: Vec<bool>,
+}
+
+impl Scene {
+    /// The prediction as the registration takes it.
+    pub fn predicted_map(&self) -> PredictedMap<'_> {
+        PredictedMap {
+            fraction: self.predicted.view(),
+            dx_m: SCAN_M,
+            dy_m: SCAN_M,
+        }
+    }
+
+    /// The camera's mask as the registration takes it.
+    pub fn observed_mask(&self) -> ObservedMask<'_> {
+        ObservedMask {
+            contact: &self.mask,
+            width_px: self.spec.camera.width_px,
+            height_px: self.spec.camera.height_px,
+            pixel_m: self.spec.camera.pixel_m,
+        }
+    }
 }
 
 /// The height at which `fraction` of the values lie above.
