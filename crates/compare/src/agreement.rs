@@ -205,6 +205,18 @@ pub fn agreement(
 mod tests {
     use super::*;
 
+    /// A model curve of the tests (errors name it `m`).
+    fn model(area_fraction: &[f64], load_n: &[f64]) -> LogCurve {
+        LogCurve::new(
+            Curve {
+                area_fraction,
+                load_n,
+            },
+            "m",
+        )
+        .unwrap()
+    }
+
     /// F = c A^1.2 sampled at `areas`.
     fn power(c: f64, areas: &[f64]) -> Vec<f64> {
         areas.iter().map(|a| c * a.powf(1.2)).collect()
@@ -214,14 +226,7 @@ mod tests {
     fn a_power_law_interpolates_exactly_and_nothing_is_extrapolated() {
         let areas = [0.05, 0.2, 0.6, 0.95];
         let loads = power(100.0, &areas);
-        let curve = LogCurve::new(
-            Curve {
-                area_fraction: &areas,
-                load_n: &loads,
-            },
-            "m",
-        )
-        .unwrap();
+        let curve = model(&areas, &loads);
         for a in [0.05, 0.1, 0.33, 0.9, 0.95] {
             let want = 100.0 * f64::powf(a, 1.2);
             assert!(
@@ -251,14 +256,7 @@ mod tests {
         // 0.025 … 0.9: points 1 … 36 of 40.
         assert_eq!((a.points, a.outside_model), (36, 0));
         let doubled: Vec<f64> = loads.iter().map(|f| 2.0 * f).collect();
-        let twice = LogCurve::new(
-            Curve {
-                area_fraction: &areas,
-                load_n: &doubled,
-            },
-            "m",
-        )
-        .unwrap();
+        let twice = model(&areas, &doubled);
         let b = agreement(&twice, exp, Range::default(), &at).unwrap();
         assert!((b.rms_log_ratio - 2f64.ln()).abs() < 1e-12);
         assert!((b.mean_log_ratio - 2f64.ln()).abs() < 1e-12);
@@ -269,14 +267,7 @@ mod tests {
         // Half the load is as far off as twice: the score is symmetric in
         // the log.
         let halved: Vec<f64> = loads.iter().map(|f| 0.5 * f).collect();
-        let half = LogCurve::new(
-            Curve {
-                area_fraction: &areas,
-                load_n: &halved,
-            },
-            "m",
-        )
-        .unwrap();
+        let half = model(&areas, &halved);
         let c = agreement(&half, exp, Range::default(), &at).unwrap();
         assert!((c.rms_log_ratio - b.rms_log_ratio).abs() < 1e-12);
         assert!((c.mean_log_ratio + b.mean_log_ratio).abs() < 1e-12);
@@ -288,14 +279,7 @@ mod tests {
     fn a_hand_computed_score() {
         let model_a = [0.05, 1.0];
         let model_f = [5.0, 100.0];
-        let model = LogCurve::new(
-            Curve {
-                area_fraction: &model_a,
-                load_n: &model_f,
-            },
-            "m",
-        )
-        .unwrap();
+        let model = model(&model_a, &model_f);
         let exp_a = [0.0, 0.1, 0.4, 0.95];
         let exp_f = [0.0, 10.0, 50.0, 120.0];
         let a = agreement(
@@ -347,14 +331,7 @@ mod tests {
         .to_string();
         assert!(e.contains("1 points"), "{e}");
         let model_f = [1.0, 2.0];
-        let model = LogCurve::new(
-            Curve {
-                area_fraction: &a,
-                load_n: &model_f,
-            },
-            "m",
-        )
-        .unwrap();
+        let model = model(&a, &model_f);
         let exp_a = [0.5, 0.6];
         let exp = Curve {
             area_fraction: &exp_a,
