@@ -9,7 +9,6 @@
 //! - [`fft2`]: the real 2-D FFT convolution it runs on;
 //! - [`polonsky_keer`]: the constrained conjugate-gradient contact solver;
 //! - [`curve`]: the load steps from first contact to a top area fraction;
-//! - [`tangent`]: the paper's tangent modulus on the solved curve;
 //! - [`reduce`]: sums that are the same on any number of threads;
 //! - [`stage`]: the `bem` stage.
 
@@ -19,7 +18,6 @@ pub mod influence;
 pub mod polonsky_keer;
 pub mod reduce;
 pub mod stage;
-pub mod tangent;
 
 pub use curve::{CurveError, CurveOptions, Step, solve_curve};
 pub use influence::{Boundary, Influence};
@@ -49,7 +47,7 @@ pub enum BemError {
     #[error(transparent)]
     Curve(#[from] CurveError),
     #[error(transparent)]
-    Tangent(#[from] tangent::TangentError),
+    Tangent(#[from] hypercontact_icm::tangent::TangentError),
 }
 
 // Not `#[from]`: the message holds the cause, so it is not also the source.

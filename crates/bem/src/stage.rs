@@ -1,7 +1,7 @@
 //! Stage `bem`: a height map and a material in, the load–area response (the
 //! `icm` columns and more) and pressure/gap maps out. Checks and table
 //! building here; the physics in [`crate::polonsky_keer`],
-//! [`crate::curve`] and [`crate::tangent`].
+//! [`crate::curve`] and [`hypercontact_icm::tangent`].
 
 use std::sync::Arc;
 
@@ -10,6 +10,7 @@ use hypercontact_core::{
     Arity, Checked, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs, ParamError,
     Schema, Stage, StageError, StageInfo, params,
 };
+use hypercontact_icm::tangent::integrate;
 use hypercontact_icm::{CompositeModulus, Model, Scheme};
 use hypercontact_material::Poisson;
 use hypercontact_material::table::MaterialTable;
@@ -17,7 +18,6 @@ use hypercontact_material::table::MaterialTable;
 use crate::curve::{CurveOptions, solve_curve};
 use crate::influence::{Boundary, Influence};
 use crate::polonsky_keer::{Problem, Solution, SolveError, SolverOptions};
-use crate::tangent::integrate;
 use crate::{BemError, CurveError};
 
 /// Parameters of `bem`.

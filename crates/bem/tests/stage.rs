@@ -299,34 +299,6 @@ fn refusals_name_what_is_wrong() {
     );
 }
 
-/// A material whose equibiaxial tangent is constant (6 μ): the tangent
-/// model must then be the linear one at E* = E_t*.
-#[derive(Debug)]
-struct ConstantTangent {
-    mu_pa: f64,
-}
-
-impl Hyperelastic for ConstantTangent {
-    fn family(&self) -> &'static str {
-        "constant-tangent"
-    }
-    fn shear_modulus_pa(&self) -> f64 {
-        self.mu_pa
-    }
-    fn energy_pa(&self, _: [f64; 3]) -> f64 {
-        0.0
-    }
-    fn nominal_stress_pa(&self, _: hypercontact_material::Mode, stretch: f64) -> f64 {
-        6.0 * self.mu_pa * (stretch - 1.0)
-    }
-    fn nominal_stress_slope_pa(&self, _: hypercontact_material::Mode, _: f64) -> f64 {
-        6.0 * self.mu_pa
-    }
-    fn parameters(&self) -> Vec<hypercontact_material::Parameter> {
-        Vec::new()
-    }
-}
-
 #[test]
 fn tangent_model_with_a_constant_modulus_is_the_linear_model() {
     use hypercontact_bem::{Boundary, CurveOptions, Influence, Problem, SolverOptions};
@@ -348,12 +320,12 @@ fn tangent_model_with_a_constant_modulus_is_the_linear_model() {
         .iter()
         .map(|r| r.contact_pixels as f64 * 4e-10)
         .collect();
-    let material = Arc::new(ConstantTangent { mu_pa: 1e6 });
+    let material = Arc::new(hypercontact_material::testing::ConstantTangent { mu_pa: 1e6 });
     let modulus = CompositeModulus::new(material, Model::Hyperelastic, 0.5).unwrap();
     let e_t = modulus.at_stress_pa(0.0).unwrap();
     assert!((e_t / modulus.e0_star_pa() - 2.0).abs() < 1e-12);
     for scheme in [Scheme::Euler, Scheme::Heun] {
-        let out = hypercontact_bem::tangent::integrate(&f, &area, scheme, &mut |s| {
+        let out = hypercontact_icm::tangent::integrate(&f, &area, scheme, &mut |s| {
             modulus.at_stress_pa(s).map_err(|e| e.to_string())
         })
         .unwrap();

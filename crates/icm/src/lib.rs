@@ -3,12 +3,15 @@
 //!
 //! - [`solver`]: the integration over a truncation profile (pure, on slices);
 //! - [`modulus`]: E_t*(S) of a material (hyperelastic) or E0* (linear);
+//! - [`tangent`]: the tangent-modulus load over the steps of any linear contact
+//!   model (boundary elements, Persson, Greenwood–Williamson);
 //! - [`tangent_table`]: E_t(S) tabulated once, so each plane costs nanoseconds;
 //! - [`stage`]: the `icm` stage.
 
 pub mod modulus;
 pub mod solver;
 pub mod stage;
+pub mod tangent;
 pub mod tangent_table;
 
 pub use modulus::{CompositeModulus, Model};

@@ -30,6 +30,7 @@ pub mod stability;
 pub mod table;
 pub mod tensile;
 pub mod tensile_stage;
+pub mod testing;
 pub mod yeoh;
 
 use hypercontact_core::csv_table::RowPlace;

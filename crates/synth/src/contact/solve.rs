@@ -6,8 +6,8 @@
 //! physics.
 
 use hypercontact_bem::curve::warm_start;
-use hypercontact_bem::tangent::integrate;
 use hypercontact_bem::{Control, CurveOptions, Problem, SolverOptions, solve_curve};
+use hypercontact_icm::tangent::integrate;
 use hypercontact_icm::{CompositeModulus, Scheme};
 
 /// The contact at one frame.
