@@ -3,6 +3,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use hypercontact_core::Schema;
+
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_hypercontact"))
 }
@@ -331,7 +333,7 @@ fn the_quick_paper_pipeline_writes_the_report() {
     let t = tempfile::tempdir().unwrap();
     let out = run_pipeline(t.path(), "pipelines/quick.yaml", &[]);
     assert!(out.status.success(), "{}", text(&out));
-    assert!(text(&out).contains("49 ran, 0 cached"), "{}", text(&out));
+    assert!(text(&out).contains("57 ran, 0 cached"), "{}", text(&out));
     let report = t.path().join("out/report");
 
     // Issue 6: the images → DIC → fit chain recovers the generating
@@ -348,7 +350,7 @@ fn the_quick_paper_pipeline_writes_the_report() {
 
     // Every figure as a real PNG and SVG, referenced by the page.
     let html = std::fs::read_to_string(report.join("index.html")).unwrap();
-    for fig in ["fig2", "fig4", "fig7", "fig8"] {
+    for fig in ["fig2", "fig4", "fig7", "fig8", "fig9"] {
         let png = std::fs::read(report.join(format!("{fig}.png"))).unwrap();
         assert!(
             png.starts_with(b"\x89PNG\r\n\x1a\n") && png.len() > 20_000,
@@ -434,6 +436,32 @@ fn the_quick_paper_pipeline_writes_the_report() {
         "F/(E0* A0) at A/A0 = 0.5: {at_half:?}"
     );
 
+    // Issue 16: the four models on every sample in one pipeline, Fig. 9
+    // and its κ table. Persson (Yang & Persson, γ = 0.45) at vanishing load
+    // has κ = √(8/π)/√γ on its own h'rms; on the map's h'rms every model's
+    // κ at A/A0 = 0.02 is a number, and the linear ICM (no coupling) gives
+    // the most area per load, as profile theory does.
+    assert!(html.contains("Contact models compared") && html.contains("κ = (A/A0)"));
+    for (k, sample) in samples.iter().enumerate() {
+        let n = k + 1;
+        let persson = parquet(t.path(), &format!("t{n}-persson/summary.parquet"));
+        let expected = (8.0 / std::f64::consts::PI).sqrt() / 0.45f64.sqrt();
+        let kappa = persson.f64("kappa_small_load").unwrap()[0];
+        assert!((kappa / expected - 1.0).abs() < 1e-4, "T{n}: {kappa}");
+        for stage in ["persson", "gw"] {
+            let r = parquet(t.path(), &format!("t{n}-{stage}/response.parquet"));
+            r.conform(hypercontact_core::contact::ResponseTable::COLUMNS)
+                .unwrap();
+        }
+        let at_small = &sample["kappa"][0];
+        assert_eq!(at_small["area_fraction"], 0.02);
+        let get = |m: &str| at_small[m].as_f64().unwrap_or(f64::NAN);
+        for m in ["icm", "icm_linear", "bem", "bem_linear", "persson", "gw"] {
+            assert!(get(m) > 0.1 && get(m) < 10.0, "T{n} {m}: {at_small}");
+        }
+        assert!(get("icm_linear") > get("bem_linear"), "T{n}: {at_small}");
+    }
+
     // Issue 14: the contact experiment's tables for T1–T4, 16 frames each,
     // three before contact, then area and force growing towards A/A0 ≈ 0.9,
     // the clock offset (0.37 s in synth-contact) found from the camera's
@@ -501,9 +529,11 @@ fn the_quick_paper_pipeline_writes_the_report() {
         let models = agreement.str("model").unwrap();
         let rank = agreement.i64("rank").unwrap();
         let rank_of = |m: &str| rank[models.iter().position(|x| x == m).unwrap()];
+        // Six models scored: the four of issue 15 and Persson and GW (#16).
+        assert_eq!(models.len(), 6, "T{n}: {models:?}");
         assert_eq!(
             (rank_of("bem"), rank_of("icm-linear")),
-            (1, 4),
+            (1, 6),
             "T{n}: {rank:?}"
         );
         assert!(agreement.i64("points").unwrap().iter().all(|p| *p >= 8));
@@ -554,7 +584,7 @@ fn the_quick_paper_pipeline_writes_the_report() {
     // exactly that sample's downstream stages and the report.
     let again = run_pipeline(t.path(), "pipelines/quick.yaml", &[]);
     assert!(
-        text(&again).contains("0 ran, 38 cached, 11 temporary not needed"),
+        text(&again).contains("0 ran, 46 cached, 11 temporary not needed"),
         "{}",
         text(&again)
     );
@@ -565,7 +595,7 @@ fn the_quick_paper_pipeline_writes_the_report() {
     );
     assert!(changed.status.success(), "{}", text(&changed));
     assert!(
-        text(&changed).contains("5 ran, 33 cached, 11 temporary not needed"),
+        text(&changed).contains("5 ran, 41 cached, 11 temporary not needed"),
         "{}",
         text(&changed)
     );

@@ -9,6 +9,7 @@
 
 use std::collections::BTreeMap;
 
+use hypercontact_classical::stage::{GwSummaryTable, PerssonSummaryTable};
 use hypercontact_compare::stage::{AgreementTable, LoadRatioTable, TransformTable};
 use hypercontact_contact_images::stage::ContactTable;
 use hypercontact_core::contact::ResponseTable;
@@ -101,6 +102,12 @@ pub struct Sample<'a> {
     /// Hyperelastic and linear boundary elements.
     pub bem: Option<Response>,
     pub bem_linear: Option<Response>,
+    /// The theories from the spectrum (hyperelastic as wired).
+    pub persson: Option<Response>,
+    pub gw: Option<Response>,
+    /// What they were given (their `summary` tables).
+    pub persson_summary: Option<PerssonSummaryTable>,
+    pub gw_summary: Option<GwSummaryTable>,
     /// The contact experiment and its comparison with the models
     /// (contact-images, contact-compare).
     pub experiment: Option<Experiment>,
@@ -120,23 +127,28 @@ impl Sample<'_> {
     }
 
     /// Every wired contact-model response with its input's name.
-    pub fn responses(&self) -> [(&'static str, Option<&Response>); 4] {
+    pub fn responses(&self) -> [(&'static str, Option<&Response>); 6] {
         [
             (RESPONSE_INPUTS[0], self.response.as_ref()),
             (RESPONSE_INPUTS[1], self.response_linear.as_ref()),
             (RESPONSE_INPUTS[2], self.bem.as_ref()),
             (RESPONSE_INPUTS[3], self.bem_linear.as_ref()),
+            (RESPONSE_INPUTS[4], self.persson.as_ref()),
+            (RESPONSE_INPUTS[5], self.gw.as_ref()),
         ]
     }
 }
 
-/// The report's contact-model inputs: hyperelastic and linear ICM, then
-/// hyperelastic and linear boundary elements.
-pub const RESPONSE_INPUTS: [&str; 4] = [
+/// The report's contact-model inputs: hyperelastic and linear ICM,
+/// hyperelastic and linear boundary elements, then Persson's theory and
+/// Greenwood–Williamson's.
+pub const RESPONSE_INPUTS: [&str; 6] = [
     "responses",
     "responses_linear",
     "responses_bem",
     "responses_bem_linear",
+    "responses_persson",
+    "responses_gw",
 ];
 
 /// The wired inputs, read and checked.
@@ -379,10 +391,22 @@ fn read_samples(inputs: &Inputs) -> Result<Vec<Sample<'_>>, ReportError> {
                 0 => &mut s.response,
                 1 => &mut s.response_linear,
                 2 => &mut s.bem,
-                _ => &mut s.bem_linear,
+                3 => &mut s.bem_linear,
+                4 => &mut s.persson,
+                _ => &mut s.gw,
             };
             *field = Some(r);
         }
+    }
+    for (label, t) in labelled(
+        inputs,
+        "persson_summary",
+        sample_table::<PerssonSummaryTable>,
+    )? {
+        slot(&mut map, label).persson_summary = Some(t);
+    }
+    for (label, t) in labelled(inputs, "gw_summary", sample_table::<GwSummaryTable>)? {
+        slot(&mut map, label).gw_summary = Some(t);
     }
     for (label, t) in labelled(inputs, "experiments", |input, p| {
         let t: ContactTable = sample_table(input, p)?;

@@ -21,6 +21,7 @@ pub mod gather;
 pub mod html;
 pub mod interp;
 pub mod material;
+pub mod models;
 pub mod powerlaw;
 pub mod report;
 pub mod stage;

@@ -79,9 +79,20 @@ fn drawn(rendered: Rendered, notes: Vec<String>) -> Outcome {
     }
 }
 
-/// The samples with a response Fig. 7 (`hyperelastic_only`: Fig. 8, which
-/// draws hyperelastic models only) can draw.
-fn responses<'a>(data: &'a ReportData<'a>, hyperelastic_only: bool) -> Vec<SampleResponses<'a>> {
+/// Which figure the responses are gathered for.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Plot {
+    /// Fig. 7: ICM and BEM with both laws, and the experiment.
+    LoadArea,
+    /// Fig. 8: the hyperelastic ICM and BEM only.
+    Tangent,
+    /// Fig. 9: ICM (both laws), hyperelastic BEM, Persson, GW, experiment.
+    Comparison,
+}
+
+/// The samples with a response the figure can draw.
+fn responses<'a>(data: &'a ReportData<'a>, plot: Plot) -> Vec<SampleResponses<'a>> {
+    let theories = plot == Plot::Comparison;
     data.samples
         .iter()
         .enumerate()
@@ -89,10 +100,12 @@ fn responses<'a>(data: &'a ReportData<'a>, hyperelastic_only: bool) -> Vec<Sampl
             label: &s.label,
             colour_index: i,
             hyperelastic: s.response.as_ref(),
-            linear: s.response_linear.as_ref().filter(|_| !hyperelastic_only),
+            linear: s.response_linear.as_ref().filter(|_| plot != Plot::Tangent),
             bem: s.bem.as_ref(),
-            bem_linear: s.bem_linear.as_ref().filter(|_| !hyperelastic_only),
-            experiment: if hyperelastic_only {
+            bem_linear: s.bem_linear.as_ref().filter(|_| plot == Plot::LoadArea),
+            persson: s.persson.as_ref().filter(|_| theories),
+            gw: s.gw.as_ref().filter(|_| theories),
+            experiment: if plot == Plot::Tangent {
                 None
             } else {
                 experiment_points(s)
@@ -105,7 +118,7 @@ fn responses<'a>(data: &'a ReportData<'a>, hyperelastic_only: bool) -> Vec<Sampl
 /// The sample's measured (A/A0, F) on Fig. 7's axes: F/(E0* A0) with the
 /// E0* A0 of its responses; frames without load (before contact, or noise
 /// at or below zero) cannot be drawn on the log axis.
-fn experiment_points(s: &crate::gather::Sample<'_>) -> Option<Response> {
+pub(crate) fn experiment_points(s: &crate::gather::Sample<'_>) -> Option<Response> {
     let e = s.experiment.as_ref()?;
     let per_newton = s.per_newton()?;
     let (area_fraction, load_norm): (Vec<f64>, Vec<f64>) = e
@@ -127,10 +140,16 @@ fn experiment_points(s: &crate::gather::Sample<'_>) -> Option<Response> {
 /// Decides on and renders one figure.
 type FigureJob = fn(&ReportData<'_>) -> Result<Outcome, ReportError>;
 
-/// Renders the four figures on scoped threads (each figure is independent;
+/// Renders the figures on scoped threads (each figure is independent;
 /// Fig. 4 with its height maps dominates), in figure order.
 fn figure_outcomes(data: &ReportData<'_>) -> Result<Vec<Outcome>, ReportError> {
-    let jobs: [FigureJob; 4] = [fig2_outcome, fig4_outcome, fig7_outcome, fig8_outcome];
+    let jobs: [FigureJob; 5] = [
+        fig2_outcome,
+        fig4_outcome,
+        fig7_outcome,
+        fig8_outcome,
+        fig9_outcome,
+    ];
     std::thread::scope(|scope| {
         let handles: Vec<_> = jobs
             .iter()
@@ -203,7 +222,7 @@ fn fig4_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
 }
 
 fn fig7_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
-    let samples = responses(data, false);
+    let samples = responses(data, Plot::LoadArea);
     if samples.is_empty() {
         return Ok(skipped(
             "fig7",
@@ -219,11 +238,17 @@ fn fig7_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
     if samples.iter().all(|s| s.hyperelastic.is_none()) {
         notes.push("`responses` not wired: no hyperelastic-ICM curves".to_owned());
     }
-    Ok(drawn(render(&Fig7 { samples })?, notes))
+    Ok(drawn(
+        render(&Fig7 {
+            samples,
+            comparison: false,
+        })?,
+        notes,
+    ))
 }
 
 fn fig8_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
-    let samples = responses(data, true);
+    let samples = responses(data, Plot::Tangent);
     if samples.is_empty() {
         return Ok(skipped(
             "fig8",
@@ -235,7 +260,48 @@ fn fig8_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
     Ok(drawn(render(&Fig8 { samples })?, Vec::new()))
 }
 
-const CAPTIONS: [(&str, &str, &str); 4] = [
+fn fig9_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
+    if !data
+        .samples
+        .iter()
+        .any(|s| s.persson.is_some() || s.gw.is_some())
+    {
+        return Ok(skipped(
+            "fig9",
+            "no theory from the spectrum (`responses_persson` or `responses_gw`) is wired".into(),
+        ));
+    }
+    let samples = responses(data, Plot::Comparison);
+    let mut notes = Vec::new();
+    for (input, wired) in [
+        (
+            "responses",
+            data.samples.iter().any(|s| s.response.is_some()),
+        ),
+        (
+            "responses_bem",
+            data.samples.iter().any(|s| s.bem.is_some()),
+        ),
+        (
+            "responses_persson",
+            data.samples.iter().any(|s| s.persson.is_some()),
+        ),
+        ("responses_gw", data.samples.iter().any(|s| s.gw.is_some())),
+    ] {
+        if !wired {
+            notes.push(format!("`{input}` not wired"));
+        }
+    }
+    Ok(drawn(
+        render(&Fig7 {
+            samples,
+            comparison: true,
+        })?,
+        notes,
+    ))
+}
+
+const CAPTIONS: [(&str, &str, &str); 5] = [
     (
         "fig2",
         "Fig. 2",
@@ -272,6 +338,17 @@ const CAPTIONS: [(&str, &str, &str); 4] = [
         "Composite tangent modulus ratio E<sub>t</sub>*/E<sub>0</sub>* of the hyperelastic \
          incremental contact model (solid) and, where wired, of the hyperelastic \
          boundary-element model (dotted) against contact area fraction A/A<sub>0</sub>.",
+    ),
+    (
+        "fig9",
+        "Fig. 9",
+        "The contact models side by side on each sample's measured surface: normalised load \
+         F/(E<sub>0</sub>* A<sub>0</sub>) against contact area fraction A/A<sub>0</sub>. \
+         Profile theory (ICM, black: hyperelastic solid, linear dashed), the elastically \
+         coupled half-space (BEM, vermillion dotted, hyperelastic), Persson's theory (bluish \
+         green) and Greenwood–Williamson's asperity model (GW, reddish purple), the last two from \
+         the map's spectrum alone and with the material law as their stages were wired (the \
+         table below gives the variant); the experiment as blue circles where wired.",
     ),
 ];
 
@@ -627,6 +704,17 @@ pub fn build_report(
     body.push_str(&icm_bem_table(&summary));
     if let Some(o) = by_name("fig8") {
         body.push_str(&figure_html(o));
+    }
+    if let Some(o) = by_name("fig9").filter(|o| o.status.rendered) {
+        body.push_str("<h2>Contact models compared: profile theory, boundary elements, Persson, Greenwood–Williamson</h2>\n");
+        body.push_str(&figure_html(o));
+        let kappas: Vec<(&str, Vec<crate::models::KappaAt>)> = summary
+            .samples
+            .iter()
+            .map(|s| (s.label.as_str(), s.kappa.clone()))
+            .collect();
+        body.push_str(&crate::models::kappa_table(&kappas));
+        body.push_str(&crate::models::theory_table(&data.samples));
     }
     body.push_str("<h2>Summary per sample</h2>\n");
     body.push_str(&sample_table(&summary));

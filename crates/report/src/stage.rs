@@ -2,6 +2,7 @@
 //! comparison and a per-sample summary, as one `Files` product `report`
 //! (`index.html`, `figN.png`, `figN.svg`, `summary.json`).
 
+use hypercontact_classical::stage::{GwSummaryTable, PerssonSummaryTable};
 use hypercontact_compare::stage::{AgreementTable, LoadRatioTable, TransformTable};
 use hypercontact_contact_images::stage::ContactTable;
 use hypercontact_core::contact::ResponseTable;
@@ -56,8 +57,9 @@ pub struct Report;
 
 static INFO: StageInfo = StageInfo {
     kind: "report",
-    version: 4,
-    summary: "HTML report with the paper's Figs. 2, 4, 6, 7, 8 (PNG + SVG), Table 1 and a summary",
+    version: 5,
+    summary: "HTML report with the paper's Figs. 2, 4, 6, 7, 8, a model comparison (Fig. 9; PNG + \
+              SVG), Table 1 and a summary",
     doc: "Every input is optional: a figure whose inputs are not wired is skipped and the \
           page says why (e.g. a pipeline without the tensile branch still gets Figs. 4, 7 \
           and 8). Per-sample inputs are labelled by sample (`responses: {T1: icm1, ...}`); \
@@ -71,7 +73,13 @@ static INFO: StageInfo = StageInfo {
           the force over the models' E0* A0) with the agreement table of `agreement` and \
           `load_ratio` (contact-compare) under it; Fig. 6 the first sample's \
           `compare_figures` (observed, predicted and overlay maps at one scale with a bar) with \
-          the registrations of `transforms`; Fig. 8 `responses` and/or `responses_bem`. Table 1 decodes `material` and gives its initial moduli μ0, E0 and \
+          the registrations of `transforms`; Fig. 8 `responses` and/or `responses_bem`; Fig. 9 \
+          (the contact models side by side: hyperelastic and linear ICM, hyperelastic BEM, \
+          `responses_persson`, `responses_gw`, with the experiment) needs Persson or GW wired, \
+          and comes with a table of kappa = (A/A0)/(F/(A0 E0* h'rms)) per model at A/A0 = \
+          0.02 and 0.1 (h'rms from `stats`, one yardstick for every model; read off each curve \
+          by linear interpolation in A/A0, n/a outside it) and the theories' inputs from \
+          `persson_summary` and `gw_summary`. Table 1 decodes `material` and gives its initial moduli μ0, E0 and \
           E0* at Poisson's ratio `poisson`. One E0* on the page: each wired response must \
           have been normalised by Table 1's (its E0* is mean_stress_pa · area_fraction / \
           load_norm, from the response alone), and a wired `params` must be the fit of \
@@ -122,6 +130,26 @@ static INFO: StageInfo = StageInfo {
             "responses_bem_linear",
             Arity::Many,
             "linear boundary elements per sample",
+        ),
+        InputSpec::table::<ResponseTable>(
+            "responses_persson",
+            Arity::Many,
+            "Persson's theory per sample (model comparison, Fig. 9)",
+        ),
+        InputSpec::table::<ResponseTable>(
+            "responses_gw",
+            Arity::Many,
+            "Greenwood-Williamson per sample (model comparison, Fig. 9)",
+        ),
+        InputSpec::table::<PerssonSummaryTable>(
+            "persson_summary",
+            Arity::Many,
+            "persson's summary per sample: the variant and spectrum of Fig. 9's curve",
+        ),
+        InputSpec::table::<GwSummaryTable>(
+            "gw_summary",
+            Arity::Many,
+            "greenwood-williamson's summary per sample: the asperity parameters",
         ),
         InputSpec::table::<ContactTable>(
             "experiments",

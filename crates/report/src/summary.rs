@@ -57,6 +57,8 @@ pub struct SampleSummary {
     pub agreement: Option<Vec<Map<String, Value>>>,
     pub load_ratio: Option<Vec<Map<String, Value>>>,
     pub transform: Option<Map<String, Value>>,
+    /// κ of every wired model at small load (Fig. 9's table).
+    pub kappa: Vec<crate::models::KappaAt>,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -202,6 +204,16 @@ impl Summary {
                             .transform
                             .clone()
                             .and_then(|t| table_rows(&t.into_table()).into_iter().next()),
+                        kappa: crate::models::KAPPA_AREAS
+                            .iter()
+                            .map(|&a| {
+                                crate::models::KappaAt::read(
+                                    s,
+                                    crate::report::experiment_points(s).as_ref(),
+                                    a,
+                                )
+                            })
+                            .collect(),
                     }
                 })
                 .collect(),

@@ -118,6 +118,8 @@ fn full_report_has_every_figure_as_valid_png_and_svg_and_the_page_embeds_them() 
         "fig7.svg",
         "fig8.png",
         "fig8.svg",
+        "fig9.png",
+        "fig9.svg",
         "index.html",
         "summary.json",
     ];
@@ -131,6 +133,7 @@ fn full_report_has_every_figure_as_valid_png_and_svg_and_the_page_embeds_them() 
         ("fig4", 1500, 1500),
         ("fig7", 900, 600),
         ("fig8", 900, 600),
+        ("fig9", 1200, 900),
     ] {
         assert_png(fig, &files.files[&format!("{fig}.png")], w, h);
         let svg = text(&files, &format!("{fig}.svg"));

@@ -11,6 +11,11 @@
 //! the models as lines, colour = model (ICM black, BEM vermillion), stroke =
 //! law (hyperelastic ICM solid, linear ICM dashed, hyperelastic BEM dotted,
 //! linear BEM dashed).
+//!
+//! Fig. 9 (`comparison`) is the same plot for the contact models side by
+//! side, one panel per sample: hyperelastic and linear ICM, hyperelastic
+//! BEM, Persson's theory (Okabe–Ito bluish green) and Greenwood–Williamson
+//! (reddish purple), with the experiment where wired.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -35,21 +40,33 @@ pub struct SampleResponses<'a> {
     pub bem: Option<&'a Response>,
     /// Linear boundary elements.
     pub bem_linear: Option<&'a Response>,
+    /// Persson's theory and Greenwood–Williamson (Fig. 9).
+    pub persson: Option<&'a Response>,
+    pub gw: Option<&'a Response>,
     /// The contact experiment: (A/A0, F/(E0* A0)), positive loads only.
     pub experiment: Option<Response>,
 }
 
-/// The four curves a sample can have.
+/// The curves a sample can have.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Curve {
     Icm,
     IcmLinear,
     Bem,
     BemLinear,
+    Persson,
+    Gw,
 }
 
 impl Curve {
-    const ALL: [Curve; 4] = [Curve::Icm, Curve::IcmLinear, Curve::Bem, Curve::BemLinear];
+    const ALL: [Curve; 6] = [
+        Curve::Icm,
+        Curve::IcmLinear,
+        Curve::Bem,
+        Curve::BemLinear,
+        Curve::Persson,
+        Curve::Gw,
+    ];
 
     fn name(self) -> &'static str {
         match self {
@@ -57,12 +74,14 @@ impl Curve {
             Curve::IcmLinear => "linear ICM",
             Curve::Bem => "hyperelastic BEM",
             Curve::BemLinear => "linear BEM",
+            Curve::Persson => "Persson",
+            Curve::Gw => "GW (asperities)",
         }
     }
 
     fn line(self) -> Line {
         match self {
-            Curve::Icm => Line::Solid,
+            Curve::Icm | Curve::Persson | Curve::Gw => Line::Solid,
             Curve::Bem => Line::Dotted,
             Curve::IcmLinear | Curve::BemLinear => Line::Dashed,
         }
@@ -71,27 +90,48 @@ impl Curve {
     fn is_bem(self) -> bool {
         matches!(self, Curve::Bem | Curve::BemLinear)
     }
+
+    /// The model's colour in the per-sample panels.
+    fn colour(self) -> RGBColor {
+        match self {
+            Curve::Icm | Curve::IcmLinear => ICM_COLOUR,
+            Curve::Bem | Curve::BemLinear => BEM_COLOUR,
+            Curve::Persson => PERSSON_COLOUR,
+            Curve::Gw => GW_COLOUR,
+        }
+    }
 }
 
-/// The model colours of the per-sample panels (Okabe–Ito vermillion for
-/// the boundary elements).
+/// The model colours of the per-sample panels (Okabe–Ito: vermillion for
+/// the boundary elements, bluish green for Persson, reddish purple for GW).
 const ICM_COLOUR: RGBColor = RGBColor(0, 0, 0);
 const BEM_COLOUR: RGBColor = RGBColor(213, 94, 0);
+const PERSSON_COLOUR: RGBColor = RGBColor(0, 158, 115);
+const GW_COLOUR: RGBColor = RGBColor(204, 121, 167);
 /// The experiment's symbols (Okabe–Ito blue).
 const EXPERIMENT_COLOUR: RGBColor = RGBColor(0, 114, 178);
 
 impl<'a> SampleResponses<'a> {
     /// The wired curves, in the key's order.
     pub fn curves(&self) -> impl Iterator<Item = (&'a Response, Curve)> + '_ {
-        [self.hyperelastic, self.linear, self.bem, self.bem_linear]
-            .into_iter()
-            .zip(Curve::ALL)
-            .filter_map(|(r, c)| Some((r?, c)))
+        [
+            self.hyperelastic,
+            self.linear,
+            self.bem,
+            self.bem_linear,
+            self.persson,
+            self.gw,
+        ]
+        .into_iter()
+        .zip(Curve::ALL)
+        .filter_map(|(r, c)| Some((r?, c)))
     }
 }
 
 pub struct Fig7<'a> {
     pub samples: Vec<SampleResponses<'a>>,
+    /// Drawn as Fig. 9, the contact models compared (always per sample).
+    pub comparison: bool,
 }
 
 /// Width reserved right of the plot for the legend, pixels.
@@ -127,9 +167,11 @@ struct Ranges {
 
 impl Fig7<'_> {
     fn per_sample(&self) -> bool {
-        self.samples
-            .iter()
-            .any(|s| s.experiment.is_some() || s.curves().any(|(_, c)| c.is_bem()))
+        self.comparison
+            || self
+                .samples
+                .iter()
+                .any(|s| s.experiment.is_some() || s.curves().any(|(_, c)| c.is_bem()))
     }
 
     fn rows(&self) -> usize {
@@ -245,8 +287,8 @@ impl Fig7<'_> {
         let sizes = TextSizes::panel(20.0);
         let ranges = self.ranges();
         let style = |c: Curve| {
-            let colour = if c.is_bem() { BEM_COLOUR } else { ICM_COLOUR };
-            colour.stroke_width(if c.is_bem() { 3 } else { 2 })
+            c.colour()
+                .stroke_width(if c.colour() == ICM_COLOUR { 2 } else { 3 })
         };
         let panels = plot.split_evenly((self.rows(), COLUMNS));
         let measured = EXPERIMENT_COLOUR.stroke_width(2);
@@ -277,7 +319,7 @@ impl Fig7<'_> {
 
 impl Figure for Fig7<'_> {
     fn name(&self) -> &'static str {
-        "fig7"
+        if self.comparison { "fig9" } else { "fig7" }
     }
 
     fn size_px(&self) -> (u32, u32) {

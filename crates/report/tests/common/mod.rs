@@ -361,6 +361,14 @@ pub fn inputs_at(wiring: Wiring, map_n: usize, levels: usize, poisson: f64) -> I
                 &format!("responses.{label}"),
                 table(response_at(levels, *scale, false, poisson)),
             );
+            // The theories from the spectrum (Fig. 9): stiffer and softer
+            // than the ICM by a constant factor.
+            for (input, factor) in [("responses_persson", 1.5), ("responses_gw", 2.5)] {
+                inputs.insert(
+                    &format!("{input}.{label}"),
+                    table(response_at(levels, scale * factor, false, poisson)),
+                );
+            }
         }
         if wiring.linear {
             inputs.insert(
