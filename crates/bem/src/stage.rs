@@ -6,6 +6,7 @@
 use std::sync::Arc;
 
 use hypercontact_core::contact::{area_fraction_label, check_map_fraction};
+use hypercontact_core::field::SurfaceProblem;
 use hypercontact_core::{
     Arity, Checked, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs, ParamError,
     Schema, Stage, StageError, StageInfo, params,
@@ -304,30 +305,13 @@ impl Stage for Bem {
 /// The heights as a row-major vector (axis 0 = x), refused if they cannot be
 /// a contact problem.
 fn checked_heights(surface: &Field) -> Result<Vec<f64>, BemError> {
-    let (nx, ny) = (surface.nx(), surface.ny());
-    if nx < 2 || ny < 2 {
-        return Err(BemError::Surface(format!(
-            "the map is {nx} × {ny}; at least 2 × 2 points are needed"
-        )));
+    match surface.contact_surface_problem(2) {
+        Some(p @ SurfaceProblem::Flat(_)) => {
+            Err(BemError::Surface(format!("{p}: all of it touches at once")))
+        }
+        Some(p) => Err(BemError::Surface(p.to_string())),
+        None => Ok(surface.values.iter().copied().collect()),
     }
-    let heights_m: Vec<f64> = surface.values.iter().copied().collect();
-    if let Some(k) = heights_m.iter().position(|h| h.is_infinite()) {
-        return Err(BemError::Surface(format!(
-            "point [{}, {}] holds an infinite height",
-            k / ny,
-            k % ny
-        )));
-    }
-    let mut measured = heights_m.iter().filter(|h| !h.is_nan());
-    let Some(&first) = measured.next() else {
-        return Err(BemError::Surface("every height is NaN".into()));
-    };
-    if measured.all(|&h| h == first) {
-        return Err(BemError::Surface(format!(
-            "the map is flat (every measured height is {first:e} m): all of it touches at once"
-        )));
-    }
-    Ok(heights_m)
 }
 
 /// A failed step as the user should read it: the plane's height and the

@@ -3,7 +3,7 @@
 //! `cargo bench -p hypercontact-classical --bench theories`
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use hypercontact_classical::curve::{Theory, log_grid, unit_pressure_at};
+use hypercontact_classical::curve::{log_grid, unit_pressure_at};
 use hypercontact_classical::gw::Asperities;
 use hypercontact_classical::persson::{Persson, Variant};
 use hypercontact_classical::spectrum::Spectrum;
@@ -20,15 +20,6 @@ fn spectrum() -> Spectrum {
     .non_periodic(453, 453, 20e-6, 1);
     let psd = psd_radial(&map, 20e-6, 20e-6, Window::Hann, 10);
     Spectrum::from_surface_topography(&psd.q_per_m, &psd.c).unwrap()
-}
-
-struct Gw(Asperities);
-impl Theory for Gw {
-    fn area_fraction(&self, p: f64) -> f64 {
-        self.0
-            .at_separation(self.0.separation_at_unit_pressure(p))
-            .area_fraction
-    }
 }
 
 fn bench(c: &mut Criterion) {
@@ -55,12 +46,12 @@ fn bench(c: &mut Criterion) {
     }
     c.bench_function("greenwood-williamson, 200 rows", |b| {
         b.iter(|| {
-            let gw = Gw(Asperities::from_moments(s.moments()).unwrap());
+            let gw = Asperities::from_moments(s.moments()).unwrap();
             let lo = unit_pressure_at(&gw, 1e-3, slope).unwrap();
             let hi = unit_pressure_at(&gw, 0.95, slope).unwrap();
             log_grid(lo, hi, 200)
                 .iter()
-                .map(|&p| gw.0.at_separation(gw.0.separation_at_unit_pressure(p)))
+                .map(|&p| gw.at_separation(gw.separation_at_unit_pressure(p)))
                 .collect::<Vec<_>>()
         })
     });

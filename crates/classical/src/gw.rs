@@ -224,6 +224,18 @@ impl Asperities {
     }
 }
 
+/// GW as a load–area theory: A/A0 at p̄/E* (0 at no load).
+impl crate::curve::Theory for Asperities {
+    fn area_fraction(&self, unit_pressure: f64) -> f64 {
+        if unit_pressure > 0.0 {
+            let d = self.separation_at_unit_pressure(unit_pressure);
+            self.at_separation(d).area_fraction
+        } else {
+            0.0
+        }
+    }
+}
+
 /// F_k(u) = ∫_0^∞ t^k φ(u + t) dt for k ≥ 0 (k = 0, 1, 3/2 used), φ the
 /// standard normal density: the moments of (X − u)⁺ for a standard normal X.
 ///

@@ -2,6 +2,7 @@
 //! or from a height map) clipped to the requested q range, and the nominal
 //! area A0 that turns p̄ into a load in newtons.
 
+use hypercontact_core::field::SurfaceProblem;
 use hypercontact_core::{Field, Inputs, StageError};
 use hypercontact_surface::psd::{Window, psd_radial};
 use hypercontact_surface::surface_stage::{PsdTable, StatsTable};
@@ -135,39 +136,19 @@ fn stats_area_m2(stats: &StatsTable) -> Result<f64, ClassicalError> {
 /// The radial PSD of a height map, computed as stage `surface` does (mean
 /// removed, NaN at the mean, Hann window unless periodic), and its measured area.
 fn from_map(field: &Field, options: &SourceOptions) -> Result<(Spectrum, f64), StageError> {
-    let (nx, ny) = (field.nx(), field.ny());
     let bad =
         |why: String| StageError::from(ClassicalError::Input(format!("input `surface`: {why}")));
-    if nx < 4 || ny < 4 {
-        return Err(bad(format!(
-            "the map is {nx} × {ny}; at least 4 × 4 points are needed"
-        )));
+    match field.contact_surface_problem(4) {
+        Some(p @ SurfaceProblem::Flat(_)) => return Err(bad(format!("{p}: it has no spectrum"))),
+        Some(p) => return Err(bad(p.to_string())),
+        None => {}
     }
-    let mut measured = 0usize;
-    let mut sum = 0.0;
-    for (k, &h) in field.values.iter().enumerate() {
-        if h.is_infinite() {
-            return Err(bad(format!(
-                "point [{}, {}] holds an infinite height",
-                k / ny,
-                k % ny
-            )));
-        }
-        if !h.is_nan() {
-            measured += 1;
-            sum += h;
-        }
-    }
-    if measured == 0 {
-        return Err(bad("every height is NaN".into()));
-    }
-    let mut heights_measured = field.values.iter().filter(|h| !h.is_nan());
-    let first = heights_measured.next().copied().unwrap_or(0.0);
-    if heights_measured.all(|&h| h == first) {
-        return Err(bad(format!(
-            "the map is flat (every measured height is {first:e} m): it has no spectrum"
-        )));
-    }
+    let (nx, ny) = (field.nx(), field.ny());
+    let (measured, sum) = field
+        .values
+        .iter()
+        .filter(|h| !h.is_nan())
+        .fold((0usize, 0.0), |(n, s), h| (n + 1, s + h));
     let mean = sum / measured as f64;
     let heights = Array2::from_shape_fn((nx, ny), |(i, j)| {
         let h = field.values[[i, j]];

@@ -376,7 +376,8 @@ impl Stage for PerssonStage {
             PerssonVariant::YangPersson => Variant::YangPersson { gamma: p.gamma },
         };
         let theory = Persson::new(&source.spectrum, variant);
-        let slope = source.spectrum.moments().rms_slope();
+        let moments = source.spectrum.moments();
+        let slope = moments.rms_slope();
         let unit_pressure = load_rows(
             &theory,
             slope,
@@ -409,7 +410,6 @@ impl Stage for PerssonStage {
             kappa: rows.kappa,
         };
         let tiny = 1e-6 * slope;
-        let moments = source.spectrum.moments();
         let summary = PerssonSummaryTable {
             variant: vec![hypercontact_core::param::Choice::name(&p.variant).to_owned()],
             gamma: vec![match variant {
@@ -478,20 +478,6 @@ static GW: StageInfo = StageInfo {
     ],
 };
 
-/// GW as a [`Theory`]: A/A0 against p̄/E*.
-struct GwTheory<'a>(&'a Asperities);
-
-impl Theory for GwTheory<'_> {
-    fn area_fraction(&self, unit_pressure: f64) -> f64 {
-        if unit_pressure > 0.0 {
-            let d = self.0.separation_at_unit_pressure(unit_pressure);
-            self.0.at_separation(d).area_fraction
-        } else {
-            0.0
-        }
-    }
-}
-
 impl Stage for GreenwoodWilliamson {
     type Params = GwParams;
 
@@ -521,7 +507,7 @@ impl Stage for GreenwoodWilliamson {
             .map_err(|e| ClassicalError::Input(format!("input `{}`: {e}", source.input)))?;
         let slope = m.rms_slope();
         let unit_pressure = load_rows(
-            &GwTheory(&asperities),
+            &asperities,
             slope,
             p.min_area_fraction,
             p.max_area_fraction,

@@ -63,6 +63,21 @@ pub enum FieldError {
     Grid(String),
 }
 
+/// Why a height map cannot be a contact surface (see
+/// [`Field::contact_surface_problem`]). The caller says what a flat map
+/// means for its model after [`SurfaceProblem`]'s own text.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SurfaceProblem {
+    #[error("the map is {nx} × {ny}; at least {min} × {min} points are needed")]
+    TooSmall { nx: usize, ny: usize, min: usize },
+    #[error("point [{i}, {j}] holds an infinite height")]
+    Infinite { i: usize, j: usize },
+    #[error("every height is NaN")]
+    Unmeasured,
+    #[error("the map is flat (every measured height is {0:e} m)")]
+    Flat(f64),
+}
+
 impl Field {
     /// A field with checked spacing and a non-empty grid.
     pub fn new(values: Array2<f64>, dx_m: f64, dy_m: f64) -> Result<Self, FieldError> {
@@ -82,6 +97,29 @@ impl Field {
 
     pub fn ny(&self) -> usize {
         self.values.ncols()
+    }
+
+    /// The first reason the heights (m, NaN = not measured) cannot be a
+    /// rough contact surface: under `min` points along an axis, an
+    /// infinite height, nothing measured, or every measured height equal.
+    pub fn contact_surface_problem(&self, min: usize) -> Option<SurfaceProblem> {
+        let (nx, ny) = (self.nx(), self.ny());
+        if nx < min || ny < min {
+            return Some(SurfaceProblem::TooSmall { nx, ny, min });
+        }
+        if let Some(k) = self.values.iter().position(|h| h.is_infinite()) {
+            return Some(SurfaceProblem::Infinite {
+                i: k / ny,
+                j: k % ny,
+            });
+        }
+        let mut measured = self.values.iter().filter(|h| !h.is_nan());
+        let Some(&first) = measured.next() else {
+            return Some(SurfaceProblem::Unmeasured);
+        };
+        measured
+            .all(|&h| h == first)
+            .then_some(SurfaceProblem::Flat(first))
     }
 
     pub fn grid(&self) -> Grid {

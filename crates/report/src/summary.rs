@@ -204,16 +204,13 @@ impl Summary {
                             .transform
                             .clone()
                             .and_then(|t| table_rows(&t.into_table()).into_iter().next()),
-                        kappa: crate::models::KAPPA_AREAS
-                            .iter()
-                            .map(|&a| {
-                                crate::models::KappaAt::read(
-                                    s,
-                                    crate::report::experiment_points(s).as_ref(),
-                                    a,
-                                )
-                            })
-                            .collect(),
+                        kappa: {
+                            let measured = crate::report::experiment_points(s);
+                            crate::models::KAPPA_AREAS
+                                .iter()
+                                .map(|&a| crate::models::KappaAt::read(s, measured.as_ref(), a))
+                                .collect()
+                        },
                     }
                 })
                 .collect(),
