@@ -127,10 +127,28 @@ fn main() -> ExitCode {
     match dispatch(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", error_text(&e));
             ExitCode::FAILURE
         }
     }
+}
+
+/// The error and its causes on one line, each said once: a cause whose
+/// text the line already holds (a wrapper that quotes its source and also
+/// returns it as `source()`) is left out, so no message prints twice.
+fn error_text(e: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in e.chain() {
+        let said = cause.to_string();
+        if text.contains(&said) {
+            continue;
+        }
+        if !text.is_empty() {
+            text.push_str(": ");
+        }
+        text.push_str(&said);
+    }
+    text
 }
 
 fn dispatch(cli: Cli) -> Result<()> {
@@ -391,5 +409,24 @@ mod tests {
             assert_eq!(parse_days(good), Ok(days));
             let _ = Duration::from_secs_f64(days * 86_400.0);
         }
+    }
+
+    /// Issue 17: a stage error that quoted its cause and also chained it
+    /// printed `X: msg: msg`; each text is said once, distinct causes kept.
+    #[test]
+    fn each_cause_is_said_once() {
+        #[derive(Debug, thiserror::Error)]
+        #[error("the load range: {0}")]
+        struct Quoting(#[from] Inner);
+        #[derive(Debug, thiserror::Error)]
+        #[error("p_max is below p_min")]
+        struct Inner;
+        let e = anyhow::Error::from(Quoting(Inner)).context("stage `gw` failed");
+        assert_eq!(
+            error_text(&e),
+            "stage `gw` failed: the load range: p_max is below p_min"
+        );
+        let e = anyhow::Error::from(Inner).context("stage `gw`");
+        assert_eq!(error_text(&e), "stage `gw`: p_max is below p_min");
     }
 }

@@ -324,6 +324,31 @@ fn the_tensile_csv_pipeline_fits_and_reports() {
     assert!(fit.f64("r2").unwrap().iter().all(|r2| *r2 > 0.99));
     let html = std::fs::read_to_string(t.path().join("out/report/index.html")).unwrap();
     assert!(html.contains("fig2.svg"));
+
+    // Issue 17: notes reached nobody in a piped run. Without a terminal
+    // they are plain stderr lines, and provenance.json keeps them, also
+    // when the stage is a cache hit the next time.
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let said = stderr
+        .lines()
+        .find(|l| l.starts_with("fit ") && l.contains("RMS relative error"))
+        .unwrap_or_else(|| panic!("the fit's note is not on stderr:\n{stderr}"));
+    let notes_in = |dir: &Path| -> Vec<String> {
+        let json = std::fs::read_to_string(dir.join("out/provenance.json")).unwrap();
+        let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+        v["stages"]["fit"]["notes"]
+            .as_array()
+            .unwrap_or_else(|| panic!("no notes for `fit` in provenance.json:\n{json}"))
+            .iter()
+            .map(|n| n.as_str().unwrap().to_owned())
+            .collect()
+    };
+    let notes = notes_in(t.path());
+    assert!(said.ends_with(notes[0].as_str()), "{said} / {notes:?}");
+    let again = run_pipeline(t.path(), "pipelines/tensile-csv.yaml", &[]);
+    assert!(text(&again).contains("0 ran, 3 cached"), "{}", text(&again));
+    assert_eq!(notes_in(t.path()), notes);
+    assert!(!String::from_utf8_lossy(&again.stderr).contains("RMS relative error"));
 }
 
 /// The quick version of the paper pipeline, end to end: DIC → fit, T1–T4

@@ -1,6 +1,7 @@
 //! What the runner lends a running stage: progress bars and file readers.
 
 use std::path::Path;
+use std::sync::Mutex;
 use std::time::Duration;
 
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -62,6 +63,9 @@ pub struct Context<'a> {
     multi: Option<&'a MultiProgress>,
     reader: &'a dyn ProductReader,
     upstream: Option<serde_json::Value>,
+    /// Every note of the run, in order: the runner keeps them with the
+    /// cache entry and in provenance.json.
+    notes: Mutex<Vec<String>>,
 }
 
 impl<'a> Context<'a> {
@@ -73,6 +77,7 @@ impl<'a> Context<'a> {
             multi: None,
             reader: &BasicReader,
             upstream: None,
+            notes: Mutex::new(Vec::new()),
         }
     }
 
@@ -87,6 +92,7 @@ impl<'a> Context<'a> {
             multi,
             reader,
             upstream: None,
+            notes: Mutex::new(Vec::new()),
         }
     }
 
@@ -132,11 +138,34 @@ impl<'a> Context<'a> {
         Progress(bar)
     }
 
-    /// Prints a line above the progress bars (nothing when quiet).
+    /// Says something the user should know (a choice made for them, a
+    /// warning: start it with `warning:`). It is printed above the progress
+    /// bars on a terminal, as a plain line on stderr when there is none
+    /// (piped or CI runs, where the bars are hidden), nothing when quiet;
+    /// and it is kept: the runner stores a stage's notes with its cache
+    /// entry and writes them into provenance.json, so a cached result still
+    /// carries them.
     pub fn note(&self, message: &str) {
+        let line = format!("{:>14} {message}", self.stage);
         if let Some(multi) = self.multi {
-            let _ = multi.println(format!("{:>14} {message}", self.stage));
+            if multi.is_hidden() {
+                eprintln!("{}", line.trim_start());
+            } else {
+                let _ = multi.println(line);
+            }
         }
+        self.notes
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+            .push(message.to_owned());
+    }
+
+    /// The notes said so far, in order.
+    pub fn notes(&self) -> Vec<String> {
+        self.notes
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+            .clone()
     }
 
     pub fn read_table(&self, path: &Path) -> Result<Table, StageError> {

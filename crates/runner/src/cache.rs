@@ -50,6 +50,10 @@ pub struct Manifest {
     pub compute_s: f64,
     pub params: serde_json::Value,
     pub outputs: BTreeMap<String, OutputRecord>,
+    /// What the stage said while computing the entry (`Context::note`), so
+    /// a cache hit still reports it.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
 }
 
 pub const MANIFEST_FORMAT: u32 = 1;

@@ -294,7 +294,14 @@ fn run_once(
                     })?;
                 let compute_s = t_compute.elapsed().as_secs_f64();
                 check_contract(planned, decl.stage.info(), &outputs)?;
-                let m = write_entry(&cache, planned, &outputs, compute_s, after_file)?;
+                let m = write_entry(
+                    &cache,
+                    planned,
+                    &outputs,
+                    compute_s,
+                    ctx.notes(),
+                    after_file,
+                )?;
                 for (name, product) in outputs.into_inner() {
                     let id = (planned.name.clone(), name);
                     if readers.get(&id).is_some_and(|&n| n > 0) {
@@ -345,6 +352,7 @@ fn run_once(
                 wall_s: t0.elapsed().as_secs_f64(),
                 compute_s: manifest.compute_s,
                 temp: planned.temp,
+                notes: manifest.notes.clone(),
             },
         );
         cache.restamp(&planned.key, &manifest);
@@ -521,6 +529,7 @@ fn write_entry(
     planned: &PlannedStage,
     outputs: &Outputs,
     compute_s: f64,
+    notes: Vec<String>,
     after_file: AfterFile,
 ) -> Result<Manifest, RunError> {
     let cache_err = |cause| RunError::Cache {
@@ -543,6 +552,7 @@ fn write_entry(
         compute_s,
         params: planned.params.clone(),
         outputs: records,
+        notes,
     };
     cache.commit(&staging, &manifest).map_err(cache_err)?;
     Ok(manifest)

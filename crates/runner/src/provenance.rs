@@ -49,6 +49,10 @@ pub struct StageRecord {
     /// had theirs.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub temp: bool,
+    /// What the stage said when it computed its entry (its notes and
+    /// warnings), kept with the entry so a cached stage reports them too.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
 }
 
 /// The record of one run.
