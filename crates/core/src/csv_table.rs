@@ -136,6 +136,20 @@ pub fn read_csv_bytes_with_lines(bytes: &[u8], display: &str) -> Result<CsvTable
             })
         })
         .collect::<Result<_, _>>()?;
+    if let [only] = header.as_slice()
+        && let Some((_, name)) = [(';', "semicolons"), ('\t', "tabs")]
+            .into_iter()
+            .find(|(c, _)| only.contains(*c))
+    {
+        // A spreadsheet saved in a decimal-comma locale writes `;`; read
+        // with `,` it is one column whose name holds every header field.
+        return Err(fail(format!(
+            "line {header_line}: the fields are separated by {name} (`{}`), not commas: \
+             save the file as comma-separated CSV with `.` as the decimal mark \
+             (e.g. `time_s,force_n` and `0.5,12.25`)",
+            only.escape_debug()
+        )));
+    }
     let mut cells: Vec<Vec<String>> = vec![Vec::new(); header.len()];
     let mut row_lines = Vec::new();
     for record in records {
@@ -321,6 +335,31 @@ mod tests {
         (0..csv.table.n_rows())
             .map(|r| csv.lines.place(r))
             .collect()
+    }
+
+    #[test]
+    fn semicolon_and_tab_separated_files_are_named_as_such() {
+        for (text, name) in [
+            ("time_s;force_n\n0,5;1,25\n", "semicolons"),
+            ("\u{feff}time_s;force_n\r\n0.5;1.25\r\n", "semicolons"),
+            ("time_s\tforce_n\n0.5\t1.25\n", "tabs"),
+        ] {
+            let e = read_csv_bytes(text.as_bytes(), "force.csv")
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.starts_with("force.csv: line 1: the fields are separated by ")
+                    && e.contains(name)
+                    && e.contains("comma-separated"),
+                "{e}"
+            );
+        }
+        // A one-column file with neither is still a table.
+        let t = read_csv_bytes(b"time_s\n0.5\n", "t.csv").unwrap();
+        assert_eq!(t.f64("time_s").unwrap(), &[0.5]);
+        // A semicolon inside a quoted field of a comma file is no separator.
+        let t = read_csv_bytes(b"note,x\n\"a;b\",1\n", "t.csv").unwrap();
+        assert_eq!(t.str("note").unwrap(), ["a;b"]);
     }
 
     #[test]
