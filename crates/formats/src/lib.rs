@@ -10,6 +10,13 @@ use std::path::Path;
 
 use ndarray::Array2;
 
+mod datx;
+mod metropro;
+mod opd;
+mod plu;
+mod sur;
+mod x3p;
+
 /// The formats read here.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Format {
@@ -68,21 +75,58 @@ pub enum FormatError {
     #[error("not a height-map format hypercontact reads (first bytes {0})")]
     Unknown(String),
     #[error("{format}: {message}")]
-    Invalid { format: &'static str, message: String },
+    Invalid {
+        format: &'static str,
+        message: String,
+    },
     #[error("{format}: {message}")]
-    Unsupported { format: &'static str, message: String },
+    Unsupported {
+        format: &'static str,
+        message: String,
+    },
 }
 
 /// The format of a file from its first bytes (at least 16 should be given);
 /// the extension decides only where the bytes alone cannot.
 pub fn detect(bytes: &[u8], path: Option<&Path>) -> Option<Format> {
-    let _ = (bytes, path);
-    todo!("magic bytes of each format")
+    if bytes.starts_with(b"\x93NUMPY") {
+        return Some(Format::Npy);
+    }
+    let by_bytes = [
+        (Format::X3p, x3p::matches as fn(&[u8]) -> bool),
+        (Format::Sur, sur::matches),
+        (Format::MetroPro, metropro::matches),
+        (Format::Datx, datx::matches),
+        (Format::Opd, opd::matches),
+        (Format::Plu, plu::matches),
+    ];
+    if let Some((format, _)) = by_bytes.iter().find(|(_, m)| m(bytes)) {
+        return Some(*format);
+    }
+    let extension = path?.extension()?.to_str()?.to_ascii_lowercase();
+    match extension.as_str() {
+        "plu" if plu::plausible(bytes) => Some(Format::Plu),
+        _ => None,
+    }
 }
 
 /// Reads a height map from a file's bytes; `path` only helps [`detect`].
 /// Never panics, whatever the bytes.
 pub fn read_bytes(bytes: &[u8], path: Option<&Path>) -> Result<Topography, FormatError> {
-    let _ = (bytes, path);
-    todo!("dispatch on detect")
+    let Some(format) = detect(bytes, path) else {
+        let shown: Vec<String> = bytes.iter().take(8).map(|b| format!("{b:02x}")).collect();
+        return Err(FormatError::Unknown(shown.join(" ")));
+    };
+    match format {
+        Format::Npy => Err(FormatError::Unsupported {
+            format: format.name(),
+            message: "holds no grid spacing: read it as a field with pixel_m".into(),
+        }),
+        Format::X3p => x3p::read(bytes),
+        Format::Sur => sur::read(bytes),
+        Format::Plu => plu::read(bytes),
+        Format::MetroPro => metropro::read(bytes),
+        Format::Datx => datx::read(bytes),
+        Format::Opd => opd::read(bytes),
+    }
 }
