@@ -1,0 +1,21 @@
+//! Plu reader (not yet written).
+
+use crate::{Format, FormatError, Topography};
+
+/// Whether the first bytes are this format's magic.
+pub(crate) fn matches(_bytes: &[u8]) -> bool {
+    false
+}
+
+/// Whether bytes without a magic number may still be this format (used with the extension).
+pub(crate) fn plausible(_bytes: &[u8]) -> bool {
+    false
+}
+
+/// Reads the file's bytes.
+pub(crate) fn read(_bytes: &[u8]) -> Result<Topography, FormatError> {
+    Err(FormatError::Unsupported {
+        format: Format::Plu.name(),
+        message: "no reader yet".into(),
+    })
+}
