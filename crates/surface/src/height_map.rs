@@ -1,22 +1,25 @@
-//! Stage `height-map`: loads one height map from a `.npy` file.
+//! Stage `height-map`: loads one height map, from a `.npy` array or from an
+//! instrument's own file (X3P, Digital Surf .sur, Sensofar .plu, Zygo
+//! MetroPro .dat, Wyko .opd), the format told by the file's first bytes.
 
 use hypercontact_core::{
     Checked, Context, Field, InputPath, Inputs, OutputSpec, Outputs, Stage, StageError, StageInfo,
     params,
 };
+use hypercontact_formats::{Format, Topography};
 
 /// Parameters of `height-map`.
 #[params]
 pub struct HeightMapParams {
-    /// the .npy file (2-D, float64 or float32; axis 0 = x; NaN = missing)
+    /// the height map: .npy (2-D float64/float32, axis 0 = x, NaN = missing) or an instrument file (.x3p, .sur, .plu, MetroPro .dat, .opd)
     pub path: InputPath,
-    /// grid spacing along x
+    /// grid spacing along x (needed for .npy; for an instrument file it replaces the file's)
     #[param(unit = "m", positive)]
-    pub pixel_m: f64,
-    /// grid spacing along y (default: pixel_m)
+    pub pixel_m: Option<f64>,
+    /// grid spacing along y (default: pixel_m, or the file's)
     #[param(unit = "m", positive)]
     pub pixel_y_m: Option<f64>,
-    /// factor from file units to metres (1e-6 for micrometres)
+    /// factor from .npy units to metres (1e-6 for micrometres; instrument files state their units)
     #[param(default = 1.0, unit = "m/unit", positive)]
     pub scale_to_m: f64,
 }
@@ -26,11 +29,17 @@ pub struct HeightMap;
 
 static INFO: StageInfo = StageInfo {
     kind: "height-map",
-    version: 1,
-    summary: "Load a height map (.npy, metres) with its grid spacing",
-    doc: "Reads a 2-D .npy array (float64 or float32) whose axis 0 is x, as the \
-          SurfaceTopography package writes it. NaN marks missing points and is kept. \
-          Values are multiplied by `scale_to_m`.",
+    version: 2,
+    summary: "Load a height map (.npy or an instrument file) with its grid spacing",
+    doc: "Reads a height map as the instrument wrote it. The format is told by the first \
+          bytes, not the extension: ISO 25178-72 X3P, Digital Surf .sur, Sensofar .plu, Zygo \
+          MetroPro .dat, Wyko .opd, read with their units and pixel size (non-square pixels \
+          kept; missing points NaN), or a 2-D .npy array (float64 or float32) whose axis 0 is \
+          x, as the SurfaceTopography package writes it, which holds no spacing: `pixel_m` is \
+          then required and values are multiplied by `scale_to_m`. For an instrument file \
+          `pixel_m` / `pixel_y_m` replace the file's spacing (a recalibration; the note says \
+          by how much) and `scale_to_m` must stay 1. The note names the format, the grid and \
+          the missing points.",
     inputs: &[],
     outputs: &[OutputSpec::field(
         "height",
@@ -51,8 +60,11 @@ impl Stage for HeightMap {
         _: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let dy_m = p.pixel_y_m.unwrap_or(p.pixel_m);
-        let mut field: Field = ctx.read_field(&p.path, p.pixel_m, dy_m)?;
+        let bytes = hypercontact_core::source::read_regular_file(&p.path)?;
+        let field = match hypercontact_formats::detect(&bytes, Some(&p.path)) {
+            None | Some(Format::Npy) => read_npy(p, &bytes)?,
+            Some(_) => read_instrument_file(p, &bytes, ctx)?,
+        };
         if field.values.iter().all(|h| h.is_nan()) {
             return Err(StageError::file(&p.path, "every point is NaN"));
         }
@@ -62,11 +74,88 @@ impl Stage for HeightMap {
                 format!("holds an infinite height ({bad})"),
             ));
         }
-        if p.scale_to_m != 1.0 {
-            field.values.mapv_inplace(|h| h * p.scale_to_m);
-        }
         Ok(Outputs::new().field("height", field))
     }
+}
+
+/// A `.npy` map (or a file no reader recognises, which the npy reader then
+/// names): spacing and units from the parameters.
+fn read_npy(p: &HeightMapParams, bytes: &[u8]) -> Result<Field, StageError> {
+    let Some(dx_m) = p.pixel_m else {
+        return Err(StageError::file(
+            &p.path,
+            "a .npy array holds no grid spacing: give `pixel_m` (and `pixel_y_m` if the pixels \
+             are not square)",
+        ));
+    };
+    let dy_m = p.pixel_y_m.unwrap_or(dx_m);
+    let mut field = Field::read_npy(bytes, dx_m, dy_m).map_err(|e| {
+        StageError::file(
+            &p.path,
+            format!(
+                "{e} (hypercontact reads .npy and the instrument formats X3P, .sur, .plu, \
+                 MetroPro .dat and .opd, told by their first bytes)"
+            ),
+        )
+    })?;
+    if p.scale_to_m != 1.0 {
+        field.values.mapv_inplace(|h| h * p.scale_to_m);
+    }
+    Ok(field)
+}
+
+/// An instrument's file: heights in metres and the spacing it states,
+/// which `pixel_m` / `pixel_y_m` may replace.
+fn read_instrument_file(
+    p: &HeightMapParams,
+    bytes: &[u8],
+    ctx: &Context,
+) -> Result<Field, StageError> {
+    let map: Topography = hypercontact_formats::read_bytes(bytes, Some(&p.path))
+        .map_err(|e| StageError::file(&p.path, e.to_string()))?;
+    if p.scale_to_m != 1.0 {
+        return Err(StageError::file(
+            &p.path,
+            format!(
+                "is a {} file, which states its own height units: leave `scale_to_m` at 1 \
+                 (it is {})",
+                map.format.name(),
+                p.scale_to_m
+            ),
+        ));
+    }
+    let dx_m = p.pixel_m.unwrap_or(map.dx_m);
+    let dy_m = p.pixel_y_m.or(p.pixel_m).unwrap_or(map.dy_m);
+    let (nx, ny) = map.heights_m.dim();
+    let missing = map.heights_m.iter().filter(|h| h.is_nan()).count();
+    let mut note = format!(
+        "{}: {nx} × {ny} points at {} × {} µm, {missing} missing",
+        map.format.name(),
+        micrometres(map.dx_m),
+        micrometres(map.dy_m),
+    );
+    if (dx_m, dy_m) != (map.dx_m, map.dy_m) {
+        note.push_str(&format!(
+            "; spacing replaced by the parameters: {} × {} µm ({:+.3} % along x)",
+            micrometres(dx_m),
+            micrometres(dy_m),
+            100.0 * (dx_m / map.dx_m - 1.0)
+        ));
+    }
+    if let Some(instrument) = map
+        .metadata
+        .iter()
+        .find(|(key, _)| key.to_ascii_lowercase().contains("instrument"))
+    {
+        note.push_str(&format!("; {}: {}", instrument.0, instrument.1));
+    }
+    ctx.note(&note);
+    Field::new(map.heights_m, dx_m, dy_m).map_err(|e| StageError::file(&p.path, e.to_string()))
+}
+
+/// A spacing in micrometres, as many digits as a note needs.
+fn micrometres(m: f64) -> String {
+    format!("{:.4}", m * 1e6)
 }
 
 #[cfg(test)]
@@ -85,7 +174,7 @@ mod tests {
         f.write_npy(std::fs::File::create(&path).unwrap()).unwrap();
         let params = HeightMapParams {
             path: path.clone().into(),
-            pixel_m: 2e-5,
+            pixel_m: Some(2e-5),
             pixel_y_m: None,
             scale_to_m: 1e-6,
         }
@@ -108,8 +197,6 @@ mod tests {
         let parse = |value| HeightMap.params_from_json(value, std::path::Path::new("."));
         let e = parse(json!({"pixel_m": 2e-5})).unwrap_err();
         assert!(e.message.contains("missing field `path`"), "{e}");
-        let e = parse(json!({"path": "x.npy"})).unwrap_err();
-        assert!(e.message.contains("missing field `pixel_m`"), "{e}");
         let e = parse(json!({"path": "x.npy", "pixel_m": 0.0})).unwrap_err();
         assert_eq!(e.param, "pixel_m");
     }

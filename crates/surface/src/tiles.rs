@@ -1,13 +1,16 @@
 //! Reading interferometer tiles: where the bytes come from (a
 //! [`FileSource`]: a `Files` product or a folder), how a tile file becomes
-//! heights (`TileDecoder`: `.npy` now, ISO 25178-72 `.x3p` can follow), and
-//! the `positions.csv` a scanner writes (`tile, file, x_m, y_m, pixel_m`: the
-//! nominal position of each tile's pixel [0, 0]).
+//! heights ([`decode_tile`]: `.npy`, or an instrument's own file in any
+//! format `hypercontact-formats` reads, told by its first bytes), and where
+//! each tile stood: the `positions.csv` a scanner writes (`tile, file, x_m,
+//! y_m[, pixel_m]`: the nominal position of each tile's pixel [0, 0]), or,
+//! without one, the stage positions the files record (X3P's axis offsets).
 
 use std::collections::BTreeMap;
 
 use hypercontact_core::csv_table::{CsvTable, RowPlace};
 use hypercontact_core::{ColumnData, Field, FileSource};
+use hypercontact_formats::Format;
 use ndarray::Array2;
 
 use crate::error::SurfaceError;
@@ -21,31 +24,51 @@ pub const POSITIONS: &str = "positions.csv";
 /// stitcher index out of bounds).
 pub const MAX_POSITION_PX: f64 = 1e9;
 
-/// Turns a tile file into heights in metres (axis 0 = x).
-pub trait TileDecoder {
-    /// Lower-case extensions this decoder reads, without the dot.
-    fn extensions(&self) -> &'static [&'static str];
-    fn decode(&self, bytes: &[u8]) -> Result<Array2<f64>, String>;
+/// Extensions of the files a tile folder's scan takes for tiles (the
+/// reader itself goes by the first bytes).
+pub const TILE_EXTENSIONS: &[&str] = &["npy", "x3p", "sur", "plu", "dat", "datx", "opd"];
+
+/// A tile file's heights and what the file says of its grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DecodedTile {
+    /// metres, axis 0 = x, NaN where not measured
+    pub heights: Array2<f64>,
+    /// the file's (dx, dy), None for `.npy`
+    pub spacing_m: Option<(f64, f64)>,
+    /// the stage position of pixel [0, 0] the file records, if any
+    pub position_m: Option<(f64, f64)>,
+    /// the format it was read as
+    pub format: Format,
 }
 
-/// `.npy`, float64 or float32, metres, axis 0 = x, NaN where not measured.
-pub struct NpyDecoder;
-
-impl TileDecoder for NpyDecoder {
-    fn extensions(&self) -> &'static [&'static str] {
-        &["npy"]
-    }
-
-    fn decode(&self, bytes: &[u8]) -> Result<Array2<f64>, String> {
-        Field::read_npy(bytes, 1.0, 1.0)
-            .map(|f| f.values)
-            .map_err(|e| e.to_string())
+/// Reads a tile file by its first bytes: `.npy` (float64/float32, metres,
+/// axis 0 = x, NaN = missing, no spacing) or an instrument's format.
+pub fn decode_tile(name: &str, bytes: &[u8]) -> Result<DecodedTile, String> {
+    match hypercontact_formats::detect(bytes, Some(std::path::Path::new(name))) {
+        None | Some(Format::Npy) => Field::read_npy(bytes, 1.0, 1.0)
+            .map(|f| DecodedTile {
+                heights: f.values,
+                spacing_m: None,
+                position_m: None,
+                format: Format::Npy,
+            })
+            .map_err(|e| e.to_string()),
+        Some(_) => hypercontact_formats::read_bytes(bytes, Some(std::path::Path::new(name)))
+            .map(|t| DecodedTile {
+                heights: t.heights_m,
+                spacing_m: Some((t.dx_m, t.dy_m)),
+                position_m: t.position_m,
+                format: t.format,
+            })
+            .map_err(|e| e.to_string()),
     }
 }
 
-/// The decoders this build knows.
-pub fn decoders() -> Vec<Box<dyn TileDecoder>> {
-    vec![Box::new(NpyDecoder)]
+/// The lower-case extension of a file name, "" without one.
+fn extension(name: &str) -> String {
+    name.rsplit_once('.')
+        .map(|(_, e)| e.to_ascii_lowercase())
+        .unwrap_or_default()
 }
 
 /// One row of `positions.csv`.
@@ -55,7 +78,8 @@ pub struct Position {
     pub file: String,
     pub x_m: f64,
     pub y_m: f64,
-    pub pixel_m: f64,
+    /// the scanner's spacing; optional when the tile files state theirs
+    pub pixel_m: Option<f64>,
 }
 
 /// Cell `row` of a column as text (a number as Rust prints it).
@@ -85,17 +109,20 @@ pub fn parse_positions(csv: &CsvTable, display: &str) -> Result<Vec<Position>, S
         table.column(name).map_err(|_| {
             err(
                 csv.header_line,
-                format!("no column `{name}` (expected tile, file, x_m, y_m, pixel_m)"),
+                format!(
+                    "no column `{name}` (expected tile, file, x_m, y_m and, unless the tile \
+                     files state their spacing, pixel_m)"
+                ),
             )
         })
     };
-    let [tile, file, x, y, pixel] = [
+    let [tile, file, x, y] = [
         column("tile")?,
         column("file")?,
         column("x_m")?,
         column("y_m")?,
-        column("pixel_m")?,
     ];
+    let pixel = table.column("pixel_m").ok();
     let rows = table.n_rows();
     if rows == 0 {
         return Err(err(csv.header_line, "lists no tiles".into()));
@@ -138,33 +165,40 @@ pub fn parse_positions(csv: &CsvTable, display: &str) -> Result<Vec<Position>, S
             },
             x_m: number(x, "x_m", row)?,
             y_m: number(y, "y_m", row)?,
-            pixel_m: number(pixel, "pixel_m", row)?,
+            pixel_m: match pixel {
+                Some(pixel) => Some(number(pixel, "pixel_m", row)?),
+                None => None,
+            },
         };
-        if position.pixel_m <= 0.0 {
-            return Err(err(
-                line_of(row),
-                format!(
-                    "column `pixel_m`: must be positive, got {}",
-                    position.pixel_m
-                ),
-            ));
-        }
-        for (name, value) in [("x_m", position.x_m), ("y_m", position.y_m)] {
-            let px = value / position.pixel_m;
-            if px.is_nan() || px.abs() > MAX_POSITION_PX {
+        if let Some(pixel_m) = position.pixel_m {
+            if pixel_m <= 0.0 {
                 return Err(err(
                     line_of(row),
-                    format!(
-                        "column `{name}`: {value} m is {px:e} pixels of {} m from the origin, \
-                         beyond any scan ({MAX_POSITION_PX:e} pixels; a unit mistake?)",
-                        position.pixel_m
-                    ),
+                    format!("column `pixel_m`: must be positive, got {pixel_m}"),
                 ));
             }
+            check_in_reach(position.x_m, position.y_m, pixel_m).map_err(|message| {
+                err(line_of(row), message)
+            })?;
         }
         positions.push(position);
     }
     Ok(positions)
+}
+
+/// A position's distance from the origin in pixels, refused beyond any
+/// scan (a unit mistake).
+fn check_in_reach(x_m: f64, y_m: f64, pixel_m: f64) -> Result<(), String> {
+    for (name, value) in [("x_m", x_m), ("y_m", y_m)] {
+        let px = value / pixel_m;
+        if px.is_nan() || px.abs() > MAX_POSITION_PX {
+            return Err(format!(
+                "column `{name}`: {value} m is {px:e} pixels of {pixel_m} m from the origin, \
+                 beyond any scan ({MAX_POSITION_PX:e} pixels; a unit mistake?)"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Tiles read, checked and ready to stitch.
@@ -181,15 +215,38 @@ pub struct TileSet {
 
 /// Reads and checks a tile set: the positions file matches the tile files
 /// (every listed file exists, no tile file is unlisted, no duplicates),
-/// tiles share one shape and one spacing, no tile is all NaN.
+/// tiles share one shape and one square spacing, no tile is all NaN.
+/// Without `positions.csv` the tiles are the folder's tile files in
+/// natural order of their names, each placed where the file says it stood.
 pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
     let positions_name = source.display(POSITIONS);
-    let positions = parse_positions(&source.read_csv_with_lines(POSITIONS)?, &positions_name)?;
-    let decoders = decoders();
-    let extension = |name: &str| {
-        name.rsplit_once('.')
-            .map(|(_, e)| e.to_ascii_lowercase())
-            .unwrap_or_default()
+    let listed = source.exists(POSITIONS);
+    let positions = if listed {
+        parse_positions(&source.read_csv_with_lines(POSITIONS)?, &positions_name)?
+    } else {
+        let mut names: Vec<String> = source
+            .names()?
+            .into_iter()
+            .filter(|name| TILE_EXTENSIONS.contains(&extension(name).as_str()))
+            .collect();
+        if names.is_empty() {
+            return Err(SurfaceError::Input(format!(
+                "{positions_name} is missing and there are no tile files ({}) beside it",
+                TILE_EXTENSIONS.join(", ")
+            )));
+        }
+        alphanumeric_sort::sort_str_slice(&mut names);
+        names
+            .into_iter()
+            .enumerate()
+            .map(|(k, file)| Position {
+                tile: k as i64,
+                file,
+                x_m: f64::NAN,
+                y_m: f64::NAN,
+                pixel_m: None,
+            })
+            .collect()
     };
     let mismatch = |message: String| SurfaceError::PositionsMismatch {
         file: positions_name.clone(),
@@ -204,82 +261,99 @@ pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
             )));
         }
     }
-    let known: Vec<&str> = decoders
-        .iter()
-        .flat_map(|d| d.extensions().iter().copied())
-        .collect();
     for name in source.names()? {
         if name != POSITIONS
-            && known.contains(&extension(&name).as_str())
+            && TILE_EXTENSIONS.contains(&extension(&name).as_str())
             && !seen.contains_key(&name)
         {
             return Err(mismatch(format!("tile file {name} is not listed")));
         }
     }
-    let first = &positions[0];
+    let first_shown = source.display(&positions[0].file);
     let mut set = TileSet {
         ids: Vec::new(),
         names: Vec::new(),
         heights: Vec::new(),
         nominal_px: Vec::new(),
-        pixel_m: first.pixel_m,
+        pixel_m: f64::NAN,
     };
     for p in &positions {
         let shown = source.display(&p.file);
-        if (p.pixel_m - first.pixel_m).abs() > 1e-9 * first.pixel_m {
-            return Err(SurfaceError::Spacing {
-                file: shown,
-                found: p.pixel_m,
-                first: source.display(&first.file),
-                expected: first.pixel_m,
-            });
-        }
-        let ext = extension(&p.file);
-        let decoder = decoders
-            .iter()
-            .find(|d| d.extensions().contains(&ext.as_str()))
-            .ok_or_else(|| SurfaceError::Tile {
-                file: shown.clone(),
-                message: format!("cannot read `.{ext}` tiles (known: {})", known.join(", ")),
-            })?;
+        let tile_err = |message: String| SurfaceError::Tile {
+            file: shown.clone(),
+            message,
+        };
         let bytes = source
             .read(&p.file)
             .map_err(|_| mismatch(format!("{} is listed but not in the tile set", p.file)))?;
-        let heights = decoder
-            .decode(&bytes)
-            .map_err(|message| SurfaceError::Tile {
-                file: shown.clone(),
-                message,
-            })?;
+        let tile = decode_tile(&p.file, &bytes).map_err(&tile_err)?;
+        let pixel_m = tile_spacing(p, &tile).map_err(&tile_err)?;
+        if set.names.is_empty() {
+            set.pixel_m = pixel_m;
+        } else if (pixel_m - set.pixel_m).abs() > 1e-9 * set.pixel_m {
+            return Err(SurfaceError::Spacing {
+                file: shown,
+                found: pixel_m,
+                first: first_shown.clone(),
+                expected: set.pixel_m,
+            });
+        }
+        let (x_m, y_m) = if listed {
+            (p.x_m, p.y_m)
+        } else {
+            tile.position_m.ok_or_else(|| {
+                tile_err(format!(
+                    "records no stage position ({} files do not), and there is no {POSITIONS}: \
+                     write one with columns tile, file, x_m, y_m (e.g. `0,{},0.0,0.0`)",
+                    tile.format.name(),
+                    p.file
+                ))
+            })?
+        };
+        check_in_reach(x_m, y_m, pixel_m).map_err(&tile_err)?;
+        let heights = tile.heights;
         if let Some(h0) = set.heights.first()
             && h0.dim() != heights.dim()
         {
             return Err(SurfaceError::Shape {
                 file: shown,
                 found: heights.dim(),
-                first: source.display(&first.file),
+                first: first_shown.clone(),
                 expected: h0.dim(),
             });
         }
         if heights.iter().all(|h| h.is_nan()) {
-            return Err(SurfaceError::Tile {
-                file: shown,
-                message: "every point is NaN".into(),
-            });
+            return Err(tile_err("every point is NaN".into()));
         }
         if heights.iter().any(|h| h.is_infinite()) {
-            return Err(SurfaceError::Tile {
-                file: shown,
-                message: "holds an infinite height".into(),
-            });
+            return Err(tile_err("holds an infinite height".into()));
         }
         set.ids.push(p.tile);
         set.names.push(p.file.clone());
         set.heights.push(heights);
-        set.nominal_px
-            .push([p.x_m / first.pixel_m, p.y_m / first.pixel_m]);
+        set.nominal_px.push([x_m / pixel_m, y_m / pixel_m]);
     }
     Ok(set)
+}
+
+/// A tile's square grid spacing: positions.csv's `pixel_m` and the file's
+/// own must agree where both exist (1e-6 relative), and one must exist.
+fn tile_spacing(p: &Position, tile: &DecodedTile) -> Result<f64, String> {
+    match (p.pixel_m, tile.spacing_m) {
+        (_, Some((dx, dy))) if (dx - dy).abs() > 1e-6 * dx => Err(format!(
+            "has pixels of {dx:e} × {dy:e} m: stitching needs square pixels (resample the \
+             tiles, or analyse them one by one with height-map)"
+        )),
+        (Some(listed), Some((dx, _))) if (listed - dx).abs() > 1e-6 * dx => Err(format!(
+            "states a spacing of {dx:e} m but {POSITIONS} gives pixel_m = {listed:e} m for it"
+        )),
+        (_, Some((dx, _))) => Ok(dx),
+        (Some(listed), None) => Ok(listed),
+        (None, None) => Err(format!(
+            "is a {} file, which holds no spacing: give {POSITIONS} a column pixel_m",
+            tile.format.name()
+        )),
+    }
 }
 
 #[cfg(test)]
