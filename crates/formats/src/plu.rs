@@ -308,6 +308,26 @@ mod tests {
         ));
     }
 
+    proptest::proptest! {
+        #![proptest_config(hypercontact_fuzz::config(256))]
+
+        /// The reader itself, past `plausible`: arbitrary bytes and edits of
+        /// a small valid file are an error or a map, never a panic.
+        #[test]
+        fn read_never_panics(
+            data in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..1200),
+            edits in hypercontact_fuzz::byte_edits(),
+        ) {
+            let _ = read(&data);
+            let heights: Vec<f32> = (0..12).map(|k| k as f32 - 3.0).collect();
+            let edited = hypercontact_fuzz::splice(plu_file(4, 3, 0.5, &heights), &edits);
+            // what `detect` trusts the extension for, the reader reads
+            if plausible(&edited) {
+                proptest::prop_assert!(read(&edited).is_ok());
+            }
+        }
+    }
+
     #[test]
     fn absurd_sizes_are_refused_before_reading() {
         let mut file = plu_file(1, 1, 1.0, &[0.0]);
