@@ -52,6 +52,25 @@ impl<'a> Sequence<'a> {
             not_frames: mask.map(str::to_owned).into_iter().collect(),
         };
         let lab = LabSequence::open_with(source, &layout).map_err(DicError::from_stage)?;
+        // A mask left beside frames found by their names would be read as a
+        // frame: say so rather than fail on its size or depth.
+        if mask.is_none()
+            && !lab.exists("frames.csv")
+            && let Some(entry) = lab.frames.iter().find(|e| {
+                e.file
+                    .rsplit_once('.')
+                    .is_some_and(|(stem, _)| stem.eq_ignore_ascii_case("mask"))
+            })
+        {
+            return Err(DicError::file(
+                &lab.display(&entry.file),
+                format!(
+                    "would be read as a frame: name it in the parameter `mask` (mask: {}) or \
+                     move it out of the folder",
+                    entry.file
+                ),
+            ));
+        }
         let mut specimen = Specimen::default();
         if lab.exists("specimen.json") {
             let bytes = lab.read("specimen.json").map_err(DicError::from_stage)?;
