@@ -13,6 +13,9 @@ use std::borrow::Cow;
 use crate::csv_table::{RowLines, RowPlace, read_csv_bytes_with_lines};
 use crate::{ColumnData, FileSource, StageError, Table};
 
+mod image_file;
+pub use image_file::{DecodedImage, GrayFrame, LUMA_RULE, Samples, decode_image};
+
 /// One row of `frames.csv`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameEntry {
@@ -37,83 +40,91 @@ pub struct Sequence<'a> {
     pub trigger: Option<Vec<bool>>,
 }
 
-/// A decoded grey frame as the camera's integers: row-major
-/// (`data[y * width + x]`), `bits` the container's depth (8 or 16; colour
-/// files are converted to luma).
+/// What a caller needs of a sequence's files. The default is the strict
+/// layout the contact experiment needs: force.csv required, no frame rate.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Layout {
+    /// force.csv may be missing (a strain-only DIC); then
+    /// [`Sequence::force`] is empty and [`Sequence::has_force`] false.
+    pub force_optional: bool,
+    /// The caller's frame-rate parameter, if it has one: with a rate,
+    /// a folder without frames.csv is read in the natural order of its
+    /// file names at times k / rate.
+    pub frame_rate: Option<FrameRate>,
+    /// Image files of the folder that are not frames (a mask).
+    pub not_frames: Vec<String>,
+}
+
+/// A caller's frame-rate parameter: its name (for messages) and value.
 #[derive(Clone, Debug, PartialEq)]
-pub struct GrayFrame {
-    pub width: usize,
-    pub height: usize,
-    pub bits: u8,
-    pub data: Vec<u16>,
+pub struct FrameRate {
+    pub param: &'static str,
+    pub hz: Option<f64>,
 }
 
-impl GrayFrame {
-    /// Decodes a PNG or TIFF file's bytes; `name` labels errors.
-    pub fn decode(name: &str, bytes: &[u8]) -> Result<Self, StageError> {
-        let decoded = image::load_from_memory(bytes)
-            .map_err(|e| StageError::file(name, format!("not a readable PNG/TIFF image: {e}")))?;
-        let (width, height) = (decoded.width() as usize, decoded.height() as usize);
-        let sixteen_bit = matches!(
-            decoded.color(),
-            image::ColorType::L16
-                | image::ColorType::La16
-                | image::ColorType::Rgb16
-                | image::ColorType::Rgba16
-                | image::ColorType::Rgb32F
-                | image::ColorType::Rgba32F
-        );
-        let (bits, data) = if sixteen_bit {
-            (16, decoded.into_luma16().into_raw())
-        } else {
-            let raw = decoded.into_luma8().into_raw();
-            (8, raw.into_iter().map(u16::from).collect())
-        };
-        if width == 0 || height == 0 || data.len() != width * height {
-            return Err(StageError::file(
-                name,
-                format!(
-                    "an image of {width} × {height} pixels holding {} values",
-                    data.len()
-                ),
-            ));
-        }
-        Ok(GrayFrame {
-            width,
-            height,
-            bits,
-            data,
-        })
-    }
-
-    /// The container's full scale, 2^bits − 1.
-    pub fn full_scale(&self) -> f64 {
-        f64::from((1u32 << self.bits) - 1)
-    }
-}
+/// How force.csv must look, for the errors.
+const FORCE_HELP: &str = "the force log force.csv needs the columns time_s and force_n with \
+     increasing times, e.g. the lines `time_s,force_n` and `0.00,0.0`";
 
 impl<'a> Sequence<'a> {
-    /// Opens the sequence: the frames from `frames.csv`, or, without one,
-    /// from the image files' names ([`frames_from_names`]).
+    /// Opens the sequence in the strict layout ([`Layout::default`]).
     pub fn open(source: FileSource<'a>) -> Result<Self, StageError> {
+        Self::open_with(source, &Layout::default())
+    }
+
+    /// Opens the sequence: the frames from `frames.csv`, or, without one,
+    /// from the image files' names ([`frames_from_names`]) or, given a
+    /// frame rate, their natural order ([`frames_at_rate`]); force.csv as
+    /// `layout` asks.
+    pub fn open_with(source: FileSource<'a>, layout: &Layout) -> Result<Self, StageError> {
+        let rate = layout
+            .frame_rate
+            .as_ref()
+            .and_then(|r| r.hz.map(|hz| (r.param, hz)));
         let frames = if source.exists("frames.csv") {
+            if let Some((param, hz)) = rate {
+                return Err(StageError::file(
+                    source.display("frames.csv"),
+                    format!(
+                        "lists the frames with their times, and `{param}` = {hz} Hz gives them \
+                         too: drop the parameter (or the file)"
+                    ),
+                ));
+            }
             parse_frames(&Log::read(
                 &source,
                 "frames.csv",
                 &["frame", "time_s", "file"],
             )?)?
+        } else if let Some((param, hz)) = rate {
+            frames_at_rate(&source, param, hz, &layout.not_frames)?
         } else {
-            frames_from_names(&source)?
+            frames_listed_by_names(&source, layout)?
         };
-        let log = Log::read(&source, "force.csv", &["time_s", "force_n"])?;
-        let force = parse_force(&log)?;
-        let trigger = parse_trigger(&log)?;
+        let (force, trigger) = if layout.force_optional && !source.exists("force.csv") {
+            (Vec::new(), None)
+        } else {
+            if !source.exists("force.csv") {
+                return Err(StageError::file(
+                    source.display("force.csv"),
+                    format!("missing: {FORCE_HELP}"),
+                ));
+            }
+            let log = Log::read(&source, "force.csv", &["time_s", "force_n"])?;
+            (parse_force(&log)?, parse_trigger(&log)?)
+        };
         Ok(Sequence {
             source,
             frames,
             force,
             trigger,
         })
+    }
+
+    /// Whether the sequence has a force log (always, unless opened with
+    /// [`Layout::force_optional`]).
+    pub fn has_force(&self) -> bool {
+        !self.force.is_empty()
     }
 
     /// How errors name file `name`.
@@ -133,6 +144,12 @@ impl<'a> Sequence<'a> {
 
     /// Decodes frame `k` (index into `frames`).
     pub fn frame(&self, k: usize) -> Result<GrayFrame, StageError> {
+        let name = self.present(k)?;
+        GrayFrame::decode(&self.source.display(name), &self.read(name)?)
+    }
+
+    /// Frame `k`'s file name, if the file is there.
+    fn present(&self, k: usize) -> Result<&str, StageError> {
         let entry = &self.frames[k];
         let name = &entry.file;
         if !self.source.exists(name) {
@@ -142,13 +159,24 @@ impl<'a> Sequence<'a> {
             };
             return Err(StageError::file(self.source.display(name), why));
         }
-        GrayFrame::decode(&self.source.display(name), &self.read(name)?)
+        Ok(name)
+    }
+
+    /// Decodes frame `k` with its samples as stored ([`decode_image`]).
+    pub fn decoded(&self, k: usize) -> Result<DecodedImage, StageError> {
+        let name = self.present(k)?;
+        decode_image(&self.source.display(name), &self.read(name)?)
     }
 
     /// The force at `t_s` by linear interpolation of the log; an error names
     /// the frame if the log does not cover it.
     pub fn force_at(&self, t_s: f64, frame: &FrameEntry) -> Result<f64, StageError> {
-        let (first, last) = (self.force[0].0, self.force[self.force.len() - 1].0);
+        let (Some(&(first, _)), Some(&(last, _))) = (self.force.first(), self.force.last()) else {
+            return Err(StageError::file(
+                self.source.display("force.csv"),
+                format!("missing: {FORCE_HELP}"),
+            ));
+        };
         let slack = 1e-9 * (1.0 + last.abs());
         if t_s < first - slack || t_s > last + slack {
             return Err(StageError::file(
@@ -400,20 +428,113 @@ fn time_field(field: &str) -> Option<f64> {
 /// number is the name's digit field, or else the position (from 0). An
 /// error names the file whose name has no time, or two files of one time.
 pub fn frames_from_names(source: &FileSource) -> Result<Vec<FrameEntry>, StageError> {
+    frames_listed_by_names(source, &Layout::default())
+}
+
+/// What a folder without `frames.csv` must hold, for the errors: with the
+/// caller's frame-rate parameter if it has one.
+fn named_frames_help(layout: &Layout) -> String {
+    match &layout.frame_rate {
+        Some(rate) => format!(
+            "{NAMED_FRAMES_HELP}; or set `{}` (the frames are then the PNG/TIFF files in the \
+             natural order of their names, `img_2.tif` before `img_10.tif`, at times k / rate)",
+            rate.param
+        ),
+        None => NAMED_FRAMES_HELP.to_owned(),
+    }
+}
+
+/// The folder's image files that may be frames, in natural order (`img_2`
+/// before `img_10`); an error if there are none.
+fn image_names(source: &FileSource, layout: &Layout) -> Result<Vec<String>, StageError> {
     let mut images: Vec<String> = source
         .names()?
         .into_iter()
-        .filter(|n| is_frame_file(n))
+        .filter(|n| is_frame_file(n) && !layout.not_frames.contains(n))
         .collect();
-    // Natural order (`img_2` before `img_10`), for the order of the errors
-    // and as the tie-breaker of the frame numbers below.
     alphanumeric_sort::sort_str_slice(&mut images);
     if images.is_empty() {
         return Err(StageError::file(
             source.display("frames.csv"),
-            format!("missing, and there are no PNG/TIFF frames either: {NAMED_FRAMES_HELP}"),
+            format!(
+                "missing, and there are no PNG/TIFF frames either: {}",
+                named_frames_help(layout)
+            ),
         ));
     }
+    Ok(images)
+}
+
+/// The frames of a source without `frames.csv` and a frame rate `hz`
+/// (parameter `param`): its PNG/TIFF files in the natural order of their
+/// names (alphanumeric-sort: `img_2` before `img_10`), frame k taken at
+/// k / hz seconds; times written in the names are not read. The frame
+/// number is the name's last field of digits if every name has one, else
+/// the position (from 0).
+pub fn frames_at_rate(
+    source: &FileSource,
+    param: &'static str,
+    hz: f64,
+    not_frames: &[String],
+) -> Result<Vec<FrameEntry>, StageError> {
+    if !(hz.is_finite() && hz > 0.0) {
+        return Err(StageError::invalid(format!(
+            "parameter `{param}`: must be a positive frame rate in Hz, got {hz}"
+        )));
+    }
+    let layout = Layout {
+        frame_rate: Some(FrameRate {
+            param,
+            hz: Some(hz),
+        }),
+        not_frames: not_frames.to_vec(),
+        ..Layout::default()
+    };
+    let images = image_names(source, &layout)?;
+    if images.len() < 2 {
+        return Err(StageError::file(
+            source.display(&images[0]),
+            "is the only PNG/TIFF frame (a sequence needs at least 2)",
+        ));
+    }
+    let numbers: Vec<Option<i64>> = images.iter().map(|n| number_in_name(n)).collect();
+    let numbered = numbers.iter().all(Option::is_some);
+    Ok(images
+        .into_iter()
+        .zip(numbers)
+        .enumerate()
+        .map(|(k, (file, number))| FrameEntry {
+            frame: match number {
+                Some(n) if numbered => n,
+                _ => k as i64,
+            },
+            time_s: k as f64 / hz,
+            file,
+            listed: None,
+        })
+        .collect())
+}
+
+/// The last field of plain digits in a file name's stem (fields split at
+/// `_`, `-` and spaces, as [`time_in_name`] splits them).
+fn number_in_name(name: &str) -> Option<i64> {
+    let stem = name.rsplit_once('.').map_or(name, |(stem, _)| stem);
+    stem.split(['_', '-', ' '])
+        .filter(|f| !f.is_empty() && f.bytes().all(|b| b.is_ascii_digit()))
+        .filter_map(|f| f.parse::<i64>().ok())
+        .next_back()
+}
+
+/// [`frames_from_names`] with the caller's layout (its help and the files
+/// that are not frames).
+fn frames_listed_by_names(
+    source: &FileSource,
+    layout: &Layout,
+) -> Result<Vec<FrameEntry>, StageError> {
+    // Natural order, for the order of the errors and as the tie-breaker of
+    // the frame numbers below.
+    let images = image_names(source, layout)?;
+    let help = named_frames_help(layout);
     let mut frames = Vec::with_capacity(images.len());
     for name in images {
         match time_in_name(&name) {
@@ -421,9 +542,7 @@ pub fn frames_from_names(source: &FileSource) -> Result<Vec<FrameEntry>, StageEr
             NameTime::None => {
                 return Err(StageError::file(
                     source.display(&name),
-                    format!(
-                        "has no time in its name and there is no frames.csv: {NAMED_FRAMES_HELP}"
-                    ),
+                    format!("has no time in its name and there is no frames.csv: {help}"),
                 ));
             }
             NameTime::Ambiguous(fields) => {
@@ -454,7 +573,7 @@ pub fn frames_from_names(source: &FileSource) -> Result<Vec<FrameEntry>, StageEr
     if frames.len() < 2 {
         return Err(StageError::file(
             source.display(&frames[0].2),
-            format!("is the only frame (a sequence needs at least 2): {NAMED_FRAMES_HELP}"),
+            format!("is the only frame (a sequence needs at least 2): {help}"),
         ));
     }
     let numbered = frames.iter().all(|f| f.1.is_some());
@@ -751,6 +870,127 @@ mod tests {
         s.frames[1].file = "c_1s.png".into();
         let e = s.frame(1).unwrap_err().to_string();
         assert!(e.ends_with("c_1s.png: missing"), "{e}");
+    }
+
+    fn layout(force_optional: bool, hz: Option<f64>) -> Layout {
+        Layout {
+            force_optional,
+            frame_rate: Some(FrameRate {
+                param: "frame_rate_hz",
+                hz,
+            }),
+            not_frames: vec!["mask.png".into()],
+        }
+    }
+
+    #[test]
+    fn force_log_optional_when_the_caller_says_so() {
+        let f = Files::new().with(
+            "frames.csv",
+            b"frame,time_s,file\n0,0.0,a.png\n1,0.5,b.png\n".to_vec(),
+        );
+        let e = Sequence::open(source(&f)).err().unwrap().to_string();
+        assert!(
+            e.contains(
+                "force.csv: missing: the force log force.csv needs the columns time_s \
+                        and force_n"
+            ) && e.contains("`0.00,0.0`"),
+            "{e}"
+        );
+        let s = Sequence::open_with(source(&f), &layout(true, None)).unwrap();
+        assert!(!s.has_force() && s.trigger.is_none());
+        let e = s.force_at(0.0, &s.frames[0]).unwrap_err().to_string();
+        assert!(e.contains("force.csv: missing"), "{e}");
+        // Present, it is read (and checked) as always.
+        let f = f.with("force.csv", b"time_s,force_n\n0,x\n".to_vec());
+        let e = Sequence::open_with(source(&f), &layout(true, None))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("force.csv: line 2, column `force_n`"), "{e}");
+    }
+
+    #[test]
+    fn a_frame_rate_orders_frames_by_natural_sort() {
+        let f = Files::new()
+            .with("img_10.tif", vec![])
+            .with("img_2.tif", vec![])
+            .with("img_1.tif", vec![])
+            .with("mask.png", vec![])
+            .with("._img_3.tif", vec![]);
+        let s = Sequence::open_with(source(&f), &layout(true, Some(4.0))).unwrap();
+        let got: Vec<(i64, f64, &str)> = s
+            .frames
+            .iter()
+            .map(|e| (e.frame, e.time_s, e.file.as_str()))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                (1, 0.0, "img_1.tif"),
+                (2, 0.25, "img_2.tif"),
+                (10, 0.5, "img_10.tif")
+            ]
+        );
+        // Names without a digit field: numbered by position.
+        let f = Files::new()
+            .with("b.png", vec![])
+            .with("a.png", vec![])
+            .with("c3.png", vec![]);
+        let s = Sequence::open_with(source(&f), &layout(true, Some(2.0))).unwrap();
+        let got: Vec<(i64, &str)> = s
+            .frames
+            .iter()
+            .map(|e| (e.frame, e.file.as_str()))
+            .collect();
+        assert_eq!(got, [(0, "a.png"), (1, "b.png"), (2, "c3.png")]);
+        // Without a rate, the help names the caller's parameter.
+        let e = Sequence::open_with(source(&f), &layout(true, None))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("a.png: has no time in its name") && e.contains("or set `frame_rate_hz`"),
+            "{e}"
+        );
+        // A rate and frames.csv both: refused.
+        let f = f.with(
+            "frames.csv",
+            b"frame,time_s,file\n0,0.0,a.png\n1,0.5,b.png\n".to_vec(),
+        );
+        let e = Sequence::open_with(source(&f), &layout(true, Some(2.0)))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("frames.csv: lists the frames with their times, and `frame_rate_hz`"),
+            "{e}"
+        );
+        // One frame, or none.
+        let f = Files::new().with("a.png", vec![]).with("mask.png", vec![]);
+        let e = Sequence::open_with(source(&f), &layout(true, Some(2.0)))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("a.png: is the only PNG/TIFF frame"), "{e}");
+        let f = Files::new().with("mask.png", vec![]);
+        let e = Sequence::open_with(source(&f), &layout(true, Some(2.0)))
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("frames.csv: missing, and there are no PNG/TIFF frames")
+                && e.contains("`0,0.0,img_000.tif`"),
+            "{e}"
+        );
+        for bad in [0.0, -1.0, f64::NAN] {
+            let f = Files::new().with("a.png", vec![]).with("b.png", vec![]);
+            let e = Sequence::open_with(source(&f), &layout(true, Some(bad)))
+                .err()
+                .unwrap()
+                .to_string();
+            assert!(e.contains("`frame_rate_hz`: must be a positive"), "{e}");
+        }
     }
 
     proptest::proptest! {

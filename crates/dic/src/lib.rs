@@ -6,6 +6,8 @@
 //!   propagation, incremental reference updating);
 //! - [`markers`]: centroid tracking of painted dots;
 //! - [`strain`]: deformation gradient, principal stretches, Green–Lagrange;
+//! - [`region`]: the analysed pixels (rectangle, polygon, mask);
+//! - [`gray`]: frames as fractions of the camera's full scale;
 //! - [`sequence`]: the raw files; [`stage`]: the stage.
 
 pub mod bspline;
@@ -14,6 +16,7 @@ pub mod gray;
 pub mod icgn;
 pub mod markers;
 pub mod poi_grid;
+pub mod region;
 pub mod sequence;
 pub mod stage;
 pub mod strain;
@@ -22,7 +25,7 @@ pub mod zncc_fft;
 
 pub use error::DicError;
 pub use gray::GrayImage;
-pub use stage::{Dic, DicParams, Method};
+pub use stage::{Dic, DicFieldTable, DicParams, DicTensileTable, LoadingAxis, Method};
 
 use hypercontact_core::Registry;
 

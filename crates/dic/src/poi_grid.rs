@@ -12,6 +12,9 @@ pub struct PoiGrid {
     pub step_px: usize,
     /// Frame-0 positions, pixels.
     pub points: Vec<[f64; 2]>,
+    /// Whether each POI is analysed (its subset inside the region; all,
+    /// until [`PoiGrid::restrict`]).
+    pub active: Vec<bool>,
 }
 
 impl PoiGrid {
@@ -59,18 +62,34 @@ impl PoiGrid {
         // Centre the grid in the room it has.
         let off_x = lo_x + (hi_x - lo_x - (nx - 1) * step_px) / 2;
         let off_y = lo_y + (hi_y - lo_y - (ny - 1) * step_px) / 2;
-        let points = (0..ny)
+        let points: Vec<[f64; 2]> = (0..ny)
             .flat_map(|iy| {
                 (0..nx)
                     .map(move |ix| [(off_x + ix * step_px) as f64, (off_y + iy * step_px) as f64])
             })
             .collect();
+        let active = vec![true; points.len()];
         Ok(Self {
             nx,
             ny,
             step_px,
             points,
+            active,
         })
+    }
+
+    /// Keeps active only the POIs for which `keep` (of the frame-0 pixel
+    /// position) holds; returns how many are left.
+    pub fn restrict(&mut self, keep: impl Fn(usize, usize) -> bool) -> usize {
+        for (p, active) in self.points.iter().zip(&mut self.active) {
+            *active &= keep(p[0] as usize, p[1] as usize);
+        }
+        self.active_count()
+    }
+
+    /// How many POIs are analysed.
+    pub fn active_count(&self) -> usize {
+        self.active.iter().filter(|a| **a).count()
     }
 
     pub fn len(&self) -> usize {
@@ -91,9 +110,26 @@ impl PoiGrid {
         [left, right, up, down].into_iter().flatten()
     }
 
-    /// The POI nearest the grid's centre.
-    pub fn centre(&self) -> usize {
-        (self.ny / 2) * self.nx + self.nx / 2
+    /// Up to `blocks × blocks` of the POIs for which `eligible` holds,
+    /// spread over the grid: the grid is cut into `blocks` bands each way
+    /// and each block gives its eligible POI nearest the block's middle.
+    pub fn spread(&self, blocks: usize, eligible: impl Fn(usize) -> bool) -> Vec<usize> {
+        let blocks = blocks.max(1);
+        let band = |n: usize| n.div_ceil(blocks).max(1);
+        let (bx, by) = (band(self.nx), band(self.ny));
+        let mut best: std::collections::BTreeMap<(usize, usize), (usize, usize)> =
+            std::collections::BTreeMap::new();
+        for i in (0..self.len()).filter(|&i| eligible(i)) {
+            let (ix, iy) = (i % self.nx, i / self.nx);
+            let key = (iy / by, ix / bx);
+            let (mx, my) = (key.1 * bx + bx / 2, key.0 * by + by / 2);
+            let d = ix.abs_diff(mx).pow(2) + iy.abs_diff(my).pow(2);
+            let entry = best.entry(key).or_insert((d, i));
+            if d < entry.0 {
+                *entry = (d, i);
+            }
+        }
+        best.into_values().map(|(_, i)| i).collect()
     }
 }
 
@@ -109,6 +145,15 @@ mod tests {
             assert!(p[1] - 15.0 >= 50.0 && p[1] + 15.0 <= 120.0);
         }
         assert_eq!((g.nx, g.ny), (8, 5));
+        assert_eq!(g.active_count(), 40);
+        // Two blocks each way (columns 0–3, 4–7; rows 0–2, 3–4): one POI
+        // per block, nearest its middle (column 2 or 6, row 1 or 4).
+        assert_eq!(g.spread(2, |_| true), [8 + 2, 8 + 6, 4 * 8 + 2, 4 * 8 + 6]);
+        // Blocks with nothing eligible give nothing; the others their best.
+        assert_eq!(g.spread(2, |i| i % 8 >= 4), [8 + 6, 4 * 8 + 6]);
+        assert_eq!(g.spread(2, |i| i % 8 >= 5 && i / 8 == 0), [6]);
+        let mut g = g;
+        assert_eq!(g.restrict(|x, _| x > 150), 40 - 5 * 4);
         let e = PoiGrid::new([100, 50, 120, 120], "roi_px", 10, 31, 512, 512).unwrap_err();
         assert!(
             matches!(e, DicError::Param { ref param, .. } if param == "subset_px"),

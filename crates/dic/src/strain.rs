@@ -82,14 +82,30 @@ pub fn affine_fit(from: &[[f64; 2]], to: &[[f64; 2]]) -> Option<([f64; 2], [f64;
 /// Principal stretches (λ along the loading axis x, λ₂ across it): the
 /// principal direction nearer to x takes the first.
 pub fn principal_stretches(f: &Mat2) -> (f64, f64) {
+    stretches_along(f, 0.0)
+}
+
+/// The larger principal stretch, the smaller, and the angle θ (radians,
+/// from x, in the frame-0 configuration) of the larger one's direction:
+/// the eigen-decomposition of C = FᵀF, tan 2θ = 2 C_xy / (C_xx − C_yy).
+pub fn principal(f: &Mat2) -> (f64, f64, f64) {
     let c = right_cauchy_green(f);
     let mean = 0.5 * (c[0][0] + c[1][1]);
     let radius = (0.25 * (c[0][0] - c[1][1]).powi(2) + c[0][1] * c[0][1]).sqrt();
-    let (big, small) = ((mean + radius).sqrt(), (mean - radius).max(0.0).sqrt());
-    // The larger eigenvalue's direction makes angle θ with x,
-    // tan 2θ = 2 C_xy / (C_xx − C_yy).
     let theta = 0.5 * (2.0 * c[0][1]).atan2(c[0][0] - c[1][1]);
-    if theta.cos().abs() >= theta.sin().abs() {
+    (
+        (mean + radius).sqrt(),
+        (mean - radius).max(0.0).sqrt(),
+        theta,
+    )
+}
+
+/// Principal stretches ordered by a loading axis at angle `axis_rad` from
+/// x: the one whose principal direction is nearer the axis first.
+pub fn stretches_along(f: &Mat2, axis_rad: f64) -> (f64, f64) {
+    let (big, small, theta) = principal(f);
+    let off = theta - axis_rad;
+    if off.cos().abs() >= off.sin().abs() {
         (big, small)
     } else {
         (small, big)
@@ -196,6 +212,21 @@ mod tests {
         // Compression along x: x's stretch is still first.
         let (l1, l2) = principal_stretches(&[[0.8, 0.0], [0.0, 1.2]]);
         assert!((l1 - 0.8).abs() < 1e-12 && (l2 - 1.2).abs() < 1e-12);
+        // Along y, and along a principal direction at 30°: F = R(30°) U R(30°)ᵀ
+        // stretches by 1.4 along 30° and 0.9 across.
+        let (l1, l2) = stretches_along(&[[0.8, 0.0], [0.0, 1.2]], std::f64::consts::FRAC_PI_2);
+        assert!((l1 - 1.2).abs() < 1e-12 && (l2 - 0.8).abs() < 1e-12);
+        let (s, c) = 30f64.to_radians().sin_cos();
+        let (a, b) = (1.4, 0.9);
+        let f = [
+            [a * c * c + b * s * s, (a - b) * s * c],
+            [(a - b) * s * c, a * s * s + b * c * c],
+        ];
+        let (big, small, theta) = principal(&f);
+        assert!((big - 1.4).abs() < 1e-12 && (small - 0.9).abs() < 1e-12);
+        assert!((theta - 30f64.to_radians()).abs() < 1e-12);
+        let across = stretches_along(&f, 120f64.to_radians());
+        assert!((across.0 - 0.9).abs() < 1e-12 && (across.1 - 1.4).abs() < 1e-12);
         let e = green_lagrange(&[[2.0, 0.0], [0.0, 1.0]]);
         assert_eq!(e, [1.5, 0.0, 0.0]);
     }

@@ -75,16 +75,24 @@ pub struct FrameTrack {
 }
 
 impl SubsetTracker {
+    /// A tracker of the grid's active POIs (inactive ones, outside the
+    /// region, are never tracked).
     pub fn new(settings: SubsetSettings, grid: PoiGrid, frame0: GrayImage) -> Self {
-        let reference_state = grid.points.iter().map(|&p| Some((p, IDENTITY))).collect();
+        let reference_state = grid
+            .points
+            .iter()
+            .zip(&grid.active)
+            .map(|(&p, &active)| active.then_some((p, IDENTITY)))
+            .collect();
         let state = grid
             .points
             .iter()
-            .map(|&p| PoiState {
+            .zip(&grid.active)
+            .map(|(&p, &active)| PoiState {
                 position: p,
                 gradient: IDENTITY,
                 previous: None,
-                valid: true,
+                valid: active,
             })
             .collect();
         Self {
@@ -170,9 +178,10 @@ impl SubsetTracker {
         let mut attempted: Vec<bool> = results.iter().map(Option::is_some).collect();
         if results.iter().any(Option::is_some) {
             self.propagate(&spline, &mut results, &mut attempted);
-        } else {
-            self.seed_and_propagate(&target, &spline, &mut results, &mut attempted);
         }
+        // The first frame, a frame where every POI was lost, and parts of
+        // the region the propagation did not reach (cut off by a hole).
+        self.seed_and_propagate(&target, &spline, &mut results, &mut attempted);
         if results.iter().all(Option::is_none) {
             return Err(DicError::Lost {
                 frame,
@@ -284,7 +293,13 @@ impl SubsetTracker {
         }
     }
 
-    /// Seeds from FFT ZNCC at a few POIs near the centre, then propagates.
+    /// Seeds the active POIs not yet attempted and propagates from them:
+    /// up to `SEED_BLOCKS²` candidates spread over those POIs
+    /// ([`PoiGrid::spread`]), each found by FFT ZNCC and refined by IC-GN
+    /// (in parallel); every accepted seed enters the propagation queue,
+    /// which takes the best ZNCC first. A region cut in parts, or a round
+    /// whose candidates all fail (a hole, a glare), gets further rounds, at
+    /// most `SEED_ROUNDS`.
     fn seed_and_propagate(
         &self,
         target: &GrayImage,
@@ -292,54 +307,54 @@ impl SubsetTracker {
         results: &mut [Option<Match>],
         attempted: &mut [bool],
     ) {
-        let n = self.grid.len();
-        let centre = self.grid.points[self.grid.centre()];
-        let mut order: Vec<usize> = (0..n)
-            .filter(|&i| self.reference_state[i].is_some())
-            .collect();
-        order.sort_by(|&a, &b| {
-            let d = |i: usize| {
-                let p = self.grid.points[i];
-                (p[0] - centre[0]).powi(2) + (p[1] - centre[1]).powi(2)
-            };
-            d(a).total_cmp(&d(b))
-        });
-        let half = self.settings.icgn.subset_px / 2;
-        for &seed in order.iter().take(8) {
-            let Some((subset, _, _)) = self.subset(seed) else {
-                continue;
-            };
-            // Search around where the POI's own motion says it is.
-            let s = self.state[seed];
-            let (cx, cy) = if s.valid {
-                (s.position[0].round() as i64, s.position[1].round() as i64)
-            } else {
-                (subset.x0 as i64, subset.y0 as i64)
-            };
-            let Some(hit) = integer_search(
-                self.reference.image(),
-                subset.x0,
-                subset.y0,
-                half,
-                target,
-                cx,
-                cy,
-                self.settings.search_px,
-            ) else {
-                continue;
-            };
-            let m = subset.solve(
-                spline,
-                Warp::translation(hit.dx as f64, hit.dy as f64),
-                &self.settings.icgn,
-            );
-            attempted[seed] = true;
-            if self.accept(&m) {
-                results[seed] = Some(m);
-                self.propagate(spline, results, attempted);
+        const SEED_BLOCKS: usize = 4;
+        const SEED_ROUNDS: usize = 3;
+        for _ in 0..SEED_ROUNDS {
+            let candidates = self.grid.spread(SEED_BLOCKS, |i| {
+                !attempted[i] && self.reference_state[i].is_some()
+            });
+            if candidates.is_empty() {
                 return;
             }
+            let seeds: Vec<(usize, Option<Match>)> = candidates
+                .par_iter()
+                .map(|&i| (i, self.seed(i, target, spline)))
+                .collect();
+            for (i, m) in seeds {
+                attempted[i] = true;
+                results[i] = m;
+            }
+            self.propagate(spline, results, attempted);
         }
+    }
+
+    /// POI `seed` found by FFT ZNCC around where its own motion says it is
+    /// (its frame-0 place if lost), refined by IC-GN; `None` if rejected.
+    fn seed(&self, seed: usize, target: &GrayImage, spline: &BSplineImage) -> Option<Match> {
+        let (subset, _, _) = self.subset(seed)?;
+        let half = self.settings.icgn.subset_px / 2;
+        let s = self.state[seed];
+        let (cx, cy) = if s.valid {
+            (s.position[0].round() as i64, s.position[1].round() as i64)
+        } else {
+            (subset.x0 as i64, subset.y0 as i64)
+        };
+        let hit = integer_search(
+            self.reference.image(),
+            subset.x0,
+            subset.y0,
+            half,
+            target,
+            cx,
+            cy,
+            self.settings.search_px,
+        )?;
+        let m = subset.solve(
+            spline,
+            Warp::translation(hit.dx as f64, hit.dy as f64),
+            &self.settings.icgn,
+        );
+        self.accept(&m).then_some(m)
     }
 }
 

@@ -34,7 +34,7 @@ fn a_small_sequence_runs() {
 #[test]
 fn mismatched_and_unreadable_images_name_the_file() {
     let mut files = small();
-    let png = encode_png(100, 90, 8, vec![7; 9000]).unwrap();
+    let png = encode_png(100, 90, 16, vec![7; 9000]).unwrap();
     files.files.insert("frame_002.png".into(), png);
     let e = error(&files, &DicParams::default());
     assert!(e.contains("frame_002.png") && e.contains("100 × 90"), "{e}");
