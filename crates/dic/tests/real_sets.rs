@@ -7,81 +7,18 @@
 //! point of the `field` table; and the seeding with the hole not masked,
 //! where the old centre-nearest seeds all fell in the featureless hole.
 
-use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 use hypercontact_core::{Context, Files, Inputs, Params, Product, Stage, Table};
 use hypercontact_dic::sequence::Sequence;
 use hypercontact_dic::stage::analyse;
 use hypercontact_dic::{Dic, DicParams, LoadingAxis};
-use hypercontact_synth::tensile::render::{AxisMap, render};
-use hypercontact_synth::tensile::speckle::SpecklePattern;
-use image::{DynamicImage, ImageBuffer, ImageFormat, Luma};
 
-const SIZE: usize = 256;
-const CENTRE: f64 = 128.0;
-const HOLE_PX: f64 = 30.0;
-const STRETCH_Y: [f64; 5] = [1.0, 1.02, 1.04, 1.06, 1.08];
+use hypercontact_synth::tensile::open_hole::{CENTRE, FILE_NUMBERS, HOLE_PX, STRETCH_Y, stretch_x};
 
-fn stretch_x(stretch_y: f64) -> f64 {
-    stretch_y.powf(-0.5)
-}
-
-fn tiff16(counts: Vec<u16>) -> Vec<u8> {
-    let image = ImageBuffer::<Luma<u16>, _>::from_raw(SIZE as u32, SIZE as u32, counts).unwrap();
-    let mut bytes = Cursor::new(Vec::new());
-    DynamicImage::ImageLuma16(image)
-        .write_to(&mut bytes, ImageFormat::Tiff)
-        .unwrap();
-    bytes.into_inner()
-}
-
-/// The frames (12-bit counts in 16-bit TIFFs, named so that plain sorting
-/// would misorder them: `oht_2.tif` before `oht_10.tif` naturally) and a
-/// mask (the hole and a 3 px margin at 0, the rest 255).
+/// The set (`hypercontact_synth::tensile::open_hole`).
 fn files() -> Files {
-    let pattern = SpecklePattern::random([-30.0, -30.0, 290.0, 290.0], 2.5, 0.5, Vec::new(), 7);
-    let mut files = Files::new();
-    for (k, &l) in STRETCH_Y.iter().enumerate() {
-        let map = AxisMap {
-            stretch: [stretch_x(l), l],
-            ..AxisMap::identity([CENTRE; 2])
-        };
-        let pixels = render(&pattern, &map, SIZE, SIZE, 2);
-        let counts: Vec<u16> = pixels
-            .iter()
-            .enumerate()
-            .map(|(i, &p)| {
-                // The hole shows a bright, even background, where the
-                // material was at radius < HOLE_PX in frame 0.
-                let x = map.to_reference(0, (i % SIZE) as f64);
-                let y = map.to_reference(1, (i / SIZE) as f64);
-                let value = if (x - CENTRE).hypot(y - CENTRE) < HOLE_PX {
-                    0.95
-                } else {
-                    p
-                };
-                (value * 4095.0).round() as u16
-            })
-            .collect();
-        // 10, 20, …: natural order is frame order, plain string order not.
-        files = files.with(
-            &format!("oht_{}.tif", [2, 10, 11, 30, 100][k]),
-            tiff16(counts),
-        );
-    }
-    let mask: Vec<u16> = (0..SIZE * SIZE)
-        .map(|i| {
-            let (x, y) = ((i % SIZE) as f64, (i / SIZE) as f64);
-            if (x - CENTRE).hypot(y - CENTRE) < HOLE_PX + 3.0 {
-                0
-            } else {
-                255
-            }
-        })
-        .collect();
-    let mask = hypercontact_synth::encode_png(SIZE, SIZE, 8, mask).unwrap();
-    files.with("mask.png", mask)
+    hypercontact_synth::tensile::open_hole::files().unwrap()
 }
 
 fn folder(files: &Files, tag: &str) -> PathBuf {
@@ -136,7 +73,7 @@ fn a_folder_of_12_bit_tiffs_without_logs_gives_stretch_strain_and_fields() {
     let (tensile, field, notes) = run(&params(&dir));
 
     // Gauge values: frames in natural order at k / 10 Hz.
-    assert_eq!(tensile.i64("frame").unwrap(), &[2, 10, 11, 30, 100]);
+    assert_eq!(tensile.i64("frame").unwrap(), &FILE_NUMBERS);
     let time = tensile.f64("time_s").unwrap();
     for (k, t) in time.iter().enumerate() {
         assert!((t - k as f64 / 10.0).abs() < 1e-12, "{t}");
@@ -196,7 +133,7 @@ fn a_folder_of_12_bit_tiffs_without_logs_gives_stretch_strain_and_fields() {
     let (mut worst_u, mut worst_e, mut tracked) = (0.0_f64, 0.0_f64, 0);
     for r in 0..n {
         let k = r / per_frame;
-        assert_eq!(frame[r], [2, 10, 11, 30, 100][k]);
+        assert_eq!(frame[r], FILE_NUMBERS[k]);
         // Same grid in every frame.
         assert_eq!((x[r], y[r]), (x[r % per_frame], y[r % per_frame]));
         let in_mask = (x[r] - CENTRE).hypot(y[r] - CENTRE) >= HOLE_PX + 3.0 + 10.0;

@@ -203,7 +203,14 @@ fn validate(
                 origin,
                 row,
                 "nominal_stress_pa",
-                format!("is {t}, not a number"),
+                if t.is_nan() {
+                    format!(
+                        "is {t}, not a number (a DIC run without force.csv measures strain \
+                         only: give its folder the force log, columns time_s, force_n)"
+                    )
+                } else {
+                    format!("is {t}, not a number")
+                },
             ));
         }
         if l < 1.0 {
@@ -363,7 +370,7 @@ mod tests {
             vec![f64::NAN, 2.0],
         ));
         assert!(
-            e.contains("row 1") && e.contains("`nominal_stress_pa`"),
+            e.contains("row 1") && e.contains("`nominal_stress_pa`") && e.contains("force.csv"),
             "{e}"
         );
         let e = message(&table(vec!["UT", "UT"], vec![0.9, 1.2], vec![1.0, 2.0]));

@@ -177,9 +177,8 @@ pub fn parse_positions(csv: &CsvTable, display: &str) -> Result<Vec<Position>, S
                     format!("column `pixel_m`: must be positive, got {pixel_m}"),
                 ));
             }
-            check_in_reach(position.x_m, position.y_m, pixel_m).map_err(|message| {
-                err(line_of(row), message)
-            })?;
+            check_in_reach(position.x_m, position.y_m, pixel_m)
+                .map_err(|message| err(line_of(row), message))?;
         }
         positions.push(position);
     }

@@ -12,6 +12,7 @@
 //!   `thickness_m`, `pixel_m`, `roi_px` ([x0, y0, x1, y1], frame-0 pixels).
 
 pub mod experiment;
+pub mod open_hole;
 pub mod render;
 pub mod speckle;
 
