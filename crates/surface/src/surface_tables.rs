@@ -55,6 +55,12 @@ pub struct StatsTable {
     pub dx_m: Vec<f64>,
     /// share of unmeasured points in `height`
     pub nan_fraction: Vec<f64>,
+    /// how missing points were filled before the PSDs: harmonic or zero
+    pub fill: Vec<String>,
+    /// missing points filled before the PSDs
+    pub filled_points: Vec<i64>,
+    /// filled_points over all points of the analysed grid
+    pub filled_fraction: Vec<f64>,
 }
 
 /// Output `stitch`: one row per tile (none for a map from input `height`).
