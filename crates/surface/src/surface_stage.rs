@@ -10,6 +10,7 @@ use hypercontact_core::{
 use ndarray::Array2;
 
 use crate::error::SurfaceError;
+use crate::filter::Grid;
 use crate::hurst::{Dimension, fit_power_law};
 use crate::infill::{fill_harmonic, fill_zero};
 use crate::psd::{Spectrum, Window, psd_radial, psd_x, psd_y};
@@ -122,7 +123,12 @@ static INFO: StageInfo = StageInfo {
           measured; the map is cropped to the region fully inside tile footprints. FILTER: ISO \
           16610-61 Gaussian low-pass with cut-off 2·resolution_m (50 % amplitude there), sampled \
           every resolution_m; NaN-aware (normalised convolution; NaN where under half the kernel \
-          weight was measured); resolution_m: 0 keeps the grid. DETRENDING: least-squares plane \
+          weight was measured); resolution_m: 0 keeps the grid. A note gives the grid before and \
+          after (also in stats: nx_measured, ny_measured, dx_measured_m, dy_measured_m against nx, \
+          ny, dx_m, dy_m), and a note starting with \"warning:\" when the filter discards more than \
+          half of the PSD's range in log q: the filtered map's last q, π/resolution_m, below \
+          √(q_min·q_max) of the measured map (q from 2π/longest side to π/coarser spacing). \
+          DETRENDING: least-squares plane \
           (or mean) over measured points, before statistics and PSDs. HEIGHT REFERENCE: `lowest` \
           (the paper's choice: the lowest point is z = 0) or `percentile` (z = 0 at \
           reference_percent of the heights); a single pit pixel shifts every z under `lowest`, a \
@@ -279,9 +285,26 @@ pub fn analyse_named(
     ctx: &Context,
 ) -> Result<Analysis, StageError> {
     let progress = ctx.progress(3, "filter, PSD");
+    let measured = Grid {
+        nx: map.nx(),
+        ny: map.ny(),
+        dx_m: map.dx_m,
+        dy_m: map.dy_m,
+    };
     let filtered = if p.resolution_m > map.dx_m.max(map.dy_m) * (1.0 + 1e-9) {
         let values = filter::gaussian_resample(&map.values, map.dx_m, map.dy_m, p.resolution_m);
-        Field::new(values, p.resolution_m, p.resolution_m).map_err(StageError::other)?
+        let filtered =
+            Field::new(values, p.resolution_m, p.resolution_m).map_err(StageError::other)?;
+        let grid = Grid {
+            nx: filtered.nx(),
+            ny: filtered.ny(),
+            dx_m: filtered.dx_m,
+            dy_m: filtered.dy_m,
+        };
+        for note in filter::filter_notes(&measured, &grid, p.resolution_m) {
+            ctx.note(&note);
+        }
+        filtered
     } else {
         if p.resolution_m > 0.0 {
             ctx.note(&format!(
@@ -441,6 +464,11 @@ pub fn analyse_named(
         nx: vec![nx as i64],
         ny: vec![ny as i64],
         dx_m: vec![dx_m],
+        dy_m: vec![dy_m],
+        nx_measured: vec![measured.nx as i64],
+        ny_measured: vec![measured.ny as i64],
+        dx_measured_m: vec![measured.dx_m],
+        dy_measured_m: vec![measured.dy_m],
         nan_fraction: vec![nan_fraction],
         fill: vec![p.fill.to_string()],
         filled_points: vec![nan_count as i64],

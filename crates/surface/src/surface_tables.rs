@@ -46,13 +46,26 @@ pub struct StatsTable {
     pub hurst_y: Vec<f64>,
     /// Hurst exponent from the radial PSD
     pub hurst_radial: Vec<f64>,
-    /// points along x
+    /// points along x of the analysed (filtered) map
     pub nx: Vec<i64>,
-    /// points along y
+    /// points along y of the analysed (filtered) map
     pub ny: Vec<i64>,
-    /// grid spacing (x and y)
+    /// grid spacing along x of the analysed (filtered) map
     #[column(unit = "m")]
     pub dx_m: Vec<f64>,
+    /// grid spacing along y of the analysed (filtered) map
+    #[column(unit = "m")]
+    pub dy_m: Vec<f64>,
+    /// points along x of the map before filtering (as measured or stitched)
+    pub nx_measured: Vec<i64>,
+    /// points along y before filtering
+    pub ny_measured: Vec<i64>,
+    /// grid spacing along x before filtering
+    #[column(unit = "m")]
+    pub dx_measured_m: Vec<f64>,
+    /// grid spacing along y before filtering
+    #[column(unit = "m")]
+    pub dy_measured_m: Vec<f64>,
     /// share of unmeasured points in `height`
     pub nan_fraction: Vec<f64>,
     /// how missing points were filled before the PSDs: harmonic or zero
