@@ -11,7 +11,7 @@ use ndarray::Array2;
 
 use crate::error::SurfaceError;
 use crate::filter::Grid;
-use crate::hurst::{Dimension, fit_power_law};
+use crate::hurst::{Dimension, Flag, PowerLaw, R2_MIN, fit_power_law};
 use crate::infill::{fill_harmonic, fill_zero};
 use crate::psd::{Spectrum, Window, psd_radial, psd_x, psd_y};
 use crate::stats::{Reference, reference_height, rms_slope, sigma};
@@ -156,7 +156,10 @@ static INFO: StageInfo = StageInfo {
           (1-D) and q^(−2−2H) (radial), over wavelengths hurst_lambda_min_m … hurst_lambda_max_m \
           (default 4·dx … L/4; on a map this stage filtered, from the wavelength where the \
           Gaussian still passes 90 % of the power, 3.6 cut-offs = 7.3·resolution_m, so the filter's \
-          roll-off does not steepen the slope).",
+          roll-off does not steepen the slope). Each fit reports its R² (ln C on ln q) and the q \
+          range of the bins it used (hurst_*_r2, hurst_*_q_min_per_m, hurst_*_q_max_per_m) and a \
+          flag (hurst_*_flag): \"poor power law (R² < 0.9)\" first, else \"outside 0…1\", else \
+          \"ok\"; a flagged fit also gets a note starting with \"warning:\".",
     inputs: &[
         InputSpec::files("tiles", Arity::Optional, "tile_NNN.npy + positions.csv"),
         InputSpec::field(
@@ -205,10 +208,9 @@ const HURST_MIN_POINTS: usize = 5;
 fn hurst(
     spectrum: &Spectrum,
     direction: &'static str,
-    dimension: Dimension,
     (spacing_m, length_m): (f64, f64),
     p: &SurfaceParams,
-) -> Result<(f64, Option<String>), SurfaceError> {
+) -> Result<(PowerLaw, Option<String>), SurfaceError> {
     let lambda_max_m = p.hurst_lambda_max_m.unwrap_or(length_m / 4.0);
     let count = |lambda_min_m: f64| {
         spectrum
@@ -251,7 +253,29 @@ fn hurst(
             lambda_max_m,
         }
     })?;
-    Ok((fit.hurst(dimension), note))
+    Ok((fit, note))
+}
+
+/// The warning for a flagged Hurst fit, None when it is fine.
+fn hurst_warning(direction: &str, fit: &PowerLaw, dimension: Dimension) -> Option<String> {
+    let h = fit.hurst(dimension);
+    let over = format!(
+        "R² = {:.3} over q = {:.3e} … {:.3e} rad/m, {} bins",
+        fit.r_squared, fit.q_min_per_m, fit.q_max_per_m, fit.points
+    );
+    match fit.flag(dimension) {
+        Flag::Ok => None,
+        Flag::OutsideUnitRange => Some(format!(
+            "warning: Hurst exponent along {direction} = {h:.3} is outside 0…1 ({over}): not \
+             the exponent of a self-affine surface; check the fit range \
+             (hurst_lambda_min_m, hurst_lambda_max_m) against the PSD"
+        )),
+        Flag::PoorPowerLaw => Some(format!(
+            "warning: the PSD along {direction} is a poor power law ({over}, under {R2_MIN}): \
+             its Hurst exponent {h:.3} does not describe it; look at the PSD, or narrow the fit \
+             range (hurst_lambda_min_m, hurst_lambda_max_m)"
+        )),
+    }
 }
 
 /// Everything the stage computes from a stitched map at its measured grid.
@@ -428,21 +452,32 @@ pub fn analyse_named(
     }
     progress.inc(1);
     let (lx, ly) = (nx as f64 * dx_m, ny as f64 * dy_m);
+    let directions = [
+        ("x", Dimension::Profile),
+        ("y", Dimension::Profile),
+        ("radial", Dimension::Areal),
+    ];
     let fits = [
-        hurst(&sx, "x", Dimension::Profile, (dx_m, lx), p)?,
-        hurst(&sy, "y", Dimension::Profile, (dy_m, ly), p)?,
-        hurst(
-            &sr,
-            "radial",
-            Dimension::Areal,
-            (dx_m.max(dy_m), lx.min(ly)),
-            p,
-        )?,
+        hurst(&sx, "x", (dx_m, lx), p)?,
+        hurst(&sy, "y", (dy_m, ly), p)?,
+        hurst(&sr, "radial", (dx_m.max(dy_m), lx.min(ly)), p)?,
     ];
     for note in fits.iter().filter_map(|f| f.1.as_deref()) {
         ctx.note(note);
     }
-    let [hurst_x, hurst_y, hurst_radial] = fits.map(|f| f.0);
+    let fits = fits.map(|f| f.0);
+    for ((direction, dimension), fit) in directions.iter().zip(&fits) {
+        if let Some(warning) = hurst_warning(direction, fit, *dimension) {
+            ctx.note(&warning);
+        }
+    }
+    let [hurst_x, hurst_y, hurst_radial] = [0, 1, 2].map(|k| fits[k].hurst(directions[k].1));
+    let column = |f: fn(&PowerLaw) -> f64| [0, 1, 2].map(|k| vec![f(&fits[k])]);
+    let [r2_x, r2_y, r2_radial] = column(|f| f.r_squared);
+    let [q_min_x, q_min_y, q_min_radial] = column(|f| f.q_min_per_m);
+    let [q_max_x, q_max_y, q_max_radial] = column(|f| f.q_max_per_m);
+    let [flag_x, flag_y, flag_radial] =
+        [0, 1, 2].map(|k| vec![fits[k].flag(directions[k].1).text().to_owned()]);
 
     let reference = match p.reference {
         ReferenceKind::Lowest => Reference::Lowest,
@@ -461,6 +496,18 @@ pub fn analyse_named(
         hurst_x: vec![hurst_x],
         hurst_y: vec![hurst_y],
         hurst_radial: vec![hurst_radial],
+        hurst_x_r2: r2_x,
+        hurst_x_q_min_per_m: q_min_x,
+        hurst_x_q_max_per_m: q_max_x,
+        hurst_x_flag: flag_x,
+        hurst_y_r2: r2_y,
+        hurst_y_q_min_per_m: q_min_y,
+        hurst_y_q_max_per_m: q_max_y,
+        hurst_y_flag: flag_y,
+        hurst_radial_r2: r2_radial,
+        hurst_radial_q_min_per_m: q_min_radial,
+        hurst_radial_q_max_per_m: q_max_radial,
+        hurst_radial_flag: flag_radial,
         nx: vec![nx as i64],
         ny: vec![ny as i64],
         dx_m: vec![dx_m],
@@ -523,5 +570,38 @@ impl Stage for Surface {
             .table("psd", analysis.psd.into_table())
             .table("stats", analysis.stats.into_table())
             .table("stitch", stitch_table.into_table()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flagged_fits_get_a_warning_naming_r2_and_range() {
+        let fit = |slope: f64, r_squared: f64| PowerLaw {
+            slope,
+            prefactor: 1.0,
+            points: 12,
+            r_squared,
+            q_min_per_m: 1e4,
+            q_max_per_m: 1e6,
+        };
+        assert_eq!(
+            hurst_warning("x", &fit(-2.4, 0.99), Dimension::Profile),
+            None
+        );
+        let outside = hurst_warning("y", &fit(-3.6, 0.99), Dimension::Profile).unwrap();
+        assert!(
+            outside.starts_with("warning: Hurst exponent along y = 1.300 is outside 0…1")
+                && outside.contains("R² = 0.990 over q = 1.000e4 … 1.000e6 rad/m, 12 bins"),
+            "{outside}"
+        );
+        let poor = hurst_warning("radial", &fit(-3.4, 0.5), Dimension::Areal).unwrap();
+        assert!(
+            poor.starts_with("warning: the PSD along radial is a poor power law (R² = 0.500")
+                && poor.contains("its Hurst exponent 0.700 does not describe it"),
+            "{poor}"
+        );
     }
 }

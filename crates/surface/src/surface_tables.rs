@@ -46,6 +46,36 @@ pub struct StatsTable {
     pub hurst_y: Vec<f64>,
     /// Hurst exponent from the radial PSD
     pub hurst_radial: Vec<f64>,
+    /// R² of the Hurst fit along x (ln C on ln q)
+    pub hurst_x_r2: Vec<f64>,
+    /// smallest q of the PSD bins the fit along x used
+    #[column(unit = "rad/m")]
+    pub hurst_x_q_min_per_m: Vec<f64>,
+    /// largest q of the PSD bins the fit along x used
+    #[column(unit = "rad/m")]
+    pub hurst_x_q_max_per_m: Vec<f64>,
+    /// ok, outside 0…1, or poor power law (R² < 0.9)
+    pub hurst_x_flag: Vec<String>,
+    /// R² of the Hurst fit along y (ln C on ln q)
+    pub hurst_y_r2: Vec<f64>,
+    /// smallest q of the PSD bins the fit along y used
+    #[column(unit = "rad/m")]
+    pub hurst_y_q_min_per_m: Vec<f64>,
+    /// largest q of the PSD bins the fit along y used
+    #[column(unit = "rad/m")]
+    pub hurst_y_q_max_per_m: Vec<f64>,
+    /// ok, outside 0…1, or poor power law (R² < 0.9)
+    pub hurst_y_flag: Vec<String>,
+    /// R² of the Hurst fit along radial (ln C on ln q)
+    pub hurst_radial_r2: Vec<f64>,
+    /// smallest q of the PSD bins the fit along radial used
+    #[column(unit = "rad/m")]
+    pub hurst_radial_q_min_per_m: Vec<f64>,
+    /// largest q of the PSD bins the fit along radial used
+    #[column(unit = "rad/m")]
+    pub hurst_radial_q_max_per_m: Vec<f64>,
+    /// ok, outside 0…1, or poor power law (R² < 0.9)
+    pub hurst_radial_flag: Vec<String>,
     /// points along x of the analysed (filtered) map
     pub nx: Vec<i64>,
     /// points along y of the analysed (filtered) map

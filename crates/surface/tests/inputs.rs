@@ -166,6 +166,16 @@ fn real_maps_give_finite_psd_and_stats() {
                     .iter()
                     .all(|c| c.is_finite() && *c >= 0.0)
             );
+            for d in ["x", "y", "radial"] {
+                let text = |c: &str| stats.str(&format!("hurst_{d}{c}")).unwrap()[0].clone();
+                let number = |c: &str| stats.f64(&format!("hurst_{d}{c}")).unwrap()[0];
+                eprintln!(
+                    "{name} at {resolution_m} m, {d}: H {:.3}, R² {:.3}, {}",
+                    number(""),
+                    number("_r2"),
+                    text("_flag")
+                );
+            }
             // The grid before and after filtering: ⌊(n − 1)·dx / 20 µm⌋ + 1 points
             // (issue #17: 36 × 27 for metropro-1).
             let grid = |n: &str| stats.i64(n).unwrap()[0] as usize;
