@@ -64,6 +64,24 @@ pub enum SurfaceError {
         sigma_m: f64,
         largest_m: f64,
     },
+    #[error(
+        "{map} has {missing} of {points} points missing after filtering ({:.2} %), more than \
+         max_missing_fraction = {max}: its PSDs would be mostly in-fill; crop it to the measured \
+         region, or raise max_missing_fraction",
+        100.0 * fraction
+    )]
+    TooMuchMissing {
+        map: String,
+        fraction: f64,
+        missing: usize,
+        points: usize,
+        max: f64,
+    },
+    #[error("{map}: {error}")]
+    Infill {
+        map: String,
+        error: crate::infill::InfillError,
+    },
     /// Reading a file of the tile set (the error names it).
     #[error(transparent)]
     Source(#[from] StageError),

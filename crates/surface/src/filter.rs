@@ -115,6 +115,69 @@ pub fn gaussian_resample(h: &Array2<f64>, dx_m: f64, dy_m: f64, resolution_m: f6
     out
 }
 
+/// A map's grid: points and spacing along x and y.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grid {
+    pub nx: usize,
+    pub ny: usize,
+    pub dx_m: f64,
+    pub dy_m: f64,
+}
+
+impl Grid {
+    /// The q range of the map's PSDs, as the radial PSD spans it:
+    /// 2π / (longest side) to π / (coarser spacing).
+    pub fn q_range_per_m(&self) -> (f64, f64) {
+        let longest_m = (self.nx as f64 * self.dx_m).max(self.ny as f64 * self.dy_m);
+        (
+            std::f64::consts::TAU / longest_m,
+            std::f64::consts::PI / self.dx_m.max(self.dy_m),
+        )
+    }
+}
+
+/// The share of the measured map's PSD range, in log q, that filtering to
+/// `filtered` discards: the filter keeps q up to π / resolution (its
+/// cut-off 2·resolution, 50 % amplitude there), the map's q range is
+/// [`Grid::q_range_per_m`]. 0 when nothing is discarded. Log q because the
+/// PSD is binned, fitted and plotted in log q: "half the range" is half the
+/// decades.
+pub fn discarded_log_q_fraction(measured: &Grid, filtered: &Grid) -> f64 {
+    let (q_min, q_max) = measured.q_range_per_m();
+    let kept_max = filtered.q_range_per_m().1;
+    ((q_max / kept_max).ln() / (q_max / q_min).ln()).clamp(0.0, 1.0)
+}
+
+/// What filtering did to the grid, said in a note; a second note, starting
+/// with "warning:", when more than half of the PSD's log-q range is gone.
+pub fn filter_notes(measured: &Grid, filtered: &Grid, resolution_m: f64) -> Vec<String> {
+    let mut notes = vec![format!(
+        "filtered to resolution_m = {resolution_m:e} m: {} × {} points at {:.4e} × {:.4e} m → \
+         {} × {} at {resolution_m:e} m (ISO 16610-61 Gaussian, cut-off {:e} m; resolution_m: 0 \
+         keeps the measured grid)",
+        measured.nx,
+        measured.ny,
+        measured.dx_m,
+        measured.dy_m,
+        filtered.nx,
+        filtered.ny,
+        2.0 * resolution_m
+    )];
+    let discarded = discarded_log_q_fraction(measured, filtered);
+    if discarded > 0.5 {
+        let (q_min, q_max) = measured.q_range_per_m();
+        notes.push(format!(
+            "warning: the filter discards {:.0} % of the PSD's range in log q (the measured map \
+             spans q = {q_min:.3e} … {q_max:.3e} rad/m, the filtered one ends at {:.3e} rad/m): \
+             the short wavelengths the instrument measured are not in the PSD, σ's slope or H; \
+             lower resolution_m (0 keeps the measured grid)",
+            100.0 * discarded,
+            filtered.q_range_per_m().1
+        ));
+    }
+    notes
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -196,5 +259,51 @@ mod tests {
         );
         // The hole's edge at x = 40 px sits between new points 7 and 8.
         assert!(f[[7, 5]].is_nan() && !f[[9, 5]].is_nan());
+    }
+
+    #[test]
+    fn the_discarded_share_of_the_psd_range_is_counted_in_log_q() {
+        // 1000 points at 1 µm: q from 2π/1 mm to π/1 µm, 2.7 decades.
+        let measured = Grid {
+            nx: 1000,
+            ny: 800,
+            dx_m: 1e-6,
+            dy_m: 1e-6,
+        };
+        let at = |resolution_m: f64| Grid {
+            nx: (1000.0e-6 / resolution_m) as usize,
+            ny: (800.0e-6 / resolution_m) as usize,
+            dx_m: resolution_m,
+            dy_m: resolution_m,
+        };
+        // Half the decades: π/res = sqrt(2π/1 mm · π/1 µm).
+        let half_m = std::f64::consts::PI / (TAU / 1e-3 * std::f64::consts::PI / 1e-6).sqrt();
+        assert!((discarded_log_q_fraction(&measured, &at(half_m)) - 0.5).abs() < 1e-12);
+        assert_eq!(discarded_log_q_fraction(&measured, &measured), 0.0);
+        // Issue #17's case: a 1.1 µm map of 640 × 480 at 20 µm.
+        let metropro = Grid {
+            nx: 640,
+            ny: 480,
+            dx_m: 1.0982520279867458e-06,
+            dy_m: 1.0982520279867458e-06,
+        };
+        let coarse = Grid {
+            nx: 36,
+            ny: 27,
+            dx_m: 20e-6,
+            dy_m: 20e-6,
+        };
+        let d = discarded_log_q_fraction(&metropro, &coarse);
+        assert!((d - 0.503).abs() < 0.001, "{d}");
+        let notes = filter_notes(&metropro, &coarse, 20e-6);
+        assert!(
+            notes[0].contains("640 × 480 points at 1.0983e-6 × 1.0983e-6 m → 36 × 27 at 2e-5 m")
+        );
+        assert!(notes[1].starts_with("warning: the filter discards 50 % of the PSD's range"));
+        // 15 µm keeps more than half: the grid note only.
+        let notes = filter_notes(&measured, &at(15e-6), 15e-6);
+        assert_eq!(notes.len(), 1, "{notes:?}");
+        let notes = filter_notes(&measured, &at(30e-6), 30e-6);
+        assert_eq!(notes.len(), 2, "{notes:?}");
     }
 }

@@ -5,6 +5,7 @@ pub mod error;
 pub mod filter;
 pub mod height_map;
 pub mod hurst;
+pub mod infill;
 mod ordered_reduce;
 pub mod plane;
 pub mod psd;

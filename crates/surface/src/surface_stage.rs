@@ -10,7 +10,9 @@ use hypercontact_core::{
 use ndarray::Array2;
 
 use crate::error::SurfaceError;
-use crate::hurst::{Dimension, fit_power_law};
+use crate::filter::Grid;
+use crate::hurst::{Dimension, Flag, PowerLaw, R2_MIN, fit_power_law};
+use crate::infill::{fill_harmonic, fill_zero};
 use crate::psd::{Spectrum, Window, psd_radial, psd_x, psd_y};
 use crate::stats::{Reference, reference_height, rms_slope, sigma};
 use crate::stitch::{Mosaic, covered_region, stitch};
@@ -37,6 +39,15 @@ pub enum Detrend {
     Mean,
 }
 
+/// How points still missing after filtering enter the Fourier transform.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Choice)]
+pub enum Fill {
+    /// harmonic (Laplace) in-fill from the measured points (SurfaceTopography's default)
+    Harmonic,
+    /// the detrended mean height, 0 (stage versions ≤ 3: reproduces old runs)
+    Zero,
+}
+
 /// Parameters of `surface`.
 #[params(check = ordered_hurst_range)]
 pub struct SurfaceParams {
@@ -57,6 +68,12 @@ pub struct SurfaceParams {
     /// the map is periodic: no window, and only the mean is removed
     #[param(default = false)]
     pub periodic: bool,
+    /// how missing points are filled before the PSDs
+    #[param(default = Fill::Harmonic)]
+    pub fill: Fill,
+    /// refuse PSDs of maps with more missing points than this (after filtering)
+    #[param(default = 0.1, range = 0.0..=1.0)]
+    pub max_missing_fraction: f64,
     /// log bins per decade of q
     #[param(default = 10, range = 1..=100)]
     pub bins_per_decade: usize,
@@ -88,7 +105,7 @@ pub struct Surface;
 
 static INFO: StageInfo = StageInfo {
     kind: "surface",
-    version: 3,
+    version: 4,
     summary: "Stitch interferometer tiles, filter to a lateral resolution, PSD, σ and Hurst exponent",
     doc: "Source: exactly one of input `tiles` (a Files product: tile_NNN.npy + positions.csv, as \
           synth-surface writes), param `dir` (a folder of the same layout, real data) or input \
@@ -106,7 +123,12 @@ static INFO: StageInfo = StageInfo {
           measured; the map is cropped to the region fully inside tile footprints. FILTER: ISO \
           16610-61 Gaussian low-pass with cut-off 2·resolution_m (50 % amplitude there), sampled \
           every resolution_m; NaN-aware (normalised convolution; NaN where under half the kernel \
-          weight was measured); resolution_m: 0 keeps the grid. DETRENDING: least-squares plane \
+          weight was measured); resolution_m: 0 keeps the grid. A note gives the grid before and \
+          after (also in stats: nx_measured, ny_measured, dx_measured_m, dy_measured_m against nx, \
+          ny, dx_m, dy_m), and a note starting with \"warning:\" when the filter discards more than \
+          half of the PSD's range in log q: the filtered map's last q, π/resolution_m, below \
+          √(q_min·q_max) of the measured map (q from 2π/longest side to π/coarser spacing). \
+          DETRENDING: least-squares plane \
           (or mean) over measured points, before statistics and PSDs. HEIGHT REFERENCE: `lowest` \
           (the paper's choice: the lowest point is z = 0) or `percentile` (z = 0 at \
           reference_percent of the heights); a single pit pixel shifts every z under `lowest`, a \
@@ -116,14 +138,28 @@ static INFO: StageInfo = StageInfo {
           C2D = |dx·dy·FFT2(w·h)|²/(Lx·Ly) averaged over |q| bins up to π/dx; all binned in \
           log-spaced bins (bins_per_decade, edges as SurfaceTopography's make_grid), each bin \
           reporting the mean q and mean C of its members; window: none if `periodic`, otherwise Hann \
-          scaled to mean(w²) = 1 (1-D along the profile; rotationally symmetric for radial). Points \
-          still NaN after filtering enter the FFT at the mean height (0 after detrending); their \
-          share is nan_fraction. STATS: sigma_m = areal rms height Sq (not profile Rq); rms_slope = \
+          scaled to mean(w²) = 1 (1-D along the profile; rotationally symmetric for radial). \
+          MISSING POINTS: points still NaN after filtering (their share is nan_fraction) are filled \
+          before the FFT only (the `height` output keeps its NaN, σ and slope use measured points \
+          only): `fill: harmonic` (default) solves the 5-point Laplace equation on them with the \
+          measured heights as Dirichlet data and a zero normal derivative at the map edge (periodic \
+          maps wrap), as SurfaceTopography's interpolate_undefined_data (legs weighted 1/dx², \
+          1/dy²), by preconditioned conjugate gradients to a relative residual of 1e-12; \
+          `fill: zero` puts them at the detrended mean (the behaviour of stage version 3). A map \
+          with more than max_missing_fraction missing is refused: an in-fill carries no roughness \
+          shorter than its holes, so the PSD at high q falls by about the missing share (10 % \
+          scattered missing: C up to 9 % low at the short wavelengths, the Nyquist bin 28 % high, the \
+          median bin within 1 %); \
+          what was filled is \
+          in stats (fill, filled_points, filled_fraction) and a note. STATS: sigma_m = areal rms height Sq (not profile Rq); rms_slope = \
           √⟨|∇h|²⟩ by forward differences. HURST: least squares of ln C on ln q, C ∝ q^(−1−2H) \
           (1-D) and q^(−2−2H) (radial), over wavelengths hurst_lambda_min_m … hurst_lambda_max_m \
           (default 4·dx … L/4; on a map this stage filtered, from the wavelength where the \
           Gaussian still passes 90 % of the power, 3.6 cut-offs = 7.3·resolution_m, so the filter's \
-          roll-off does not steepen the slope).",
+          roll-off does not steepen the slope). Each fit reports its R² (ln C on ln q) and the q \
+          range of the bins it used (hurst_*_r2, hurst_*_q_min_per_m, hurst_*_q_max_per_m) and a \
+          flag (hurst_*_flag): \"poor power law (R² < 0.9)\" first, else \"outside 0…1\", else \
+          \"ok\"; a flagged fit also gets a note starting with \"warning:\".",
     inputs: &[
         InputSpec::files("tiles", Arity::Optional, "tile_NNN.npy + positions.csv"),
         InputSpec::field(
@@ -172,10 +208,9 @@ const HURST_MIN_POINTS: usize = 5;
 fn hurst(
     spectrum: &Spectrum,
     direction: &'static str,
-    dimension: Dimension,
     (spacing_m, length_m): (f64, f64),
     p: &SurfaceParams,
-) -> Result<(f64, Option<String>), SurfaceError> {
+) -> Result<(PowerLaw, Option<String>), SurfaceError> {
     let lambda_max_m = p.hurst_lambda_max_m.unwrap_or(length_m / 4.0);
     let count = |lambda_min_m: f64| {
         spectrum
@@ -218,7 +253,29 @@ fn hurst(
             lambda_max_m,
         }
     })?;
-    Ok((fit.hurst(dimension), note))
+    Ok((fit, note))
+}
+
+/// The warning for a flagged Hurst fit, None when it is fine.
+fn hurst_warning(direction: &str, fit: &PowerLaw, dimension: Dimension) -> Option<String> {
+    let h = fit.hurst(dimension);
+    let over = format!(
+        "R² = {:.3} over q = {:.3e} … {:.3e} rad/m, {} bins",
+        fit.r_squared, fit.q_min_per_m, fit.q_max_per_m, fit.points
+    );
+    match fit.flag(dimension) {
+        Flag::Ok => None,
+        Flag::OutsideUnitRange => Some(format!(
+            "warning: Hurst exponent along {direction} = {h:.3} is outside 0…1 ({over}): not \
+             the exponent of a self-affine surface; check the fit range \
+             (hurst_lambda_min_m, hurst_lambda_max_m) against the PSD"
+        )),
+        Flag::PoorPowerLaw => Some(format!(
+            "warning: the PSD along {direction} is a poor power law ({over}, under {R2_MIN}): \
+             its Hurst exponent {h:.3} does not describe it; look at the PSD, or narrow the fit \
+             range (hurst_lambda_min_m, hurst_lambda_max_m)"
+        )),
+    }
 }
 
 /// Everything the stage computes from a stitched map at its measured grid.
@@ -252,9 +309,26 @@ pub fn analyse_named(
     ctx: &Context,
 ) -> Result<Analysis, StageError> {
     let progress = ctx.progress(3, "filter, PSD");
+    let measured = Grid {
+        nx: map.nx(),
+        ny: map.ny(),
+        dx_m: map.dx_m,
+        dy_m: map.dy_m,
+    };
     let filtered = if p.resolution_m > map.dx_m.max(map.dy_m) * (1.0 + 1e-9) {
         let values = filter::gaussian_resample(&map.values, map.dx_m, map.dy_m, p.resolution_m);
-        Field::new(values, p.resolution_m, p.resolution_m).map_err(StageError::other)?
+        let filtered =
+            Field::new(values, p.resolution_m, p.resolution_m).map_err(StageError::other)?;
+        let grid = Grid {
+            nx: filtered.nx(),
+            ny: filtered.ny(),
+            dx_m: filtered.dx_m,
+            dy_m: filtered.dy_m,
+        };
+        for note in filter::filter_notes(&measured, &grid, p.resolution_m) {
+            ctx.note(&note);
+        }
+        filtered
     } else {
         if p.resolution_m > 0.0 {
             ctx.note(&format!(
@@ -324,8 +398,40 @@ pub fn analyse_named(
         .into());
     }
 
-    // NaN left after filtering enters the FFT at the (zero) mean height.
-    let filled = h.mapv(|v| if v.is_nan() { 0.0 } else { v });
+    if nan_fraction > p.max_missing_fraction {
+        return Err(SurfaceError::TooMuchMissing {
+            map: source.to_owned(),
+            fraction: nan_fraction,
+            missing: nan_count,
+            points: h.len(),
+            max: p.max_missing_fraction,
+        }
+        .into());
+    }
+    let mut filled = h.clone();
+    match p.fill {
+        Fill::Harmonic => {
+            fill_harmonic(&mut filled, dx_m, dy_m, p.periodic).map_err(|error| {
+                SurfaceError::Infill {
+                    map: source.to_owned(),
+                    error,
+                }
+            })?;
+        }
+        Fill::Zero => {
+            fill_zero(&mut filled);
+        }
+    }
+    if nan_count > 0 {
+        ctx.note(&format!(
+            "{nan_count} missing points ({:.3} % of {nx} × {ny}) filled {} before the PSDs",
+            100.0 * nan_fraction,
+            match p.fill {
+                Fill::Harmonic => "harmonically (Laplace)",
+                Fill::Zero => "with the mean height",
+            }
+        ));
+    }
     let window = if p.periodic {
         Window::None
     } else {
@@ -346,21 +452,32 @@ pub fn analyse_named(
     }
     progress.inc(1);
     let (lx, ly) = (nx as f64 * dx_m, ny as f64 * dy_m);
+    let directions = [
+        ("x", Dimension::Profile),
+        ("y", Dimension::Profile),
+        ("radial", Dimension::Areal),
+    ];
     let fits = [
-        hurst(&sx, "x", Dimension::Profile, (dx_m, lx), p)?,
-        hurst(&sy, "y", Dimension::Profile, (dy_m, ly), p)?,
-        hurst(
-            &sr,
-            "radial",
-            Dimension::Areal,
-            (dx_m.max(dy_m), lx.min(ly)),
-            p,
-        )?,
+        hurst(&sx, "x", (dx_m, lx), p)?,
+        hurst(&sy, "y", (dy_m, ly), p)?,
+        hurst(&sr, "radial", (dx_m.max(dy_m), lx.min(ly)), p)?,
     ];
     for note in fits.iter().filter_map(|f| f.1.as_deref()) {
         ctx.note(note);
     }
-    let [hurst_x, hurst_y, hurst_radial] = fits.map(|f| f.0);
+    let fits = fits.map(|f| f.0);
+    for ((direction, dimension), fit) in directions.iter().zip(&fits) {
+        if let Some(warning) = hurst_warning(direction, fit, *dimension) {
+            ctx.note(&warning);
+        }
+    }
+    let [hurst_x, hurst_y, hurst_radial] = [0, 1, 2].map(|k| fits[k].hurst(directions[k].1));
+    let column = |f: fn(&PowerLaw) -> f64| [0, 1, 2].map(|k| vec![f(&fits[k])]);
+    let [r2_x, r2_y, r2_radial] = column(|f| f.r_squared);
+    let [q_min_x, q_min_y, q_min_radial] = column(|f| f.q_min_per_m);
+    let [q_max_x, q_max_y, q_max_radial] = column(|f| f.q_max_per_m);
+    let [flag_x, flag_y, flag_radial] =
+        [0, 1, 2].map(|k| vec![fits[k].flag(directions[k].1).text().to_owned()]);
 
     let reference = match p.reference {
         ReferenceKind::Lowest => Reference::Lowest,
@@ -379,10 +496,30 @@ pub fn analyse_named(
         hurst_x: vec![hurst_x],
         hurst_y: vec![hurst_y],
         hurst_radial: vec![hurst_radial],
+        hurst_x_r2: r2_x,
+        hurst_x_q_min_per_m: q_min_x,
+        hurst_x_q_max_per_m: q_max_x,
+        hurst_x_flag: flag_x,
+        hurst_y_r2: r2_y,
+        hurst_y_q_min_per_m: q_min_y,
+        hurst_y_q_max_per_m: q_max_y,
+        hurst_y_flag: flag_y,
+        hurst_radial_r2: r2_radial,
+        hurst_radial_q_min_per_m: q_min_radial,
+        hurst_radial_q_max_per_m: q_max_radial,
+        hurst_radial_flag: flag_radial,
         nx: vec![nx as i64],
         ny: vec![ny as i64],
         dx_m: vec![dx_m],
+        dy_m: vec![dy_m],
+        nx_measured: vec![measured.nx as i64],
+        ny_measured: vec![measured.ny as i64],
+        dx_measured_m: vec![measured.dx_m],
+        dy_measured_m: vec![measured.dy_m],
         nan_fraction: vec![nan_fraction],
+        fill: vec![p.fill.to_string()],
+        filled_points: vec![nan_count as i64],
+        filled_fraction: vec![nan_fraction],
     };
     progress.inc(1);
     Ok(Analysis {
@@ -433,5 +570,38 @@ impl Stage for Surface {
             .table("psd", analysis.psd.into_table())
             .table("stats", analysis.stats.into_table())
             .table("stitch", stitch_table.into_table()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flagged_fits_get_a_warning_naming_r2_and_range() {
+        let fit = |slope: f64, r_squared: f64| PowerLaw {
+            slope,
+            prefactor: 1.0,
+            points: 12,
+            r_squared,
+            q_min_per_m: 1e4,
+            q_max_per_m: 1e6,
+        };
+        assert_eq!(
+            hurst_warning("x", &fit(-2.4, 0.99), Dimension::Profile),
+            None
+        );
+        let outside = hurst_warning("y", &fit(-3.6, 0.99), Dimension::Profile).unwrap();
+        assert!(
+            outside.starts_with("warning: Hurst exponent along y = 1.300 is outside 0…1")
+                && outside.contains("R² = 0.990 over q = 1.000e4 … 1.000e6 rad/m, 12 bins"),
+            "{outside}"
+        );
+        let poor = hurst_warning("radial", &fit(-3.4, 0.5), Dimension::Areal).unwrap();
+        assert!(
+            poor.starts_with("warning: the PSD along radial is a poor power law (R² = 0.500")
+                && poor.contains("its Hurst exponent 0.700 does not describe it"),
+            "{poor}"
+        );
     }
 }

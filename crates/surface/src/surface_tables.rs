@@ -46,15 +46,64 @@ pub struct StatsTable {
     pub hurst_y: Vec<f64>,
     /// Hurst exponent from the radial PSD
     pub hurst_radial: Vec<f64>,
-    /// points along x
+    /// R² of the Hurst fit along x (ln C on ln q)
+    pub hurst_x_r2: Vec<f64>,
+    /// smallest q of the PSD bins the fit along x used
+    #[column(unit = "rad/m")]
+    pub hurst_x_q_min_per_m: Vec<f64>,
+    /// largest q of the PSD bins the fit along x used
+    #[column(unit = "rad/m")]
+    pub hurst_x_q_max_per_m: Vec<f64>,
+    /// ok, outside 0…1, or poor power law (R² < 0.9)
+    pub hurst_x_flag: Vec<String>,
+    /// R² of the Hurst fit along y (ln C on ln q)
+    pub hurst_y_r2: Vec<f64>,
+    /// smallest q of the PSD bins the fit along y used
+    #[column(unit = "rad/m")]
+    pub hurst_y_q_min_per_m: Vec<f64>,
+    /// largest q of the PSD bins the fit along y used
+    #[column(unit = "rad/m")]
+    pub hurst_y_q_max_per_m: Vec<f64>,
+    /// ok, outside 0…1, or poor power law (R² < 0.9)
+    pub hurst_y_flag: Vec<String>,
+    /// R² of the Hurst fit along radial (ln C on ln q)
+    pub hurst_radial_r2: Vec<f64>,
+    /// smallest q of the PSD bins the fit along radial used
+    #[column(unit = "rad/m")]
+    pub hurst_radial_q_min_per_m: Vec<f64>,
+    /// largest q of the PSD bins the fit along radial used
+    #[column(unit = "rad/m")]
+    pub hurst_radial_q_max_per_m: Vec<f64>,
+    /// ok, outside 0…1, or poor power law (R² < 0.9)
+    pub hurst_radial_flag: Vec<String>,
+    /// points along x of the analysed (filtered) map
     pub nx: Vec<i64>,
-    /// points along y
+    /// points along y of the analysed (filtered) map
     pub ny: Vec<i64>,
-    /// grid spacing (x and y)
+    /// grid spacing along x of the analysed (filtered) map
     #[column(unit = "m")]
     pub dx_m: Vec<f64>,
+    /// grid spacing along y of the analysed (filtered) map
+    #[column(unit = "m")]
+    pub dy_m: Vec<f64>,
+    /// points along x of the map before filtering (as measured or stitched)
+    pub nx_measured: Vec<i64>,
+    /// points along y before filtering
+    pub ny_measured: Vec<i64>,
+    /// grid spacing along x before filtering
+    #[column(unit = "m")]
+    pub dx_measured_m: Vec<f64>,
+    /// grid spacing along y before filtering
+    #[column(unit = "m")]
+    pub dy_measured_m: Vec<f64>,
     /// share of unmeasured points in `height`
     pub nan_fraction: Vec<f64>,
+    /// how missing points were filled before the PSDs: harmonic or zero
+    pub fill: Vec<String>,
+    /// missing points filled before the PSDs
+    pub filled_points: Vec<i64>,
+    /// filled_points over all points of the analysed grid
+    pub filled_fraction: Vec<f64>,
 }
 
 /// Output `stitch`: one row per tile (none for a map from input `height`).

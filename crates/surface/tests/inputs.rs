@@ -126,7 +126,15 @@ fn reference(name: &str) -> PathBuf {
 
 #[test]
 fn real_maps_give_finite_psd_and_stats() {
-    for (name, nan_points) in [("sur-2", 117), ("metropro-1", 0)] {
+    for (name, nan_points, measured, filtered) in [
+        ("sur-2", 117, (563, 484, 3.4840002190321683e-06), (98, 85)),
+        (
+            "metropro-1",
+            0,
+            (640, 480, 1.0982520279867458e-06),
+            (36, 27),
+        ),
+    ] {
         for resolution_m in [0.0, 20e-6] {
             let p = SurfaceParams {
                 dir: Some(reference(name).into()),
@@ -161,6 +169,33 @@ fn real_maps_give_finite_psd_and_stats() {
                     .iter()
                     .all(|c| c.is_finite() && *c >= 0.0)
             );
+            for d in ["x", "y", "radial"] {
+                let text = |c: &str| stats.str(&format!("hurst_{d}{c}")).unwrap()[0].clone();
+                let number = |c: &str| stats.f64(&format!("hurst_{d}{c}")).unwrap()[0];
+                eprintln!(
+                    "{name} at {resolution_m} m, {d}: H {:.3}, R² {:.3}, {}",
+                    number(""),
+                    number("_r2"),
+                    text("_flag")
+                );
+            }
+            // The grid before and after filtering: ⌊(n − 1)·dx / 20 µm⌋ + 1 points
+            // (issue #17: 36 × 27 for metropro-1).
+            let grid = |n: &str| stats.i64(n).unwrap()[0] as usize;
+            let spacing = |n: &str| stats.f64(n).unwrap()[0];
+            assert_eq!(
+                (grid("nx_measured"), grid("ny_measured")),
+                (measured.0, measured.1)
+            );
+            assert_eq!(spacing("dx_measured_m"), measured.2);
+            assert_eq!(spacing("dy_measured_m"), measured.2);
+            let (nx, ny, d) = if resolution_m == 0.0 {
+                measured
+            } else {
+                (filtered.0, filtered.1, resolution_m)
+            };
+            assert_eq!((grid("nx"), grid("ny")), (nx, ny), "{name}");
+            assert_eq!((spacing("dx_m"), spacing("dy_m")), (d, d));
             let nan = height.values.iter().filter(|v| v.is_nan()).count();
             let fraction = stats.f64("nan_fraction").unwrap()[0];
             assert_eq!(fraction, nan as f64 / height.values.len() as f64);
