@@ -48,6 +48,7 @@ fn psd_and_stats() -> (Table, Table) {
         ny: vec![N as i64],
         dx_m: vec![PIXEL_M],
         nan_fraction: vec![0.0],
+        ..Default::default()
     };
     (psd.into_table(), stats.into_table())
 }

@@ -197,16 +197,48 @@ pub fn psd(n: usize, h_x: f64, h_y: f64, sigma_m: f64) -> Table {
 }
 
 pub fn stats(sigma_m: f64, h_x: f64, h_y: f64) -> Table {
-    Table::new()
-        .with("sigma_m", vec![sigma_m])
-        .with("rms_slope", vec![sigma_m * 2.0e4])
-        .with("hurst_x", vec![h_x])
-        .with("hurst_y", vec![h_y])
-        .with("hurst_radial", vec![(h_x + h_y) / 2.0])
-        .with("nx", vec![500_i64])
-        .with("ny", vec![500_i64])
-        .with("dx_m", vec![20e-6])
-        .with("nan_fraction", vec![0.005])
+    let fit = |h: f64| (vec![h], vec![0.99], vec![1e4], vec![1e5], vec!["ok".to_owned()]);
+    let (hurst_x, hurst_x_r2, hurst_x_q_min_per_m, hurst_x_q_max_per_m, hurst_x_flag) = fit(h_x);
+    let (hurst_y, hurst_y_r2, hurst_y_q_min_per_m, hurst_y_q_max_per_m, hurst_y_flag) = fit(h_y);
+    let (
+        hurst_radial,
+        hurst_radial_r2,
+        hurst_radial_q_min_per_m,
+        hurst_radial_q_max_per_m,
+        hurst_radial_flag,
+    ) = fit((h_x + h_y) / 2.0);
+    hypercontact_surface::surface_stage::StatsTable {
+        sigma_m: vec![sigma_m],
+        rms_slope: vec![sigma_m * 2.0e4],
+        hurst_x,
+        hurst_y,
+        hurst_radial,
+        hurst_x_r2,
+        hurst_x_q_min_per_m,
+        hurst_x_q_max_per_m,
+        hurst_x_flag,
+        hurst_y_r2,
+        hurst_y_q_min_per_m,
+        hurst_y_q_max_per_m,
+        hurst_y_flag,
+        hurst_radial_r2,
+        hurst_radial_q_min_per_m,
+        hurst_radial_q_max_per_m,
+        hurst_radial_flag,
+        nx: vec![500],
+        ny: vec![500],
+        dx_m: vec![20e-6],
+        dy_m: vec![20e-6],
+        nx_measured: vec![5000],
+        ny_measured: vec![5000],
+        dx_measured_m: vec![2e-6],
+        dy_measured_m: vec![2e-6],
+        nan_fraction: vec![0.005],
+        fill: vec!["harmonic".to_owned()],
+        filled_points: vec![1250],
+        filled_fraction: vec![0.005],
+    }
+    .into_table()
 }
 
 /// A/A0 = 1 − Φ(z/σ) (a Gaussian surface) on `levels` planes, top first.
