@@ -660,3 +660,112 @@ fn a_multi_byte_title_change_is_planned_without_panicking() {
     );
     assert!(!shown.contains("panicked"), "{shown}");
 }
+
+/// Issue 17's "done when": a real file of each instrument format goes
+/// through height-map → surface with no conversion, and DIC runs on a
+/// folder of 16-bit TIFFs (12-bit counts) with no force log and no
+/// frames.csv, giving stretch, strain and the full field.
+#[test]
+fn lab_files_go_in_as_the_instruments_wrote_them() {
+    let t = tempfile::tempdir().unwrap();
+    let out = run_pipeline(t.path(), "pipelines/lab-topography.yaml", &[]);
+    assert!(out.status.success(), "{}", text(&out));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    // Grids and missing points as SurfaceTopography 1.27 reads the files
+    // (shared/reference/topography/index.json).
+    for (stage, format, nx, ny, dx_m, dy_m, missing) in [
+        (
+            "plu",
+            "Sensofar .plu",
+            768,
+            576,
+            1.6600000858306884e-06,
+            1.6600000858306884e-06,
+            0,
+        ),
+        (
+            "metropro",
+            "Zygo MetroPro .dat",
+            640,
+            480,
+            1.0982520279867458e-06,
+            1.0982520279867458e-06,
+            0,
+        ),
+        (
+            "x3p",
+            "ISO 25178-72 X3P",
+            650,
+            650,
+            1.27656509837346e-07,
+            3.14582113527746e-07,
+            0,
+        ),
+        (
+            "sur",
+            "Digital Surf .sur",
+            563,
+            484,
+            3.4840002190321683e-06,
+            3.4840002190321683e-06,
+            117,
+        ),
+        (
+            "opd",
+            "Wyko .opd",
+            640,
+            480,
+            1.9673303177114576e-07,
+            1.9673303177114576e-07,
+            116,
+        ),
+    ] {
+        let stats = parquet(t.path(), &format!("{stage}-surface/stats.parquet"));
+        let int = |c: &str| stats.i64(c).unwrap()[0];
+        let num = |c: &str| stats.f64(c).unwrap()[0];
+        assert_eq!(
+            (int("nx_measured"), int("ny_measured")),
+            (nx, ny),
+            "{stage}"
+        );
+        assert!((num("dx_measured_m") / dx_m - 1.0).abs() < 1e-9, "{stage}");
+        assert!((num("dy_measured_m") / dy_m - 1.0).abs() < 1e-9, "{stage}");
+        assert_eq!(int("filled_points"), missing, "{stage}");
+        assert!(
+            num("sigma_m").is_finite() && num("sigma_m") > 0.0,
+            "{stage}"
+        );
+        let said = format!("{stage} {format}: {nx} × {ny} points");
+        assert!(stderr.contains(&said), "no `{said}` in:\n{stderr}");
+    }
+
+    let out = run_pipeline(t.path(), "pipelines/lab-dic.yaml", &[]);
+    assert!(out.status.success(), "{}", text(&out));
+    let tensile = parquet(t.path(), "oht/tensile.parquet");
+    let frames = hypercontact_synth::tensile::open_hole::FILE_NUMBERS;
+    assert_eq!(tensile.i64("frame").unwrap(), &frames);
+    let stretch = tensile.f64("stretch").unwrap();
+    let transverse = tensile.f64("stretch_2").unwrap();
+    for (k, &l) in hypercontact_synth::tensile::open_hole::STRETCH_Y
+        .iter()
+        .enumerate()
+    {
+        assert!((stretch[k] - l).abs() < 3e-4, "frame {k}: {}", stretch[k]);
+        let lx = hypercontact_synth::tensile::open_hole::stretch_x(l);
+        assert!((transverse[k] - lx).abs() < 3e-4, "frame {k}");
+    }
+    assert!(tensile.f64("force_n").unwrap().iter().all(|f| f.is_nan()));
+    let field = parquet(t.path(), "oht/field.parquet");
+    assert_eq!(field.n_rows() % frames.len(), 0);
+    let valid = field.i64("valid").unwrap();
+    let eyy = field.f64("eyy").unwrap();
+    let last = field.n_rows() - field.n_rows() / frames.len();
+    // Green–Lagrange E_yy = (λ² − 1)/2 at every valid point of the last frame.
+    let expected = (1.08_f64.powi(2) - 1.0) / 2.0;
+    let checked = (last..field.n_rows()).filter(|&r| valid[r] == 1).count();
+    assert!(checked > 400, "{checked} valid points");
+    for r in (last..field.n_rows()).filter(|&r| valid[r] == 1) {
+        assert!((eyy[r] - expected).abs() < 2e-3, "row {r}: {}", eyy[r]);
+    }
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no force.csv"));
+}

@@ -197,7 +197,15 @@ pub fn psd(n: usize, h_x: f64, h_y: f64, sigma_m: f64) -> Table {
 }
 
 pub fn stats(sigma_m: f64, h_x: f64, h_y: f64) -> Table {
-    let fit = |h: f64| (vec![h], vec![0.99], vec![1e4], vec![1e5], vec!["ok".to_owned()]);
+    let fit = |h: f64| {
+        (
+            vec![h],
+            vec![0.99],
+            vec![1e4],
+            vec![1e5],
+            vec!["ok".to_owned()],
+        )
+    };
     let (hurst_x, hurst_x_r2, hurst_x_q_min_per_m, hurst_x_q_max_per_m, hurst_x_flag) = fit(h_x);
     let (hurst_y, hurst_y_r2, hurst_y_q_min_per_m, hurst_y_q_max_per_m, hurst_y_flag) = fit(h_y);
     let (
