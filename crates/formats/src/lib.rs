@@ -10,6 +10,7 @@ use std::path::Path;
 
 use ndarray::Array2;
 
+mod bytes;
 mod datx;
 mod metropro;
 mod opd;
@@ -38,7 +39,7 @@ pub enum Format {
 
 impl Format {
     /// The usual name of the format, for messages.
-    pub fn name(self) -> &'static str {
+    pub const fn name(self) -> &'static str {
         match self {
             Format::Npy => "NumPy .npy",
             Format::X3p => "ISO 25178-72 X3P",
@@ -47,6 +48,22 @@ impl Format {
             Format::MetroPro => "Zygo MetroPro .dat",
             Format::Datx => "Zygo .datx",
             Format::Opd => "Wyko .opd",
+        }
+    }
+
+    /// An error: the file breaks this format's layout.
+    pub(crate) fn invalid(self, message: impl Into<String>) -> FormatError {
+        FormatError::Invalid {
+            format: self.name(),
+            message: message.into(),
+        }
+    }
+
+    /// An error: the file is this format's, but holds what is not read here.
+    pub(crate) fn unsupported(self, message: impl Into<String>) -> FormatError {
+        FormatError::Unsupported {
+            format: self.name(),
+            message: message.into(),
         }
     }
 }

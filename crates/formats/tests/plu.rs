@@ -2,15 +2,15 @@
 //! 1.66 µm pixels) read as SurfaceTopography 1.27 reads it, and property
 //! tests: arbitrary bytes and edits of the real file never panic.
 
-mod reference_files;
+mod common;
 
 use std::path::Path;
 use std::sync::OnceLock;
 
+use common::{assert_same_map, bytes, expected, meta};
 use hypercontact_formats::{Format, FormatError, detect, read_bytes};
 use hypercontact_fuzz::{byte_edits, config, splice};
 use proptest::prelude::*;
-use reference_files::{assert_same_map, bytes, expected, meta};
 
 fn plu_1() -> &'static [u8] {
     static FILE: OnceLock<Vec<u8>> = OnceLock::new();
