@@ -3,8 +3,8 @@
 //! Every reader returns a [`Topography`]: heights in metres with axis 0 = x
 //! (the convention of SurfaceTopography and of hypercontact's `.npy` maps),
 //! NaN where the instrument recorded no point, and the grid spacing read from
-//! the file. [`detect`] names the format from the first bytes, so a file
-//! with the wrong extension is still read by the right reader.
+//! the file. [`detect`] names the format from the bytes, so a file with the
+//! wrong extension is still read by the right reader.
 
 use std::path::Path;
 
@@ -27,7 +27,7 @@ pub enum Format {
     X3p,
     /// Digital Surf `.sur` (MountainsMap)
     Sur,
-    /// Sensofar `.plu`
+    /// Sensofar `.plu` (and `.apx`)
     Plu,
     /// Zygo MetroPro `.dat`
     MetroPro,
@@ -103,8 +103,16 @@ pub enum FormatError {
     },
 }
 
-/// The format of a file from its first bytes (at least 16 should be given);
-/// the extension decides only where the bytes alone cannot.
+/// The format of a file from its bytes; the extension decides only where
+/// the bytes alone cannot.
+///
+/// Every format with a magic number is told by its first 18 bytes (the
+/// name of a Wyko `.opd` directory ends at byte 18; the other magics take at
+/// most 12). Sensofar `.plu` (and `.apx`, the same layout: SurfaceTopography
+/// 1.27's PLU reader takes both) has none: it is recognised only by its
+/// extension together with a header that agrees with the whole file (grid
+/// sizes, pixel size, measurement type, a first layer that fits in the
+/// file), so pass the whole file, not only its first bytes.
 pub fn detect(bytes: &[u8], path: Option<&Path>) -> Option<Format> {
     if bytes.starts_with(b"\x93NUMPY") {
         return Some(Format::Npy);
@@ -122,7 +130,7 @@ pub fn detect(bytes: &[u8], path: Option<&Path>) -> Option<Format> {
     }
     let extension = path?.extension()?.to_str()?.to_ascii_lowercase();
     match extension.as_str() {
-        "plu" if plu::plausible(bytes) => Some(Format::Plu),
+        "plu" | "apx" if plu::plausible(bytes) => Some(Format::Plu),
         _ => None,
     }
 }

@@ -47,6 +47,13 @@ fn plu_needs_its_extension_and_a_consistent_header() {
         detect(file, Some(Path::new("PLU-1.PLU"))),
         Some(Format::Plu)
     );
+    // .apx is the same layout (SurfaceTopography 1.27's PLUReader lists both)
+    assert_eq!(
+        detect(file, Some(Path::new("plu-1.apx"))),
+        Some(Format::Plu)
+    );
+    // without its whole first layer the header is not believed
+    assert_eq!(detect(&file[..16], Some(Path::new("plu-1.plu"))), None);
     // another format's bytes named .plu are refused, not misread
     let opd = bytes("opd-1.opd");
     assert_ne!(detect(&opd, Some(Path::new("x.plu"))), Some(Format::Plu));
