@@ -4,7 +4,9 @@
 //! (the convention of SurfaceTopography and of hypercontact's `.npy` maps),
 //! NaN where the instrument recorded no point, and the grid spacing read from
 //! the file. [`detect`] names the format from the bytes, so a file with the
-//! wrong extension is still read by the right reader.
+//! wrong extension is still read by the right reader. [`write_x3p`] writes
+//! any map as X3P, the open exchange format (e.g. to build tile sets, the
+//! tile positions as the axes' offsets).
 
 use std::path::Path;
 
@@ -17,6 +19,8 @@ mod opd;
 mod plu;
 mod sur;
 mod x3p;
+
+pub use x3p::write_x3p;
 
 /// The formats read here.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

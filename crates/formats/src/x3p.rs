@@ -22,6 +22,9 @@ use zip::ZipArchive;
 use crate::bytes::{ByteOrder, Bytes, Stored, grid_points, x_major};
 use crate::{Format, FormatError, Topography};
 
+mod write;
+pub use write::write_x3p;
+
 const FORMAT: Format = Format::X3p;
 
 /// The local-file-header signature every zip starts with. X3P is the only
@@ -149,10 +152,7 @@ fn verify_main_xml(
 
 /// Compares the MD5 of `bytes` with the hex digest `expected` (any case).
 fn check_md5(bytes: &[u8], expected: &str, what: &str, source: &str) -> Result<(), FormatError> {
-    let actual: String = Md5::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect();
+    let actual = md5_hex(bytes);
     if actual.eq_ignore_ascii_case(expected.trim()) {
         Ok(())
     } else {
@@ -161,6 +161,14 @@ fn check_md5(bytes: &[u8], expected: &str, what: &str, source: &str) -> Result<(
             expected.trim()
         )))
     }
+}
+
+/// The MD5 digest of `bytes` as lower-case hex.
+fn md5_hex(bytes: &[u8]) -> String {
+    Md5::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
 }
 
 /// One axis of `Record1/Axes`: value = offset + increment × raw.
@@ -172,7 +180,13 @@ struct Axis {
 
 impl Axis {
     fn value(self, raw: f64) -> f64 {
-        self.offset + self.increment * raw
+        // without an offset nothing is added, so a stored -0.0 stays -0.0
+        // (0 + -0 would be +0; SurfaceTopography adds only a nonzero offset too)
+        if self.offset == 0.0 {
+            self.increment * raw
+        } else {
+            self.offset + self.increment * raw
+        }
     }
 }
 
@@ -603,11 +617,7 @@ fn number_or(axis: Node, name: &str, axis_name: &str, default: f64) -> Result<f6
 
 #[cfg(test)]
 mod tests {
-    use std::io::Write;
-
     use ndarray::Array2;
-    use zip::write::SimpleFileOptions;
-    use zip::{CompressionMethod, ZipWriter};
 
     use super::*;
 
@@ -633,21 +643,8 @@ mod tests {
         )
     }
 
-    fn md5_hex(bytes: &[u8]) -> String {
-        Md5::digest(bytes)
-            .iter()
-            .map(|b| format!("{b:02x}"))
-            .collect()
-    }
-
     fn zip_of(members: &[(&str, &[u8])]) -> Vec<u8> {
-        let mut writer = ZipWriter::new(Cursor::new(Vec::new()));
-        let options = SimpleFileOptions::default().compression_method(CompressionMethod::Stored);
-        for (name, content) in members {
-            writer.start_file(*name, options).unwrap();
-            writer.write_all(content).unwrap();
-        }
-        writer.finish().unwrap().into_inner()
+        write::stored_zip(members).unwrap()
     }
 
     /// A 5 × 2 map of `raw` stored as `code`, with increment 0.5 and offset

@@ -4,15 +4,12 @@
 
 mod common;
 
-use std::io::{Cursor, Read, Write};
 use std::path::Path;
 
-use common::{assert_identical, bytes, expected, meta};
+use common::{assert_identical, bytes, expected, meta, stored_zip, zip_members};
 use hypercontact_formats::{Format, detect, read_bytes};
 use md5::{Digest, Md5};
 use proptest::prelude::*;
-use zip::write::SimpleFileOptions;
-use zip::{CompressionMethod, ZipArchive, ZipWriter};
 
 #[test]
 fn x3p_2_equals_surface_topography() {
@@ -72,26 +69,7 @@ fn x3p_is_detected_from_its_bytes_whatever_the_extension() {
 
 /// The members of the reference archive, inflated.
 fn members() -> Vec<(String, Vec<u8>)> {
-    let file = bytes("x3p-2.x3p");
-    let mut archive = ZipArchive::new(Cursor::new(file.as_slice())).unwrap();
-    (0..archive.len())
-        .map(|i| {
-            let mut member = archive.by_index(i).unwrap();
-            let mut content = Vec::new();
-            member.read_to_end(&mut content).unwrap();
-            (member.name().unwrap().to_string(), content)
-        })
-        .collect()
-}
-
-fn stored_zip(members: &[(String, Vec<u8>)]) -> Vec<u8> {
-    let mut writer = ZipWriter::new(Cursor::new(Vec::new()));
-    let options = SimpleFileOptions::default().compression_method(CompressionMethod::Stored);
-    for (name, content) in members {
-        writer.start_file(name.as_str(), options).unwrap();
-        writer.write_all(content).unwrap();
-    }
-    writer.finish().unwrap().into_inner()
+    zip_members(&bytes("x3p-2.x3p"))
 }
 
 #[test]

@@ -2,13 +2,18 @@
 //! `shared/reference/topography/` and the heights SurfaceTopography 1.27
 //! reads from them (`<name>_m.npy`, metres, axis 0 = x, NaN = missing,
 //! spacings in `index.json`), the crate's own test files in `tests/data/`
-//! (listed likewise in `datx-index.json`), and the comparisons of maps. A
-//! missing file fails the test: it never skips.
+//! (listed likewise in `datx-index.json`), the comparisons of maps, and
+//! the unpacking and re-zipping of X3P archives. A missing file fails the
+//! test: it never skips.
 
 #![allow(dead_code)]
 
+use std::io::{Cursor, Read, Write};
+
 use hypercontact_formats::Topography;
 use ndarray::Array2;
+use zip::write::SimpleFileOptions;
+use zip::{CompressionMethod, ZipArchive, ZipWriter};
 
 const REFERENCE_DIR: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -151,4 +156,28 @@ pub fn meta<'a>(read: &'a Topography, key: &str) -> Option<&'a str> {
         .iter()
         .find(|(k, _)| k == key)
         .map(|(_, v)| v.as_str())
+}
+
+/// The members of a zip archive (an X3P file), inflated, in their order.
+pub fn zip_members(archive: &[u8]) -> Vec<(String, Vec<u8>)> {
+    let mut archive = ZipArchive::new(Cursor::new(archive)).expect("a zip archive");
+    (0..archive.len())
+        .map(|i| {
+            let mut member = archive.by_index(i).unwrap();
+            let mut content = Vec::new();
+            member.read_to_end(&mut content).unwrap();
+            (member.name().unwrap().to_string(), content)
+        })
+        .collect()
+}
+
+/// A zip archive of `members`, stored, in their order.
+pub fn stored_zip(members: &[(String, Vec<u8>)]) -> Vec<u8> {
+    let mut writer = ZipWriter::new(Cursor::new(Vec::new()));
+    let options = SimpleFileOptions::default().compression_method(CompressionMethod::Stored);
+    for (name, content) in members {
+        writer.start_file(name.as_str(), options).unwrap();
+        writer.write_all(content).unwrap();
+    }
+    writer.finish().unwrap().into_inner()
 }
