@@ -13,10 +13,10 @@
 
 use hdf5_reader::{Attribute, Datatype, Hdf5File, OpenOptions, StringSize, VarLenKind};
 
-use crate::plu::bytes::{MAX_POINTS, grid_points};
+use crate::bytes::{ByteOrder, Bytes, MAX_POINTS, Stored, grid_points, x_major};
 use crate::{Format, FormatError, Topography};
 
-const FORMAT: &str = "Zygo .datx";
+const FORMAT: Format = Format::Datx;
 
 /// The HDF5 signature, which a `.datx` file starts with.
 const HDF5_MAGIC: &[u8] = b"\x89HDF\r\n\x1a\n";
@@ -32,23 +32,9 @@ pub(crate) fn matches(bytes: &[u8]) -> bool {
     bytes.starts_with(HDF5_MAGIC)
 }
 
-fn invalid(message: impl Into<String>) -> FormatError {
-    FormatError::Invalid {
-        format: FORMAT,
-        message: message.into(),
-    }
-}
-
-fn unsupported(message: impl Into<String>) -> FormatError {
-    FormatError::Unsupported {
-        format: FORMAT,
-        message: message.into(),
-    }
-}
-
 /// An HDF5 error, with what was being read.
 fn hdf5(what: &str) -> impl FnOnce(hdf5_reader::error::Error) -> FormatError + '_ {
-    move |e| invalid(format!("{what}: {e}"))
+    move |e| FORMAT.invalid(format!("{what}: {e}"))
 }
 
 /// Metres per unit of a height or length unit name as Mx writes it
@@ -159,51 +145,40 @@ impl Decoder<'_> {
 
 /// One numeric value of any integer or float type and byte order.
 fn number(dtype: &Datatype, raw: &[u8]) -> Option<f64> {
-    use hdf5_reader::ByteOrder::{BigEndian, LittleEndian};
-    fn bytes<const N: usize>(raw: &[u8], order: hdf5_reader::ByteOrder) -> Option<[u8; N]> {
-        let mut out = [0u8; N];
-        out.copy_from_slice(raw.get(..N)?);
-        if order == BigEndian {
-            out.reverse();
-        }
-        Some(out)
+    fn decode<T: Stored>(raw: &[u8], order: hdf5_reader::ByteOrder) -> Option<T> {
+        let order = match order {
+            hdf5_reader::ByteOrder::LittleEndian => ByteOrder::Little,
+            hdf5_reader::ByteOrder::BigEndian => ByteOrder::Big,
+        };
+        Bytes::new(raw, FORMAT.name(), order)
+            .read::<T>(0, "a number")
+            .ok()
     }
     let value = match *dtype {
         Datatype::FloatingPoint {
             size: 4,
             byte_order,
-        } => f64::from(f32::from_le_bytes(bytes(raw, byte_order)?)),
+        } => f64::from(decode::<f32>(raw, byte_order)?),
         Datatype::FloatingPoint {
             size: 8,
             byte_order,
-        } => f64::from_le_bytes(bytes(raw, byte_order)?),
+        } => decode::<f64>(raw, byte_order)?,
         Datatype::FixedPoint {
             size,
             signed,
             byte_order,
-        } => {
-            let little = match byte_order {
-                LittleEndian => raw.get(..usize::from(size))?.to_vec(),
-                BigEndian => raw
-                    .get(..usize::from(size))?
-                    .iter()
-                    .rev()
-                    .copied()
-                    .collect(),
-            };
-            match (size, signed) {
-                (1, true) => f64::from(i8::from_le_bytes([little[0]])),
-                (1, false) => f64::from(little[0]),
-                (2, true) => f64::from(i16::from_le_bytes(bytes(&little, LittleEndian)?)),
-                (2, false) => f64::from(u16::from_le_bytes(bytes(&little, LittleEndian)?)),
-                (4, true) => f64::from(i32::from_le_bytes(bytes(&little, LittleEndian)?)),
-                (4, false) => f64::from(u32::from_le_bytes(bytes(&little, LittleEndian)?)),
-                // 64-bit counts lose precision past 2^53, as in any f64 map
-                (8, true) => i64::from_le_bytes(bytes(&little, LittleEndian)?) as f64,
-                (8, false) => u64::from_le_bytes(bytes(&little, LittleEndian)?) as f64,
-                _ => return None,
-            }
-        }
+        } => match (size, signed) {
+            (1, true) => f64::from(decode::<i8>(raw, byte_order)?),
+            (1, false) => f64::from(decode::<u8>(raw, byte_order)?),
+            (2, true) => f64::from(decode::<i16>(raw, byte_order)?),
+            (2, false) => f64::from(decode::<u16>(raw, byte_order)?),
+            (4, true) => f64::from(decode::<i32>(raw, byte_order)?),
+            (4, false) => f64::from(decode::<u32>(raw, byte_order)?),
+            // 64-bit counts lose precision past 2^53, as in any f64 map
+            (8, true) => decode::<i64>(raw, byte_order)? as f64,
+            (8, false) => decode::<u64>(raw, byte_order)? as f64,
+            _ => return None,
+        },
         _ => return None,
     };
     Some(value)
@@ -218,10 +193,12 @@ fn surface_path(
 ) -> Result<String, FormatError> {
     let from_metadata = file
         .dataset("/MetaData")
-        .map_err(|_| invalid("neither /MetaData nor /Data/Surface: not a Zygo .datx file"))
+        .map_err(|_| FORMAT.invalid("neither /MetaData nor /Data/Surface: not a Zygo .datx file"))
         .and_then(|metadata| {
             rows(&metadata).ok_or_else(|| {
-                invalid("/MetaData is not a table of three strings (source, link, destination)")
+                FORMAT.invalid(
+                    "/MetaData is not a table of three strings (source, link, destination)",
+                )
             })
         })
         .and_then(|rows| {
@@ -234,7 +211,9 @@ fn surface_path(
                 .and_then(|measurement| link(&measurement, "Surface"))
                 .and_then(|surface| link(&surface, "Path"))
                 .ok_or_else(|| {
-                    invalid("/MetaData has no Root → Measurement → Surface → Path to the heights")
+                    FORMAT.invalid(
+                        "/MetaData has no Root → Measurement → Surface → Path to the heights",
+                    )
                 })
         });
     from_metadata.or_else(|why| {
@@ -292,9 +271,9 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
             })
             .collect()
     })?;
-    let surface = file
-        .dataset(&path)
-        .map_err(|e| invalid(format!("the height dataset {path} named in /MetaData: {e}")))?;
+    let surface = file.dataset(&path).map_err(|e| {
+        FORMAT.invalid(format!("the height dataset {path} named in /MetaData: {e}"))
+    })?;
     let resolve = |reference: &[u8]| surface.resolve_vlen_reference_bytes(reference, 1);
     let decoder = Decoder {
         vlen_size,
@@ -303,26 +282,26 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
     let attribute = |name: &str| {
         surface
             .attribute(name)
-            .map_err(|_| invalid(format!("{path} has no \"{name}\" attribute")))
+            .map_err(|_| FORMAT.invalid(format!("{path} has no \"{name}\" attribute")))
     };
 
     let unit = decoder
         .attribute_text(&attribute("Unit")?)
-        .ok_or_else(|| invalid(format!("{path}: \"Unit\" is not a string")))?;
+        .ok_or_else(|| FORMAT.invalid(format!("{path}: \"Unit\" is not a string")))?;
     let Some(unit_m) = metres_per_unit(&unit) else {
-        return Err(unsupported(format!(
+        return Err(FORMAT.unsupported(format!(
             "{path}: heights in \"{unit}\", not a length unit: {EXPORT_ADVICE}"
         )));
     };
     let z = converter(&decoder, &attribute("Z Converter")?, &path, "Z Converter")?;
     if z.category != "HeightCat" {
-        return Err(unsupported(format!(
+        return Err(FORMAT.unsupported(format!(
             "{path}: Z Converter category \"{}\", expected HeightCat: {EXPORT_ADVICE}",
             z.category
         )));
     }
     if metres_per_unit(&z.base_unit) != Some(unit_m) {
-        return Err(invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "{path}: the Z Converter's unit \"{}\" contradicts \"Unit\" = \"{unit}\"",
             z.base_unit
         )));
@@ -332,13 +311,13 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
         let lateral = converter(&decoder, &attribute(name)?, &path, name)?;
         let metres = lateral.parameters.get(1).copied().unwrap_or(f64::NAN);
         if lateral.category != "LateralCat" || lateral.base_unit != "Pixels" {
-            return Err(unsupported(format!(
+            return Err(FORMAT.unsupported(format!(
                 "{path}: {name} is {} in {}, expected LateralCat in Pixels: {EXPORT_ADVICE}",
                 lateral.category, lateral.base_unit
             )));
         }
         if !(metres.is_finite() && metres > 0.0) {
-            return Err(invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "{path}: {name}'s pixel size (Parameters[1]) is {metres} m, expected a positive number"
             )));
         }
@@ -350,7 +329,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
         .and_then(|a| number(&a.datatype, &a.raw_data));
 
     let &[ny, nx] = surface.shape() else {
-        return Err(invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "{path} has shape {:?}, expected rows × columns",
             surface.shape()
         )));
@@ -359,30 +338,36 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
         usize::try_from(nx).unwrap_or(usize::MAX),
         usize::try_from(ny).unwrap_or(usize::MAX),
     );
-    let points = grid_points(FORMAT, nx, ny, &path)?;
+    let points = grid_points(FORMAT.name(), nx, ny, &path)?;
     let dtype = surface.dtype().clone();
     let size = match dtype {
-        Datatype::FloatingPoint { size: 4 | 8, .. }
-        | Datatype::FixedPoint {
-            size: 1 | 2 | 4 | 8,
+        Datatype::FloatingPoint {
+            size: size @ (4 | 8),
             ..
-        } => decoder.size(&dtype).unwrap_or(0),
+        }
+        | Datatype::FixedPoint {
+            size: size @ (1 | 2 | 4 | 8),
+            ..
+        } => usize::from(size),
         _ => {
-            return Err(unsupported(format!(
+            return Err(FORMAT.unsupported(format!(
                 "{path}: heights of type {dtype:?}, expected numbers"
             )));
         }
     };
     let raw = surface.read_raw_bytes().map_err(hdf5(&path))?;
     if raw.len() != points * size {
-        return Err(invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "{path}: {} bytes of heights for {nx} × {ny} values of {size} bytes",
             raw.len()
         )));
     }
-    let value = |k: usize| number(&dtype, &raw[k * size..(k + 1) * size]).unwrap_or(f64::NAN);
-    let heights_m = ndarray::Array2::from_shape_fn((nx, ny), |(i, j)| {
-        let h = value(j * nx + i);
+    let values: Vec<f64> = raw
+        .chunks_exact(size)
+        .map(|value| number(&dtype, value).unwrap_or(f64::NAN))
+        .collect();
+    // stored as rows of constant y
+    let heights_m = x_major(nx, ny, &values, |h| {
         if !h.is_finite() || Some(h) == no_data {
             f64::NAN
         } else {
@@ -431,7 +416,7 @@ fn converter(
     name: &str,
 ) -> Result<Converter, FormatError> {
     let wrong = || {
-        invalid(format!(
+        FORMAT.invalid(format!(
             "{path}: \"{name}\" is not a (Category, BaseUnit, Parameters) compound"
         ))
     };

@@ -3,19 +3,24 @@
 //! Every reader returns a [`Topography`]: heights in metres with axis 0 = x
 //! (the convention of SurfaceTopography and of hypercontact's `.npy` maps),
 //! NaN where the instrument recorded no point, and the grid spacing read from
-//! the file. [`detect`] names the format from the first bytes, so a file
-//! with the wrong extension is still read by the right reader.
+//! the file. [`detect`] names the format from the bytes, so a file with the
+//! wrong extension is still read by the right reader. [`write_x3p`] writes
+//! any map as X3P, the open exchange format (e.g. to build tile sets, the
+//! tile positions as the axes' offsets).
 
 use std::path::Path;
 
 use ndarray::Array2;
 
+mod bytes;
 mod datx;
 mod metropro;
 mod opd;
 mod plu;
 mod sur;
 mod x3p;
+
+pub use x3p::write_x3p;
 
 /// The formats read here.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -26,7 +31,7 @@ pub enum Format {
     X3p,
     /// Digital Surf `.sur` (MountainsMap)
     Sur,
-    /// Sensofar `.plu`
+    /// Sensofar `.plu` (and `.apx`)
     Plu,
     /// Zygo MetroPro `.dat`
     MetroPro,
@@ -38,7 +43,7 @@ pub enum Format {
 
 impl Format {
     /// The usual name of the format, for messages.
-    pub fn name(self) -> &'static str {
+    pub const fn name(self) -> &'static str {
         match self {
             Format::Npy => "NumPy .npy",
             Format::X3p => "ISO 25178-72 X3P",
@@ -47,6 +52,22 @@ impl Format {
             Format::MetroPro => "Zygo MetroPro .dat",
             Format::Datx => "Zygo .datx",
             Format::Opd => "Wyko .opd",
+        }
+    }
+
+    /// An error: the file breaks this format's layout.
+    pub(crate) fn invalid(self, message: impl Into<String>) -> FormatError {
+        FormatError::Invalid {
+            format: self.name(),
+            message: message.into(),
+        }
+    }
+
+    /// An error: the file is this format's, but holds what is not read here.
+    pub(crate) fn unsupported(self, message: impl Into<String>) -> FormatError {
+        FormatError::Unsupported {
+            format: self.name(),
+            message: message.into(),
         }
     }
 }
@@ -86,8 +107,16 @@ pub enum FormatError {
     },
 }
 
-/// The format of a file from its first bytes (at least 16 should be given);
-/// the extension decides only where the bytes alone cannot.
+/// The format of a file from its bytes; the extension decides only where
+/// the bytes alone cannot.
+///
+/// Every format with a magic number is told by its first 18 bytes (the
+/// name of a Wyko `.opd` directory ends at byte 18; the other magics take at
+/// most 12). Sensofar `.plu` (and `.apx`, the same layout: SurfaceTopography
+/// 1.27's PLU reader takes both) has none: it is recognised only by its
+/// extension together with a header that agrees with the whole file (grid
+/// sizes, pixel size, measurement type, a first layer that fits in the
+/// file), so pass the whole file, not only its first bytes.
 pub fn detect(bytes: &[u8], path: Option<&Path>) -> Option<Format> {
     if bytes.starts_with(b"\x93NUMPY") {
         return Some(Format::Npy);
@@ -105,7 +134,7 @@ pub fn detect(bytes: &[u8], path: Option<&Path>) -> Option<Format> {
     }
     let extension = path?.extension()?.to_str()?.to_ascii_lowercase();
     match extension.as_str() {
-        "plu" if plu::plausible(bytes) => Some(Format::Plu),
+        "plu" | "apx" if plu::plausible(bytes) => Some(Format::Plu),
         _ => None,
     }
 }

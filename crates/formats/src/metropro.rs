@@ -14,10 +14,10 @@
 //! Reference Guide (0347M), Gwyddion's `metropro.c` and SurfaceTopography's
 //! `IO/MetroPro.py`.
 
-use crate::plu::bytes::{Bytes, grid_points, x_major};
+use crate::bytes::{ByteOrder, Bytes, grid_points, utc_text, x_major};
 use crate::{Format, FormatError, Topography};
 
-const FORMAT: &str = "Zygo MetroPro .dat";
+const FORMAT: Format = Format::MetroPro;
 
 /// Magic numbers of header formats 1, 2 and 3.
 const MAGIC: [u32; 3] = [0x881B_036F, 0x881B_0370, 0x881B_0371];
@@ -58,8 +58,8 @@ const SOFTWARE: [&str; 3] = ["MetroPro", "MetroBasic", "dbug"];
 
 /// Whether the first bytes are one of the three MetroPro magic numbers.
 pub(crate) fn matches(bytes: &[u8]) -> bool {
-    Bytes::new(bytes, FORMAT)
-        .u32_be(0, "magic")
+    Bytes::new(bytes, FORMAT.name(), ByteOrder::Big)
+        .read::<u32>(0, "magic")
         .is_ok_and(|magic| MAGIC.contains(&magic))
 }
 
@@ -87,63 +87,64 @@ fn metres_per_count(
 
 /// Reads the phase map as heights in metres, axis 0 = x, NaN where invalid.
 pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
-    let bytes = Bytes::new(data, FORMAT);
-    let magic = bytes.u32_be(0, "the magic number")?;
+    let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Big);
+    let magic = bytes.read::<u32>(0, "the magic number")?;
     let Some(kind) = MAGIC.iter().position(|&m| m == magic) else {
-        return Err(bytes.invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "magic number {magic:#010x} at byte 0 is none of 0x881b036f, 0x881b0370, 0x881b0371"
         )));
     };
-    let header_size = bytes.u32_be(HEADER_SIZE_AT, "the header size")?;
+    let header_size = bytes.read::<u32>(HEADER_SIZE_AT, "the header size")?;
     if header_size != HEADER_SIZE[kind] {
-        return Err(bytes.unsupported(format!(
+        return Err(FORMAT.unsupported(format!(
             "header size {header_size} at byte {HEADER_SIZE_AT}: header format {} has {} bytes",
             kind + 1,
             HEADER_SIZE[kind]
         )));
     }
-    let intensity_width = usize::from(bytes.u16_be(INTENSITY_WIDTH, "the intensity width")?);
-    let intensity_height = usize::from(bytes.u16_be(INTENSITY_HEIGHT, "the intensity height")?);
-    let buckets = usize::from(bytes.u16_be(BUCKETS, "the bucket count")?);
-    let nx = usize::from(bytes.u16_be(PHASE_WIDTH, "the phase width")?);
-    let ny = usize::from(bytes.u16_be(PHASE_HEIGHT, "the phase height")?);
+    let intensity_width = usize::from(bytes.read::<u16>(INTENSITY_WIDTH, "the intensity width")?);
+    let intensity_height =
+        usize::from(bytes.read::<u16>(INTENSITY_HEIGHT, "the intensity height")?);
+    let buckets = usize::from(bytes.read::<u16>(BUCKETS, "the bucket count")?);
+    let nx = usize::from(bytes.read::<u16>(PHASE_WIDTH, "the phase width")?);
+    let ny = usize::from(bytes.read::<u16>(PHASE_HEIGHT, "the phase height")?);
     if nx == 0 || ny == 0 {
-        return Err(bytes.invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "the phase map (bytes {PHASE_WIDTH}..{}) is {nx} × {ny}: the file holds no heights",
             PHASE_HEIGHT + 2
         )));
     }
-    let points = grid_points(FORMAT, nx, ny, "the phase map")?;
+    let points = grid_points(FORMAT.name(), nx, ny, "the phase map")?;
     // u16 sizes: these products cannot overflow
     let intensity_bytes = 2 * buckets * intensity_width * intensity_height;
     let phase_at = header_size as usize + intensity_bytes;
 
-    let phase_res = bytes.i16_be(PHASE_RES, "the phase resolution")?;
+    let phase_res = bytes.read::<i16>(PHASE_RES, "the phase resolution")?;
     let per_fringe = counts_per_fringe(phase_res).ok_or_else(|| {
-        bytes.invalid(format!(
+        FORMAT.invalid(format!(
             "phase resolution {phase_res} at byte {PHASE_RES} is not 0, 1 or 2"
         ))
     })?;
-    let scale = bytes.f32_be(SCALE_FACTOR, "the interferometric scale factor")?;
-    let obliquity = bytes.f32_be(OBLIQUITY, "the obliquity factor")?;
-    let wavelength_m = bytes.f32_be(WAVELENGTH_M, "the wavelength")?;
-    let inverted = bytes.i16_be(SIGN, "the sign")? != 0;
+    let scale = bytes.read::<f32>(SCALE_FACTOR, "the interferometric scale factor")?;
+    let obliquity = bytes.read::<f32>(OBLIQUITY, "the obliquity factor")?;
+    let wavelength_m = bytes.read::<f32>(WAVELENGTH_M, "the wavelength")?;
+    let inverted = bytes.read::<i16>(SIGN, "the sign")? != 0;
     let per_count = metres_per_count(scale, obliquity, wavelength_m, per_fringe, inverted);
     if !(per_count.is_finite() && per_count != 0.0) {
-        return Err(bytes.invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "scale factor {scale} (byte {SCALE_FACTOR}) × obliquity {obliquity} (byte {OBLIQUITY}) × \
              wavelength {wavelength_m} m (byte {WAVELENGTH_M}) gives no height scale"
         )));
     }
-    let pixel_m = f64::from(bytes.f32_be(LATERAL_RES_M, "the lateral resolution")?);
+    let pixel_m = f64::from(bytes.read::<f32>(LATERAL_RES_M, "the lateral resolution")?);
     if !(pixel_m.is_finite() && pixel_m > 0.0) {
-        return Err(bytes.unsupported(format!(
+        return Err(FORMAT.unsupported(format!(
             "lateral resolution {pixel_m} m at byte {LATERAL_RES_M}: the file has no lateral \
              calibration (set it in MetroPro before saving)"
         )));
     }
 
-    let counts = bytes.values(phase_at, points, "the phase map", i32::from_be_bytes)?;
+    let counts = bytes.values::<i32>(phase_at, points, "the phase map")?;
     let heights_m = x_major(nx, ny, &counts, |count| {
         if count >= INVALID_PHASE {
             f64::NAN
@@ -165,11 +166,11 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
 
 fn metadata(bytes: &Bytes, kind: usize) -> Result<Vec<(String, String)>, FormatError> {
     let mut metadata = vec![("vendor".to_string(), "Zygo".to_string())];
-    let software = bytes.i16_be(SOFTWARE_TYPE, "the software type")?;
+    let software = bytes.read::<i16>(SOFTWARE_TYPE, "the software type")?;
     let version: Vec<String> = (0..3)
         .map(|i| {
             bytes
-                .i16_be(VERSION + 2 * i, "the software version")
+                .read::<i16>(VERSION + 2 * i, "the software version")
                 .map(|v| v.to_string())
         })
         .collect::<Result<_, _>>()?;
@@ -183,23 +184,25 @@ fn metadata(bytes: &Bytes, kind: usize) -> Result<Vec<(String, String)>, FormatE
         bytes.text(SOFTWARE_DATE, 30, "the software date")?,
     ));
     metadata.push(("header_format".into(), (kind + 1).to_string()));
-    let header_format = bytes.u16_be(HEADER_FORMAT, "the header format")?;
+    let header_format = bytes.read::<u16>(HEADER_FORMAT, "the header format")?;
     if usize::from(header_format) != kind + 1 {
         metadata.push(("header_format_field".into(), header_format.to_string()));
     }
-    let stamp = bytes.i32_be(TIME_STAMP, "the time stamp")?;
+    let stamp = bytes.read::<i32>(TIME_STAMP, "the time stamp")?;
     metadata.push(("time_unix_s".into(), stamp.to_string()));
-    if let Some(utc) = crate::plu::bytes::utc_text(i64::from(stamp)) {
+    if let Some(utc) = utc_text(i64::from(stamp)) {
         metadata.push(("date_utc".into(), utc));
     }
     metadata.push((
         "system_type".into(),
-        bytes.i16_be(SYSTEM_TYPE, "the system type")?.to_string(),
+        bytes
+            .read::<i16>(SYSTEM_TYPE, "the system type")?
+            .to_string(),
     ));
     metadata.push((
         "serial".into(),
         bytes
-            .u16_be(SYSTEM_SERIAL, "the system serial")?
+            .read::<u16>(SYSTEM_SERIAL, "the system serial")?
             .to_string(),
     ));
     for (key, offset, len) in [
@@ -213,9 +216,9 @@ fn metadata(bytes: &Bytes, kind: usize) -> Result<Vec<(String, String)>, FormatE
             metadata.push((key.into(), text));
         }
     }
-    let wavelength_m = bytes.f32_be(WAVELENGTH_M, "the wavelength")?;
+    let wavelength_m = bytes.read::<f32>(WAVELENGTH_M, "the wavelength")?;
     metadata.push(("wavelength_m".into(), wavelength_m.to_string()));
-    let magnification = bytes.f32_be(MAGNIFICATION, "the magnification")?;
+    let magnification = bytes.read::<f32>(MAGNIFICATION, "the magnification")?;
     if magnification != 0.0 {
         metadata.push(("magnification".into(), magnification.to_string()));
     }

@@ -12,10 +12,10 @@
 //! (f32) or ≥ 32766 (i16) mark bad points. Layout as read by Gwyddion's
 //! `opdfile.c` and SurfaceTopography's `IO/OPD.py`.
 
-use crate::plu::bytes::{Bytes, grid_points};
+use crate::bytes::{ByteOrder, Bytes, grid_points};
 use crate::{Format, FormatError, Topography};
 
-const FORMAT: &str = "Wyko .opd";
+const FORMAT: Format = Format::Opd;
 
 const PRELUDE: usize = 2;
 const ENTRY_LEN: usize = 24;
@@ -55,16 +55,16 @@ struct Block {
 /// The directory's blocks with their content offsets, checked to lie in the file.
 fn directory(bytes: &Bytes) -> Result<Vec<Block>, FormatError> {
     if !matches(bytes.slice(0, PRELUDE + NAME_LEN, "the directory's name")?) {
-        return Err(bytes.invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "the first directory entry at byte {PRELUDE} is not named \"Directory\""
         )));
     }
-    let dir_len = bytes.i32_le(PRELUDE + NAME_LEN + 2, "the directory's length")?;
+    let dir_len = bytes.read::<i32>(PRELUDE + NAME_LEN + 2, "the directory's length")?;
     let dir_len = usize::try_from(dir_len)
         .ok()
         .filter(|&n| n >= ENTRY_LEN && n % ENTRY_LEN == 0)
         .ok_or_else(|| {
-            bytes.invalid(format!(
+            FORMAT.invalid(format!(
                 "the directory's length {dir_len} at byte {} is not a positive multiple of {ENTRY_LEN}",
                 PRELUDE + NAME_LEN + 2
             ))
@@ -74,8 +74,8 @@ fn directory(bytes: &Bytes) -> Result<Vec<Block>, FormatError> {
     let mut blocks = Vec::new();
     for entry in (PRELUDE + ENTRY_LEN..PRELUDE + dir_len).step_by(ENTRY_LEN) {
         let name = bytes.text(entry, NAME_LEN, "a block name")?;
-        let kind = bytes.i16_le(entry + NAME_LEN, "a block type")?;
-        let len = bytes.i32_le(entry + NAME_LEN + 2, "a block length")?;
+        let kind = bytes.read::<i16>(entry + NAME_LEN, "a block type")?;
+        let len = bytes.read::<i32>(entry + NAME_LEN + 2, "a block length")?;
         // blocks of length ≤ 0 have no contents
         let Ok(len) = usize::try_from(len) else {
             continue;
@@ -84,7 +84,7 @@ fn directory(bytes: &Bytes) -> Result<Vec<Block>, FormatError> {
             continue;
         }
         if at.checked_add(len).is_none_or(|end| end > bytes.len()) {
-            return Err(bytes.invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "block \"{name}\" (directory entry at byte {entry}) needs bytes {at}..{} but the \
                  file has {} bytes",
                 at.saturating_add(len),
@@ -107,10 +107,10 @@ fn directory(bytes: &Bytes) -> Result<Vec<Block>, FormatError> {
 fn number(bytes: &Bytes, block: &Block) -> Result<Option<f64>, FormatError> {
     let what = format!("block \"{}\"", block.name);
     let value = match (block.kind, block.len) {
-        (TYPE_SHORT | TYPE_FLOAT, 2) => f64::from(bytes.i16_le(block.at, &what)?),
-        (TYPE_SHORT, 4) | (TYPE_LONG, 4..) => f64::from(bytes.i32_le(block.at, &what)?),
-        (TYPE_FLOAT, 4..) => f64::from(bytes.f32_le(block.at, &what)?),
-        (TYPE_DOUBLE, 8..) => bytes.f64_le(block.at, &what)?,
+        (TYPE_SHORT | TYPE_FLOAT, 2) => f64::from(bytes.read::<i16>(block.at, &what)?),
+        (TYPE_SHORT, 4) | (TYPE_LONG, 4..) => f64::from(bytes.read::<i32>(block.at, &what)?),
+        (TYPE_FLOAT, 4..) => f64::from(bytes.read::<f32>(block.at, &what)?),
+        (TYPE_DOUBLE, 8..) => bytes.read::<f64>(block.at, &what)?,
         _ => return Ok(None),
     };
     Ok(Some(value))
@@ -138,7 +138,7 @@ impl Values {
 
 /// Reads the first height array as heights in metres, axis 0 = x, NaN at bad points.
 pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
-    let bytes = Bytes::new(data, FORMAT);
+    let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Little);
     let blocks = directory(&bytes)?;
     let scalar = |name: &str| -> Result<Option<f64>, FormatError> {
         match blocks.iter().find(|b| b.name == name) {
@@ -147,24 +147,24 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
         }
     };
     let wavelength_nm = scalar("Wavelength")?
-        .ok_or_else(|| bytes.invalid("no \"Wavelength\" block: the height scale is unknown"))?;
+        .ok_or_else(|| FORMAT.invalid("no \"Wavelength\" block: the height scale is unknown"))?;
     let mult = scalar("Mult")?.unwrap_or(1.0);
     let aspect = scalar("Aspect")?.unwrap_or(1.0);
     let pixel_mm = scalar("Pixel_size")?.ok_or_else(|| {
-        bytes.unsupported("no \"Pixel_size\" block: the file has no lateral calibration")
+        FORMAT.unsupported("no \"Pixel_size\" block: the file has no lateral calibration")
     })?;
     // nm / Mult · 1e-6 is mm, · 1e-3 is m: SurfaceTopography's order, so
     // the metres agree with its reader to the last bit
     let mm_per_value = wavelength_nm / mult * 1e-6;
     if !(mm_per_value.is_finite() && mm_per_value != 0.0) {
-        return Err(bytes.invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "wavelength {wavelength_nm} nm / Mult {mult} gives no height scale"
         )));
     }
     let dx_m = pixel_mm * 1e-3;
     let dy_m = dx_m * aspect;
     if !(dx_m.is_finite() && dx_m > 0.0 && dy_m.is_finite() && dy_m > 0.0) {
-        return Err(bytes.invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "pixel size {pixel_mm} mm with aspect {aspect} is not a positive spacing"
         )));
     }
@@ -173,25 +173,25 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
         .iter()
         .find(|b| b.kind == TYPE_ARRAY && HEIGHT_ARRAYS.contains(&b.name.as_str()))
     else {
-        return Err(bytes.invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "no height array: expected an array block named one of {HEIGHT_ARRAYS:?}"
         )));
     };
     let what = format!("array \"{}\" at byte {}", array.name, array.at);
-    let nx = usize::from(bytes.u16_le(array.at, &what)?);
-    let ny = usize::from(bytes.u16_le(array.at + 2, &what)?);
-    let item = bytes.u16_le(array.at + 4, &what)?;
-    let points = grid_points(FORMAT, nx, ny, &what)?;
+    let nx = usize::from(bytes.read::<u16>(array.at, &what)?);
+    let ny = usize::from(bytes.read::<u16>(array.at + 2, &what)?);
+    let item = bytes.read::<u16>(array.at + 4, &what)?;
+    let points = grid_points(FORMAT.name(), nx, ny, &what)?;
     let item_len = match item {
         1 | 2 | 4 => usize::from(item),
         _ => {
-            return Err(bytes.unsupported(format!(
+            return Err(FORMAT.unsupported(format!(
                 "{what}: {item} bytes per value, expected 1, 2 or 4"
             )));
         }
     };
     if 6 + points * item_len > array.len {
-        return Err(bytes.invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "{what}: {nx} × {ny} values of {item_len} bytes do not fit its {} bytes",
             array.len
         )));
@@ -199,8 +199,8 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
     let at = array.at + 6;
     let values = match item {
         1 => Values::U8(bytes.slice(at, points, &what)?.to_vec()),
-        2 => Values::I16(bytes.values(at, points, &what, i16::from_le_bytes)?),
-        _ => Values::F32(bytes.values(at, points, &what, f32::from_le_bytes)?),
+        2 => Values::I16(bytes.values::<i16>(at, points, &what)?),
+        _ => Values::F32(bytes.values::<f32>(at, points, &what)?),
     };
     // stored x-major with y downwards: flip y (as Gwyddion and SurfaceTopography do)
     let heights_m = ndarray::Array2::from_shape_fn((nx, ny), |(i, j)| {

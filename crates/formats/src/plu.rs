@@ -13,13 +13,10 @@
 //! pixel size, a known measurement type, the layer inside the file) so that
 //! `detect` can trust the `.plu` extension only when the bytes agree.
 
-pub(crate) mod bytes;
-
-use bytes::{Bytes, grid_points, x_major};
-
+use crate::bytes::{ByteOrder, Bytes, grid_points, utc_text, x_major};
 use crate::{Format, FormatError, Topography};
 
-const FORMAT: &str = "Sensofar .plu";
+const FORMAT: Format = Format::Plu;
 
 // Byte offsets of the header (Gwyddion's sensofar.c, SurfaceTopography's PLU.py).
 const DATE: usize = 0;
@@ -85,12 +82,12 @@ struct Header {
 impl Header {
     fn read(bytes: &Bytes) -> Result<Header, FormatError> {
         Ok(Header {
-            rows: bytes.u32_le(CAL_ROWS, "the calibration's row count")? as usize,
-            columns: bytes.u32_le(CAL_COLUMNS, "the calibration's column count")? as usize,
-            um_per_pixel_x: bytes.f32_le(CAL_UM_PER_PIXEL_X, "the x pixel size (µm)")?,
-            um_per_pixel_y: bytes.f32_le(CAL_UM_PER_PIXEL_Y, "the y pixel size (µm)")?,
-            measurement_type: bytes.u32_le(MEASUREMENT_TYPE, "the measurement type")?,
-            num_layers: bytes.u8(NUM_LAYERS, "the layer count")?,
+            rows: bytes.read::<u32>(CAL_ROWS, "the calibration's row count")? as usize,
+            columns: bytes.read::<u32>(CAL_COLUMNS, "the calibration's column count")? as usize,
+            um_per_pixel_x: bytes.read::<f32>(CAL_UM_PER_PIXEL_X, "the x pixel size (µm)")?,
+            um_per_pixel_y: bytes.read::<f32>(CAL_UM_PER_PIXEL_Y, "the y pixel size (µm)")?,
+            measurement_type: bytes.read::<u32>(MEASUREMENT_TYPE, "the measurement type")?,
+            num_layers: bytes.read::<u8>(NUM_LAYERS, "the layer count")?,
         })
     }
 
@@ -98,20 +95,20 @@ impl Header {
     /// first layer's own grid size; the first failure as an error.
     fn check(&self, bytes: &Bytes) -> Result<usize, FormatError> {
         if self.measurement_type > TYPE_LAST {
-            return Err(bytes.invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "measurement type {} at byte {MEASUREMENT_TYPE} is not one of 0…{TYPE_LAST}",
                 self.measurement_type
             )));
         }
         if self.measurement_type != TYPE_TOPOGRAPHY {
-            return Err(bytes.unsupported(format!(
+            return Err(FORMAT.unsupported(format!(
                 "measurement type {} at byte {MEASUREMENT_TYPE} is not a topography ({TYPE_TOPOGRAPHY}): \
                  profiles and images are not height maps",
                 self.measurement_type
             )));
         }
         if self.num_layers == 0 {
-            return Err(bytes.invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "the layer count at byte {NUM_LAYERS} is 0: the file holds no height map"
             )));
         }
@@ -120,24 +117,24 @@ impl Header {
             (self.um_per_pixel_y, CAL_UM_PER_PIXEL_Y, "y"),
         ] {
             if !(value.is_finite() && value > 0.0) {
-                return Err(bytes.invalid(format!(
+                return Err(FORMAT.invalid(format!(
                     "the {axis} pixel size at byte {offset} is {value} µm, expected a positive number"
                 )));
             }
         }
-        let rows = bytes.u32_le(LAYER, "the layer's row count")? as usize;
-        let columns = bytes.u32_le(LAYER + 4, "the layer's column count")? as usize;
+        let rows = bytes.read::<u32>(LAYER, "the layer's row count")? as usize;
+        let columns = bytes.read::<u32>(LAYER + 4, "the layer's column count")? as usize;
         if (rows, columns) != (self.rows, self.columns) {
-            return Err(bytes.invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "the layer at byte {LAYER} is {columns} × {rows} points but the calibration at byte \
                  {CAL_ROWS} says {} × {}",
                 self.columns, self.rows
             )));
         }
-        let points = grid_points(FORMAT, columns, rows, "the layer's grid")?;
+        let points = grid_points(FORMAT.name(), columns, rows, "the layer's grid")?;
         let needed = LAYER_DATA + 4 * points + 8;
         if bytes.len() < needed {
-            return Err(bytes.invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "a {columns} × {rows} layer of f32 heights and its min/max need {needed} bytes, \
                  the file has {}",
                 bytes.len()
@@ -155,7 +152,7 @@ pub(crate) fn matches(_bytes: &[u8]) -> bool {
 /// Whether the whole file's bytes are a consistent `.plu` header followed by
 /// its first layer (used together with the `.plu` extension).
 pub(crate) fn plausible(bytes: &[u8]) -> bool {
-    let bytes = Bytes::new(bytes, FORMAT);
+    let bytes = Bytes::new(bytes, FORMAT.name(), ByteOrder::Little);
     let date_is_text = bytes.slice(DATE, DATE_LEN, "date").is_ok_and(|date| {
         date.iter()
             .take_while(|&&b| b != 0)
@@ -167,16 +164,11 @@ pub(crate) fn plausible(bytes: &[u8]) -> bool {
 /// Reads the first layer of a topography: heights in metres (µm in the file),
 /// axis 0 = x, NaN where the instrument measured nothing.
 pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
-    let bytes = Bytes::new(data, FORMAT);
+    let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Little);
     let header = Header::read(&bytes)?;
     let points = header.check(&bytes)?;
     let (nx, ny) = (header.columns, header.rows);
-    let heights_um = bytes.values(
-        LAYER_DATA,
-        points,
-        "the layer's heights",
-        f32::from_le_bytes,
-    )?;
+    let heights_um = bytes.values::<f32>(LAYER_DATA, points, "the layer's heights")?;
     let heights_m = x_major(nx, ny, &heights_um, |h_um| {
         if h_um == NOT_MEASURED || !h_um.is_finite() {
             f64::NAN
@@ -198,8 +190,8 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
 
 fn metadata(bytes: &Bytes, header: &Header) -> Result<Vec<(String, String)>, FormatError> {
     let mut metadata = vec![("vendor".to_string(), "Sensofar".to_string())];
-    let version = bytes.u8(VERSION, "the format version")?;
-    let hardware = bytes.u8(HARDWARE, "the hardware configuration")?;
+    let version = bytes.read::<u8>(VERSION, "the format version")?;
+    let hardware = bytes.read::<u8>(HARDWARE, "the hardware configuration")?;
     // Before version 2012 the hardware byte is unreliable.
     if version != 0
         && version <= VERSION_2012
@@ -211,29 +203,29 @@ fn metadata(bytes: &Bytes, header: &Header) -> Result<Vec<(String, String)>, For
     if !date.is_empty() {
         metadata.push(("date".into(), date));
     }
-    let time = bytes.u32_le(TIME, "the time stamp")?;
+    let time = bytes.read::<u32>(TIME, "the time stamp")?;
     metadata.push(("time_unix_s".into(), time.to_string()));
-    if let Some(utc) = bytes::utc_text(i64::from(time)) {
+    if let Some(utc) = utc_text(i64::from(time)) {
         metadata.push(("date_utc".into(), utc));
     }
     let comment = bytes.text(COMMENT, COMMENT_LEN, "the comment")?;
     if !comment.is_empty() {
         metadata.push(("comment".into(), comment));
     }
-    let objective = bytes.u32_le(OBJECTIVE, "the objective")?;
+    let objective = bytes.read::<u32>(OBJECTIVE, "the objective")?;
     metadata.push(("objective_id".into(), objective.to_string()));
-    let algorithm = bytes.u32_le(ALGORITHM, "the algorithm")?;
+    let algorithm = bytes.read::<u32>(ALGORITHM, "the algorithm")?;
     metadata.push(("algorithm_id".into(), algorithm.to_string()));
     metadata.push(("format_version_byte".into(), version.to_string()));
     metadata.push(("layers".into(), header.num_layers.to_string()));
-    let images = bytes.u8(NUM_IMAGES, "the image count")?;
+    let images = bytes.read::<u8>(NUM_IMAGES, "the image count")?;
     metadata.push(("images_per_layer".into(), images.to_string()));
     for (key, offset) in [
         ("offset_x_um", CAL_OFFSET_X_UM),
         ("offset_y_um", CAL_OFFSET_Y_UM),
         ("offset_z_um", CAL_OFFSET_Z_UM),
     ] {
-        metadata.push((key.into(), bytes.f32_le(offset, key)?.to_string()));
+        metadata.push((key.into(), bytes.read::<f32>(offset, key)?.to_string()));
     }
     Ok(metadata)
 }

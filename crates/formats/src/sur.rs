@@ -20,10 +20,10 @@ use std::io::Read;
 use flate2::read::ZlibDecoder;
 use ndarray::{Array2, Axis};
 
+use crate::bytes::{ByteOrder, Bytes, Cursor, grid_points, latin1, x_major};
 use crate::{Format, FormatError, Topography};
 
-mod cursor;
-use cursor::LeCursor;
+const FORMAT: Format = Format::Sur;
 
 /// Magic of the plain layout.
 const MAGIC_PLAIN: &[u8; 12] = b"DIGITAL SURF";
@@ -32,10 +32,6 @@ const MAGIC_COMPRESSED: &[u8; 12] = b"DSCOMPRESSED";
 
 /// The fixed header before the comment, private zone and points.
 const HEADER_BYTES: usize = 512;
-
-/// Most points a map may have (2^28, 2 GiB of f64): larger claims are refused
-/// before anything is allocated for them.
-const MAX_POINTS: usize = 1 << 28;
 
 /// Most zlib streams a compressed file may split its points into.
 const MAX_STREAMS: usize = 4096;
@@ -46,15 +42,34 @@ pub(crate) fn matches(bytes: &[u8]) -> bool {
 }
 
 /// Reads the file's bytes.
-pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
+pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
+    let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Little);
     let header = Header::parse(bytes)?;
-    let n = header.nx * header.ny;
+    let (nx, ny) = (header.nx, header.ny);
+    let n = nx * ny;
     let point_bytes = header.point_bits / 8;
-    let mut cursor = LeCursor::at(bytes, header.points_start);
-    let counts = if header.compressed {
-        inflate(&mut cursor, n * point_bytes)?
+    let start = header.points_start;
+    let inflated;
+    let (counts, counts_at) = if header.compressed {
+        inflated = inflate(&mut bytes.cursor(start), n * point_bytes)?;
+        (Bytes::new(&inflated, FORMAT.name(), ByteOrder::Little), 0)
     } else {
-        cursor.take(n * point_bytes, "the height counts")?.to_vec()
+        if data.len().saturating_sub(start) < n * point_bytes {
+            return Err(FORMAT.invalid(format!(
+                "byte {start}: {nx} × {ny} points of {} bits take {} bytes, but the file ends at byte {}",
+                header.point_bits,
+                n * point_bytes,
+                data.len()
+            )));
+        }
+        (bytes, start)
+    };
+    let counts: Vec<i64> = if point_bytes == 2 {
+        let counts = counts.values::<i16>(counts_at, n, "the height counts")?;
+        counts.into_iter().map(i64::from).collect()
+    } else {
+        let counts = counts.values::<i32>(counts_at, n, "the height counts")?;
+        counts.into_iter().map(i64::from).collect()
     };
     let scale = header.z_unit_m;
     // the count below the lowest one by 2 marks a point not measured
@@ -66,24 +81,8 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
             (count as f64 * header.dz + header.z_offset) * scale
         }
     };
-    let heights: Vec<f64> = if point_bytes == 2 {
-        counts
-            .chunks_exact(2)
-            .map(|c| to_height(i64::from(i16::from_le_bytes([c[0], c[1]]))))
-            .collect()
-    } else {
-        counts
-            .chunks_exact(4)
-            .map(|c| to_height(i64::from(i32::from_le_bytes([c[0], c[1], c[2], c[3]]))))
-            .collect()
-    };
-    drop(counts);
     // rows of nx points, one per y: axis 0 of the result is x
-    let mut heights_m = Array2::from_shape_vec((header.ny, header.nx), heights)
-        .map_err(|e| invalid(format!("{} × {} points: {e}", header.nx, header.ny)))?
-        .reversed_axes()
-        .as_standard_layout()
-        .into_owned();
+    let mut heights_m = x_major(nx, ny, &counts, to_height);
     header.inversion.apply(&mut heights_m);
     Ok(Topography {
         heights_m,
@@ -95,62 +94,48 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
     })
 }
 
-fn invalid(message: impl Into<String>) -> FormatError {
-    FormatError::Invalid {
-        format: Format::Sur.name(),
-        message: message.into(),
-    }
-}
-
-fn unsupported(message: impl Into<String>) -> FormatError {
-    FormatError::Unsupported {
-        format: Format::Sur.name(),
-        message: message.into(),
-    }
-}
-
 /// The compressed points: a u32 stream count, then (raw, zipped) u32 byte
 /// lengths per stream, then the zlib streams one after another (RosettaSciIO's
 /// `_unpack_data`). Inflates no more than `expected_bytes` in all, whatever
 /// the directory claims.
-fn inflate(cursor: &mut LeCursor, expected_bytes: usize) -> Result<Vec<u8>, FormatError> {
-    let directory_at = cursor.offset;
-    let streams = cursor.u32("the number of compressed streams")? as usize;
+fn inflate(cursor: &mut Cursor, expected_bytes: usize) -> Result<Vec<u8>, FormatError> {
+    let directory_at = cursor.offset();
+    let streams = cursor.read::<u32>("the number of compressed streams")? as usize;
     if streams == 0 || streams > MAX_STREAMS {
-        return Err(invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "byte {directory_at}: expected 1 to {MAX_STREAMS} compressed streams, found {streams}"
         )));
     }
     let mut lengths = Vec::with_capacity(streams);
     let mut total_raw: usize = 0;
     for _ in 0..streams {
-        let raw = cursor.u32("a stream's uncompressed length")? as usize;
-        let zipped = cursor.u32("a stream's compressed length")? as usize;
+        let raw = cursor.read::<u32>("a stream's uncompressed length")? as usize;
+        let zipped = cursor.read::<u32>("a stream's compressed length")? as usize;
         total_raw = total_raw.saturating_add(raw);
         lengths.push((raw, zipped));
     }
     if total_raw != expected_bytes {
-        return Err(invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "byte {directory_at}: the compressed streams hold {total_raw} bytes, \
              but the header's points take {expected_bytes}"
         )));
     }
     let mut counts = Vec::new();
     for (i, (raw, zipped)) in lengths.into_iter().enumerate() {
-        let stream_at = cursor.offset;
+        let stream_at = cursor.offset();
         let stream = cursor.take(zipped, "a compressed stream")?;
         let before = counts.len();
         ZlibDecoder::new(stream)
             .take(raw as u64 + 1)
             .read_to_end(&mut counts)
             .map_err(|e| {
-                invalid(format!(
+                FORMAT.invalid(format!(
                     "byte {stream_at}: compressed stream {i} cannot be inflated: {e}"
                 ))
             })?;
         let produced = counts.len() - before;
         if produced != raw {
-            return Err(invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "byte {stream_at}: compressed stream {i} inflates to {} bytes, the directory says {raw}",
                 if produced > raw {
                     format!("more than {raw}")
@@ -187,61 +172,58 @@ struct Header {
 }
 
 impl Header {
-    fn parse(bytes: &[u8]) -> Result<Self, FormatError> {
+    fn parse(bytes: Bytes) -> Result<Self, FormatError> {
         if bytes.len() < HEADER_BYTES {
-            return Err(invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "the file ends at byte {}, inside the {HEADER_BYTES}-byte header",
                 bytes.len()
             )));
         }
-        let mut c = LeCursor::at(bytes, 0);
+        let mut c = bytes.cursor(0);
         let magic = c.take(12, "the magic")?;
         let compressed = magic == MAGIC_COMPRESSED;
         if !compressed && magic != MAGIC_PLAIN {
-            return Err(invalid(
-                "byte 0: expected DIGITAL SURF or DSCOMPRESSED (not a .sur file)",
-            ));
+            return Err(
+                FORMAT.invalid("byte 0: expected DIGITAL SURF or DSCOMPRESSED (not a .sur file)")
+            );
         }
-        let _byte_order = c.u16("the format")?;
-        let objects = c.u16("the number of objects")?;
-        let _version = c.u16("the version")?;
-        let object_type = c.u16("the object type")?;
+        let _byte_order = c.read::<u16>("the format")?;
+        let objects = c.read::<u16>("the number of objects")?;
+        let _version = c.read::<u16>("the version")?;
+        let object_type = c.read::<u16>("the object type")?;
         check_object_type(object_type)?;
         let object_name = latin1(c.take(30, "the object name")?);
         let operator_name = latin1(c.take(30, "the operator name")?);
-        let _material_code = c.u16("the material code")?;
-        let acquisition = c.u16("the acquisition type")?;
-        let _range = c.u16("the range type")?;
-        let special_points = c.u16("the special-points flag")?;
-        let _absolute = c.u16("the absolute flag")?;
+        let _material_code = c.read::<u16>("the material code")?;
+        let acquisition = c.read::<u16>("the acquisition type")?;
+        let _range = c.read::<u16>("the range type")?;
+        let special_points = c.read::<u16>("the special-points flag")?;
+        let _absolute = c.read::<u16>("the absolute flag")?;
         c.skip(8); // gauge resolution, W size: spectra only
-        let point_bits = usize::from(c.u16("the point size")?);
+        let point_bits = usize::from(c.read::<u16>("the point size")?);
         if point_bits != 16 && point_bits != 32 {
-            return Err(unsupported(format!(
+            return Err(FORMAT.unsupported(format!(
                 "byte 98: points of {point_bits} bits (16 or 32 are read)"
             )));
         }
-        let zmin = c.i32("zmin")?;
-        let _zmax = c.i32("zmax")?;
-        let nx = grid_size(c.i32("the points per line")?, 108, "points per line")?;
-        let ny = grid_size(c.i32("the number of lines")?, 112, "lines")?;
-        let n = nx
-            .checked_mul(ny)
-            .filter(|&n| n <= MAX_POINTS)
-            .ok_or_else(|| {
-                invalid(format!(
-                    "bytes 108–115: {nx} × {ny} points, more than the {MAX_POINTS} read"
-                ))
-            })?;
-        let total = c.u32("the total number of points")? as usize;
+        let zmin = c.read::<i32>("zmin")?;
+        let _zmax = c.read::<i32>("zmax")?;
+        let nx = grid_size(
+            c.read::<i32>("the points per line")?,
+            108,
+            "points per line",
+        )?;
+        let ny = grid_size(c.read::<i32>("the number of lines")?, 112, "lines")?;
+        let n = grid_points(FORMAT.name(), nx, ny, "bytes 108–115")?;
+        let total = c.read::<u32>("the total number of points")? as usize;
         if total != n {
-            return Err(invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "byte 116: {total} points in all, but {nx} × {ny} = {n}"
             )));
         }
-        let dx = f64::from(c.f32("the x spacing")?);
-        let dy = f64::from(c.f32("the y spacing")?);
-        let dz = f64::from(c.f32("the z spacing")?);
+        let dx = f64::from(c.read::<f32>("the x spacing")?);
+        let dy = f64::from(c.read::<f32>("the y spacing")?);
+        let dz = f64::from(c.read::<f32>("the z spacing")?);
         let axis_names = [
             latin1(c.take(16, "the x axis name")?),
             latin1(c.take(16, "the y axis name")?),
@@ -253,42 +235,42 @@ impl Header {
             latin1(c.take(16, "the z step unit")?),
         ];
         c.skip(3 * 16 + 3 * 4); // length units and unit ratios: display only
-        let _imprint = c.u16("the imprint flag")?;
-        let inversion = Inversion::parse(c.u16("the inversion flag")?)?;
-        let leveling = c.u16("the levelling flag")?;
+        let _imprint = c.read::<u16>("the imprint flag")?;
+        let inversion = Inversion::parse(c.read::<u16>("the inversion flag")?)?;
+        let leveling = c.read::<u16>("the levelling flag")?;
         c.skip(12);
         let mut clock = [0u16; 7]; // s, min, h, day, month, year, weekday
         for field in &mut clock {
-            *field = c.u16("the date")?;
+            *field = c.read::<u16>("the date")?;
         }
-        let duration_s = c.f32("the measurement duration")?;
+        let duration_s = c.read::<f32>("the measurement duration")?;
         c.skip(4 + 6); // compressed size (not needed: the directory has it), reserved
-        let comment_size = usize::from(c.u16("the comment size")?);
-        let private_size = usize::from(c.u16("the private zone size")?);
+        let comment_size = usize::from(c.read::<u16>("the comment size")?);
+        let private_size = usize::from(c.read::<u16>("the private zone size")?);
         c.skip(128); // client zone
-        let x_offset = f64::from(c.f32("the x offset")?);
-        let y_offset = f64::from(c.f32("the y offset")?);
-        let z_offset = f64::from(c.f32("the z offset")?);
+        let x_offset = f64::from(c.read::<f32>("the x offset")?);
+        let y_offset = f64::from(c.read::<f32>("the y offset")?);
+        let z_offset = f64::from(c.read::<f32>("the z offset")?);
 
         let x_unit_m = unit_m(&step_units[0], 180, "x step unit")?;
         let y_unit_m = unit_m(&step_units[1], 196, "y step unit")?;
         let z_unit_m = unit_m(&step_units[2], 212, "z step unit")?;
         let (dx_m, dy_m) = (dx.abs() * x_unit_m, dy.abs() * y_unit_m);
         if !(dx_m.is_finite() && dx_m > 0.0 && dy_m.is_finite() && dy_m > 0.0) {
-            return Err(invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "bytes 120–127: expected positive grid spacings, found {dx} and {dy}"
             )));
         }
         if !(dz.is_finite() && z_offset.is_finite()) {
-            return Err(invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "bytes 128 and 474: the z spacing {dz} and offset {z_offset} must be finite"
             )));
         }
 
-        let mut c = LeCursor::at(bytes, HEADER_BYTES);
+        let mut c = bytes.cursor(HEADER_BYTES);
         let comment = latin1(c.take(comment_size, "the comment")?);
         c.skip(private_size);
-        let points_start = c.offset;
+        let points_start = c.offset();
 
         let mut metadata = Vec::new();
         let mut put = |key: &str, value: String| {
@@ -371,7 +353,7 @@ fn check_object_type(object_type: u16) -> Result<(), FormatError> {
         21 => "a hyperspectral map",
         _ => "an object of unknown type",
     };
-    Err(unsupported(format!(
+    Err(FORMAT.unsupported(format!(
         "byte 18: object type {object_type} is {what}, not a surface (type 2)"
     )))
 }
@@ -382,7 +364,7 @@ fn grid_size(value: i32, offset: usize, what: &str) -> Result<usize, FormatError
         .ok()
         .filter(|&v| v > 0)
         .ok_or_else(|| {
-            invalid(format!(
+            FORMAT.invalid(format!(
                 "byte {offset}: {value} {what}, expected at least 1"
             ))
         })
@@ -401,19 +383,12 @@ fn unit_m(unit: &str, offset: usize, what: &str) -> Result<f64, FormatError> {
         "Å" => 1e-10,
         "pm" => 1e-12,
         _ => {
-            return Err(unsupported(format!(
+            return Err(FORMAT.unsupported(format!(
                 "byte {offset}: {what} {unit:?} is not a length unit read here (m, cm, mm, µm, nm, Å, pm)"
             )));
         }
     };
     Ok(factor)
-}
-
-/// The header's text fields: Latin-1, padded with NULs or spaces.
-fn latin1(bytes: &[u8]) -> String {
-    let text: String = bytes.iter().map(|&b| char::from(b)).collect();
-    text.trim_matches(|c: char| c == '\0' || c.is_whitespace())
-        .to_string()
 }
 
 /// Names of the acquisition types (Gwyddion's list), empty for "unknown".
@@ -466,9 +441,9 @@ impl Inversion {
             1 => Ok(Inversion::Z),
             2 => Ok(Inversion::ZFlipX),
             3 => Ok(Inversion::ZFlipY),
-            other => Err(invalid(format!(
-                "byte 290: inversion flag {other}, expected 0 to 3"
-            ))),
+            other => {
+                Err(FORMAT.invalid(format!("byte 290: inversion flag {other}, expected 0 to 3")))
+            }
         }
     }
 
@@ -546,13 +521,6 @@ mod tests {
             message.contains("byte 212") && message.contains("inch"),
             "{message}"
         );
-    }
-
-    #[test]
-    fn latin1_text_is_trimmed_of_padding() {
-        assert_eq!(latin1(b"mm\0\0\0\0"), "mm");
-        assert_eq!(latin1(b"X               "), "X");
-        assert_eq!(latin1(&[0xb5, b'm', 0]), "µm");
     }
 
     #[test]

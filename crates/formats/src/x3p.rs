@@ -16,20 +16,21 @@
 use std::io::{Cursor, Read};
 
 use md5::{Digest, Md5};
-use ndarray::Array2;
 use roxmltree::{Document, Node, ParsingOptions};
 use zip::ZipArchive;
 
+use crate::bytes::{ByteOrder, Bytes, Stored, grid_points, x_major};
 use crate::{Format, FormatError, Topography};
+
+mod write;
+pub use write::write_x3p;
+
+const FORMAT: Format = Format::X3p;
 
 /// The local-file-header signature every zip starts with. X3P is the only
 /// zip-based format read here, so any zip is handed to this reader (which
 /// then says so if `main.xml` is missing).
 const ZIP_MAGIC: &[u8] = b"PK\x03\x04";
-
-/// Most points a map may have (2^28, 2 GiB of f64): larger claims are refused
-/// before anything is allocated for them.
-const MAX_POINTS: usize = 1 << 28;
 
 /// Largest `main.xml` read (an inline `DataList` is the only reason for a
 /// large one; it is meant for small maps, and about 16 bytes a point).
@@ -47,20 +48,20 @@ pub(crate) fn matches(bytes: &[u8]) -> bool {
 /// Reads the file's bytes.
 pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
     let mut archive = ZipArchive::new(Cursor::new(bytes))
-        .map_err(|e| invalid(format!("not a readable zip archive: {e}")))?;
+        .map_err(|e| FORMAT.invalid(format!("not a readable zip archive: {e}")))?;
     let main_xml = read_member(&mut archive, "main.xml", MAX_XML_BYTES)?
-        .ok_or_else(|| invalid("the zip holds no main.xml (not an X3P file)"))?;
+        .ok_or_else(|| FORMAT.invalid("the zip holds no main.xml (not an X3P file)"))?;
     let text = std::str::from_utf8(&main_xml)
-        .map_err(|e| invalid(format!("main.xml is not UTF-8 text: {e}")))?;
+        .map_err(|e| FORMAT.invalid(format!("main.xml is not UTF-8 text: {e}")))?;
     let options = ParsingOptions {
         nodes_limit: MAX_XML_NODES,
         ..ParsingOptions::default()
     };
     let doc = Document::parse_with_options(text, options)
-        .map_err(|e| invalid(format!("main.xml is not well-formed XML: {e}")))?;
+        .map_err(|e| FORMAT.invalid(format!("main.xml is not well-formed XML: {e}")))?;
     let root = doc.root_element();
     if root.tag_name().name() != "ISO5436_2" {
-        return Err(invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "main.xml: expected the root element ISO5436_2, found {} at {}",
             root.tag_name().name(),
             at(root)
@@ -80,19 +81,13 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
     } else if let Some(list) = first_child(record3, "DataList") {
         read_listed(list, n)?
     } else {
-        return Err(invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "main.xml: Record3 at {} has neither a DataLink nor a DataList",
             at(record3)
         )));
     };
-    let z = header.z;
-    let heights_m: Vec<f64> = raw.into_iter().map(|r| z.value(r)).collect();
     // stored x fastest: rows of constant y; axis 0 of the result is x
-    let heights_m = Array2::from_shape_vec((ny, nx), heights_m)
-        .map_err(|e| invalid(format!("{nx} × {ny} points: {e}")))?
-        .reversed_axes()
-        .as_standard_layout()
-        .into_owned();
+    let heights_m = x_major(nx, ny, &raw, |r| header.z.value(r));
     Ok(Topography {
         heights_m,
         dx_m: header.x.increment,
@@ -101,20 +96,6 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
         position_m: header.position_m,
         metadata,
     })
-}
-
-fn invalid(message: impl Into<String>) -> FormatError {
-    FormatError::Invalid {
-        format: Format::X3p.name(),
-        message: message.into(),
-    }
-}
-
-fn unsupported(message: impl Into<String>) -> FormatError {
-    FormatError::Unsupported {
-        format: Format::X3p.name(),
-        message: message.into(),
-    }
 }
 
 /// The archive member `name`, at most `limit` bytes, or None if it is absent.
@@ -134,14 +115,14 @@ fn read_member(
     };
     let member = archive
         .by_index(index)
-        .map_err(|e| invalid(format!("zip member {name}: {e}")))?;
+        .map_err(|e| FORMAT.invalid(format!("zip member {name}: {e}")))?;
     let mut content = Vec::new();
     member
         .take(limit as u64 + 1)
         .read_to_end(&mut content)
-        .map_err(|e| invalid(format!("zip member {name} cannot be inflated: {e}")))?;
+        .map_err(|e| FORMAT.invalid(format!("zip member {name} cannot be inflated: {e}")))?;
     if content.len() > limit {
-        return Err(invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "zip member {name} is larger than the {limit} bytes expected"
         )));
     }
@@ -159,7 +140,7 @@ fn verify_main_xml(
         return Ok("not given");
     };
     let content = read_member(archive, &name, 4096)?.ok_or_else(|| {
-        invalid(format!(
+        FORMAT.invalid(format!(
             "Record4/ChecksumFile names {name}, which the zip does not hold"
         ))
     })?;
@@ -171,18 +152,23 @@ fn verify_main_xml(
 
 /// Compares the MD5 of `bytes` with the hex digest `expected` (any case).
 fn check_md5(bytes: &[u8], expected: &str, what: &str, source: &str) -> Result<(), FormatError> {
-    let actual: String = Md5::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect();
+    let actual = md5_hex(bytes);
     if actual.eq_ignore_ascii_case(expected.trim()) {
         Ok(())
     } else {
-        Err(invalid(format!(
+        Err(FORMAT.invalid(format!(
             "MD5 of {what} is {actual}, but {source} says {}: the file is corrupt",
             expected.trim()
         )))
     }
+}
+
+/// The MD5 digest of `bytes` as lower-case hex.
+fn md5_hex(bytes: &[u8]) -> String {
+    Md5::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
 }
 
 /// One axis of `Record1/Axes`: value = offset + increment × raw.
@@ -194,7 +180,13 @@ struct Axis {
 
 impl Axis {
     fn value(self, raw: f64) -> f64 {
-        self.offset + self.increment * raw
+        // without an offset nothing is added, so a stored -0.0 stays -0.0
+        // (0 + -0 would be +0; SurfaceTopography adds only a nonzero offset too)
+        if self.offset == 0.0 {
+            self.increment * raw
+        } else {
+            self.offset + self.increment * raw
+        }
     }
 }
 
@@ -214,7 +206,7 @@ impl DataType {
             "L" => Ok(DataType::Int32),
             "F" => Ok(DataType::Float32),
             "D" => Ok(DataType::Float64),
-            other => Err(invalid(format!(
+            other => Err(FORMAT.invalid(format!(
                 "Record1/Axes/CZ/DataType at {}: expected I, L, F or D, found {other:?}",
                 at(node)
             ))),
@@ -238,21 +230,18 @@ impl DataType {
         }
     }
 
-    /// Little-endian values of this type; `bytes.len()` is a multiple of
-    /// [`DataType::bytes`].
-    fn decode(self, bytes: &[u8]) -> Vec<f64> {
-        let width = self.bytes();
-        bytes
-            .chunks_exact(width)
-            .map(|c| match self {
-                DataType::Int16 => f64::from(i16::from_le_bytes([c[0], c[1]])),
-                DataType::Int32 => f64::from(i32::from_le_bytes([c[0], c[1], c[2], c[3]])),
-                DataType::Float32 => f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]])),
-                DataType::Float64 => {
-                    f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]])
-                }
-            })
-            .collect()
+    /// The `n` little-endian values of this type in member `name`.
+    fn decode(self, member: &[u8], n: usize, name: &str) -> Result<Vec<f64>, FormatError> {
+        fn widen<T: Stored + Into<f64>>(values: Vec<T>) -> Vec<f64> {
+            values.into_iter().map(Into::into).collect()
+        }
+        let member = Bytes::new(member, FORMAT.name(), ByteOrder::Little);
+        Ok(match self {
+            DataType::Int16 => widen(member.values::<i16>(0, n, name)?),
+            DataType::Int32 => widen(member.values::<i32>(0, n, name)?),
+            DataType::Float32 => widen(member.values::<f32>(0, n, name)?),
+            DataType::Float64 => member.values::<f64>(0, n, name)?,
+        })
     }
 }
 
@@ -275,10 +264,14 @@ impl Header {
         let feature = child(record1, "FeatureType", "Record1/FeatureType")?;
         match feature.text().map(str::trim) {
             Some("SUR") => {}
-            Some("PRF") => return Err(unsupported("FeatureType PRF: a profile, not a surface")),
-            Some("PCL") => return Err(unsupported("FeatureType PCL: a point cloud, not a grid")),
+            Some("PRF") => {
+                return Err(FORMAT.unsupported("FeatureType PRF: a profile, not a surface"));
+            }
+            Some("PCL") => {
+                return Err(FORMAT.unsupported("FeatureType PCL: a point cloud, not a grid"));
+            }
             other => {
-                return Err(invalid(format!(
+                return Err(FORMAT.invalid(format!(
                     "Record1/FeatureType at {}: expected SUR, found {other:?}",
                     at(feature)
                 )));
@@ -292,7 +285,7 @@ impl Header {
         let y = lateral_axis(cy, "CY")?;
         let z_kind = child(cz, "AxisType", "Record1/Axes/CZ/AxisType")?;
         if z_kind.text().map(str::trim) != Some("A") {
-            return Err(invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "Record1/Axes/CZ/AxisType at {}: expected A (absolute heights), found {:?}",
                 at(z_kind),
                 z_kind.text().unwrap_or("")
@@ -305,7 +298,7 @@ impl Header {
             offset: number_or(cz, "Offset", "CZ", 0.0)?,
         };
         if !(z.increment.is_finite() && z.offset.is_finite()) {
-            return Err(invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "Record1/Axes/CZ at {}: Increment {} and Offset {} must be finite",
                 at(cz),
                 z.increment,
@@ -343,12 +336,12 @@ fn lateral_axis(node: Node, name: &str) -> Result<Axis, FormatError> {
     match kind.text().map(str::trim) {
         Some("I") => {}
         Some("A") => {
-            return Err(unsupported(format!(
+            return Err(FORMAT.unsupported(format!(
                 "{path}/AxisType A: explicit coordinates per point, not a regular grid"
             )));
         }
         other => {
-            return Err(invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "{path}/AxisType at {}: expected I (incremental), found {other:?}",
                 at(kind)
             )));
@@ -357,14 +350,14 @@ fn lateral_axis(node: Node, name: &str) -> Result<Axis, FormatError> {
     let increment_node = child(node, "Increment", &format!("{path}/Increment"))?;
     let increment = number(increment_node, &format!("{path}/Increment"))?;
     if !(increment.is_finite() && increment > 0.0) {
-        return Err(invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "{path}/Increment at {}: expected a positive grid spacing in metres, found {increment}",
             at(increment_node)
         )));
     }
     let offset = number_or(node, "Offset", name, 0.0)?;
     if !offset.is_finite() {
-        return Err(invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "{path}/Offset at {}: expected a finite position in metres, found {offset}",
             at(node)
         )));
@@ -415,15 +408,13 @@ fn instrument_metadata(record2: Node, metadata: &mut Vec<(String, String)>) {
 }
 
 /// `Record3/MatrixDimension`: SizeX × SizeY points, one layer, at most
-/// [`MAX_POINTS`].
+/// [`crate::bytes::MAX_POINTS`].
 fn matrix_size(record3: Node) -> Result<(usize, usize), FormatError> {
     let Some(matrix) = first_child(record3, "MatrixDimension") else {
         if first_child(record3, "ListDimension").is_some() {
-            return Err(unsupported(
-                "Record3/ListDimension: a list of points, not a matrix",
-            ));
+            return Err(FORMAT.unsupported("Record3/ListDimension: a list of points, not a matrix"));
         }
-        return Err(invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "Record3 at {}: expected a MatrixDimension",
             at(record3)
         )));
@@ -436,7 +427,7 @@ fn matrix_size(record3: Node) -> Result<(usize, usize), FormatError> {
             .ok()
             .filter(|&v| v > 0)
             .ok_or_else(|| {
-                invalid(format!(
+                FORMAT.invalid(format!(
                     "{path} at {}: expected a positive integer, found {text:?}",
                     at(node)
                 ))
@@ -444,16 +435,12 @@ fn matrix_size(record3: Node) -> Result<(usize, usize), FormatError> {
     };
     let (nx, ny, nz) = (size("SizeX")?, size("SizeY")?, size("SizeZ")?);
     if nz != 1 {
-        return Err(unsupported(format!(
+        return Err(FORMAT.unsupported(format!(
             "Record3/MatrixDimension/SizeZ = {nz}: several layers per point"
         )));
     }
-    match nx.checked_mul(ny) {
-        Some(n) if n <= MAX_POINTS => Ok((nx, ny)),
-        _ => Err(invalid(format!(
-            "Record3/MatrixDimension: {nx} × {ny} points, more than the {MAX_POINTS} read"
-        ))),
-    }
+    grid_points(FORMAT.name(), nx, ny, "Record3/MatrixDimension")?;
+    Ok((nx, ny))
 }
 
 /// The raw values of a `DataLink`ed binary member, NaN where the
@@ -467,19 +454,19 @@ fn read_linked(
     metadata: &mut Vec<(String, String)>,
 ) -> Result<Vec<f64>, FormatError> {
     let name = text_of(link, "PointDataLink").ok_or_else(|| {
-        invalid(format!(
+        FORMAT.invalid(format!(
             "Record3/DataLink/PointDataLink at {}: expected the name of the binary member",
             at(link)
         ))
     })?;
     let expected_bytes = n * header.z_type.bytes();
     let data = read_member(archive, &name, expected_bytes)?.ok_or_else(|| {
-        invalid(format!(
+        FORMAT.invalid(format!(
             "Record3/DataLink/PointDataLink names {name}, which the zip does not hold"
         ))
     })?;
     if data.len() != expected_bytes {
-        return Err(invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "{name} holds {} bytes, but {n} points of {} take {expected_bytes}",
             data.len(),
             header.z_type.describe()
@@ -498,19 +485,19 @@ fn read_linked(
         None => "not given",
     };
     metadata.push(("md5_point_data".into(), checksum.into()));
-    let mut raw = header.z_type.decode(&data);
+    let mut raw = header.z_type.decode(&data, n, &name)?;
     drop(data);
 
     if let Some(valid_name) = text_of(link, "ValidPointsLink") {
         let mask_bytes = n.div_ceil(8);
         // a little slack: some writers pad the bit array
         let mask = read_member(archive, &valid_name, mask_bytes + 64)?.ok_or_else(|| {
-            invalid(format!(
+            FORMAT.invalid(format!(
                 "Record3/DataLink/ValidPointsLink names {valid_name}, which the zip does not hold"
             ))
         })?;
         if mask.len() < mask_bytes {
-            return Err(invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "{valid_name} holds {} bytes, but one bit for each of {n} points takes {mask_bytes}",
                 mask.len()
             )));
@@ -550,7 +537,7 @@ fn read_listed(list: Node, n: usize) -> Result<Vec<f64>, FormatError> {
         .filter(|c| c.is_element() && c.tag_name().name() == "Datum")
     {
         if raw.len() == n {
-            return Err(invalid(format!(
+            return Err(FORMAT.invalid(format!(
                 "Record3/DataList at {}: more than the {n} Datum elements of the matrix",
                 at(list)
             )));
@@ -560,7 +547,7 @@ fn read_listed(list: Node, n: usize) -> Result<Vec<f64>, FormatError> {
             f64::NAN
         } else {
             text.parse::<f64>().map_err(|_| {
-                invalid(format!(
+                FORMAT.invalid(format!(
                     "Record3/DataList/Datum at {}: expected a number, found {text:?}",
                     at(datum)
                 ))
@@ -569,7 +556,7 @@ fn read_listed(list: Node, n: usize) -> Result<Vec<f64>, FormatError> {
         raw.push(value);
     }
     if raw.len() != n {
-        return Err(invalid(format!(
+        return Err(FORMAT.invalid(format!(
             "Record3/DataList at {}: {} Datum elements for a matrix of {n} points",
             at(list),
             raw.len()
@@ -598,7 +585,7 @@ fn child<'a, 'input>(
     path: &str,
 ) -> Result<Node<'a, 'input>, FormatError> {
     first_child(node, name).ok_or_else(|| {
-        invalid(format!(
+        FORMAT.invalid(format!(
             "main.xml: expected the element {path} inside the element at {}",
             at(node)
         ))
@@ -613,7 +600,7 @@ fn text_of(node: Node, name: &str) -> Option<String> {
 fn number(node: Node, path: &str) -> Result<f64, FormatError> {
     let text = node.text().unwrap_or("").trim();
     text.parse::<f64>().map_err(|_| {
-        invalid(format!(
+        FORMAT.invalid(format!(
             "{path} at {}: expected a number, found {text:?}",
             at(node)
         ))
@@ -630,10 +617,7 @@ fn number_or(axis: Node, name: &str, axis_name: &str, default: f64) -> Result<f6
 
 #[cfg(test)]
 mod tests {
-    use std::io::Write;
-
-    use zip::write::SimpleFileOptions;
-    use zip::{CompressionMethod, ZipWriter};
+    use ndarray::Array2;
 
     use super::*;
 
@@ -659,21 +643,8 @@ mod tests {
         )
     }
 
-    fn md5_hex(bytes: &[u8]) -> String {
-        Md5::digest(bytes)
-            .iter()
-            .map(|b| format!("{b:02x}"))
-            .collect()
-    }
-
     fn zip_of(members: &[(&str, &[u8])]) -> Vec<u8> {
-        let mut writer = ZipWriter::new(Cursor::new(Vec::new()));
-        let options = SimpleFileOptions::default().compression_method(CompressionMethod::Stored);
-        for (name, content) in members {
-            writer.start_file(*name, options).unwrap();
-            writer.write_all(content).unwrap();
-        }
-        writer.finish().unwrap().into_inner()
+        write::stored_zip(members).unwrap()
     }
 
     /// A 5 × 2 map of `raw` stored as `code`, with increment 0.5 and offset

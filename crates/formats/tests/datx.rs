@@ -6,39 +6,14 @@
 //! property tests: arbitrary bytes after the HDF5 signature and edits of the
 //! files never panic.
 
-mod reference_files;
+mod common;
 
 use std::path::Path;
 
+use common::{assert_same_map, data, expected_data, meta};
 use hypercontact_formats::{Format, FormatError, Topography, detect, read_bytes};
 use hypercontact_fuzz::{byte_edits, config, splice};
-use ndarray::Array2;
 use proptest::prelude::*;
-use reference_files::{Expected, assert_same_map, meta};
-
-const DATA: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/");
-
-fn data(file: &str) -> Vec<u8> {
-    let path = format!("{DATA}{file}");
-    std::fs::read(&path).unwrap_or_else(|e| panic!("test file {path} is missing: {e}"))
-}
-
-/// `datx-index.json`'s entry for `stem` and SurfaceTopography's heights.
-fn expected(stem: &str) -> Expected {
-    let index: serde_json::Value = serde_json::from_slice(&data("datx-index.json")).unwrap();
-    let entry = &index[stem];
-    let heights_m: Array2<f64> = ndarray_npy::read_npy(format!("{DATA}{stem}_m.npy")).unwrap();
-    Expected {
-        shape: (
-            entry["shape"][0].as_u64().unwrap() as usize,
-            entry["shape"][1].as_u64().unwrap() as usize,
-        ),
-        dx_m: entry["dx_m"].as_f64().unwrap(),
-        dy_m: entry["dy_m"].as_f64().unwrap(),
-        nan_count: entry["nan_count"].as_u64().unwrap() as usize,
-        heights_m,
-    }
-}
 
 fn read(file: &str) -> Topography {
     let bytes = data(file);
@@ -56,7 +31,7 @@ fn datx_1_vlen_strings_gzip_f64_nanometres() {
     let read = read("datx-1.datx");
     assert_eq!(read.format, Format::Datx);
     // f64 nm times 1e-9: f64 rounding only
-    let worst = assert_same_map(&read, &expected("datx-1"), 1e-12);
+    let worst = assert_same_map(&read, &expected_data("datx-1"), 1e-12);
     eprintln!("datx-1: largest difference {worst:e} of the range");
     // missing points where the file has No Data, at (x, y) = (column, row)
     for (x, y) in [(0, 0), (7, 3), (16, 12), (2, 6), (11, 9)] {
@@ -73,7 +48,7 @@ fn datx_2_fixed_strings_contiguous_f32_micrometres() {
     let read = read("datx-2.datx");
     // f32 µm widened to f64, then times 1e-6, as SurfaceTopography does:
     // f64 rounding only, far below the f32 storage step (6e-8 of a value)
-    let worst = assert_same_map(&read, &expected("datx-2"), 1e-12);
+    let worst = assert_same_map(&read, &expected_data("datx-2"), 1e-12);
     eprintln!("datx-2: largest difference {worst:e} of the range");
     assert_eq!(meta(&read, "instrument"), Some("NewView 9000"));
     assert_eq!(meta(&read, "unit"), Some("MicroMeters"));
@@ -89,7 +64,7 @@ fn without_metadata_the_first_surface_dataset_is_read() {
         .expect("the name MetaData in the file");
     bytes[at..at + 8].copy_from_slice(b"NotMData");
     let read = read_bytes(&bytes, None).unwrap();
-    assert_same_map(&read, &expected("datx-2"), 1e-12);
+    assert_same_map(&read, &expected_data("datx-2"), 1e-12);
 }
 
 #[test]

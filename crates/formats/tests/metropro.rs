@@ -3,15 +3,15 @@
 //! SurfaceTopography 1.27 reads it, detection by the magic number alone, and
 //! property tests: arbitrary bytes and edits of the real file never panic.
 
-mod reference_files;
+mod common;
 
 use std::path::Path;
 use std::sync::OnceLock;
 
+use common::{assert_same_map, bytes, expected, meta};
 use hypercontact_formats::{Format, detect, read_bytes};
 use hypercontact_fuzz::{byte_edits, config, splice};
 use proptest::prelude::*;
-use reference_files::{assert_same_map, bytes, expected, meta};
 
 fn metropro_1() -> &'static [u8] {
     static FILE: OnceLock<Vec<u8>> = OnceLock::new();

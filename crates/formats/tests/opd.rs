@@ -3,15 +3,15 @@
 //! detection by the directory's name alone, and property tests: arbitrary
 //! bytes and edits of the real file never panic.
 
-mod reference_files;
+mod common;
 
 use std::path::Path;
 use std::sync::OnceLock;
 
+use common::{assert_same_map, bytes, expected, meta};
 use hypercontact_formats::{Format, detect, read_bytes};
 use hypercontact_fuzz::{byte_edits, config, splice};
 use proptest::prelude::*;
-use reference_files::{assert_same_map, bytes, expected, meta};
 
 fn opd_1() -> &'static [u8] {
     static FILE: OnceLock<Vec<u8>> = OnceLock::new();
@@ -23,6 +23,9 @@ fn opd_1_equals_surface_topography() {
     let file = opd_1();
     assert_eq!(detect(file, None), Some(Format::Opd));
     assert_eq!(detect(file, Some(Path::new("scan.dat"))), Some(Format::Opd));
+    // the directory's name ends at byte 18: what `detect` says it needs
+    assert_eq!(detect(&file[..18], None), Some(Format::Opd));
+    assert_eq!(detect(&file[..17], None), None);
     let read = read_bytes(file, Some(Path::new("scan.dat"))).unwrap();
     assert_eq!(read.format, Format::Opd);
     // f32 values times λ/Mult in f64, in SurfaceTopography's order: f64

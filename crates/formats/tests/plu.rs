@@ -2,15 +2,15 @@
 //! 1.66 µm pixels) read as SurfaceTopography 1.27 reads it, and property
 //! tests: arbitrary bytes and edits of the real file never panic.
 
-mod reference_files;
+mod common;
 
 use std::path::Path;
 use std::sync::OnceLock;
 
+use common::{assert_same_map, bytes, expected, meta};
 use hypercontact_formats::{Format, FormatError, detect, read_bytes};
 use hypercontact_fuzz::{byte_edits, config, splice};
 use proptest::prelude::*;
-use reference_files::{assert_same_map, bytes, expected, meta};
 
 fn plu_1() -> &'static [u8] {
     static FILE: OnceLock<Vec<u8>> = OnceLock::new();
@@ -47,6 +47,13 @@ fn plu_needs_its_extension_and_a_consistent_header() {
         detect(file, Some(Path::new("PLU-1.PLU"))),
         Some(Format::Plu)
     );
+    // .apx is the same layout (SurfaceTopography 1.27's PLUReader lists both)
+    assert_eq!(
+        detect(file, Some(Path::new("plu-1.apx"))),
+        Some(Format::Plu)
+    );
+    // without its whole first layer the header is not believed
+    assert_eq!(detect(&file[..16], Some(Path::new("plu-1.plu"))), None);
     // another format's bytes named .plu are refused, not misread
     let opd = bytes("opd-1.opd");
     assert_ne!(detect(&opd, Some(Path::new("x.plu"))), Some(Format::Plu));

@@ -2,77 +2,45 @@
 //! counts in mm, 117 points not measured) against the heights
 //! SurfaceTopography 1.27 reads from it (`sur-2_m.npy`, `index.json`).
 
+mod common;
+
 use std::io::Write;
 use std::path::Path;
 use std::sync::OnceLock;
 
+use common::{Expected, assert_heights_within, bytes, expected, meta};
 use flate2::Compression;
 use flate2::write::ZlibEncoder;
 use hypercontact_formats::{Format, detect, read_bytes};
-use ndarray::{Array2, Axis};
+use ndarray::Axis;
 use proptest::prelude::*;
-
-const REFERENCE: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../../shared/reference/topography/"
-);
-
-/// A reference file's bytes; a missing file fails the test.
-fn reference(name: &str) -> Vec<u8> {
-    let path = format!("{REFERENCE}{name}");
-    std::fs::read(&path).unwrap_or_else(|e| panic!("reference file {path} is needed: {e}"))
-}
-
-fn index_entry(npy: &str) -> serde_json::Value {
-    let index: serde_json::Value =
-        serde_json::from_slice(&reference("index.json")).expect("index.json is JSON");
-    index[npy].clone()
-}
-
-fn value<'a>(metadata: &'a [(String, String)], key: &str) -> Option<&'a str> {
-    metadata
-        .iter()
-        .find(|(k, _)| k == key)
-        .map(|(_, v)| v.as_str())
-}
-
-/// Equal shapes, NaN at the same places, the other heights within
-/// `tolerance_m`.
-fn assert_heights_equal(actual: &Array2<f64>, expected: &Array2<f64>, tolerance_m: f64) {
-    assert_eq!(actual.dim(), expected.dim());
-    for ((index, a), e) in actual.indexed_iter().zip(expected) {
-        assert_eq!(a.is_nan(), e.is_nan(), "missing point differs at {index:?}");
-        if !a.is_nan() {
-            assert!((a - e).abs() <= tolerance_m, "{index:?}: {a} vs {e}");
-        }
-    }
-}
 
 #[test]
 fn sur_2_equals_surface_topography() {
-    let bytes = reference("sur-2.sur");
-    let map = read_bytes(&bytes, Some(Path::new("sur-2.sur"))).unwrap();
-    let expected: Array2<f64> =
-        ndarray_npy::read_npy(format!("{REFERENCE}sur-2_m.npy")).expect("sur-2_m.npy");
-    let entry = index_entry("sur-2_m.npy");
+    let map = read_bytes(&bytes("sur-2.sur"), Some(Path::new("sur-2.sur"))).unwrap();
+    let Expected {
+        shape,
+        dx_m: dx,
+        dy_m: dy,
+        nan_count,
+        heights_m: expected,
+    } = expected("sur-2");
 
     assert_eq!(map.format, Format::Sur);
     assert_eq!(map.heights_m.dim(), (563, 484));
-    assert_eq!(entry["shape"], serde_json::json!([563, 484]));
-    let dx = entry["dx_m"].as_f64().unwrap();
-    let dy = entry["dy_m"].as_f64().unwrap();
+    assert_eq!(shape, (563, 484));
     assert!((map.dx_m - dx).abs() <= 1e-9 * dx, "{} vs {dx}", map.dx_m);
     assert!((map.dy_m - dy).abs() <= 1e-9 * dy, "{} vs {dy}", map.dy_m);
 
     let nan = map.heights_m.iter().filter(|h| h.is_nan()).count();
     assert_eq!(nan, 117);
-    assert_eq!(nan as u64, entry["nan_count"].as_u64().unwrap());
+    assert_eq!(nan, nan_count);
     // int32 counts × the float32 Z spacing × 1e-3 (mm): both readers do the
     // same two f64 multiplications, so the heights agree to their rounding,
     // a few 1e-16 of the ~1e-5 m heights; 1e-12 of the height range allows
     // for a different order of the two
     let tolerance_m = 1e-12 * (103_880.0 - 89_120.0) * 1e-10;
-    assert_heights_equal(&map.heights_m, &expected, tolerance_m);
+    assert_heights_within(&map.heights_m, &expected, tolerance_m);
     // a mirrored read would not pass (nor a transposed one: 563 × 484)
     for axis in [Axis(0), Axis(1)] {
         let mut mirrored = expected.clone();
@@ -87,16 +55,15 @@ fn sur_2_equals_surface_topography() {
 
 #[test]
 fn sur_2_metadata_is_what_the_header_says() {
-    let map = read_bytes(&reference("sur-2.sur"), None).unwrap();
-    let metadata = &map.metadata;
-    assert_eq!(value(metadata, "step_units"), Some("mm, mm, mm"));
-    assert_eq!(value(metadata, "axis_names"), Some("X, Y, Z"));
-    assert_eq!(value(metadata, "point_bits"), Some("32"));
-    assert_eq!(value(metadata, "layout"), Some("plain"));
+    let map = read_bytes(&bytes("sur-2.sur"), None).unwrap();
+    assert_eq!(meta(&map, "step_units"), Some("mm, mm, mm"));
+    assert_eq!(meta(&map, "axis_names"), Some("X, Y, Z"));
+    assert_eq!(meta(&map, "point_bits"), Some("32"));
+    assert_eq!(meta(&map, "layout"), Some("plain"));
     // the file leaves the date, names and comment empty
-    assert_eq!(value(metadata, "date"), None);
-    assert_eq!(value(metadata, "operator_name"), None);
-    assert_eq!(value(metadata, "comment"), None);
+    assert_eq!(meta(&map, "date"), None);
+    assert_eq!(meta(&map, "operator_name"), None);
+    assert_eq!(meta(&map, "comment"), None);
     // the header's X and Y offsets (float32 mm at bytes 466 and 470)
     let (x_m, y_m) = map.position_m.unwrap();
     assert!((x_m - 3.457248265448243e-12).abs() < 1e-24, "{x_m}");
@@ -105,9 +72,9 @@ fn sur_2_metadata_is_what_the_header_says() {
 
 #[test]
 fn sur_is_detected_from_its_bytes_whatever_the_extension() {
-    let bytes = reference("sur-2.sur");
-    assert_eq!(detect(&bytes[..16], None), Some(Format::Sur));
-    let map = read_bytes(&bytes, Some(Path::new("scan.x3p"))).unwrap();
+    let file = bytes("sur-2.sur");
+    assert_eq!(detect(&file[..16], None), Some(Format::Sur));
+    let map = read_bytes(&file, Some(Path::new("scan.x3p"))).unwrap();
     assert_eq!(map.format, Format::Sur);
     assert_eq!(map.heights_m.dim(), (563, 484));
 }
@@ -115,7 +82,7 @@ fn sur_is_detected_from_its_bytes_whatever_the_extension() {
 /// sur-2 rewritten in the compressed layout: magic DSCOMPRESSED, then after
 /// the header a stream count, (raw, zipped) lengths and the zlib streams.
 fn compressed_sur_2(stream_bytes: usize) -> Vec<u8> {
-    let plain = reference("sur-2.sur");
+    let plain = bytes("sur-2.sur");
     let (header, points) = plain.split_at(512);
     let mut file = header.to_vec();
     file[..12].copy_from_slice(b"DSCOMPRESSED");
@@ -140,13 +107,13 @@ fn compressed_sur_2(stream_bytes: usize) -> Vec<u8> {
 
 #[test]
 fn the_compressed_layout_reads_as_the_plain_one() {
-    let plain = read_bytes(&reference("sur-2.sur"), None).unwrap();
+    let plain = read_bytes(&bytes("sur-2.sur"), None).unwrap();
     for stream_bytes in [usize::MAX, 300_000] {
         let file = compressed_sur_2(stream_bytes);
         assert_eq!(detect(&file[..16], None), Some(Format::Sur));
         let map = read_bytes(&file, None).unwrap();
-        assert_heights_equal(&map.heights_m, &plain.heights_m, 0.0);
-        assert_eq!(value(&map.metadata, "layout"), Some("zlib-compressed"));
+        assert_heights_within(&map.heights_m, &plain.heights_m, 0.0);
+        assert_eq!(meta(&map, "layout"), Some("zlib-compressed"));
     }
 }
 
@@ -159,21 +126,21 @@ proptest! {
         tail in prop::collection::vec(any::<u8>(), 0..4096),
     ) {
         let magic: &[u8] = if compressed { b"DSCOMPRESSED" } else { b"DIGITAL SURF" };
-        let bytes = [magic, &tail].concat();
-        prop_assert!(read_bytes(&bytes, None).is_err());
+        let file = [magic, &tail].concat();
+        prop_assert!(read_bytes(&file, None).is_err());
     }
 
     #[test]
     fn a_truncated_file_is_an_error(len in 0usize..1_090_480) {
-        let bytes = reference("sur-2.sur");
-        prop_assert!(read_bytes(&bytes[..len], None).is_err());
+        let file = bytes("sur-2.sur");
+        prop_assert!(read_bytes(&file[..len], None).is_err());
     }
 
     #[test]
     fn a_changed_header_byte_never_panics(position in 0usize..600, byte in any::<u8>()) {
-        let mut bytes = reference("sur-2.sur");
-        bytes[position] = byte;
-        if let Ok(map) = read_bytes(&bytes, None) {
+        let mut file = bytes("sur-2.sur");
+        file[position] = byte;
+        if let Ok(map) = read_bytes(&file, None) {
             prop_assert!(map.heights_m.len() <= 563 * 484);
         }
     }
@@ -184,10 +151,10 @@ proptest! {
         byte in any::<u8>(),
     ) {
         static COMPRESSED: OnceLock<Vec<u8>> = OnceLock::new();
-        let mut bytes = COMPRESSED.get_or_init(|| compressed_sur_2(300_000)).clone();
-        let position = position % bytes.len();
-        bytes[position] = byte;
-        if let Ok(map) = read_bytes(&bytes, None) {
+        let mut file = COMPRESSED.get_or_init(|| compressed_sur_2(300_000)).clone();
+        let position = position % file.len();
+        file[position] = byte;
+        if let Ok(map) = read_bytes(&file, None) {
             prop_assert!(map.heights_m.len() <= 563 * 484);
         }
     }

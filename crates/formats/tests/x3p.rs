@@ -2,131 +2,74 @@
 //! 650 × 650 float64 heights, pixels 0.128 × 0.315 µm) against the heights
 //! SurfaceTopography 1.27 reads from it (`x3p-2_m.npy`, `index.json`).
 
-use std::io::{Cursor, Read, Write};
+mod common;
+
 use std::path::Path;
 
+use common::{assert_identical, bytes, expected, meta, stored_zip, zip_members};
 use hypercontact_formats::{Format, detect, read_bytes};
 use md5::{Digest, Md5};
-use ndarray::Array2;
 use proptest::prelude::*;
-use zip::write::SimpleFileOptions;
-use zip::{CompressionMethod, ZipArchive, ZipWriter};
-
-const REFERENCE: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../../../shared/reference/topography/"
-);
-
-/// A reference file's bytes; a missing file fails the test.
-fn reference(name: &str) -> Vec<u8> {
-    let path = format!("{REFERENCE}{name}");
-    std::fs::read(&path).unwrap_or_else(|e| panic!("reference file {path} is needed: {e}"))
-}
-
-fn index_entry(npy: &str) -> serde_json::Value {
-    let index: serde_json::Value =
-        serde_json::from_slice(&reference("index.json")).expect("index.json is JSON");
-    index[npy].clone()
-}
-
-fn value<'a>(metadata: &'a [(String, String)], key: &str) -> Option<&'a str> {
-    metadata
-        .iter()
-        .find(|(k, _)| k == key)
-        .map(|(_, v)| v.as_str())
-}
 
 #[test]
 fn x3p_2_equals_surface_topography() {
-    let bytes = reference("x3p-2.x3p");
-    let map = read_bytes(&bytes, Some(Path::new("x3p-2.x3p"))).unwrap();
-    let expected: Array2<f64> =
-        ndarray_npy::read_npy(format!("{REFERENCE}x3p-2_m.npy")).expect("x3p-2_m.npy");
-    let entry = index_entry("x3p-2_m.npy");
+    let map = read_bytes(&bytes("x3p-2.x3p"), Some(Path::new("x3p-2.x3p"))).unwrap();
+    let expected = expected("x3p-2");
 
     assert_eq!(map.format, Format::X3p);
     assert_eq!(map.heights_m.dim(), (650, 650));
-    assert_eq!(map.heights_m.dim(), expected.dim());
-    assert_eq!(entry["shape"], serde_json::json!([650, 650]));
-    let dx = entry["dx_m"].as_f64().unwrap();
-    let dy = entry["dy_m"].as_f64().unwrap();
+    assert_eq!(map.heights_m.dim(), expected.heights_m.dim());
+    assert_eq!(expected.shape, (650, 650));
+    let (dx, dy) = (expected.dx_m, expected.dy_m);
     assert!((map.dx_m - dx).abs() <= 1e-9 * dx, "{} vs {dx}", map.dx_m);
     assert!((map.dy_m - dy).abs() <= 1e-9 * dy, "{} vs {dy}", map.dy_m);
     // the pixels are not square: x and y must not have been swapped
     assert!(map.dy_m / map.dx_m > 2.4);
 
     let nan = map.heights_m.iter().filter(|h| h.is_nan()).count();
-    assert_eq!(nan as u64, entry["nan_count"].as_u64().unwrap());
+    assert_eq!(nan, expected.nan_count);
     // float64 metres with no Z increment or offset: the same numbers, bit
     // for bit (a transposed or flipped read would differ: the map is not
     // symmetric)
-    for ((index, h), e) in map.heights_m.indexed_iter().zip(&expected) {
-        assert!(
-            h.to_bits() == e.to_bits() || (h.is_nan() && e.is_nan()),
-            "{index:?}: {h} vs {e}"
-        );
-    }
-    assert_ne!(expected, expected.t());
+    assert_identical(&map.heights_m, &expected.heights_m);
+    assert_ne!(expected.heights_m, expected.heights_m.t());
 }
 
 #[test]
 fn x3p_2_position_and_metadata_are_what_main_xml_says() {
-    let map = read_bytes(&reference("x3p-2.x3p"), None).unwrap();
+    let map = read_bytes(&bytes("x3p-2.x3p"), None).unwrap();
     // Record1/Axes/CX/Offset and CY/Offset
     assert_eq!(
         map.position_m,
         Some((7.65614218798151e-5, 1.29451679506934e-5))
     );
-    let metadata = &map.metadata;
+    assert_eq!(meta(&map, "instrument_manufacturer"), Some("DIGITAL SURF"));
     assert_eq!(
-        value(metadata, "instrument_manufacturer"),
-        Some("DIGITAL SURF")
-    );
-    assert_eq!(
-        value(metadata, "instrument"),
+        meta(&map, "instrument"),
         Some("DIGITAL SURF Mountains Map Technology Software version 6.2")
     );
-    assert_eq!(value(metadata, "date"), Some("1970-01-01T01:00:00"));
-    assert_eq!(value(metadata, "probing_system_type"), Some("Software"));
-    assert_eq!(value(metadata, "z_data_type"), Some("D (float64)"));
+    assert_eq!(meta(&map, "date"), Some("1970-01-01T01:00:00"));
+    assert_eq!(meta(&map, "probing_system_type"), Some("Software"));
+    assert_eq!(meta(&map, "z_data_type"), Some("D (float64)"));
     // both MD5 sums the file gives (data and main.xml) match
-    assert_eq!(value(metadata, "md5_point_data"), Some("verified"));
-    assert_eq!(value(metadata, "md5_main_xml"), Some("verified"));
-    assert_eq!(value(metadata, "comment"), None);
+    assert_eq!(meta(&map, "md5_point_data"), Some("verified"));
+    assert_eq!(meta(&map, "md5_main_xml"), Some("verified"));
+    assert_eq!(meta(&map, "comment"), None);
 }
 
 #[test]
 fn x3p_is_detected_from_its_bytes_whatever_the_extension() {
-    let bytes = reference("x3p-2.x3p");
-    assert_eq!(detect(&bytes[..16], None), Some(Format::X3p));
-    let map = read_bytes(&bytes, Some(Path::new("scan.sur"))).unwrap();
+    let file = bytes("x3p-2.x3p");
+    assert_eq!(detect(&file[..16], None), Some(Format::X3p));
+    let map = read_bytes(&file, Some(Path::new("scan.sur"))).unwrap();
     assert_eq!(map.format, Format::X3p);
-    let map = read_bytes(&bytes, Some(Path::new("scan"))).unwrap();
+    let map = read_bytes(&file, Some(Path::new("scan"))).unwrap();
     assert_eq!(map.heights_m.dim(), (650, 650));
 }
 
 /// The members of the reference archive, inflated.
 fn members() -> Vec<(String, Vec<u8>)> {
-    let bytes = reference("x3p-2.x3p");
-    let mut archive = ZipArchive::new(Cursor::new(bytes.as_slice())).unwrap();
-    (0..archive.len())
-        .map(|i| {
-            let mut member = archive.by_index(i).unwrap();
-            let mut content = Vec::new();
-            member.read_to_end(&mut content).unwrap();
-            (member.name().unwrap().to_string(), content)
-        })
-        .collect()
-}
-
-fn stored_zip(members: &[(String, Vec<u8>)]) -> Vec<u8> {
-    let mut writer = ZipWriter::new(Cursor::new(Vec::new()));
-    let options = SimpleFileOptions::default().compression_method(CompressionMethod::Stored);
-    for (name, content) in members {
-        writer.start_file(name.as_str(), options).unwrap();
-        writer.write_all(content).unwrap();
-    }
-    writer.finish().unwrap().into_inner()
+    zip_members(&bytes("x3p-2.x3p"))
 }
 
 #[test]
@@ -156,15 +99,15 @@ proptest! {
     fn arbitrary_bytes_after_the_zip_magic_are_an_error(
         tail in prop::collection::vec(any::<u8>(), 0..4096)
     ) {
-        let bytes = [b"PK\x03\x04".as_slice(), &tail].concat();
-        prop_assert!(read_bytes(&bytes, None).is_err());
+        let file = [b"PK\x03\x04".as_slice(), &tail].concat();
+        prop_assert!(read_bytes(&file, None).is_err());
     }
 
     #[test]
     fn a_truncated_file_is_an_error(fraction in 0.0f64..1.0) {
-        let bytes = reference("x3p-2.x3p");
-        let len = (fraction * bytes.len() as f64) as usize;
-        prop_assert!(read_bytes(&bytes[..len], None).is_err());
+        let file = bytes("x3p-2.x3p");
+        let len = (fraction * file.len() as f64) as usize;
+        prop_assert!(read_bytes(&file[..len], None).is_err());
     }
 
     #[test]
@@ -172,10 +115,10 @@ proptest! {
         position in prop_oneof![0usize..2048, 0usize..3_236_186],
         byte in any::<u8>(),
     ) {
-        let mut bytes = reference("x3p-2.x3p");
-        let position = position % bytes.len();
-        bytes[position] = byte;
-        if let Ok(map) = read_bytes(&bytes, None) {
+        let mut file = bytes("x3p-2.x3p");
+        let position = position % file.len();
+        file[position] = byte;
+        if let Ok(map) = read_bytes(&file, None) {
             prop_assert_eq!(map.heights_m.dim(), (650, 650));
         }
     }
