@@ -286,6 +286,27 @@ pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
             .read(&p.file)
             .map_err(|_| mismatch(format!("{} is listed but not in the tile set", p.file)))?;
         let tile = decode_tile(&p.file, &bytes).map_err(&tile_err)?;
+        let (x_m, y_m) = if listed {
+            (p.x_m, p.y_m)
+        } else {
+            tile.position_m.ok_or_else(|| {
+                let columns = match tile.spacing_m {
+                    Some(_) => "tile, file, x_m, y_m",
+                    None => "tile, file, x_m, y_m, pixel_m",
+                };
+                tile_err(format!(
+                    "records no stage position ({} files do not), and there is no {POSITIONS}: \
+                     write one with columns {columns} (e.g. `0,{},0.0,0.0{}`)",
+                    tile.format.name(),
+                    p.file,
+                    if tile.spacing_m.is_some() {
+                        ""
+                    } else {
+                        ",1.0e-6"
+                    }
+                ))
+            })?
+        };
         let pixel_m = tile_spacing(p, &tile).map_err(&tile_err)?;
         if set.names.is_empty() {
             set.pixel_m = pixel_m;
@@ -297,18 +318,6 @@ pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
                 expected: set.pixel_m,
             });
         }
-        let (x_m, y_m) = if listed {
-            (p.x_m, p.y_m)
-        } else {
-            tile.position_m.ok_or_else(|| {
-                tile_err(format!(
-                    "records no stage position ({} files do not), and there is no {POSITIONS}: \
-                     write one with columns tile, file, x_m, y_m (e.g. `0,{},0.0,0.0`)",
-                    tile.format.name(),
-                    p.file
-                ))
-            })?
-        };
         check_in_reach(x_m, y_m, pixel_m).map_err(&tile_err)?;
         let heights = tile.heights;
         if let Some(h0) = set.heights.first()

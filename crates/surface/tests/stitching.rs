@@ -193,3 +193,88 @@ fn synth_then_surface_stage_gives_report_tables() {
             .all(|c| c.is_finite() && *c >= 0.0)
     );
 }
+
+/// Issue 17: a lab's tiles in an instrument format, placed by the stage
+/// positions the files record (X3P's CX/CY offsets) with no positions.csv,
+/// stitch to the same map, bit for bit, as the same tiles as `.npy` with
+/// positions.csv; positions.csv without `pixel_m` takes the files' spacing.
+#[test]
+fn x3p_tiles_placed_by_their_own_offsets_stitch_like_npy_with_positions() {
+    use hypercontact_core::{Files, Table};
+    use hypercontact_formats::{Format, Topography, write_x3p};
+
+    let p = SynthSurfaceParams {
+        position_error_px: 3.0,
+        seed: 5,
+        ..Default::default()
+    }
+    .check()
+    .unwrap();
+    let npy_files = synthesise(&p).unwrap().files().unwrap();
+    let set = read_tiles(&FileSource::Files {
+        files: &npy_files,
+        input: "tiles".into(),
+    })
+    .unwrap();
+    let mut x3p_files = Files::new();
+    let mut csv = String::from("tile,file,x_m,y_m\n");
+    for (k, name) in set.names.iter().enumerate() {
+        let [x_m, y_m] = set.nominal_px[k].map(|px| px * set.pixel_m);
+        let tile = Topography {
+            heights_m: set.heights[k].clone(),
+            dx_m: set.pixel_m,
+            dy_m: set.pixel_m,
+            format: Format::X3p,
+            position_m: Some((x_m, y_m)),
+            metadata: Vec::new(),
+        };
+        let x3p_name = name.replace(".npy", ".x3p");
+        csv.push_str(&format!("{},{x3p_name},{x_m:e},{y_m:e}\n", set.ids[k]));
+        x3p_files = x3p_files.with(&x3p_name, write_x3p(&tile).unwrap());
+    }
+    let listed = x3p_files.clone().with("positions.csv", csv.into_bytes());
+
+    let run = |files: &Files| -> (Table, Vec<f64>) {
+        let params = SurfaceParams::default().check().unwrap();
+        let inputs = Inputs::new().with("tiles", Product::Files(files.clone()));
+        let out = Surface
+            .run(&params, &inputs, &Context::new("surface"))
+            .unwrap();
+        let (Some(Product::Table(stats)), Some(Product::Field(height))) =
+            (out.get("stats"), out.get("height"))
+        else {
+            panic!("no stats or height")
+        };
+        (stats.clone(), height.values.iter().copied().collect())
+    };
+    let (npy_stats, npy_height) = run(&npy_files);
+    for (what, files) in [("offsets", &x3p_files), ("positions.csv", &listed)] {
+        let (stats, height) = run(files);
+        assert_eq!(height.len(), npy_height.len(), "{what}");
+        assert!(
+            height
+                .iter()
+                .zip(&npy_height)
+                .all(|(a, b)| a.to_bits() == b.to_bits()),
+            "{what}: the stitched map differs"
+        );
+        assert_eq!(stats.f64("sigma_m"), npy_stats.f64("sigma_m"), "{what}");
+    }
+
+    // `.npy` tiles without positions.csv: what to write, with an example.
+    let bare: Files = npy_files
+        .files
+        .iter()
+        .filter(|(name, _)| name.ends_with(".npy"))
+        .fold(Files::new(), |f, (name, bytes)| f.with(name, bytes.clone()));
+    let params = SurfaceParams::default().check().unwrap();
+    let inputs = Inputs::new().with("tiles", Product::Files(bare));
+    let e = Surface
+        .run(&params, &inputs, &Context::new("surface"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("records no stage position") && e.contains("x_m, y_m, pixel_m"),
+        "{e}"
+    );
+}
