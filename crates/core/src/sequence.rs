@@ -616,6 +616,14 @@ mod tests {
     use super::*;
     use crate::Files;
 
+    /// (frame, time, file) of every frame, in order.
+    fn listed<'s>(s: &'s Sequence) -> Vec<(i64, f64, &'s str)> {
+        s.frames
+            .iter()
+            .map(|e| (e.frame, e.time_s, e.file.as_str()))
+            .collect()
+    }
+
     fn source(files: &Files) -> FileSource<'_> {
         FileSource::Files {
             files,
@@ -785,11 +793,7 @@ mod tests {
             .with("notes.txt", vec![])
             .with("force.csv", force.clone());
         let s = Sequence::open(source(&f)).unwrap();
-        let got: Vec<(i64, f64, &str)> = s
-            .frames
-            .iter()
-            .map(|e| (e.frame, e.time_s, e.file.as_str()))
-            .collect();
+        let got = listed(&s);
         assert_eq!(
             got,
             [
@@ -919,11 +923,7 @@ mod tests {
             .with("mask.png", vec![])
             .with("._img_3.tif", vec![]);
         let s = Sequence::open_with(source(&f), &layout(true, Some(4.0))).unwrap();
-        let got: Vec<(i64, f64, &str)> = s
-            .frames
-            .iter()
-            .map(|e| (e.frame, e.time_s, e.file.as_str()))
-            .collect();
+        let got = listed(&s);
         assert_eq!(
             got,
             [

@@ -262,13 +262,8 @@ fn a_region_that_holds_no_subset_names_the_parameter() {
             [30.0, 45.0],
         ]),
         ..params(&dir)
-    }
-    .check()
-    .unwrap();
-    let e = Dic
-        .run(&p, &Inputs::new(), &Context::new("dic"))
-        .unwrap_err()
-        .to_string();
+    };
+    let e = error_of(p);
     assert!(
         e.contains("`roi_px`") && e.contains("whole 21 px subset"),
         "{e}"
@@ -277,13 +272,8 @@ fn a_region_that_holds_no_subset_names_the_parameter() {
     let p = DicParams {
         mask: None,
         ..params(&dir)
-    }
-    .check()
-    .unwrap();
-    let e = Dic
-        .run(&p, &Inputs::new(), &Context::new("dic"))
-        .unwrap_err()
-        .to_string();
+    };
+    let e = error_of(p);
     assert!(
         e.contains("mask.png: would be read as a frame: name it in the parameter `mask`"),
         "{e}"
@@ -293,16 +283,18 @@ fn a_region_that_holds_no_subset_names_the_parameter() {
         roi_px: None,
         mask: None,
         ..params(&dir)
-    }
-    .check()
-    .unwrap();
-    let e = Dic
-        .run(&p, &Inputs::new(), &Context::new("dic"))
-        .unwrap_err()
-        .to_string();
+    };
+    let e = error_of(p);
     assert!(
         e.contains("`roi_px`: is needed") && e.contains("roi_polygon_px"),
         "{e}"
     );
     std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// The stage's error on parameters `p`.
+fn error_of(p: DicParams) -> String {
+    Dic.run(&p.check().unwrap(), &Inputs::new(), &Context::new("dic"))
+        .unwrap_err()
+        .to_string()
 }

@@ -1,6 +1,7 @@
 //! Stage `height-map`: loads one height map, from a `.npy` array or from an
 //! instrument's own file (X3P, Digital Surf .sur, Sensofar .plu, Zygo
-//! MetroPro .dat, Wyko .opd), the format told by the file's first bytes.
+//! MetroPro .dat and .datx, Wyko .opd), the format told by the file's first
+//! bytes.
 
 use hypercontact_core::{
     Checked, Context, Field, InputPath, Inputs, OutputSpec, Outputs, Stage, StageError, StageInfo,
@@ -11,7 +12,7 @@ use hypercontact_formats::{Format, Topography};
 /// Parameters of `height-map`.
 #[params]
 pub struct HeightMapParams {
-    /// the height map: .npy (2-D float64/float32, axis 0 = x, NaN = missing) or an instrument file (.x3p, .sur, .plu, MetroPro .dat, .opd)
+    /// the height map: .npy (2-D float64/float32, axis 0 = x, NaN = missing) or an instrument file (.x3p, .sur, .plu, MetroPro .dat, .datx, .opd)
     pub path: InputPath,
     /// grid spacing along x (needed for .npy; for an instrument file it replaces the file's)
     #[param(unit = "m", positive)]
@@ -33,7 +34,7 @@ static INFO: StageInfo = StageInfo {
     summary: "Load a height map (.npy or an instrument file) with its grid spacing",
     doc: "Reads a height map as the instrument wrote it. The format is told by the first \
           bytes, not the extension: ISO 25178-72 X3P, Digital Surf .sur, Sensofar .plu, Zygo \
-          MetroPro .dat, Wyko .opd, read with their units and pixel size (non-square pixels \
+          MetroPro .dat and .datx, Wyko .opd, read with their units and pixel size (non-square pixels \
           kept; missing points NaN), or a 2-D .npy array (float64 or float32) whose axis 0 is \
           x, as the SurfaceTopography package writes it, which holds no spacing: `pixel_m` is \
           then required and values are multiplied by `scale_to_m`. For an instrument file \
@@ -94,7 +95,7 @@ fn read_npy(p: &HeightMapParams, bytes: &[u8]) -> Result<Field, StageError> {
             &p.path,
             format!(
                 "{e} (hypercontact reads .npy and the instrument formats X3P, .sur, .plu, \
-                 MetroPro .dat and .opd, told by their first bytes)"
+                 MetroPro .dat, .datx and .opd, told by their first bytes)"
             ),
         )
     })?;
@@ -199,5 +200,84 @@ mod tests {
         assert!(e.message.contains("missing field `path`"), "{e}");
         let e = parse(json!({"path": "x.npy", "pixel_m": 0.0})).unwrap_err();
         assert_eq!(e.param, "pixel_m");
+    }
+
+    /// An instrument file under a misleading name is read by its bytes,
+    /// with the file's spacing and position-free heights; `pixel_m`
+    /// replaces the spacing with a note; `scale_to_m` is refused; a `.npy`
+    /// without `pixel_m` says what to give.
+    #[test]
+    fn instrument_files_are_told_by_their_bytes() {
+        let dir = std::env::temp_dir().join(format!("hc-hm-x3p-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let heights = array![[1e-6, 2e-6, f64::NAN], [3e-6, 4e-6, 5e-6]];
+        let map = Topography {
+            heights_m: heights.clone(),
+            dx_m: 1.5e-6,
+            dy_m: 2.5e-6,
+            format: Format::X3p,
+            position_m: None,
+            metadata: Vec::new(),
+        };
+        let path = dir.join("scan.dat");
+        std::fs::write(&path, hypercontact_formats::write_x3p(&map).unwrap()).unwrap();
+        let run = |pixel_m: Option<f64>, scale_to_m: f64| {
+            let params = HeightMapParams {
+                path: path.clone().into(),
+                pixel_m,
+                pixel_y_m: None,
+                scale_to_m,
+            }
+            .check()
+            .unwrap();
+            let ctx = Context::new("scan");
+            let out = HeightMap.run(&params, &Inputs::new(), &ctx);
+            (out, ctx.notes())
+        };
+        let (out, notes) = run(None, 1.0);
+        let out = out.unwrap();
+        let Some(hypercontact_core::Product::Field(h)) = out.get("height") else {
+            panic!("no height output")
+        };
+        assert_eq!((h.dx_m, h.dy_m), (1.5e-6, 2.5e-6));
+        assert_eq!(h.values[[1, 2]], 5e-6);
+        assert!(h.values[[0, 2]].is_nan());
+        assert_eq!(
+            notes,
+            [format!(
+                "ISO 25178-72 X3P: 2 × 3 points at 1.5000 × 2.5000 µm, 1 missing; \
+                 instrument: hypercontact version {}",
+                env!("CARGO_PKG_VERSION")
+            )]
+        );
+
+        let (out, notes) = run(Some(1.515e-6), 1.0);
+        let out = out.unwrap();
+        let Some(hypercontact_core::Product::Field(h)) = out.get("height") else {
+            panic!("no height output")
+        };
+        assert_eq!((h.dx_m, h.dy_m), (1.515e-6, 1.515e-6));
+        assert!(notes[0].contains("replaced by the parameters") && notes[0].contains("+1.000 %"));
+
+        let e = run(None, 1e-6).0.unwrap_err().to_string();
+        assert!(e.contains("states its own height units"), "{e}");
+
+        let npy = dir.join("m.npy");
+        let f = Field::new(heights, 1.0, 1.0).unwrap();
+        f.write_npy(std::fs::File::create(&npy).unwrap()).unwrap();
+        let params = HeightMapParams {
+            path: npy.into(),
+            pixel_m: None,
+            pixel_y_m: None,
+            scale_to_m: 1.0,
+        }
+        .check()
+        .unwrap();
+        let e = HeightMap
+            .run(&params, &Inputs::new(), &Context::new("t"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("holds no grid spacing: give `pixel_m`"), "{e}");
+        std::fs::remove_dir_all(dir).unwrap();
     }
 }

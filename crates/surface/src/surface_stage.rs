@@ -53,6 +53,11 @@ pub enum Fill {
 pub struct SurfaceParams {
     /// folder of tiles + positions.csv (instead of input `tiles`)
     pub dir: Option<InputPath>,
+    /// tile files in any format read here (instead of `dir` or input `tiles`)
+    #[param(default = Vec::new())]
+    pub tile_files: Vec<InputPath>,
+    /// positions.csv for `tile_files` (its `file` column names them by file name; default: the positions the files record)
+    pub positions: Option<InputPath>,
     /// lateral resolution and new grid spacing (0 = keep the measured grid)
     #[param(default = 20e-6, unit = "m", range = 0.0..)]
     pub resolution_m: f64,
@@ -110,8 +115,13 @@ static INFO: StageInfo = StageInfo {
     doc: "Source: exactly one of input `tiles` (a Files product: tile_NNN.npy + positions.csv, as \
           synth-surface writes), param `dir` (a folder of the same layout, real data) or input \
           `height` (an already stitched map, e.g. from height-map). positions.csv has columns tile, \
-          file, x_m, y_m, pixel_m (nominal position of each tile's pixel [0, 0]). Tiles are read \
-          through a decoder trait (.npy now: float64/float32, metres, axis 0 = x, NaN = missing). \
+          file, x_m, y_m and pixel_m (nominal position of each tile's pixel [0, 0]; pixel_m may be \
+          left out where the tile files state their spacing). Tiles are read by their first bytes: \
+          .npy (float64/float32, metres, axis 0 = x, NaN = missing) or any instrument format \
+          height-map reads (X3P, .sur, .plu, MetroPro .dat, .datx, .opd; square pixels, one \
+          spacing for all); without positions.csv the tiles are the folder's tile files in natural \
+          order of their names, placed by the stage positions the files record (X3P's CX/CY \
+          offsets). \
           STITCHING: overlapping pairs registered by phase correlation: the eight highest peaks (of the half-whitened cross-power spectrum), each \
           also taken modulo the overlap size, are checked by the Pearson correlation of the overlap \
           they imply and the best wins, then the sub-pixel rest by Gauss–Newton on the heights of the \
@@ -546,15 +556,31 @@ impl Stage for Surface {
             inputs.get("tiles").is_some(),
             p.dir.is_some(),
             inputs.get("height").is_some(),
+            !p.tile_files.is_empty(),
         ];
         if given.iter().filter(|g| **g).count() != 1 {
             return Err(StageError::invalid(
-                "surface: give exactly one source: input `tiles`, parameter `dir` or input `height`",
+                "surface: give exactly one source: input `tiles`, parameter `dir`, parameter \
+                 `tile_files` or input `height`",
+            ));
+        }
+        if p.positions.is_some() && p.tile_files.is_empty() {
+            return Err(StageError::invalid(
+                "surface: parameter `positions` goes with `tile_files` (a folder or a `tiles` \
+                 input holds its own positions.csv)",
             ));
         }
         let (map, stitch_table, source) = if inputs.get("height").is_some() {
             let map = inputs.field("height")?.clone();
             (map, StitchTable::default(), "input `height`".to_owned())
+        } else if !p.tile_files.is_empty() {
+            let files = listed_tiles(&p.tile_files, p.positions.as_ref())?;
+            let source = FileSource::Files {
+                files: &files,
+                input: "tile_files".into(),
+            };
+            let (map, table) = stitched(&read_tiles(&source)?, p, ctx)?;
+            (map, table, "the map stitched from `tile_files`".to_owned())
         } else {
             let source = FileSource::input_or_dir(inputs, "tiles", "dir", p.dir.as_ref())?;
             let (map, table) = stitched(&read_tiles(&source)?, p, ctx)?;
@@ -571,6 +597,38 @@ impl Stage for Surface {
             .table("stats", analysis.stats.into_table())
             .table("stitch", stitch_table.into_table()))
     }
+}
+
+/// The files of `tile_files` (and `positions`, as positions.csv) as one
+/// tile set, each by its file name; two files of one name are an error.
+fn listed_tiles(
+    paths: &[InputPath],
+    positions: Option<&InputPath>,
+) -> Result<hypercontact_core::Files, StageError> {
+    let mut files = hypercontact_core::Files::new();
+    for path in paths {
+        let name = path
+            .path()
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .ok_or_else(|| StageError::file(path.path(), "names no file"))?;
+        if name == crate::tiles::POSITIONS || files.files.contains_key(&name) {
+            return Err(StageError::file(
+                path.path(),
+                format!(
+                    "another file of `tile_files` is also called {name}: tiles are named by \
+                     their file names"
+                ),
+            ));
+        }
+        let bytes = hypercontact_core::source::read_regular_file(path.path())?;
+        files = files.with(&name, bytes);
+    }
+    if let Some(positions) = positions {
+        let bytes = hypercontact_core::source::read_regular_file(positions.path())?;
+        files = files.with(crate::tiles::POSITIONS, bytes);
+    }
+    Ok(files)
 }
 
 #[cfg(test)]

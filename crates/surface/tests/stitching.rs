@@ -261,6 +261,38 @@ fn x3p_tiles_placed_by_their_own_offsets_stitch_like_npy_with_positions() {
         assert_eq!(stats.f64("sigma_m"), npy_stats.f64("sigma_m"), "{what}");
     }
 
+    // The same tiles as a list of files on disk, placed by their offsets or
+    // by a positions file given beside the list.
+    let dir = std::env::temp_dir().join(format!("hc-x3p-tiles-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, bytes) in &listed.files {
+        std::fs::write(dir.join(name), bytes).unwrap();
+    }
+    let tile_files: Vec<_> = x3p_files.files.keys().map(|n| dir.join(n).into()).collect();
+    for positions in [None, Some(dir.join("positions.csv").into())] {
+        let params = SurfaceParams {
+            tile_files: tile_files.clone(),
+            positions,
+            ..Default::default()
+        }
+        .check()
+        .unwrap();
+        let out = Surface
+            .run(&params, &Inputs::new(), &Context::new("surface"))
+            .unwrap();
+        let Some(Product::Field(height)) = out.get("height") else {
+            panic!("no height")
+        };
+        assert!(
+            height
+                .values
+                .iter()
+                .zip(&npy_height)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+
     // `.npy` tiles without positions.csv: what to write, with an example.
     let bare: Files = npy_files
         .files
