@@ -220,14 +220,15 @@ pub struct TileSet {
 pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
     let positions_name = source.display(POSITIONS);
     let listed = source.exists(POSITIONS);
+    let tile_names: Vec<String> = source
+        .names()?
+        .into_iter()
+        .filter(|name| TILE_EXTENSIONS.contains(&extension(name).as_str()))
+        .collect();
     let positions = if listed {
         parse_positions(&source.read_csv_with_lines(POSITIONS)?, &positions_name)?
     } else {
-        let mut names: Vec<String> = source
-            .names()?
-            .into_iter()
-            .filter(|name| TILE_EXTENSIONS.contains(&extension(name).as_str()))
-            .collect();
+        let mut names = tile_names.clone();
         if names.is_empty() {
             return Err(SurfaceError::Input(format!(
                 "{positions_name} is missing and there are no tile files ({}) beside it",
@@ -260,13 +261,8 @@ pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
             )));
         }
     }
-    for name in source.names()? {
-        if name != POSITIONS
-            && TILE_EXTENSIONS.contains(&extension(&name).as_str())
-            && !seen.contains_key(&name)
-        {
-            return Err(mismatch(format!("tile file {name} is not listed")));
-        }
+    if let Some(name) = tile_names.iter().find(|name| !seen.contains_key(*name)) {
+        return Err(mismatch(format!("tile file {name} is not listed")));
     }
     let first_shown = source.display(&positions[0].file);
     let mut set = TileSet {

@@ -25,6 +25,19 @@ fn x_psd(h: &Array2<f64>, pixel_m: f64, fill: Fill) -> (Vec<f64>, StatsTable) {
     (x, a.stats)
 }
 
+/// `full` with each point missing (NaN) with probability `fraction`,
+/// drawn from [`uniform`] seeded with `seed`.
+fn with_dropouts(full: &Array2<f64>, fraction: f64, seed: u64) -> Array2<f64> {
+    let mut state = seed;
+    full.mapv(|v| {
+        if uniform(&mut state) < fraction {
+            f64::NAN
+        } else {
+            v
+        }
+    })
+}
+
 /// Median over bins of |a/b − 1|.
 fn median_change(a: &[f64], b: &[f64]) -> f64 {
     assert_eq!(a.len(), b.len());
@@ -54,14 +67,8 @@ fn scattered_dropouts_move_the_psd_far_less_with_harmonic_fill() {
         lambda_max_m: 200e-6,
     }
     .periodic(n, n, pixel_m, 5);
-    let mut holed = full.clone();
-    let mut state = 41;
-    for v in holed.iter_mut() {
-        // 0.04 % as on sur-2.
-        if uniform(&mut state) < 4e-4 {
-            *v = f64::NAN;
-        }
-    }
+    // 0.04 % as on sur-2.
+    let holed = with_dropouts(&full, 4e-4, 41);
     let (reference, _) = x_psd(&full, pixel_m, Fill::Harmonic);
     let (harmonic, stats) = x_psd(&holed, pixel_m, Fill::Harmonic);
     let (zero, zero_stats) = x_psd(&holed, pixel_m, Fill::Zero);
@@ -155,13 +162,7 @@ fn at_the_default_limit_the_in_fill_biases_the_psd_by_about_the_missing_share() 
         lambda_max_m: 200e-6,
     }
     .periodic(n, n, pixel_m, 6);
-    let mut holed = full.clone();
-    let mut state = 43;
-    for v in holed.iter_mut() {
-        if uniform(&mut state) < 0.095 {
-            *v = f64::NAN;
-        }
-    }
+    let holed = with_dropouts(&full, 0.095, 43);
     let (reference, _) = x_psd(&full, pixel_m, Fill::Harmonic);
     let (harmonic, _) = x_psd(&holed, pixel_m, Fill::Harmonic);
     let ratios: Vec<f64> = harmonic

@@ -58,6 +58,13 @@ fn luma_of<T: Copy + Into<u16>>(raw: &[T], stride: usize) -> Vec<u16> {
         .collect()
 }
 
+/// [`luma_of`] for float colour samples, kept as floats.
+fn float_luma_of(raw: &[f32], stride: usize) -> Vec<f64> {
+    raw.chunks_exact(stride)
+        .map(|c| 0.2126 * f64::from(c[0]) + 0.7152 * f64::from(c[1]) + 0.0722 * f64::from(c[2]))
+        .collect()
+}
+
 /// Decodes a PNG or TIFF file's bytes to grey samples; `name` labels
 /// errors. Grey and colour PNG/TIFF of 8 or 16 bits (and 1/2/4-bit grey
 /// PNG, widened to 8 bits) come from the `image` crate; palette (indexed)
@@ -92,22 +99,8 @@ pub fn decode_image(name: &str, bytes: &[u8]) -> Result<DecodedImage, StageError
         D::ImageRgba8(p) => counts(8, luma_of(p.as_raw(), 4)),
         D::ImageRgb16(p) => counts(16, luma_of(p.as_raw(), 3)),
         D::ImageRgba16(p) => counts(16, luma_of(p.as_raw(), 4)),
-        D::ImageRgb32F(p) => Samples::Float(
-            p.as_raw()
-                .chunks_exact(3)
-                .map(|c| {
-                    0.2126 * f64::from(c[0]) + 0.7152 * f64::from(c[1]) + 0.0722 * f64::from(c[2])
-                })
-                .collect(),
-        ),
-        D::ImageRgba32F(p) => Samples::Float(
-            p.as_raw()
-                .chunks_exact(4)
-                .map(|c| {
-                    0.2126 * f64::from(c[0]) + 0.7152 * f64::from(c[1]) + 0.0722 * f64::from(c[2])
-                })
-                .collect(),
-        ),
+        D::ImageRgb32F(p) => Samples::Float(float_luma_of(p.as_raw(), 3)),
+        D::ImageRgba32F(p) => Samples::Float(float_luma_of(p.as_raw(), 4)),
         // Grey (with or without alpha): the grey samples.
         D::ImageLuma16(_) | D::ImageLumaA16(_) => counts(16, decoded.into_luma16().into_raw()),
         other => counts(
