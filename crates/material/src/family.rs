@@ -131,6 +131,22 @@ impl Family {
         })
     }
 
+    /// x with Ogden's terms in ascending α (the energy is a sum over terms,
+    /// so their order is arbitrary; one order makes fits comparable term
+    /// by term, e.g. across bootstrap replicates). Other families as given.
+    pub fn canonical_order(&self, x: Vec<f64>) -> Vec<f64> {
+        let Family::Ogden(n) = *self else {
+            return x;
+        };
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| x[n + a].total_cmp(&x[n + b]));
+        order
+            .iter()
+            .map(|&i| x[i])
+            .chain(order.iter().map(|&i| x[n + i]))
+            .collect()
+    }
+
     /// Stresses (in units of the moduli in x) at the given points.
     pub fn stresses(&self, x: &[f64], points: &[(Mode, f64)]) -> Option<Vec<f64>> {
         let model = self.model(x, 1.0).ok()?;

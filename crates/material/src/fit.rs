@@ -17,6 +17,7 @@ use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt, TerminationRe
 use nalgebra::storage::Owned;
 use nalgebra::{DMatrix, DVector, Dyn, SVD};
 
+use crate::nnls::nnls;
 use crate::tensile::TensileData;
 use crate::{Family, Hyperelastic, MaterialError, Mode};
 
@@ -30,10 +31,25 @@ pub enum Residual {
     Absolute,
 }
 
+/// Sign conditions on the moduli.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, hypercontact_core::Choice)]
+pub enum Constraint {
+    /// every modulus ≥ 0 (Ogden μ_i, C10, C01, C20, C30, μ): Drucker-stable at every stretch
+    #[default]
+    Stable,
+    /// no sign condition: the plain least-squares optimum (Abaqus' default fit)
+    #[choice(name = "none")]
+    Free,
+}
+
 /// Settings of one fit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitOptions {
     pub residual: Residual,
+    pub constraint: Constraint,
+    /// Shape parameters (α_i; 1/λm) to start from before the seeded
+    /// starts, e.g. a previous optimum when refitting resampled data.
+    pub warm_starts: Vec<Vec<f64>>,
     /// Starts for families with shape parameters (Ogden, Arruda–Boyce).
     pub starts: usize,
     /// Weights of UT, PT and BT (each mode's squared residuals are
@@ -51,7 +67,11 @@ impl Default for FitOptions {
     fn default() -> Self {
         Self {
             residual: Residual::Relative,
-            starts: 8,
+            constraint: Constraint::Stable,
+            warm_starts: Vec::new(),
+            // 8 left the 6-term Ogden on Treloar's data 2.2 % above the
+            // best objective; 64 reach it, in about 0.1 s.
+            starts: 64,
             weights: [1.0; 3],
             seed: 1,
             patience: 200,
@@ -66,6 +86,10 @@ pub struct FitResult {
     pub model: Box<dyn Hyperelastic>,
     /// ½ Σ r² at the optimum (r as chosen by [`Residual`], weighted).
     pub cost: f64,
+    /// The shape parameters at the optimum (α_i ascending; 1/λm), to
+    /// warm-start a refit.
+    pub shape: Vec<f64>,
+    pub conditioning: Conditioning,
     pub starts_run: usize,
     pub starts_converged: usize,
 }
@@ -77,6 +101,7 @@ pub struct FitResult {
 /// approximation J = (I − P) (∂B/∂θ) μ with P the projector onto B's range.
 struct Projected<'a> {
     family: Family,
+    constraint: Constraint,
     points: &'a [(Mode, f64)],
     gain: &'a [f64],
     target: &'a [f64],
@@ -110,22 +135,10 @@ impl Projected<'_> {
         if !basis.norm_squared().is_finite() || y.iter().any(|v| !v.is_finite()) {
             return None;
         }
-        // `svd` with the same tolerance, checked before the sort.
-        let mut svd = SVD::try_new_unordered(basis.clone(), true, true, 5.0 * f64::EPSILON, 0)?;
-        if svd.singular_values.iter().any(|s| !s.is_finite()) {
-            return None;
-        }
-        svd.sort_by_singular_values();
-        let largest = svd.singular_values.max();
-        // Columns closer to collinear than this are one column: the
-        // solve stays finite when two α_i meet.
-        let cutoff = 1e-13 * largest;
-        let moduli = svd.solve(&y, cutoff).ok()?;
-        let u = svd.u.as_ref()?;
-        let kept: Vec<usize> = (0..svd.singular_values.len())
-            .filter(|&j| svd.singular_values[j] > cutoff)
-            .collect();
-        let range = u.select_columns(&kept);
+        let (moduli, range) = match self.constraint {
+            Constraint::Free => free_moduli(&basis, &y)?,
+            Constraint::Stable => non_negative_moduli(&basis, &y)?,
+        };
         x[..k].copy_from_slice(moduli.as_slice());
         let residuals = &basis * &moduli - y;
         (x.iter().all(|v| v.is_finite()) && residuals.iter().all(|v| v.is_finite())).then_some(
@@ -136,6 +149,44 @@ impl Projected<'_> {
             },
         )
     }
+}
+
+/// The least-squares moduli by SVD and an orthonormal basis of B's
+/// numerical range.
+fn free_moduli(basis: &DMatrix<f64>, y: &DVector<f64>) -> Option<(DVector<f64>, DMatrix<f64>)> {
+    // `svd` with the same tolerance, checked before the sort.
+    let mut svd = SVD::try_new_unordered(basis.clone(), true, true, 5.0 * f64::EPSILON, 0)?;
+    if svd.singular_values.iter().any(|s| !s.is_finite()) {
+        return None;
+    }
+    svd.sort_by_singular_values();
+    let largest = svd.singular_values.max();
+    // Columns closer to collinear than this are one column: the
+    // solve stays finite when two α_i meet.
+    let cutoff = 1e-13 * largest;
+    let moduli = svd.solve(y, cutoff).ok()?;
+    let u = svd.u.as_ref()?;
+    let kept: Vec<usize> = (0..svd.singular_values.len())
+        .filter(|&j| svd.singular_values[j] > cutoff)
+        .collect();
+    Some((moduli, u.select_columns(&kept)))
+}
+
+/// The non-negative least-squares moduli (Lawson–Hanson) and an
+/// orthonormal basis of the range of B's free columns: the moduli held at
+/// zero do not move with θ, so the projection leaves them out (the
+/// Jacobian of the residual is then Kaufman's on the free columns, and
+/// zero along the shape parameters of terms held at zero).
+fn non_negative_moduli(
+    basis: &DMatrix<f64>,
+    y: &DVector<f64>,
+) -> Option<(DVector<f64>, DMatrix<f64>)> {
+    let solution = nnls(basis, y)?;
+    if solution.free.is_empty() {
+        return Some((solution.x, DMatrix::zeros(basis.nrows(), 0)));
+    }
+    let (_, range) = free_moduli(&basis.select_columns(&solution.free), y)?;
+    Some((solution.x, range))
 }
 
 impl LeastSquaresProblem<f64, Dyn, Dyn> for Projected<'_> {
@@ -233,7 +284,9 @@ pub fn fit(
     };
 
     let seed = options.seed.wrapping_mul(1000).wrapping_add(n as u64);
-    let shapes = family.shape_starts(options.starts, seed);
+    let mut shapes = options.warm_starts.clone();
+    shapes.retain(|s| s.len() == n - family.n_linear());
+    shapes.extend(family.shape_starts(options.starts, seed));
     let solver = LevenbergMarquardt::new()
         .with_ftol(1e-12)
         .with_xtol(1e-10)
@@ -245,6 +298,7 @@ pub fn fit(
     for shape in &shapes {
         let mut problem = Projected {
             family,
+            constraint: options.constraint,
             points: &points,
             gain: &gain,
             target: &target,
@@ -283,14 +337,94 @@ pub fn fit(
             reasons.join("; ")
         )));
     };
+    let x = family.canonical_order(x);
+    let conditioning = conditioning(family, &x, &points, &gain);
     let model = family.model(&x, scale_pa)?;
     Ok(FitResult {
         family,
         model,
         cost,
+        shape: x[family.n_linear()..].to_vec(),
+        conditioning,
         starts_run: shapes.len(),
         starts_converged: converged,
     })
+}
+
+/// How well the data pin the parameters down at an optimum.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Conditioning {
+    /// Condition number of the weighted residuals' Jacobian in the free
+    /// parameters, each column scaled to unit length (so units and sizes
+    /// of the parameters do not enter): how much a relative change of the
+    /// data can move the parameters, relative to the smallest such move.
+    /// Infinite where the free parameters are not identifiable.
+    pub condition_number: f64,
+    /// Largest |correlation| between two free parameters, from (JᵀJ)⁻¹ (the
+    /// Gauss–Newton covariance up to the noise variance): 1 where two
+    /// parameters trade off exactly.
+    pub max_correlation: f64,
+    /// Parameters left free at the optimum: all of them without a
+    /// constraint; with one, a modulus held at zero and (Ogden) its α
+    /// drop out.
+    pub free_params: usize,
+}
+
+/// [`Conditioning`] at x (scaled moduli, shape parameters).
+fn conditioning(family: Family, x: &[f64], points: &[(Mode, f64)], gain: &[f64]) -> Conditioning {
+    let k = family.n_linear();
+    let terms = match family {
+        Family::Ogden(n) => n,
+        _ => 0,
+    };
+    let free: Vec<usize> = (0..family.n_params())
+        .filter(|&j| match j {
+            j if j < k => x[j] != 0.0,
+            // An Ogden α whose μ is zero moves nothing.
+            j if j - k < terms => x[j - k] != 0.0,
+            _ => true,
+        })
+        .collect();
+    let not_identifiable = Conditioning {
+        condition_number: f64::INFINITY,
+        max_correlation: 1.0,
+        free_params: free.len(),
+    };
+    let Some(jac) = family.jacobian(x, points) else {
+        return not_identifiable;
+    };
+    let mut j = DMatrix::from_fn(points.len(), free.len(), |i, c| gain[i] * jac[(i, free[c])]);
+    for mut col in j.column_iter_mut() {
+        let norm = col.norm();
+        if norm > 0.0 {
+            col /= norm;
+        }
+    }
+    let Some(svd) = SVD::try_new_unordered(j.clone(), false, false, 5.0 * f64::EPSILON, 0) else {
+        return not_identifiable;
+    };
+    let (largest, smallest) = (svd.singular_values.max(), svd.singular_values.min());
+    if free.is_empty() || !(smallest > 0.0) || !largest.is_finite() {
+        return not_identifiable;
+    }
+    let condition_number = largest / smallest;
+    let max_correlation = (j.transpose() * &j)
+        .try_inverse()
+        .map(|c| {
+            let mut worst = 0.0_f64;
+            for a in 0..c.nrows() {
+                for b in 0..a {
+                    worst = worst.max((c[(a, b)] / (c[(a, a)] * c[(b, b)]).sqrt()).abs());
+                }
+            }
+            worst.min(1.0)
+        })
+        .unwrap_or(1.0);
+    Conditioning {
+        condition_number,
+        max_correlation,
+        free_params: free.len(),
+    }
 }
 
 #[cfg(test)]
@@ -300,6 +434,109 @@ mod tests {
     use crate::quality::{quality, total_rms_rel_err};
     use crate::sample::{SAMPLE_NOISE, paper_sample, synthetic_tensile};
     use crate::{Ogden, tensile::TensileCurve};
+
+    /// The paper's fit: plain least squares.
+    fn unconstrained() -> FitOptions {
+        FitOptions {
+            constraint: Constraint::Free,
+            ..FitOptions::default()
+        }
+    }
+
+    fn treloar() -> TensileData {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../data/reference/treloar_1944.csv");
+        let table = hypercontact_core::csv_table::read_csv(&path).unwrap();
+        TensileData::from_table(&table, "treloar_1944.csv").unwrap()
+    }
+
+    /// Objective ½ Σ r² recomputed from a written model.
+    fn objective(model: &dyn Hyperelastic, data: &TensileData) -> f64 {
+        0.5 * data.n_points() as f64 * total_rms_rel_err(model, data).powi(2)
+    }
+
+    #[test]
+    fn stable_ogden_fits_on_treloar_equal_an_independent_bounded_search() {
+        // Reference: scipy 1.17.1 `least_squares(method="trf")` on the full
+        // nonlinear problem in (μ_i ≥ 0, α_i), residuals (T_fit − T) /
+        // max(|T|, 1 % of the mode's largest |T|), 200 random starts
+        // (α ∈ U(−6, 8), μ ∈ U(0, 1) of the largest stress; bounds |α| ≤
+        // 1000, never reached), tolerances 1e-14 (throwaway script, 2026-11-24):
+        // ½ Σ r² = 0.143559100 (3 terms: μ = 2716.7, 7950.5, 401028 Pa,
+        // α = 5.118, −2.143, 1.252) and 0.118897945 (4 and 6 terms: the
+        // same four live terms). Measured here: equal to 1e-8.
+        let data = treloar();
+        for (terms, reference) in [(3, 0.143_559_100), (4, 0.118_897_945), (6, 0.118_897_945)] {
+            let r = fit(&data, Family::Ogden(terms), &FitOptions::default()).unwrap();
+            assert!(
+                (r.cost / reference - 1.0).abs() < 0.02,
+                "ogden-{terms}: {} vs scipy {reference}",
+                r.cost
+            );
+            let p = r.model.parameters();
+            assert!(p[..terms].iter().all(|m| m.value >= 0.0), "{p:?}");
+            for s in crate::stability::stability_ranges(r.model.as_ref()) {
+                assert!(s.stable_everywhere(), "ogden-{terms} {s:?}");
+            }
+            // The written parameters give back the fit's own objective.
+            let again = objective(r.model.as_ref(), &data);
+            assert!((again / r.cost - 1.0).abs() < 1e-9, "{again} vs {}", r.cost);
+        }
+    }
+
+    #[test]
+    fn the_unconstrained_six_term_fit_is_ill_conditioned_and_the_stable_one_is_not() {
+        let data = treloar();
+        let free = fit(&data, Family::Ogden(6), &unconstrained()).unwrap();
+        let stable = fit(&data, Family::Ogden(6), &FitOptions::default()).unwrap();
+        // 64 starts reach the best objective known (0.1088148; 8 starts
+        // stopped at 0.1112, 2.2 % above), below the constrained one.
+        assert!(free.cost < 0.10882, "{}", free.cost);
+        assert!(free.cost < stable.cost);
+        // Cancelling moduli: condition number beyond 1e12 and parameters
+        // that trade off exactly; the stable fit keeps four live terms at
+        // condition number ≈ 376.
+        assert!(
+            free.conditioning.condition_number > 1e12,
+            "{:?}",
+            free.conditioning
+        );
+        assert!(free.conditioning.max_correlation > 0.999_999);
+        let largest = free.model.parameters()[..6]
+            .iter()
+            .fold(0.0_f64, |m, p| m.max(p.value.abs()));
+        assert!(largest > 1e3 * free.model.shear_modulus_pa(), "{largest}");
+        assert!(
+            stable.conditioning.condition_number < 1e3,
+            "{:?}",
+            stable.conditioning
+        );
+        assert_eq!(stable.conditioning.free_params, 8);
+    }
+
+    #[test]
+    fn the_papers_data_take_a_single_term_under_the_constraint() {
+        // The sample is generated from the paper's Table 1, whose μ_i cancel
+        // at ±5e9 Pa; no Ogden with μ_i ≥ 0 follows it: the best is one
+        // term. scipy's bounded search (as above, 100 starts) gives
+        // ½ Σ r² = 0.628945421 for 2, 3 and 6 terms, the 1-term optimum.
+        let data = paper_sample();
+        let one = fit(&data, Family::Ogden(1), &unconstrained()).unwrap();
+        for terms in [2, 6] {
+            let r = fit(&data, Family::Ogden(terms), &FitOptions::default()).unwrap();
+            assert!((r.cost / 0.628_945_421 - 1.0).abs() < 1e-6, "{}", r.cost);
+            assert!((r.cost / one.cost - 1.0).abs() < 1e-6);
+            assert_eq!(r.conditioning.free_params, 2);
+        }
+    }
+
+    #[test]
+    fn terms_are_written_in_ascending_alpha() {
+        let r = fit(&treloar(), Family::Ogden(3), &FitOptions::default()).unwrap();
+        let p = r.model.parameters();
+        assert!(p[3].value < p[4].value && p[4].value < p[5].value, "{p:?}");
+        assert_eq!(r.shape, [p[3].value, p[4].value, p[5].value]);
+    }
 
     /// RMS relative difference between two models' curves at the data's
     /// stretches.
@@ -324,7 +561,7 @@ mod tests {
     fn six_term_ogden_recovers_noise_free_paper_data() {
         let truth = paper_epdm();
         let data = synthetic_tensile(&truth, 50, 0.0, 1);
-        let result = fit(&data, Family::Ogden(6), &FitOptions::default()).unwrap();
+        let result = fit(&data, Family::Ogden(6), &unconstrained()).unwrap();
         let rms = total_rms_rel_err(result.model.as_ref(), &data);
         assert!(rms < 1e-3, "RMS relative error {rms}");
         assert!(curve_distance(result.model.as_ref(), &truth, &data) < 1e-3);
@@ -335,7 +572,7 @@ mod tests {
     fn noisy_sample_is_fitted_to_within_the_noise() {
         let truth = paper_epdm();
         let data = paper_sample();
-        let result = fit(&data, Family::Ogden(6), &FitOptions::default()).unwrap();
+        let result = fit(&data, Family::Ogden(6), &unconstrained()).unwrap();
         let model = result.model.as_ref();
         // Against the noisy points the error is the noise itself (0.5 %),
         // less what 12 parameters absorb out of 150 points ...
@@ -452,12 +689,14 @@ mod tests {
         data.curves[0].stretch.insert(0, 1.0);
         data.curves[0].stress_pa.insert(0, 0.0);
         for family in Family::all() {
-            match fit(&data, family, &FitOptions::default()) {
-                Ok(result) => assert!(result.cost.is_finite(), "{}", family.name()),
-                Err(e) => assert!(e.to_string().contains(&family.name()), "{e}"),
+            for options in [FitOptions::default(), unconstrained()] {
+                match fit(&data, family, &options) {
+                    Ok(result) => assert!(result.cost.is_finite(), "{}", family.name()),
+                    Err(e) => assert!(e.to_string().contains(&family.name()), "{e}"),
+                }
             }
         }
-        let result = fit(&data, Family::Ogden(6), &FitOptions::default()).unwrap();
+        let result = fit(&data, Family::Ogden(6), &unconstrained()).unwrap();
         let rms = total_rms_rel_err(result.model.as_ref(), &data);
         assert!(rms < 1.1 * SAMPLE_NOISE, "RMS {rms}");
     }

@@ -3,8 +3,10 @@
 //! built from the fit's results.
 
 use hypercontact_core::Schema;
+use hypercontact_core::contact::quantile;
+use hypercontact_core::param::Choice;
 
-use crate::fit::FitResult;
+use crate::fit::{Conditioning, Constraint, FitResult};
 use crate::quality::{Quality, quality};
 use crate::stability::{StabilityRange, stability_ranges};
 use crate::tensile::TensileData;
@@ -24,20 +26,23 @@ pub struct ParamsTable {
     pub value: Vec<f64>,
     /// Pa for moduli, 1 for α_i and λm
     pub unit: Vec<String>,
+    /// 5th percentile over the bootstrap replicates (NaN without a
+    /// bootstrap); Ogden terms are matched in ascending α
+    #[column(unit = "Pa or 1")]
+    pub p05: Vec<f64>,
+    /// 95th percentile over the bootstrap replicates (NaN without)
+    #[column(unit = "Pa or 1")]
+    pub p95: Vec<f64>,
 }
 
 impl ParamsTable {
     /// The model's parameters followed by μ0, E0 = 2 μ0 (1 + ν) and
     /// E0* = E0 / (1 − ν²), as the paper normalises, at Poisson's ratio ν.
     pub fn new(family: Family, model: &dyn Hyperelastic, poisson: f64) -> Self {
-        let mu0 = model.shear_modulus_pa();
-        let derived = [
-            Parameter::modulus("mu0", mu0),
-            Parameter::modulus("e0", youngs_modulus_pa(mu0, poisson)),
-            Parameter::modulus("e0_star", composite_modulus_pa(mu0, poisson)),
-        ];
-        let rows: Vec<Parameter> = model.parameters().into_iter().chain(derived).collect();
+        let rows = rows_of(model, poisson);
         Self {
+            p05: vec![f64::NAN; rows.len()],
+            p95: vec![f64::NAN; rows.len()],
             model: vec![family.name(); rows.len()],
             term: rows
                 .iter()
@@ -48,6 +53,42 @@ impl ParamsTable {
             unit: rows.iter().map(|p| p.unit.label().to_owned()).collect(),
         }
     }
+}
+
+impl ParamsTable {
+    /// The 5–95 % interval of every row over bootstrap replicates of the
+    /// same family (rows matched by position: Ogden terms in ascending α).
+    pub fn with_intervals<'a>(
+        mut self,
+        replicates: impl IntoIterator<Item = &'a dyn Hyperelastic>,
+        poisson: f64,
+    ) -> Self {
+        let values: Vec<Vec<f64>> = replicates
+            .into_iter()
+            .map(|m| rows_of(m, poisson).iter().map(|p| p.value).collect())
+            .filter(|v: &Vec<f64>| v.len() == self.value.len())
+            .collect();
+        if values.is_empty() {
+            return self;
+        }
+        for row in 0..self.value.len() {
+            let column: Vec<f64> = values.iter().map(|v| v[row]).collect();
+            self.p05[row] = quantile(&column, 0.05);
+            self.p95[row] = quantile(&column, 0.95);
+        }
+        self
+    }
+}
+
+/// A model's parameters followed by μ0, E0 and E0* at ν.
+fn rows_of(model: &dyn Hyperelastic, poisson: f64) -> Vec<Parameter> {
+    let mu0 = model.shear_modulus_pa();
+    let derived = [
+        Parameter::modulus("mu0", mu0),
+        Parameter::modulus("e0", youngs_modulus_pa(mu0, poisson)),
+        Parameter::modulus("e0_star", composite_modulus_pa(mu0, poisson)),
+    ];
+    model.parameters().into_iter().chain(derived).collect()
 }
 
 /// The `quality` table: one row per mode, then one over all points.
@@ -66,11 +107,33 @@ pub struct QualityTable {
     pub max_rel_err: Vec<f64>,
     /// points in the mode
     pub n_points: Vec<i64>,
+    /// condition number of the fit's Jacobian in its free parameters,
+    /// columns scaled to unit length (`all` row; NaN on the mode rows)
+    #[column(unit = "1")]
+    pub condition_number: Vec<f64>,
+    /// largest |correlation| between two free parameters (`all` row)
+    #[column(unit = "1")]
+    pub max_correlation: Vec<f64>,
+    /// parameters not held at a bound (`all` row; 0 on the mode rows)
+    pub free_params: Vec<i64>,
 }
 
-impl From<&[Quality]> for QualityTable {
-    fn from(qualities: &[Quality]) -> Self {
+impl QualityTable {
+    pub fn new(qualities: &[Quality], conditioning: &Conditioning) -> Self {
+        let whole = |q: &Quality, v: f64, other: f64| if q.mode.is_none() { v } else { other };
         Self {
+            condition_number: qualities
+                .iter()
+                .map(|q| whole(q, conditioning.condition_number, f64::NAN))
+                .collect(),
+            max_correlation: qualities
+                .iter()
+                .map(|q| whole(q, conditioning.max_correlation, f64::NAN))
+                .collect(),
+            free_params: qualities
+                .iter()
+                .map(|q| whole(q, conditioning.free_params as f64, 0.0) as i64)
+                .collect(),
             mode: qualities.iter().map(|q| q.label().to_owned()).collect(),
             r2: qualities.iter().map(|q| q.r2).collect(),
             rms_rel_err: qualities.iter().map(|q| q.rms_rel_err).collect(),
@@ -159,8 +222,15 @@ pub struct ComparisonTable {
     pub rank: Vec<i64>,
     /// family name as accepted by `model`
     pub model: Vec<String>,
+    /// stable (moduli ≥ 0) or none, as accepted by `constraint`
+    pub constraint: Vec<String>,
     /// number of fitted parameters
     pub n_params: Vec<i64>,
+    /// parameters not held at a bound
+    pub free_params: Vec<i64>,
+    /// condition number of the fit (see `quality`); NaN if failed
+    #[column(unit = "1")]
+    pub condition_number: Vec<f64>,
     /// RMS relative error over all points (NaN if failed)
     #[column(unit = "1")]
     pub rms_rel_err: Vec<f64>,
@@ -185,7 +255,7 @@ pub struct ComparisonTable {
     /// BT stable range, upper end
     #[column(unit = "1")]
     pub bt_lambda_max: Vec<f64>,
-    /// 1 for the model chosen by `model`
+    /// 1 for the model and constraint chosen by `model` and `constraint`
     pub selected: Vec<i64>,
     /// ok, or why the family could not be fitted
     pub status: Vec<String>,
@@ -194,6 +264,8 @@ pub struct ComparisonTable {
 /// One family's line in the comparison.
 pub struct ComparisonRow {
     family: Family,
+    constraint: Constraint,
+    conditioning: Option<Conditioning>,
     rms_rel_err: f64,
     max_rel_err: f64,
     /// (λ_min, λ_max), indexed by [`Mode`].
@@ -203,7 +275,12 @@ pub struct ComparisonRow {
 }
 
 impl ComparisonRow {
-    pub fn from_fit(result: &FitResult, data: &TensileData, selected: bool) -> Self {
+    pub fn from_fit(
+        result: &FitResult,
+        data: &TensileData,
+        constraint: Constraint,
+        selected: bool,
+    ) -> Self {
         let model = result.model.as_ref();
         let all = quality(model, data).pop();
         let mut ranges = [(f64::NAN, f64::NAN); 3];
@@ -212,6 +289,8 @@ impl ComparisonRow {
         }
         Self {
             family: result.family,
+            constraint,
+            conditioning: Some(result.conditioning),
             rms_rel_err: all.map_or(f64::NAN, |q| q.rms_rel_err),
             max_rel_err: all.map_or(f64::NAN, |q| q.max_rel_err),
             ranges,
@@ -220,9 +299,11 @@ impl ComparisonRow {
         }
     }
 
-    pub fn failed(family: Family, status: String) -> Self {
+    pub fn failed(family: Family, constraint: Constraint, status: String) -> Self {
         Self {
             family,
+            constraint,
+            conditioning: None,
             rms_rel_err: f64::NAN,
             max_rel_err: f64::NAN,
             ranges: [(f64::NAN, f64::NAN); 3],
@@ -247,7 +328,16 @@ impl ComparisonTable {
         Self {
             rank: (1..=rows.len() as i64).collect(),
             model: rows.iter().map(|r| r.family.name()).collect(),
+            constraint: rows
+                .iter()
+                .map(|r| r.constraint.name().to_owned())
+                .collect(),
             n_params: rows.iter().map(|r| r.family.n_params() as i64).collect(),
+            free_params: rows
+                .iter()
+                .map(|r| r.conditioning.map_or(0, |c| c.free_params as i64))
+                .collect(),
+            condition_number: col(&|r| r.conditioning.map_or(f64::NAN, |c| c.condition_number)),
             rms_rel_err: col(&|r| r.rms_rel_err),
             max_rel_err: col(&|r| r.max_rel_err),
             ut_lambda_min: low(Mode::Uniaxial),

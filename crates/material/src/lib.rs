@@ -11,6 +11,7 @@
 //!   stages `tensile-table`, `material-fit` and `material-preset`.
 
 pub mod arruda_boyce;
+pub mod bootstrap;
 pub mod contact;
 pub mod family;
 pub mod fit;
@@ -20,6 +21,7 @@ pub mod invariants;
 pub mod model;
 pub mod mooney_rivlin;
 pub mod neo_hookean;
+pub mod nnls;
 pub mod ogden;
 pub mod parameter;
 pub mod preset_stage;
@@ -38,7 +40,7 @@ use hypercontact_core::csv_table::RowPlace;
 pub use arruda_boyce::ArrudaBoyce;
 pub use contact::{ContactLaw, MonotonicRange};
 pub use family::Family;
-pub use fit::{FitOptions, FitResult, Residual, fit};
+pub use fit::{Conditioning, Constraint, FitOptions, FitResult, Residual, fit};
 pub use model::{Hyperelastic, Mode, Poisson, composite_modulus_pa, youngs_modulus_pa};
 pub use mooney_rivlin::MooneyRivlin;
 pub use neo_hookean::NeoHookean;

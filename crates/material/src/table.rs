@@ -19,13 +19,23 @@ pub struct MaterialTable {
     pub value: Vec<f64>,
 }
 
+/// A model's rows of the `material` table: family, parameter name, value.
+pub(crate) fn parameter_rows(model: &dyn Hyperelastic) -> (Vec<String>, Vec<String>, Vec<f64>) {
+    let params = model.parameters();
+    (
+        vec![model.family().to_owned(); params.len()],
+        params.iter().map(Parameter::name).collect(),
+        params.iter().map(|p| p.value).collect(),
+    )
+}
+
 /// Writes a model as a `material` table.
 pub fn to_table(model: &dyn Hyperelastic) -> Table {
-    let params = model.parameters();
+    let (model, param, value) = parameter_rows(model);
     MaterialTable {
-        model: vec![model.family().to_owned(); params.len()],
-        param: params.iter().map(Parameter::name).collect(),
-        value: params.iter().map(|p| p.value).collect(),
+        model,
+        param,
+        value,
     }
     .into_table()
 }
@@ -37,6 +47,15 @@ pub fn from_table(table: &Table) -> Result<Box<dyn Hyperelastic>, MaterialError>
         param: names,
         value: values,
     } = MaterialTable::from_table(table).map_err(|e| MaterialError::Table(e.to_string()))?;
+    from_parts(&models, &names, &values)
+}
+
+/// A model from the `material` table's columns.
+pub(crate) fn from_parts(
+    models: &[String],
+    names: &[String],
+    values: &[f64],
+) -> Result<Box<dyn Hyperelastic>, MaterialError> {
     let family = models
         .first()
         .ok_or_else(|| MaterialError::Table("the material table is empty".into()))?;
