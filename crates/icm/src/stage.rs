@@ -4,18 +4,21 @@
 
 use std::sync::Arc;
 
-use hypercontact_core::contact::ResponseTable;
+use rayon::prelude::*;
+
+use hypercontact_core::contact::{BandTable, ResponseTable};
 use hypercontact_core::{
     Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, Schema, Stage, StageError,
     StageInfo, params,
 };
-use hypercontact_material::Poisson;
+use hypercontact_material::bootstrap::{ReplicatesTable, from_replicates_table};
 use hypercontact_material::table::MaterialTable;
+use hypercontact_material::{Hyperelastic, Poisson};
 use hypercontact_truncation::stage::ProfileTable;
 
 use crate::IcmError;
 use crate::modulus::{CompositeModulus, Model};
-use crate::solver::{ProfileSlices, Scheme, solve};
+use crate::solver::{ProfileSlices, Scheme, Solution, solve};
 
 /// Parameters of `icm`.
 #[params]
@@ -36,7 +39,7 @@ pub struct Icm;
 
 static INFO: StageInfo = StageInfo {
     kind: "icm",
-    version: 1,
+    version: 2,
     summary: "Incremental contact model: load against contact area from a truncation profile",
     doc: "Integrates dF/d(-z) = 2 E_t*(S) r(z) N(z) from F(z_max) = 0 downward over the \
           profile's planes (the paper's Eqs. 5-7); `z_m` is the plane's height. Hyperelastic: \
@@ -47,7 +50,12 @@ static INFO: StageInfo = StageInfo {
           the paper's explicit step; `heun` the explicit trapezoidal rule (second order, using \
           only tabulated planes; exact for a flat punch). Planes with A = 0 or N = 0 add no \
           load. A0 is area_m2 / area_fraction of the profile. If S leaves the range where phi \
-          is invertible, the stage stops and names the plane and the stress.",
+          is invertible, the stage stops and names the plane and the stress. With `replicates` \
+          (material-fit's bootstrap) every replicate material is solved over the same planes \
+          (in parallel; the same on any thread count) and `bands` gives, per plane, the 5th, \
+          50th and 95th percentiles of load_norm (each replicate's load over the main \
+          material's E0* A0, on the response's axes) and of tangent_ratio (each replicate's \
+          E_t* over its own E0*); a replicate whose law gives out is left out with a note.",
     inputs: &[
         InputSpec::table::<ProfileTable>("profile", Arity::One, "the truncation profile, top down"),
         InputSpec::table::<MaterialTable>(
@@ -55,11 +63,20 @@ static INFO: StageInfo = StageInfo {
             Arity::One,
             "the material table (a preset or a fit)",
         ),
+        InputSpec::table::<ReplicatesTable>(
+            "replicates",
+            Arity::Optional,
+            "material-fit's bootstrap replicates: each is solved too, for `bands`",
+        ),
     ],
-    outputs: &[OutputSpec::table::<ResponseTable>(
-        "response",
-        "one row per profile plane",
-    )],
+    outputs: &[
+        OutputSpec::table::<ResponseTable>("response", "one row per profile plane"),
+        OutputSpec::table::<BandTable>(
+            "bands",
+            "5–95 % bands over the material's bootstrap replicates, one row per plane (no \
+             rows without `replicates`)",
+        ),
+    ],
 };
 
 impl Stage for Icm {
@@ -73,7 +90,7 @@ impl Stage for Icm {
         &self,
         p: &Checked<IcmParams>,
         inputs: &Inputs,
-        _ctx: &Context,
+        ctx: &Context,
     ) -> Result<Outputs, StageError> {
         let profile: ProfileTable = inputs.read("profile")?;
         let patches: Vec<f64> = profile.patches.iter().map(|&n| n as f64).collect();
@@ -82,22 +99,23 @@ impl Stage for Icm {
 
         let material = hypercontact_material::table::from_table(inputs.table("material")?)
             .map_err(|e| StageError::other(IcmError::Material(e)))?;
-        let modulus = CompositeModulus::new(Arc::from(material), p.model, p.poisson.0)
-            .map_err(|e| StageError::other(IcmError::Material(e)))?;
-
-        let solution = solve(
-            ProfileSlices {
-                z_m: &profile.z_m,
-                area_m2: &profile.area_m2,
-                patches: &patches,
-                radius_m: &profile.radius_m,
-            },
-            p.scheme,
-            &mut |s| modulus.at_stress_pa(s).map_err(|e| e.to_string()),
-        )
-        .map_err(|e| StageError::other(IcmError::Solve(e)))?;
-
+        let slices = ProfileSlices {
+            z_m: &profile.z_m,
+            area_m2: &profile.area_m2,
+            patches: &patches,
+            radius_m: &profile.radius_m,
+        };
+        let (modulus, solution) = respond(Arc::from(material), slices, p)?;
         let e0_star = modulus.e0_star_pa();
+        let bands = match inputs.get("replicates") {
+            Some(_) => {
+                let replicates = from_replicates_table(inputs.table("replicates")?)
+                    .map_err(|e| StageError::other(IcmError::Material(e)))?;
+                let axes = (e0_star, nominal_area_m2);
+                bands(replicates, slices, &profile.area_fraction, p, axes, ctx)
+            }
+            None => BandTable::from_replicates(&[], &[], &[]),
+        };
         let response = ResponseTable {
             load_norm: solution
                 .load_n
@@ -110,8 +128,74 @@ impl Stage for Icm {
             load_n: solution.load_n,
             mean_stress_pa: solution.mean_stress_pa,
         };
-        Ok(Outputs::new().table("response", response.into_table()))
+        Ok(Outputs::new()
+            .table("response", response.into_table())
+            .table("bands", bands.into_table()))
     }
+}
+
+/// One material's solve over the profile.
+fn respond(
+    material: Arc<dyn Hyperelastic>,
+    slices: ProfileSlices<'_>,
+    p: &IcmParams,
+) -> Result<(CompositeModulus, Solution), StageError> {
+    let modulus = CompositeModulus::new(material, p.model, p.poisson.0)
+        .map_err(|e| StageError::other(IcmError::Material(e)))?;
+    let solution = solve(slices, p.scheme, &mut |s| {
+        modulus.at_stress_pa(s).map_err(|e| e.to_string())
+    })
+    .map_err(|e| StageError::other(IcmError::Solve(e)))?;
+    Ok((modulus, solution))
+}
+
+/// Every replicate solved over the same planes (in parallel, collected in
+/// replicate order), as bands: loads over the main fit's E0* A0, tangent
+/// moduli over each replicate's own E0*. A replicate whose law gives out
+/// is left out, with a note.
+fn bands(
+    replicates: Vec<(i64, Box<dyn Hyperelastic>)>,
+    slices: ProfileSlices<'_>,
+    area_fraction: &[f64],
+    p: &IcmParams,
+    (e0_star_pa, nominal_area_m2): (f64, f64),
+    ctx: &Context,
+) -> BandTable {
+    let bar = ctx.progress(replicates.len() as u64, "bootstrap replicates");
+    let solved: Vec<(i64, Result<(CompositeModulus, Solution), StageError>)> = replicates
+        .into_par_iter()
+        .map(|(r, m)| {
+            let out = respond(Arc::from(m), slices, p);
+            bar.inc(1);
+            (r, out)
+        })
+        .collect();
+    let (mut loads, mut tangents, mut failed) = (Vec::new(), Vec::new(), Vec::new());
+    for (r, out) in solved {
+        match out {
+            Ok((modulus, solution)) => {
+                let own = modulus.e0_star_pa();
+                loads.push(
+                    solution
+                        .load_n
+                        .iter()
+                        .map(|f| f / (e0_star_pa * nominal_area_m2))
+                        .collect(),
+                );
+                tangents.push(solution.modulus_pa.iter().map(|e| e / own).collect());
+            }
+            Err(e) => failed.push(format!("{r}: {e}")),
+        }
+    }
+    if !failed.is_empty() {
+        ctx.note(&format!(
+            "bands: {} of {} replicates left out, e.g. replicate {}",
+            failed.len(),
+            failed.len() + loads.len(),
+            failed[0]
+        ));
+    }
+    BandTable::from_replicates(area_fraction, &loads, &tangents)
 }
 
 /// A0 = A / (A/A0) from the row of largest area fraction, checked against
