@@ -11,6 +11,7 @@
 //!   stages `tensile-table`, `material-fit` and `material-preset`.
 
 pub mod arruda_boyce;
+mod compensated_sum;
 pub mod contact;
 pub mod family;
 pub mod fit;
