@@ -12,6 +12,7 @@
 
 pub mod arruda_boyce;
 pub mod bootstrap;
+mod compensated_sum;
 pub mod contact;
 pub mod family;
 pub mod fit;

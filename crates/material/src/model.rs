@@ -35,6 +35,7 @@ impl ParamValue for Poisson {
 }
 
 use crate::Parameter;
+use crate::compensated_sum::CompensatedSum;
 
 /// The initial Young's modulus E0 = 2 μ0 (1 + ν) (SPEC, "Ogden model"), Pa.
 /// ν = ½ gives 3 μ0.
@@ -82,6 +83,56 @@ pub trait Hyperelastic: fmt::Debug + Send + Sync {
     /// closed form.
     fn log_strain_hessian_pa(&self, stretches: [f64; 3]) -> [[f64; 2]; 2] {
         log_strain_hessian_by_differences(self, stretches)
+    }
+
+    /// The trace and determinant of [`Hyperelastic::log_strain_hessian_pa`]
+    /// at principal stretches (λ1, λ2, λ3), from which Drucker's condition
+    /// is decided ([`crate::stability::is_stable`]). The default forms them
+    /// from the Hessian's entries ([`DruckerStiffness::from_hessian`]),
+    /// which cancels where the entries are many orders of magnitude larger
+    /// than the determinant; families override it with an expanded form
+    /// whose terms do not cancel for a stable material ([`crate::Ogden`]'s
+    /// impl, and [`crate::invariants::drucker_stiffness`] for the invariant
+    /// families), each saying how accurate it is.
+    fn drucker_stiffness(&self, stretches: [f64; 3]) -> DruckerStiffness {
+        DruckerStiffness::from_hessian(self.log_strain_hessian_pa(stretches))
+    }
+}
+
+/// The two invariants of the 2 × 2 Drucker stiffness H (the log-strain
+/// Hessian, [`Hyperelastic::log_strain_hessian_pa`]): H is positive
+/// definite, and Drucker's condition holds, exactly where both are
+/// positive.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DruckerStiffness {
+    /// H11 + H22, Pa.
+    pub trace_pa: f64,
+    /// H11 H22 − H12², Pa².
+    pub determinant_pa2: f64,
+}
+
+impl DruckerStiffness {
+    /// From the Hessian's entries: the default for families without an
+    /// expanded form. H11 H22 − H12² is formed with fused multiply–adds,
+    /// correctly rounded for the entries given, but the entries' own
+    /// rounding errors, multiplied by the other entries, remain: where the
+    /// entries share a term much larger than the determinant, it is lost.
+    pub fn from_hessian([[h11, h12], [_, h22]]: [[f64; 2]; 2]) -> Self {
+        let mut determinant = CompensatedSum::default();
+        determinant.add_product(h11, h22);
+        determinant.add_product(-h12, h12);
+        Self {
+            trace_pa: h11 + h22,
+            determinant_pa2: determinant.value(),
+        }
+    }
+
+    /// Drucker's condition: H positive definite. For a symmetric 2 × 2
+    /// matrix that is det > 0 and trace > 0: with det > 0, H11 and H22 share
+    /// the trace's sign, and the trace, |H11| + |H22|, is the safest of the
+    /// three to read it from.
+    pub fn is_positive_definite(&self) -> bool {
+        self.determinant_pa2 > 0.0 && self.trace_pa > 0.0
     }
 }
 

@@ -1,6 +1,8 @@
 //! The Ogden model in the Abaqus convention (the paper's Eq. 1):
 //! W = Σ 2 μ_i / α_i² (λ1^α_i + λ2^α_i + λ3^α_i − 3), μ0 = Σ μ_i.
 
+use crate::compensated_sum::CompensatedSum;
+use crate::model::DruckerStiffness;
 use crate::{Hyperelastic, MaterialError, Mode, Parameter};
 
 /// An N-term incompressible Ogden solid.
@@ -38,6 +40,19 @@ impl Ogden {
 
     pub fn terms(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
         self.mu_pa.iter().copied().zip(self.alpha.iter().copied())
+    }
+
+    /// s_j = Σ_i μ_i λ_j^α_i for j = 1, 2, 3, Pa, each summed without
+    /// rounding beyond that of the powers (the accuracy is discussed at
+    /// `drucker_stiffness` in the [`Hyperelastic`] impl below).
+    fn power_sums(&self, stretches: [f64; 3]) -> [CompensatedSum; 3] {
+        stretches.map(|stretch| {
+            let mut s = CompensatedSum::default();
+            for (mu, a) in self.terms() {
+                s.add_product(mu, stretch.powf(a));
+            }
+            s
+        })
     }
 }
 
@@ -84,17 +99,62 @@ impl Hyperelastic for Ogden {
             .sum()
     }
 
-    fn log_strain_hessian_pa(&self, [l1, l2, l3]: [f64; 3]) -> [[f64; 2]; 2] {
-        // Ŵ = Σ 2μ/α² (e^(α ε1) + e^(α ε2) + e^(−α (ε1 + ε2)) − 3).
-        let mut h = [[0.0; 2]; 2];
-        for (mu, a) in self.terms() {
-            let p3 = l3.powf(a);
-            h[0][0] += 2.0 * mu * (l1.powf(a) + p3);
-            h[1][1] += 2.0 * mu * (l2.powf(a) + p3);
-            h[0][1] += 2.0 * mu * p3;
+    fn log_strain_hessian_pa(&self, stretches: [f64; 3]) -> [[f64; 2]; 2] {
+        // Ŵ = Σ 2μ/α² (e^(α ε1) + e^(α ε2) + e^(−α (ε1 + ε2)) − 3), so
+        // H11 = 2 (s1 + s3), H22 = 2 (s2 + s3), H12 = 2 s3.
+        let [s1, s2, s3] = self.power_sums(stretches);
+        let twice = |parts: &[&CompensatedSum]| {
+            let mut h = CompensatedSum::default();
+            for part in parts {
+                h.add_multiple_of(2.0, part);
+            }
+            h.value()
+        };
+        let h12 = twice(&[&s3]);
+        [[twice(&[&s1, &s3]), h12], [h12, twice(&[&s2, &s3])]]
+    }
+
+    /// The expanded form. With the Hessian above,
+    ///
+    /// det H = 4 [(s1 + s3)(s2 + s3) − s3²] = 4 (s1 s2 + s1 s3 + s2 s3),
+    /// trace H = 2 (s1 + s2 + 2 s3):
+    ///
+    /// the s3² that dominates both products of H11 H22 − H12² cancels
+    /// algebraically instead of in floating point. In equibiaxial
+    /// compression at λ = 0.125, λ3 = 64 and a term with α = 16 makes s3
+    /// 10²⁹ times its μ while s1 = s2 stay of the order of the other μ_i:
+    /// s1 is lost in H11 = 2 (s1 + s3), and H11 H22 − H12² comes out 0 or
+    /// noise where det H ≈ 8 s1 s3 > 0. If every μ_i ≥ 0 every s_j is > 0
+    /// and so is every term: such a model is stable at any stretch, and is
+    /// reported so.
+    ///
+    /// Accuracy: each s_j is a compensated sum of the exact products
+    /// μ_i · λ_j^α_i, and the determinant and trace are compensated sums of
+    /// the exact partial products of those (TwoSum and fused multiply–add
+    /// error terms carried along), so the only error left that matters is
+    /// the rounding of the powers λ_j^α_i themselves (`powf`, within about
+    /// one ulp): |δs_j| ≲ u Σ_i |μ_i λ_j^α_i| (u = 2⁻⁵³), and
+    /// |δdet| ≲ 4 Σ_j |s_k + s_l| |δs_j| ({j, k, l} = {1, 2, 3}). For
+    /// μ_i ≥ 0 that is a few u relative. For an unconstrained fit whose μ_i
+    /// cancel (±10¹⁵ Pa summing to 10⁵ Pa) the s_j themselves are that
+    /// ill-conditioned, Σ |μ_i λ^α_i| / |s_j| up to 10¹², so they, and the
+    /// determinant, keep about 4 to 10 digits: far from the 0 that sets the
+    /// sign unless the model is at a Drucker limit, but only powers in
+    /// extended precision would do better.
+    fn drucker_stiffness(&self, stretches: [f64; 3]) -> DruckerStiffness {
+        let [s1, s2, s3] = self.power_sums(stretches);
+        let mut determinant = CompensatedSum::default();
+        determinant.add_product_of(&s1, &s2);
+        determinant.add_product_of(&s1, &s3);
+        determinant.add_product_of(&s2, &s3);
+        let mut trace = CompensatedSum::default();
+        trace.add_multiple_of(2.0, &s1);
+        trace.add_multiple_of(2.0, &s2);
+        trace.add_multiple_of(4.0, &s3);
+        DruckerStiffness {
+            trace_pa: trace.value(),
+            determinant_pa2: 4.0 * determinant.value(),
         }
-        h[1][0] = h[0][1];
-        h
     }
 
     fn parameters(&self) -> Vec<Parameter> {
