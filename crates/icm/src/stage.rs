@@ -11,7 +11,7 @@ use hypercontact_core::{
     Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, Schema, Stage, StageError,
     StageInfo, params,
 };
-use hypercontact_material::bootstrap::{ReplicatesTable, from_replicates_table};
+use hypercontact_material::bootstrap::{Replicate, ReplicatesTable, from_replicates_table};
 use hypercontact_material::table::MaterialTable;
 use hypercontact_material::{Hyperelastic, Poisson};
 use hypercontact_truncation::stage::ProfileTable;
@@ -134,12 +134,11 @@ impl Stage for Icm {
     }
 }
 
+/// One material's law and its solution over the profile, or why not.
+type Solved = Result<(CompositeModulus, Solution), StageError>;
+
 /// One material's solve over the profile.
-fn respond(
-    material: Arc<dyn Hyperelastic>,
-    slices: ProfileSlices<'_>,
-    p: &IcmParams,
-) -> Result<(CompositeModulus, Solution), StageError> {
+fn respond(material: Arc<dyn Hyperelastic>, slices: ProfileSlices<'_>, p: &IcmParams) -> Solved {
     let modulus = CompositeModulus::new(material, p.model, p.poisson.0)
         .map_err(|e| StageError::other(IcmError::Material(e)))?;
     let solution = solve(slices, p.scheme, &mut |s| {
@@ -154,7 +153,7 @@ fn respond(
 /// moduli over each replicate's own E0*. A replicate whose law gives out
 /// is left out, with a note.
 fn bands(
-    replicates: Vec<(i64, Box<dyn Hyperelastic>)>,
+    replicates: Vec<Replicate>,
     slices: ProfileSlices<'_>,
     area_fraction: &[f64],
     p: &IcmParams,
@@ -162,7 +161,7 @@ fn bands(
     ctx: &Context,
 ) -> BandTable {
     let bar = ctx.progress(replicates.len() as u64, "bootstrap replicates");
-    let solved: Vec<(i64, Result<(CompositeModulus, Solution), StageError>)> = replicates
+    let solved: Vec<(i64, Solved)> = replicates
         .into_par_iter()
         .map(|(r, m)| {
             let out = respond(Arc::from(m), slices, p);

@@ -124,11 +124,12 @@ impl ReplicatesTable {
     }
 }
 
+/// A replicate's number and its material.
+pub type Replicate = (i64, Box<dyn Hyperelastic>);
+
 /// Reads every replicate's model from a `replicates` table, in the order
 /// of first appearance, with its number.
-pub fn from_replicates_table(
-    table: &Table,
-) -> Result<Vec<(i64, Box<dyn Hyperelastic>)>, MaterialError> {
+pub fn from_replicates_table(table: &Table) -> Result<Vec<Replicate>, MaterialError> {
     let t = ReplicatesTable::from_table(table).map_err(|e| MaterialError::Table(e.to_string()))?;
     let mut order: Vec<i64> = Vec::new();
     for &r in &t.replicate {

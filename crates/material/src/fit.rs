@@ -404,7 +404,7 @@ fn conditioning(family: Family, x: &[f64], points: &[(Mode, f64)], gain: &[f64])
         return not_identifiable;
     };
     let (largest, smallest) = (svd.singular_values.max(), svd.singular_values.min());
-    if free.is_empty() || !(smallest > 0.0) || !largest.is_finite() {
+    if free.is_empty() || smallest.is_nan() || smallest <= 0.0 || !largest.is_finite() {
         return not_identifiable;
     }
     let condition_number = largest / smallest;
