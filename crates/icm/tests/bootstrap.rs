@@ -10,7 +10,7 @@ use hypercontact_icm::stage::{Icm, IcmParams};
 use hypercontact_icm::{CompositeModulus, Model, ProfileSlices, Scheme, solve};
 use hypercontact_material::fit_stage::{BootstrapParams, MaterialFit, MaterialFitParams};
 use hypercontact_material::sample::synthetic_tensile;
-use hypercontact_material::{Family, Hyperelastic, Ogden};
+use hypercontact_material::{Family, Ogden};
 use hypercontact_synth::surface::SelfAffine;
 use hypercontact_truncation::stage::profile_table;
 use hypercontact_truncation::{Levels, Profile, TruncationOptions, truncate};
