@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 use hypercontact_classical::stage::{GwSummaryTable, PerssonSummaryTable};
 use hypercontact_compare::stage::{AgreementTable, LoadRatioTable, TransformTable};
 use hypercontact_contact_images::stage::ContactTable;
-use hypercontact_core::contact::ResponseTable;
+use hypercontact_core::contact::{BandTable, ResponseTable};
 use hypercontact_core::{Field, Files, Inputs, Mode, Product, Schema, Table};
 use hypercontact_material::fit_stage::{
     ComparisonTable, CurvesTable, ParamsTable, QualityTable, StabilityTable,
@@ -21,7 +21,8 @@ use hypercontact_surface::surface_stage::{PsdTable, StatsTable};
 use hypercontact_truncation::stage::ProfileTable;
 
 use crate::ReportError;
-use crate::material::MaterialSummary;
+use crate::band::Band;
+use crate::material::{FitChoice, MaterialSummary};
 
 /// One tensile mode's measured and fitted nominal stress (Fig. 2).
 #[derive(Clone, Debug, PartialEq)]
@@ -105,6 +106,9 @@ pub struct Sample<'a> {
     /// The theories from the spectrum (hyperelastic as wired).
     pub persson: Option<Response>,
     pub gw: Option<Response>,
+    /// The hyperelastic ICM's 5–95 % bootstrap band (`None` when not wired
+    /// or without rows).
+    pub band: Option<Band>,
     /// What they were given (their `summary` tables).
     pub persson_summary: Option<PerssonSummaryTable>,
     pub gw_summary: Option<GwSummaryTable>,
@@ -164,6 +168,9 @@ pub struct ReportData<'a> {
     pub stability: Option<Vec<StabilityRange>>,
     /// Shown as is (checked against its schema).
     pub comparison: Option<&'a Table>,
+    /// The chosen fit and the same family under the other constraint, from
+    /// `comparison` (`None` when it is not wired or selects no row).
+    pub fit_choice: Option<FitChoice>,
     pub material: Option<MaterialSummary>,
     /// Samples in label order (T1, T2, ...), each with what is wired for it.
     pub samples: Vec<Sample<'a>>,
@@ -180,9 +187,10 @@ impl<'a> ReportData<'a> {
         let fit_params = params
             .map(|t| read::<ParamsTable>("params", t))
             .transpose()?;
-        if let Some(t) = comparison {
-            read::<ComparisonTable>("comparison", t)?;
-        }
+        let fit_choice = comparison
+            .map(|t| read::<ComparisonTable>("comparison", t))
+            .transpose()?
+            .and_then(|c| FitChoice::read(&c));
         let data = ReportData {
             curves: read_optional::<CurvesTable>(inputs, "curves")?
                 .map(read_curves)
@@ -200,6 +208,7 @@ impl<'a> ReportData<'a> {
                 .map(read_stability)
                 .transpose()?,
             comparison,
+            fit_choice,
             material: optional_table(inputs, "material")?
                 .map(|t| MaterialSummary::read(t, poisson, fit_params.as_ref()))
                 .transpose()?,
@@ -396,6 +405,14 @@ fn read_samples(inputs: &Inputs) -> Result<Vec<Sample<'_>>, ReportError> {
                 _ => &mut s.gw,
             };
             *field = Some(r);
+        }
+    }
+    for (label, band) in labelled(inputs, "bands", |input, p| {
+        Band::read(input, sample_table::<BandTable>(input, p)?)
+    })? {
+        // A table without rows is no band: the sample gets no slot for it.
+        if let Some(band) = band {
+            slot(&mut map, label).band = Some(band);
         }
     }
     for (label, t) in labelled(

@@ -4,8 +4,11 @@
 //!
 //! - [`gather`]: reads and checks whatever inputs are wired, with the
 //!   upstream stages' own table schemas;
+//! - [`band`]: the bootstrap band of a sample's ICM curve;
 //! - [`material`]: Table 1's moduli at the report's ν, held to the E0* of
 //!   the responses;
+//! - [`table1`]: Table 1 as HTML, with the bootstrap intervals and the
+//!   fit's constraint;
 //! - [`figures`]: one file per figure, shared plotting helpers;
 //! - [`summary`], [`html`]: the numbers and the page;
 //! - [`report`]: decides what can be drawn and assembles the files;
@@ -14,6 +17,7 @@
 //! Library users who hold the run's provenance call
 //! [`report::render_report`] with it; the stage passes none yet.
 
+pub mod band;
 pub mod error;
 pub mod experiment;
 pub mod figures;
@@ -26,6 +30,7 @@ pub mod powerlaw;
 pub mod report;
 pub mod stage;
 pub mod summary;
+pub mod table1;
 
 pub use error::ReportError;
 pub use html::provenance_section;

@@ -1,10 +1,13 @@
 //! Table 1's material: the fitted parameters and the initial moduli μ0, E0
 //! and E0* at the report's Poisson's ratio ν, and the checks that no other
 //! E0* reaches the page: the one each response's `load_norm` = F/(E0* A0)
-//! was divided by, and the one in the fit's `params` table.
+//! was divided by, and the one in the fit's `params` table. Also what
+//! Table 1 says about the fit beside the numbers: each parameter's 5–95 %
+//! bootstrap interval (`params`) and the objective with and without the
+//! stability constraint (`comparison`).
 
 use hypercontact_core::Table;
-use hypercontact_material::fit_stage::ParamsTable;
+use hypercontact_material::fit_stage::{ComparisonTable, ParamsTable};
 use hypercontact_material::{Family, Parameter, composite_modulus_pa, youngs_modulus_pa};
 
 use crate::ReportError;
@@ -28,6 +31,9 @@ pub struct MaterialSummary {
     pub mu0_pa: f64,
     pub e0_pa: f64,
     pub e0_star_pa: f64,
+    /// (parameter name as `params` writes it, p05, p95) of every row of
+    /// the wired `params` whose bootstrap interval is finite.
+    pub intervals: Vec<(String, f64, f64)>,
 }
 
 /// Whether `a` and `b` are different numbers (NaN differs from everything).
@@ -47,6 +53,7 @@ impl MaterialSummary {
         let model = hypercontact_material::table::from_table(table)
             .map_err(|e| ReportError::Material(e.to_string()))?;
         let mu0_pa = model.shear_modulus_pa();
+        let mut intervals = Vec::new();
         if let Some(fit) = params.filter(|p| !p.model.is_empty()) {
             let family = Family::parse(&fit.model[0])
                 .map_err(|e| ReportError::input("params", e.to_string()))?;
@@ -75,6 +82,10 @@ impl MaterialSummary {
                     ),
                 ));
             }
+            intervals = (0..fit.param.len())
+                .filter(|&i| fit.p05[i].is_finite() && fit.p95[i].is_finite())
+                .map(|i| (fit.param[i].clone(), fit.p05[i], fit.p95[i]))
+                .collect();
         }
         Ok(MaterialSummary {
             model: model.family().to_owned(),
@@ -83,7 +94,18 @@ impl MaterialSummary {
             mu0_pa,
             e0_pa: youngs_modulus_pa(mu0_pa, poisson),
             e0_star_pa: composite_modulus_pa(mu0_pa, poisson),
+            intervals,
         })
+    }
+
+    /// The 5–95 % bootstrap interval (p05, p95) of parameter `name`
+    /// (`mu_1`, `alpha_2`, `mu0`, `e0`, `e0_star`, ...), when `params`
+    /// carries a finite one.
+    pub fn interval(&self, name: &str) -> Option<(f64, f64)> {
+        self.intervals
+            .iter()
+            .find(|(n, _, _)| n == name)
+            .map(|&(_, lo, hi)| (lo, hi))
     }
 
     /// Checks that `response` (input `input`) plots F/(E0* A0) with this
@@ -101,6 +123,52 @@ impl MaterialSummary {
             )),
             _ => Ok(()),
         }
+    }
+}
+
+/// One row of the `comparison` table: a family under one setting of the
+/// constraint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitSetting {
+    /// `stable` or `none`, as material-fit's `constraint` names them.
+    pub constraint: String,
+    /// RMS relative error over all points (NaN when the fit failed).
+    pub rms_rel_err: f64,
+    pub condition_number: f64,
+    /// `ok`, or why the family could not be fitted.
+    pub status: String,
+}
+
+/// The fit Table 1 shows (the `selected` row of `comparison`) and the same
+/// family under the other setting of the constraint, so the page states
+/// the objective both ways.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitChoice {
+    /// The family as `comparison` names it (`ogden-6`).
+    pub model: String,
+    pub chosen: FitSetting,
+    pub other: Option<FitSetting>,
+}
+
+impl FitChoice {
+    /// `None` when no row is selected (a hand-made table).
+    pub fn read(c: &ComparisonTable) -> Option<Self> {
+        let setting = |i: usize| FitSetting {
+            constraint: c.constraint[i].clone(),
+            rms_rel_err: c.rms_rel_err[i],
+            condition_number: c.condition_number[i],
+            status: c.status[i].clone(),
+        };
+        let chosen = c.selected.iter().position(|&s| s == 1)?;
+        let model = c.model[chosen].clone();
+        let other = (0..c.model.len())
+            .find(|&i| c.model[i] == model && c.constraint[i] != c.constraint[chosen])
+            .map(setting);
+        Some(FitChoice {
+            model,
+            chosen: setting(chosen),
+            other,
+        })
     }
 }
 
@@ -193,5 +261,69 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("params") && e.contains("one fit"), "{e}");
+    }
+
+    #[test]
+    fn finite_bootstrap_intervals_are_kept_by_parameter_name() {
+        let table = to_table(&ogden());
+        let mut fit = ParamsTable::new(Family::Ogden(2), &ogden(), 0.5);
+        // mu_1, alpha_1, mu_2, alpha_2, mu0, e0, e0_star: an interval on
+        // α_2 and E0* only.
+        let alpha_2 = fit.param.iter().position(|p| p == "alpha_2").unwrap();
+        let e0_star = fit.param.iter().position(|p| p == "e0_star").unwrap();
+        fit.p05[alpha_2] = -2.2;
+        fit.p95[alpha_2] = -1.8;
+        fit.p05[e0_star] = 5.5e6;
+        fit.p95[e0_star] = f64::INFINITY;
+        let m = MaterialSummary::read(&table, 0.5, Some(&fit)).unwrap();
+        assert_eq!(m.interval("alpha_2"), Some((-2.2, -1.8)));
+        assert_eq!(m.interval("e0_star"), None);
+        assert_eq!(m.interval("mu_1"), None);
+        assert_eq!(m.intervals.len(), 1);
+    }
+
+    #[test]
+    fn the_fit_choice_is_the_selected_row_and_its_family_under_the_other_setting() {
+        let rows = [
+            ("yeoh", "none", 0.010, 0),
+            ("ogden-3", "none", 0.005, 0),
+            ("ogden-3", "stable", 0.020, 1),
+            ("yeoh", "stable", 0.030, 0),
+        ];
+        let nan = vec![f64::NAN; rows.len()];
+        let c = ComparisonTable {
+            rank: (1..=rows.len() as i64).collect(),
+            model: rows.iter().map(|r| r.0.to_owned()).collect(),
+            constraint: rows.iter().map(|r| r.1.to_owned()).collect(),
+            n_params: vec![6; rows.len()],
+            free_params: vec![6; rows.len()],
+            condition_number: vec![2.0, 7e6, 3.0, 4.0],
+            rms_rel_err: rows.iter().map(|r| r.2).collect(),
+            max_rel_err: nan.clone(),
+            ut_lambda_min: nan.clone(),
+            ut_lambda_max: nan.clone(),
+            pt_lambda_min: nan.clone(),
+            pt_lambda_max: nan.clone(),
+            bt_lambda_min: nan.clone(),
+            bt_lambda_max: nan,
+            selected: rows.iter().map(|r| r.3).collect(),
+            status: vec!["ok".into(); rows.len()],
+        };
+        let choice = FitChoice::read(&c).unwrap();
+        assert_eq!(choice.model, "ogden-3");
+        assert_eq!(choice.chosen.constraint, "stable");
+        assert_eq!(choice.chosen.rms_rel_err, 0.020);
+        assert_eq!(choice.chosen.condition_number, 3.0);
+        let other = choice.other.unwrap();
+        assert_eq!(
+            (other.constraint.as_str(), other.rms_rel_err),
+            ("none", 0.005)
+        );
+        assert_eq!(other.condition_number, 7e6);
+        let none_selected = ComparisonTable {
+            selected: vec![0; 4],
+            ..c
+        };
+        assert_eq!(FitChoice::read(&none_selected), None);
     }
 }

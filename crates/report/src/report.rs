@@ -3,7 +3,6 @@
 //! and writes `index.html`, `figN.png`, `figN.svg` and `summary.json`.
 
 use hypercontact_core::{Files, Inputs};
-use hypercontact_material::ParamUnit;
 use serde_json::Value;
 
 use crate::ReportError;
@@ -14,7 +13,6 @@ use crate::figures::fig8::Fig8;
 use crate::figures::{Rendered, render};
 use crate::gather::{ReportData, Response};
 use crate::html::{escape, fmt_sig, generic_table, page, provenance_section, simple_table};
-use crate::material::MaterialSummary;
 use crate::summary::{FigureStatus, Summary};
 
 /// What the report shows beyond its inputs.
@@ -110,8 +108,10 @@ fn responses<'a>(data: &'a ReportData<'a>, plot: Plot) -> Vec<SampleResponses<'a
             } else {
                 experiment_points(s)
             },
+            // The hyperelastic ICM's band: Figs. 7 and 8, not the comparison.
+            band: s.band.as_ref().filter(|_| !theories),
         })
-        .filter(|s| s.curves().next().is_some())
+        .filter(|s| s.curves().next().is_some() || s.band.is_some())
         .collect()
 }
 
@@ -352,7 +352,15 @@ const CAPTIONS: [(&str, &str, &str); 5] = [
     ),
 ];
 
-fn figure_html(outcome: &Outcome) -> String {
+/// What Figs. 7 and 8's captions add when a band is drawn.
+const BAND_CAPTION: &str = " Shaded: the 5–95 % band of the hyperelastic ICM over bootstrap \
+     refits of the material (the tensile tests resampled within each mode and refitted, each \
+     refit carried through the ICM): how far the tensile scatter and the fit's freedom move \
+     the curve.";
+
+/// A figure with its caption, followed by `extra` (a sentence on what
+/// this run adds), or the note saying why it was skipped.
+fn figure_html(outcome: &Outcome, extra: &str) -> String {
     let name = outcome.status.name.as_str();
     let (_, label, caption) = CAPTIONS
         .iter()
@@ -372,7 +380,7 @@ fn figure_html(outcome: &Outcome) -> String {
                 .map(|n| format!(" <span class=\"note\">(Incomplete: {}.)</span>", escape(n)))
                 .unwrap_or_default();
             format!(
-                "<figure id=\"{name}\">\n{svg}\n<figcaption><b>{label}.</b> {caption}{note} \
+                "<figure id=\"{name}\">\n{svg}\n<figcaption><b>{label}.</b> {caption}{extra}{note} \
                  Files: <a href=\"{name}.png\">{name}.png</a>, \
                  <a href=\"{name}.svg\">{name}.svg</a>.</figcaption>\n</figure>\n",
                 svg = r.svg
@@ -381,93 +389,15 @@ fn figure_html(outcome: &Outcome) -> String {
     }
 }
 
-/// Table 1: the fitted parameters, one row per Ogden term when every
-/// parameter belongs to a term, otherwise one row per parameter (SI).
-fn parameter_table(m: &MaterialSummary) -> String {
-    let by_term = !m.parameters.is_empty() && m.parameters.iter().all(|p| p.term.is_some());
-    if !by_term {
-        let rows: Vec<Vec<String>> = m
-            .parameters
-            .iter()
-            .map(|p| vec![escape(&p.name()), fmt_sig(p.value, 6)])
-            .collect();
-        return simple_table(
-            &format!("Table 1. Fitted {} parameters (SI units)", m.model),
-            &["parameter".into(), "value".into()],
-            &rows,
-        );
-    }
-    // Columns: the symbols in table order, each with its unit.
-    let mut columns: Vec<(&str, ParamUnit)> = Vec::new();
-    for p in &m.parameters {
-        if !columns.iter().any(|(s, _)| *s == p.symbol) {
-            columns.push((p.symbol, p.unit));
-        }
-    }
-    let mut terms: Vec<usize> = m.parameters.iter().filter_map(|p| p.term).collect();
-    terms.sort_unstable();
-    terms.dedup();
-    let mut header = vec!["i".to_owned()];
-    header.extend(columns.iter().map(|(symbol, unit)| match unit {
-        ParamUnit::Pa => format!("{}<sub>i</sub> (MPa)", symbol_html(symbol)),
-        ParamUnit::One => format!("{}<sub>i</sub>", symbol_html(symbol)),
-    }));
-    let rows: Vec<Vec<String>> = terms
-        .iter()
-        .map(|&i| {
-            let mut row = vec![i.to_string()];
-            row.extend(columns.iter().map(|(symbol, unit)| {
-                let value = m
-                    .parameters
-                    .iter()
-                    .find(|p| p.term == Some(i) && p.symbol == *symbol)
-                    .map(|p| p.value);
-                match (value, unit) {
-                    (None, _) => "n/a".into(),
-                    (Some(v), ParamUnit::Pa) => fmt_sig(v / 1e6, 6),
-                    (Some(v), ParamUnit::One) => fmt_sig(v, 4),
-                }
-            }));
-            row
-        })
-        .collect();
-    simple_table(
-        &format!("Table 1. Fitted {} parameters (Abaqus convention)", m.model),
-        &header,
-        &rows,
-    )
-}
-
-/// A parameter symbol as the paper writes it.
-fn symbol_html(symbol: &str) -> String {
-    match symbol {
-        "mu" => "μ".into(),
-        "alpha" => "α".into(),
-        other => escape(other),
-    }
-}
-
 fn material_tables(data: &ReportData<'_>) -> String {
     let mut html = String::new();
     match &data.material {
         Some(m) => {
-            let mpa = |v: f64| fmt_sig(v / 1e6, 6);
-            html.push_str(&parameter_table(m));
-            html.push_str(&simple_table(
-                &format!("Initial moduli (ν = {})", fmt_sig(m.poisson, 6)),
-                &["modulus".into(), "value (MPa)".into()],
-                &[
-                    vec!["μ<sub>0</sub> = Σ μ<sub>i</sub>".into(), mpa(m.mu0_pa)],
-                    vec![
-                        "E<sub>0</sub> = 2 μ<sub>0</sub> (1 + ν)".into(),
-                        mpa(m.e0_pa),
-                    ],
-                    vec![
-                        "E<sub>0</sub>* = E<sub>0</sub> / (1 − ν²)".into(),
-                        mpa(m.e0_star_pa),
-                    ],
-                ],
-            ));
+            html.push_str(&crate::table1::parameter_table(m));
+            if let Some(choice) = &data.fit_choice {
+                html.push_str(&crate::table1::constraint_line(choice));
+            }
+            html.push_str(&crate::table1::moduli_table(m));
         }
         None => html.push_str(
             "<p class=\"skipped\"><b>Table 1</b> skipped: input `material` is not wired.</p>\n",
@@ -533,6 +463,11 @@ fn sample_table(summary: &Summary) -> String {
         .samples
         .iter()
         .any(|s| s.load_norm.iter().any(|l| l.linear.is_some()));
+    let any_band = summary.samples.iter().any(|s| {
+        s.load_norm
+            .iter()
+            .any(|l| l.load_norm_p05.is_some() || l.load_norm_p95.is_some())
+    });
     let opt = |v: Option<f64>, digits| v.map_or("n/a".into(), |v| fmt_sig(v, digits));
     let mut header: Vec<String> = [
         "sample",
@@ -569,7 +504,13 @@ fn sample_table(summary: &Summary) -> String {
                 opt(s.hurst_x, 3),
                 opt(s.hurst_y, 3),
             ];
-            row.extend(s.load_norm.iter().map(|l| opt(l.hyperelastic, 3)));
+            row.extend(s.load_norm.iter().map(|l| {
+                let value = opt(l.hyperelastic, 3);
+                match (l.load_norm_p05, l.load_norm_p95) {
+                    (None, None) => value,
+                    (p05, p95) => format!("{value} [{}, {}]", opt(p05, 3), opt(p95, 3)),
+                }
+            }));
             if any_linear {
                 row.extend(s.load_norm.iter().map(|l| opt(l.linear, 3)));
             }
@@ -581,11 +522,18 @@ fn sample_table(summary: &Summary) -> String {
         &header,
         &rows,
     );
-    html.push_str(
+    let band_note = if any_band {
+        " [p05, p95] = the 5–95 % bootstrap band of the hyperelastic ICM (the tensile tests' \
+         scatter carried through the fit), read the same way."
+    } else {
+        ""
+    };
+    html.push_str(&format!(
         "<p class=\"note\">Loads are read off the ICM curves by linear interpolation in \
-         A/A<sub>0</sub>; n/a = input not wired or A/A<sub>0</sub> outside the computed range. \
-         The same numbers, unrounded, are in <a href=\"summary.json\">summary.json</a>.</p>\n",
-    );
+         A/A<sub>0</sub>; n/a = input not wired or A/A<sub>0</sub> outside the computed range.\
+         {band_note} The same numbers, unrounded, are in \
+         <a href=\"summary.json\">summary.json</a>.</p>\n"
+    ));
     html
 }
 
@@ -679,12 +627,12 @@ pub fn build_report(
     let by_name = |name: &str| outcomes.iter().find(|o| o.status.name == name);
     body.push_str("<h2>Material: tensile tests and hyperelastic fit</h2>\n");
     if let Some(o) = by_name("fig2") {
-        body.push_str(&figure_html(o));
+        body.push_str(&figure_html(o, ""));
     }
     body.push_str(&material_tables(data));
     body.push_str("<h2>Rough surfaces</h2>\n");
     if let Some(o) = by_name("fig4") {
-        body.push_str(&figure_html(o));
+        body.push_str(&figure_html(o, ""));
     }
     let (fig6_html, fig6_images) = crate::experiment::fig6(data)?;
     let compared = data
@@ -697,17 +645,22 @@ pub fn build_report(
         body.push_str(&crate::experiment::transform_table(data));
     }
     body.push_str("<h2>Contact: incremental contact model and boundary elements</h2>\n");
+    let band_caption = if data.samples.iter().any(|s| s.band.is_some()) {
+        BAND_CAPTION
+    } else {
+        ""
+    };
     if let Some(o) = by_name("fig7") {
-        body.push_str(&figure_html(o));
+        body.push_str(&figure_html(o, band_caption));
     }
     body.push_str(&crate::experiment::agreement_table(data));
     body.push_str(&icm_bem_table(&summary));
     if let Some(o) = by_name("fig8") {
-        body.push_str(&figure_html(o));
+        body.push_str(&figure_html(o, band_caption));
     }
     if let Some(o) = by_name("fig9").filter(|o| o.status.rendered) {
         body.push_str("<h2>Contact models compared: profile theory, boundary elements, Persson, Greenwood–Williamson</h2>\n");
-        body.push_str(&figure_html(o));
+        body.push_str(&figure_html(o, ""));
         let kappas: Vec<(&str, Vec<crate::models::KappaAt>)> = summary
             .samples
             .iter()
@@ -734,32 +687,4 @@ pub fn build_report(
         }
     }
     Ok(files)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use hypercontact_material::table::to_table;
-    use hypercontact_material::{Ogden, Yeoh};
-
-    #[test]
-    fn table_1_has_a_row_per_ogden_term_and_a_row_per_other_parameter() {
-        let ogden = Ogden::new(vec![0.55e6, 0.02e6], vec![1.8, -2.5]).unwrap();
-        let m = MaterialSummary::read(&to_table(&ogden), 0.5, None).unwrap();
-        let html = parameter_table(&m);
-        assert!(
-            html.contains(
-                "<th>i</th><th>μ<sub>i</sub> (MPa)</th><th>α<sub>i</sub></th></tr></thead>"
-            ),
-            "{html}"
-        );
-        assert!(html.contains("<tr><td>1</td><td>0.55</td><td>1.8</td></tr>"));
-        assert!(html.contains("<tr><td>2</td><td>0.02</td><td>-2.5</td></tr>"));
-        let yeoh = Yeoh::new(0.2e6, -0.01e6, 0.001e6).unwrap();
-        let m = MaterialSummary::read(&to_table(&yeoh), 0.5, None).unwrap();
-        let html = parameter_table(&m);
-        assert!(
-            html.contains("(SI units)") && html.contains("<tr><td>c20</td><td>-10000</td></tr>")
-        );
-    }
 }

@@ -5,7 +5,7 @@
 use hypercontact_classical::stage::{GwSummaryTable, PerssonSummaryTable};
 use hypercontact_compare::stage::{AgreementTable, LoadRatioTable, TransformTable};
 use hypercontact_contact_images::stage::ContactTable;
-use hypercontact_core::contact::ResponseTable;
+use hypercontact_core::contact::{BandTable, ResponseTable};
 use hypercontact_core::{
     Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, Stage, StageError, StageInfo,
     params,
@@ -57,7 +57,7 @@ pub struct Report;
 
 static INFO: StageInfo = StageInfo {
     kind: "report",
-    version: 5,
+    version: 6,
     summary: "HTML report with the paper's Figs. 2, 4, 6, 7, 8, a model comparison (Fig. 9; PNG + \
               SVG), Table 1 and a summary",
     doc: "Every input is optional: a figure whose inputs are not wired is skipped and the \
@@ -79,14 +79,23 @@ static INFO: StageInfo = StageInfo {
           and comes with a table of kappa = (A/A0)/(F/(A0 E0* h'rms)) per model at A/A0 = \
           0.02 and 0.1 (h'rms from `stats`, one yardstick for every model; read off each curve \
           by linear interpolation in A/A0, n/a outside it) and the theories' inputs from \
-          `persson_summary` and `gw_summary`. Table 1 decodes `material` and gives its initial moduli μ0, E0 and \
-          E0* at Poisson's ratio `poisson`. One E0* on the page: each wired response must \
+          `persson_summary` and `gw_summary`. `bands` (icm's bands of the hyperelastic ICM, \
+          labelled per sample like `responses`; a table without rows is no band) shades the \
+          5–95 % bootstrap band of F/(E0* A0) under Fig. 7's curves and of E_t*/E0* under Fig. \
+          8's (sample colour at opacity 0.2; in Fig. 7's per-sample panels the ICM's grey; \
+          points at or below zero left off the log axis), with a legend entry. Table 1 decodes \
+          `material` and gives its initial moduli μ0, E0 and E0* at Poisson's ratio `poisson`; \
+          with `params` wired, each parameter and modulus with its 5–95 % bootstrap interval \
+          where finite; with `comparison` wired, a line under it states the fit's constraint \
+          and RMS relative error (and condition number) beside the same family's under the \
+          other setting. One E0* on the page: each wired response must \
           have been normalised by Table 1's (its E0* is mean_stress_pa · area_fraction / \
           load_norm, from the response alone), and a wired `params` must be the fit of \
           `material` at the same ν; otherwise the stage stops and names the input, so set \
           `poisson` to the contact model's (and the fit's). The summary reads F/(E0* A0) \
           at `area_fractions` by linear interpolation in A/A0 (null outside the computed \
-          range). Figures use the bundled DejaVu Sans font; no system font or network is \
+          range), and the band's 5th and 95th percentiles the same way (`load_norm_p05`, \
+          `load_norm_p95`; null without a band). Figures use the bundled DejaVu Sans font; no system font or network is \
           needed.",
     inputs: &[
         InputSpec::table::<CurvesTable>(
@@ -120,6 +129,12 @@ static INFO: StageInfo = StageInfo {
         InputSpec::table::<StatsTable>("stats", Arity::Many, "surface statistics per sample"),
         InputSpec::table::<ProfileTable>("profiles", Arity::Many, "truncation profile per sample"),
         InputSpec::table::<ResponseTable>("responses", Arity::Many, "hyperelastic ICM per sample"),
+        InputSpec::table::<BandTable>(
+            "bands",
+            Arity::Many,
+            "hyperelastic ICM's 5–95 % bootstrap bands per sample (icm's bands): shaded in Figs. \
+             7 and 8, read in the summary",
+        ),
         InputSpec::table::<ResponseTable>("responses_linear", Arity::Many, "linear ICM per sample"),
         InputSpec::table::<ResponseTable>(
             "responses_bem",

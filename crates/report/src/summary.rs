@@ -66,6 +66,10 @@ pub struct LoadAtArea {
     pub area_fraction: f64,
     /// Hyperelastic and linear ICM.
     pub hyperelastic: Option<f64>,
+    /// The 5th and 95th percentiles of the hyperelastic ICM's bootstrap
+    /// band (null without a band, or outside it).
+    pub load_norm_p05: Option<f64>,
+    pub load_norm_p95: Option<f64>,
     pub linear: Option<f64>,
     /// Hyperelastic and linear boundary elements.
     pub bem_hyperelastic: Option<f64>,
@@ -85,9 +89,13 @@ impl LoadAtArea {
         };
         let (hyperelastic, linear) = (at(&s.response), at(&s.response_linear));
         let (bem_hyperelastic, bem_linear) = (at(&s.bem), at(&s.bem_linear));
+        let (load_norm_p05, load_norm_p95) =
+            s.band.as_ref().map_or((None, None), |b| b.load_norm_at(a));
         LoadAtArea {
             area_fraction: a,
             hyperelastic,
+            load_norm_p05,
+            load_norm_p95,
             linear,
             bem_hyperelastic,
             bem_linear,

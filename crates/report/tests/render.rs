@@ -8,7 +8,7 @@ mod common;
 use std::collections::BTreeMap;
 
 use base64::Engine;
-use common::{ALL, SAMPLES, Wiring};
+use common::{ALL, SAMPLES, Wiring, run, run_with, text};
 use hypercontact_core::contact::ResponseTable;
 use hypercontact_core::{Context, Files, Inputs, Params, Product, Schema, Stage, Table};
 use hypercontact_report::{Report, ReportParams};
@@ -17,28 +17,6 @@ use serde_json::Value;
 
 const MAP_N: usize = 96;
 const LEVELS: usize = 301;
-
-fn run(inputs: &Inputs) -> Files {
-    run_with(&ReportParams::default(), inputs).expect("the report renders")
-}
-
-fn run_with(params: &ReportParams, inputs: &Inputs) -> Result<Files, String> {
-    let out = Report
-        .run(
-            &params.clone().check().unwrap(),
-            inputs,
-            &Context::new("report"),
-        )
-        .map_err(|e| e.to_string())?;
-    match out.get("report") {
-        Some(Product::Files(files)) => Ok(files.clone()),
-        other => panic!("no `report` files output: {other:?}"),
-    }
-}
-
-fn text(files: &Files, name: &str) -> String {
-    String::from_utf8(files.files[name].clone()).expect("UTF-8")
-}
 
 /// A PNG that decodes, has the expected size and is not blank: at least 2 %
 /// of its pixels are not white and it uses many colours.
@@ -222,7 +200,7 @@ fn summary_json_holds_the_numbers_of_the_input_tables() {
     assert_eq!(summary["quality"][1]["r2"].as_f64(), Some(0.9978));
     assert_eq!(summary["stability"][0]["lambda_max"], Value::Null);
     assert_eq!(summary["stability"][2]["lambda_max"].as_f64(), Some(1.8));
-    assert_eq!(summary["comparison"].as_array().unwrap().len(), 4);
+    assert_eq!(summary["comparison"].as_array().unwrap().len(), 6);
 
     let samples = summary["samples"].as_array().unwrap();
     assert_eq!(samples.len(), SAMPLES.len());

@@ -12,6 +12,12 @@
 //! law (hyperelastic ICM solid, linear ICM dashed, hyperelastic BEM dotted,
 //! linear BEM dashed).
 //!
+//! Where the hyperelastic ICM's bootstrap band is wired (icm's `bands`), it
+//! is shaded under the curves between its 5th and 95th percentiles: in the
+//! sample's colour in the single panel, in the ICM's colour (grey) in the
+//! per-sample panels, where colour tells the models apart and a band in
+//! T1's blue would read as the experiment's.
+//!
 //! Fig. 9 (`comparison`) is the same plot for the contact models side by
 //! side, one panel per sample: hyperelastic and linear ICM, hyperelastic
 //! BEM, Persson's theory (Okabe–Ito bluish green) and Greenwood–Williamson
@@ -21,10 +27,11 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plotting::{
-    Axis, Figure, LegendEntry, Line, Rasters, TextSizes, draw_axes, draw_curve, draw_legend,
-    sample_colour, thin, tick_decade, tick_linear,
+    Axis, Figure, LegendEntry, Line, Rasters, TextSizes, band_legend, draw_axes, draw_band,
+    draw_curve, draw_legend, sample_colour, thin, tick_decade, tick_linear,
 };
 use crate::ReportError;
+use crate::band::{Band, runs};
 use crate::gather::Response;
 
 /// One sample's curves: label, colour index, and each contact model's
@@ -45,6 +52,8 @@ pub struct SampleResponses<'a> {
     pub gw: Option<&'a Response>,
     /// The contact experiment: (A/A0, F/(E0* A0)), positive loads only.
     pub experiment: Option<Response>,
+    /// The hyperelastic ICM's 5–95 % bootstrap band (Figs. 7 and 8).
+    pub band: Option<&'a Band>,
 }
 
 /// The curves a sample can have.
@@ -184,22 +193,29 @@ impl Fig7<'_> {
                 .iter()
                 .flat_map(|s| s.curves().map(|(r, _)| r).chain(s.experiment.as_ref()))
         };
-        let (y_lo, y_hi) = log_range(responses().flat_map(|r| r.load_norm.iter().copied()), 5.0);
+        let bands = || self.samples.iter().filter_map(|s| s.band);
+        let loads = responses()
+            .flat_map(|r| r.load_norm.iter().copied())
+            .chain(bands().flat_map(|b| b.load_norm_p05.iter().chain(&b.load_norm_p95).copied()));
+        let (y_lo, y_hi) = log_range(loads, 5.0);
         let x_hi = responses()
             .flat_map(|r| r.area_fraction.iter().copied())
+            .chain(bands().flat_map(|b| b.area_fraction.iter().copied()))
             .fold(0.0f64, f64::max)
             .clamp(0.05, 1.0);
         Ranges { x_hi, y_lo, y_hi }
     }
 
-    /// One panel: axes (titled `title` when given) and `curves`, each with
-    /// its stroke style and line kind.
+    /// One panel: axes (titled `title` when given), `bands` shaded in their
+    /// colours, and over them `curves`, each with its stroke style and line
+    /// kind.
     fn panel<DB: DrawingBackend>(
         &self,
         area: &DrawingArea<DB, Shift>,
         sizes: TextSizes,
         ranges: Ranges,
         title: Option<&str>,
+        bands: &[(&Band, RGBColor)],
         curves: &[(&Response, ShapeStyle, Line)],
     ) -> Result<(), ReportError> {
         let name = self.name();
@@ -229,7 +245,16 @@ impl Fig7<'_> {
             &|v| tick_decade(*v),
             (6, (e_hi - e_lo) as usize + 1),
         )?;
-        // Drawn as log10 on a linear axis, so decade ticks are exact.
+        // Drawn as log10 on a linear axis, so decade ticks are exact; a
+        // band edge at or below zero cannot be, and splits the band there.
+        let on_axis = |f: f64| (f > 0.0).then(|| f.clamp(ranges.y_lo, ranges.y_hi).log10());
+        for &(band, colour) in bands {
+            let x = &band.area_fraction;
+            for run in runs(x, &band.load_norm_p05, &band.load_norm_p95, on_axis) {
+                let spans = (ranges.x_hi, e_hi - e_lo, 0.006);
+                draw_band(&mut chart, name, &run, spans, colour)?;
+            }
+        }
         for &(r, style, line) in curves {
             let points: Vec<(f64, f64)> = r
                 .area_fraction
@@ -252,6 +277,11 @@ impl Fig7<'_> {
     ) -> Result<Vec<LegendEntry>, ReportError> {
         let mut curves = Vec::new();
         let mut legend = Vec::new();
+        let bands: Vec<(&Band, RGBColor)> = self
+            .samples
+            .iter()
+            .filter_map(|s| Some((s.band?, sample_colour(s.colour_index))))
+            .collect();
         for s in &self.samples {
             let style = sample_colour(s.colour_index).stroke_width(3);
             let mut first = None;
@@ -265,7 +295,7 @@ impl Fig7<'_> {
                 line: first.unwrap_or(Line::Solid),
             });
         }
-        self.panel(plot, sizes, self.ranges(), None, &curves)?;
+        self.panel(plot, sizes, self.ranges(), None, &bands, &curves)?;
         // Line-style key in black, after the colour key: only the kinds drawn.
         for c in Curve::ALL {
             if self.samples.iter().any(|s| s.curves().any(|(_, k)| k == c)) {
@@ -275,6 +305,10 @@ impl Fig7<'_> {
                     line: c.line(),
                 });
             }
+        }
+        if !bands.is_empty() {
+            // One key for every sample's band: grey, as the line-style key.
+            legend.push(band_legend(BLACK));
         }
         Ok(legend)
     }
@@ -295,7 +329,9 @@ impl Fig7<'_> {
         for (area, s) in panels.iter().zip(&self.samples) {
             let mut curves: Vec<_> = s.curves().map(|(r, c)| (r, style(c), c.line())).collect();
             curves.extend(s.experiment.as_ref().map(|e| (e, measured, Line::Circles)));
-            self.panel(area, sizes, ranges, Some(s.label), &curves)?;
+            let bands: Vec<(&Band, RGBColor)> =
+                s.band.map(|b| (b, ICM_COLOUR)).into_iter().collect();
+            self.panel(area, sizes, ranges, Some(s.label), &bands, &curves)?;
         }
         let mut legend: Vec<LegendEntry> = Curve::ALL
             .into_iter()
@@ -312,6 +348,9 @@ impl Fig7<'_> {
                 style: measured,
                 line: Line::Circles,
             });
+        }
+        if self.samples.iter().any(|s| s.band.is_some()) {
+            legend.push(band_legend(ICM_COLOUR));
         }
         Ok(legend)
     }

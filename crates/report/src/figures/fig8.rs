@@ -3,7 +3,10 @@
 //! (the paper reports 2.2–3), and of the hyperelastic boundary-element model
 //! (dotted) where wired: its mean contact stress F/A, and so its modulus,
 //! differs from profile theory's. Linear models' ratio is 1 by construction
-//! and is not drawn (it would squeeze the hyperelastic range).
+//! and is not drawn (it would squeeze the hyperelastic range). Where the
+//! hyperelastic ICM's bootstrap band is wired, its 5–95 % range of
+//! E_t*/E0* (each replicate over its own E0*) is shaded under the curves
+//! in the sample's colour.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -11,10 +14,11 @@ use plotters::prelude::*;
 use super::fig2::min_max;
 use super::fig7::{LEGEND_PX, SampleResponses};
 use super::plotting::{
-    Axis, Figure, LegendEntry, Line, Rasters, TextSizes, draw_axes, draw_curve, draw_legend,
-    sample_colour, thin, tick_linear,
+    Axis, Figure, LegendEntry, Line, Rasters, TextSizes, band_legend, draw_axes, draw_band,
+    draw_curve, draw_legend, sample_colour, thin, tick_linear,
 };
 use crate::ReportError;
+use crate::band::runs;
 
 pub struct Fig8<'a> {
     pub samples: Vec<SampleResponses<'a>>,
@@ -42,11 +46,22 @@ impl Figure for Fig8<'_> {
                 .iter()
                 .flat_map(|s| s.hyperelastic.into_iter().chain(s.bem))
         };
-        let (lo, hi) = min_max(curves().flat_map(|r| r.tangent_ratio.iter().copied()));
+        let bands = || self.samples.iter().filter_map(|s| s.band);
+        let (lo, hi) = min_max(
+            curves()
+                .flat_map(|r| r.tangent_ratio.iter().copied())
+                .chain(bands().flat_map(|b| {
+                    b.tangent_ratio_p05
+                        .iter()
+                        .chain(&b.tangent_ratio_p95)
+                        .copied()
+                })),
+        );
         let pad = 0.08 * (hi - lo).max(0.1);
         let (y_lo, y_hi) = ((lo - pad).max(0.0), hi + pad);
         let x_hi = curves()
             .flat_map(|r| r.area_fraction.iter().copied())
+            .chain(bands().flat_map(|b| b.area_fraction.iter().copied()))
             .fold(0.0f64, f64::max)
             .clamp(0.05, 1.0);
         let mut chart = ChartBuilder::on(root)
@@ -66,6 +81,20 @@ impl Figure for Fig8<'_> {
             &|v| tick_linear(*v),
             (6, 8),
         )?;
+        // Every band first, so no sample's shading covers another's curve.
+        let finite = |v: f64| v.is_finite().then_some(v);
+        for s in &self.samples {
+            let Some(band) = s.band else { continue };
+            let (x, lower, upper) = (
+                &band.area_fraction,
+                &band.tangent_ratio_p05,
+                &band.tangent_ratio_p95,
+            );
+            for run in runs(x, lower, upper, finite) {
+                let spans = (x_hi, y_hi - y_lo, 0.006);
+                draw_band(&mut chart, name, &run, spans, sample_colour(s.colour_index))?;
+            }
+        }
         let mut legend = Vec::new();
         for s in &self.samples {
             let style = sample_colour(s.colour_index).stroke_width(3);
@@ -102,6 +131,9 @@ impl Figure for Fig8<'_> {
                     line,
                 });
             }
+        }
+        if bands().next().is_some() {
+            legend.push(band_legend(BLACK));
         }
         let (plot_x, plot_y) = chart.plotting_area().get_base_pixel();
         let plot_w = chart.plotting_area().dim_in_pixel().0 as i32;

@@ -21,6 +21,7 @@ use plotters::prelude::*;
 pub use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::ReportError;
+use crate::band::BandRun;
 
 /// The font family name plotters looks the bundled font up by; it is also
 /// written verbatim as the SVG `font-family`, hence the CSS fallback list.
@@ -171,7 +172,18 @@ pub enum Line {
     Dotted,
     /// Not a line: a circle at every point (measured data).
     Circles,
+    /// Not a line: the points outline a shaded area (an uncertainty band),
+    /// drawn in the style's colour and opacity.
+    Band,
 }
+
+/// Opacity of a shaded band: light enough that the curves and the other
+/// samples' bands show through.
+pub const BAND_OPACITY: f64 = 0.2;
+
+/// The legend label of the bootstrap bands of Figs. 7 and 8, in lines
+/// that fit the legend's width.
+pub const BAND_LABEL: &str = "5–95 % bootstrap\n(tensile scatter)";
 
 /// Radius of [`Line::Circles`]' symbols, pixels.
 const CIRCLE_PX: i32 = 5;
@@ -180,7 +192,7 @@ impl Line {
     /// (dash, gap) in pixels along the curve; `None` when solid (or not a line).
     pub fn pattern(self) -> Option<(u32, u32)> {
         match self {
-            Line::Solid | Line::Circles => None,
+            Line::Solid | Line::Circles | Line::Band => None,
             Line::Dashed => Some((12, 8)),
             Line::Dotted => Some((2, 6)),
         }
@@ -196,6 +208,12 @@ pub fn draw_curve<DB: DrawingBackend>(
     style: ShapeStyle,
 ) -> Result<(), ReportError> {
     let err = |e| ReportError::plot(figure, e);
+    if line == Line::Band {
+        return chart
+            .draw_series(std::iter::once(Polygon::new(points, style.filled())))
+            .map(|_| ())
+            .map_err(err);
+    }
     if line == Line::Circles {
         return chart
             .draw_series(
@@ -215,6 +233,38 @@ pub fn draw_curve<DB: DrawingBackend>(
             .draw_series(DashedLineSeries::new(points, dash, gap, style))
             .map(|_| ())
             .map_err(err),
+    }
+}
+
+/// Shades one run of a band in `colour` at [`BAND_OPACITY`], each edge
+/// thinned like a curve to steps of `min_step` of the axis spans.
+pub fn draw_band<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<Axis, Axis>>,
+    figure: &str,
+    run: &BandRun,
+    (x_span, y_span, min_step): (f64, f64, f64),
+    colour: RGBColor,
+) -> Result<(), ReportError> {
+    let edge = |e: &[(f64, f64)]| thin(e, x_span, y_span, min_step);
+    let outline: Vec<(f64, f64)> = edge(&run.lower)
+        .into_iter()
+        .chain(edge(&run.upper).into_iter().rev())
+        .collect();
+    draw_curve(
+        chart,
+        figure,
+        outline,
+        Line::Band,
+        colour.mix(BAND_OPACITY).filled(),
+    )
+}
+
+/// The legend line of a band drawn in `colour`.
+pub fn band_legend(colour: RGBColor) -> LegendEntry {
+    LegendEntry {
+        label: BAND_LABEL.into(),
+        style: colour.mix(BAND_OPACITY).filled(),
+        line: Line::Band,
     }
 }
 
@@ -238,11 +288,18 @@ pub fn draw_legend<DB: DrawingBackend>(
 ) -> Result<(), ReportError> {
     let line_px = (size * 1.5) as i32;
     let swatch_px = (size * 1.8) as i32;
-    for (i, e) in entries.iter().enumerate() {
-        let yy = y + i as i32 * line_px + line_px / 2;
+    // A label of several lines (split at '\n') takes a row per line, its
+    // swatch beside the first.
+    let mut row = 0;
+    for e in entries {
+        let yy = y + row * line_px + line_px / 2;
         match e.line {
             Line::Solid => area.draw(&solid_swatch((x, yy), swatch_px, e.style)),
             Line::Dashed => area.draw(&dashed_swatch((x, yy), swatch_px, e.style)),
+            Line::Band => area.draw(&Rectangle::new(
+                [(x, yy - line_px / 3), (x + swatch_px, yy + line_px / 3)],
+                e.style.filled(),
+            )),
             Line::Circles => area.draw(&Circle::new(
                 (x + swatch_px / 2, yy),
                 CIRCLE_PX,
@@ -259,12 +316,18 @@ pub fn draw_legend<DB: DrawingBackend>(
             }
         }
         .map_err(|err| ReportError::plot(figure, err))?;
-        area.draw(&Text::new(
-            e.label.clone(),
-            (x + swatch_px + (size * 0.5) as i32, yy),
-            font(size).pos(Pos::new(HPos::Left, VPos::Center)),
-        ))
-        .map_err(|err| ReportError::plot(figure, err))?;
+        for text in e.label.split('\n') {
+            area.draw(&Text::new(
+                text.to_owned(),
+                (
+                    x + swatch_px + (size * 0.5) as i32,
+                    y + row * line_px + line_px / 2,
+                ),
+                font(size).pos(Pos::new(HPos::Left, VPos::Center)),
+            ))
+            .map_err(|err| ReportError::plot(figure, err))?;
+            row += 1;
+        }
     }
     Ok(())
 }

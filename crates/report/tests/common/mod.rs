@@ -7,9 +7,10 @@
 
 #![allow(dead_code)]
 
-use hypercontact_core::{Field, Inputs, Product, Schema, Table};
+use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Schema, Stage, Table};
 use hypercontact_material::fit_stage::ParamsTable;
 use hypercontact_material::{Family, Hyperelastic, Ogden, composite_modulus_pa};
+use hypercontact_report::{Report, ReportParams};
 use ndarray::Array2;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -87,6 +88,9 @@ pub fn quality() -> Table {
         .with("rms_rel_err", vec![0.011, 0.017, 0.024])
         .with("max_rel_err", vec![0.031, 0.045, 0.061])
         .with("n_points", vec![60_i64, 60, 60])
+        .with("condition_number", vec![f64::NAN; 3])
+        .with("max_correlation", vec![f64::NAN; 3])
+        .with("free_params", vec![0_i64; 3])
 }
 
 pub fn stability() -> Table {
@@ -104,28 +108,65 @@ pub fn params(poisson: f64) -> Table {
     ParamsTable::new(Family::Ogden(2), &ogden(), poisson).into_table()
 }
 
-/// The full `comparison` schema plus a column it does not declare (shown
-/// as is all the same).
+/// RMS relative errors and condition numbers of the chosen family
+/// (ogden-2) in [`comparison`]: with the stable constraint (selected) and
+/// without it.
+pub const STABLE_RMS: f64 = 0.018;
+pub const FREE_RMS: f64 = 0.012;
+pub const STABLE_CONDITION: f64 = 3.2;
+pub const FREE_CONDITION: f64 = 4.5e5;
+
+/// The full `comparison` schema (every family under both settings of the
+/// constraint, the stable ogden-2 selected) plus a column it does not
+/// declare (shown as is all the same).
 pub fn comparison() -> Table {
-    let nan = f64::NAN;
+    let (nan, inf) = (f64::NAN, f64::INFINITY);
     Table::new()
-        .with("rank", vec![1_i64, 2, 3, 4])
+        .with("rank", vec![1_i64, 2, 3, 4, 5, 6])
         .with(
             "model",
-            vec!["ogden-2", "yeoh", "mooney-rivlin", "neo-hookean"],
+            vec![
+                "ogden-2",
+                "ogden-2",
+                "yeoh",
+                "yeoh",
+                "mooney-rivlin",
+                "neo-hookean",
+            ],
         )
-        .with("n_params", vec![4_i64, 3, 2, 1])
-        .with("rms_rel_err", vec![0.018, 0.034, 0.081, 0.12])
-        .with("max_rel_err", vec![0.05, 0.09, 0.2, 0.3])
-        .with("ut_lambda_min", vec![0.45, 0.5, 0.3, nan])
-        .with("ut_lambda_max", vec![f64::INFINITY, 6.0, 8.0, nan])
-        .with("pt_lambda_min", vec![0.55, 0.6, 0.4, nan])
-        .with("pt_lambda_max", vec![2.9, 5.0, 7.0, nan])
-        .with("bt_lambda_min", vec![0.7, 0.75, 0.6, nan])
-        .with("bt_lambda_max", vec![1.8, 3.0, 4.0, nan])
-        .with("selected", vec![1_i64, 0, 0, 0])
-        .with("status", vec!["ok", "ok", "ok", "ok"])
-        .with("r2_min", vec![0.996, 0.989, 0.95, 0.91])
+        .with(
+            "constraint",
+            vec!["none", "stable", "none", "stable", "stable", "stable"],
+        )
+        .with("n_params", vec![4_i64, 4, 3, 3, 2, 1])
+        .with("free_params", vec![4_i64, 4, 3, 2, 2, 1])
+        .with(
+            "condition_number",
+            vec![FREE_CONDITION, STABLE_CONDITION, 40.0, 12.0, 3.0, 1.0],
+        )
+        .with(
+            "rms_rel_err",
+            vec![FREE_RMS, STABLE_RMS, 0.03, 0.034, 0.081, 0.12],
+        )
+        .with("max_rel_err", vec![0.04, 0.05, 0.08, 0.09, 0.2, 0.3])
+        .with("ut_lambda_min", vec![0.5, 0.45, 0.5, 0.5, 0.3, nan])
+        .with("ut_lambda_max", vec![inf, inf, 5.0, 6.0, 8.0, nan])
+        .with("pt_lambda_min", vec![0.6, 0.55, 0.6, 0.6, 0.4, nan])
+        .with("pt_lambda_max", vec![2.5, 2.9, 4.0, 5.0, 7.0, nan])
+        .with("bt_lambda_min", vec![0.8, 0.7, 0.75, 0.75, 0.6, nan])
+        .with("bt_lambda_max", vec![1.5, 1.8, 2.5, 3.0, 4.0, nan])
+        .with("selected", vec![0_i64, 1, 0, 0, 0, 0])
+        .with("status", vec!["ok"; 6])
+        .with("r2_min", vec![0.997, 0.996, 0.99, 0.989, 0.95, 0.91])
+}
+
+/// The fit's `params` table with a bootstrap interval on every row:
+/// value ∓ 10 % of its magnitude.
+pub fn params_with_intervals(poisson: f64) -> Table {
+    let mut t = ParamsTable::new(Family::Ogden(2), &ogden(), poisson);
+    t.p05 = t.value.iter().map(|v| v - 0.1 * v.abs()).collect();
+    t.p95 = t.value.iter().map(|v| v + 0.1 * v.abs()).collect();
+    t.into_table()
 }
 
 pub fn material() -> Table {
@@ -353,6 +394,34 @@ pub fn response_at(levels: usize, scale: f64, linear: bool, poisson: f64) -> Tab
         .with("tangent_ratio", ratio)
 }
 
+/// Bands around [`response`]'s hyperelastic curve: F/(E0* A0) from
+/// 0.8 × to 1.25 × the curve, E_t*/E0* from 0.15 below to 0.6 above it;
+/// rows above A/A0 = `reached` were reached by no replicate (NaN).
+pub fn band(levels: usize, scale: f64, reached: f64) -> Table {
+    let curve =
+        hypercontact_core::contact::ResponseTable::from_table(&response(levels, scale, false))
+            .unwrap();
+    let a = curve.area_fraction;
+    let beyond = |v: f64, a: f64| if a > reached { f64::NAN } else { v };
+    let column = |v: &[f64], f: &dyn Fn(f64) -> f64| -> Vec<f64> {
+        v.iter().zip(&a).map(|(&v, &a)| beyond(f(v), a)).collect()
+    };
+    hypercontact_core::contact::BandTable {
+        load_norm_p05: column(&curve.load_norm, &|v| 0.8 * v),
+        load_norm_p50: column(&curve.load_norm, &|v| v),
+        load_norm_p95: column(&curve.load_norm, &|v| 1.25 * v),
+        tangent_ratio_p05: column(&curve.tangent_ratio, &|v| v - 0.15),
+        tangent_ratio_p50: column(&curve.tangent_ratio, &|v| v),
+        tangent_ratio_p95: column(&curve.tangent_ratio, &|v| v + 0.6),
+        replicates: a
+            .iter()
+            .map(|&a| if a > reached { 0 } else { 200 })
+            .collect(),
+        area_fraction: a,
+    }
+    .into_table()
+}
+
 /// Which groups of inputs to wire.
 #[derive(Clone, Copy)]
 pub struct Wiring {
@@ -418,4 +487,47 @@ pub fn inputs_at(wiring: Wiring, map_n: usize, levels: usize, poisson: f64) -> I
         }
     }
     inputs
+}
+
+/// `inputs` plus a bootstrap band for every sample (T4's reached by no
+/// replicate above A/A0 = 0.7) and the fit's `params` with intervals, as
+/// a fit and ICM run with `bootstrap` would give them, at [`POISSON`].
+pub fn with_bands(mut inputs: Inputs, levels: usize) -> Inputs {
+    let table = |t: Table| std::sync::Arc::new(Product::Table(t));
+    for (i, (label, _, _, _, scale)) in SAMPLES.iter().enumerate() {
+        let reached = if i == 3 { 0.7 } else { 1.0 };
+        inputs.insert(
+            &format!("bands.{label}"),
+            table(band(levels, *scale, reached)),
+        );
+    }
+    if inputs.get("params").is_some() {
+        inputs.insert("params", table(params_with_intervals(POISSON)));
+    }
+    inputs
+}
+
+/// The report stage's files for `inputs` at the default parameters.
+pub fn run(inputs: &Inputs) -> Files {
+    run_with(&ReportParams::default(), inputs).expect("the report renders")
+}
+
+/// The report stage's files, or its error as text.
+pub fn run_with(params: &ReportParams, inputs: &Inputs) -> Result<Files, String> {
+    let out = Report
+        .run(
+            &params.clone().check().unwrap(),
+            inputs,
+            &Context::new("report"),
+        )
+        .map_err(|e| e.to_string())?;
+    match out.get("report") {
+        Some(Product::Files(files)) => Ok(files.clone()),
+        other => panic!("no `report` files output: {other:?}"),
+    }
+}
+
+/// A file of the report as text.
+pub fn text(files: &Files, name: &str) -> String {
+    String::from_utf8(files.files[name].clone()).expect("UTF-8")
 }
