@@ -314,14 +314,34 @@ fn parquet(dir: &Path, file: &str) -> hypercontact_core::Table {
     hypercontact_io::read_parquet_file(&dir.join("out").join(file)).unwrap()
 }
 
+/// The unconstrained fit's RMS relative error in `fit`'s comparison.
+fn unconstrained_rms(dir: &Path, model: &str) -> f64 {
+    let c = parquet(dir, "fit/comparison.parquet");
+    let (models, constraints) = (c.str("model").unwrap(), c.str("constraint").unwrap());
+    let row = (0..models.len())
+        .find(|&i| models[i] == model && constraints[i] == "none")
+        .unwrap();
+    c.f64("rms_rel_err").unwrap()[row]
+}
+
 #[test]
 fn the_tensile_csv_pipeline_fits_and_reports() {
     let t = tempfile::tempdir().unwrap();
     let out = run_pipeline(t.path(), "pipelines/tensile-csv.yaml", &[]);
     assert!(out.status.success(), "{}", text(&out));
     assert!(text(&out).contains("3 ran, 0 cached"), "{}", text(&out));
-    let fit = parquet(t.path(), "fit/quality.parquet");
-    assert!(fit.f64("r2").unwrap().iter().all(|r2| *r2 > 0.99));
+    // Issue 18: the stable fit has every μ_i ≥ 0; the sample is made
+    // from the paper's Table 1 (cancelling μ_i), which only the
+    // unconstrained fit follows to within its 0.5 % noise.
+    let params = parquet(t.path(), "fit/params.parquet");
+    let names = params.str("param").unwrap();
+    let values = params.f64("value").unwrap();
+    assert!(
+        (0..names.len())
+            .filter(|&i| names[i].starts_with("mu_"))
+            .all(|i| values[i] >= 0.0)
+    );
+    assert!(unconstrained_rms(t.path(), "ogden-6") < 0.0055);
     let html = std::fs::read_to_string(t.path().join("out/report/index.html")).unwrap();
     assert!(html.contains("fig2.svg"));
 
@@ -363,15 +383,42 @@ fn the_quick_paper_pipeline_writes_the_report() {
 
     // Issue 6: the images → DIC → fit chain recovers the generating
     // material's curves within 1 % RMS relative error per mode.
-    let quality = parquet(t.path(), "fit/quality.parquet");
-    for (mode, rms) in quality
-        .str("mode")
-        .unwrap()
-        .iter()
-        .zip(quality.f64("rms_rel_err").unwrap())
-    {
-        assert!(*rms < 0.01, "{mode}: RMS relative error {rms}");
-    }
+    // Since issue 18 the pipeline's fit is the stable one (μ_i ≥ 0), which
+    // cannot follow the paper's cancelling Table 1; the comparison's
+    // unconstrained 6-term fit is the paper's, and the check of the chain.
+    let rms = unconstrained_rms(t.path(), "ogden-6");
+    assert!(
+        rms < 0.01,
+        "unconstrained ogden-6: RMS relative error {rms}"
+    );
+    // The bootstrap's bands reach the ICM, the summary and the figures.
+    let bands = parquet(t.path(), "t1-icm/bands.parquet");
+    let response = parquet(t.path(), "t1-icm/response.parquet");
+    assert_eq!(bands.n_rows(), response.n_rows());
+    let (lo, mid, hi) = (
+        bands.f64("load_norm_p05").unwrap(),
+        bands.f64("load_norm_p50").unwrap(),
+        bands.f64("load_norm_p95").unwrap(),
+    );
+    let last = bands.n_rows() - 1;
+    assert!(
+        lo[last] < mid[last] && mid[last] < hi[last],
+        "{} {} {}",
+        lo[last],
+        mid[last],
+        hi[last]
+    );
+    assert!(bands.i64("replicates").unwrap()[last] >= 36);
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(report.join("summary.json")).unwrap())
+            .unwrap();
+    let at_half = &summary["samples"][0]["load_norm"][1];
+    let (p05, value, p95) = (
+        at_half["load_norm_p05"].as_f64().unwrap(),
+        at_half["hyperelastic"].as_f64().unwrap(),
+        at_half["load_norm_p95"].as_f64().unwrap(),
+    );
+    assert!(p05 < value && value < p95, "{p05} {value} {p95}");
 
     // Every figure as a real PNG and SVG, referenced by the page.
     let html = std::fs::read_to_string(report.join("index.html")).unwrap();
@@ -556,11 +603,14 @@ fn the_quick_paper_pipeline_writes_the_report() {
         let rank_of = |m: &str| rank[models.iter().position(|x| x == m).unwrap()];
         // Six models scored: the four of issue 15 and Persson and GW (#16).
         assert_eq!(models.len(), 6, "T{n}: {models:?}");
-        assert_eq!(
-            (rank_of("bem"), rank_of("icm-linear")),
-            (1, 6),
-            "T{n}: {rank:?}"
-        );
+        // The synthetic lab is the hyperelastic BEM with the true material;
+        // the pipeline's BEM uses the stable fit (#18), whose μ0 is about
+        // 12 % below the truth (no μ_i ≥ 0 Ogden follows Table 1), so its
+        // first place is no longer by construction: first on all four
+        // samples of the paper pipeline, here in the top two (GW edges it
+        // on T3's coarse quick map). Linear ICM stays last.
+        assert!(rank_of("bem") <= 2, "T{n}: {models:?} {rank:?}");
+        assert_eq!(rank_of("icm-linear"), 6, "T{n}: {rank:?}");
         assert!(agreement.i64("points").unwrap().iter().all(|p| *p >= 8));
         // The report's summary.json repeats them exactly.
         let json = &samples[n - 1]["agreement"];

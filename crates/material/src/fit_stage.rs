@@ -385,6 +385,14 @@ mod tests {
     use super::*;
     use hypercontact_core::{DynStage, Params, Product};
 
+    /// The shipped 150-point sample as the stage's `tensile` input.
+    fn sample_inputs() -> Inputs {
+        Inputs::new().with(
+            "tensile",
+            Product::Table(crate::sample::paper_sample().to_table()),
+        )
+    }
+
     fn table<'a>(out: &'a Outputs, name: &str) -> &'a Table {
         match out.get(name) {
             Some(Product::Table(t)) => t,
@@ -521,10 +529,7 @@ mod tests {
 
     #[test]
     fn bootstrap_writes_every_replicate_and_intervals_around_the_fit() {
-        let inputs = Inputs::new().with(
-            "tensile",
-            Product::Table(crate::sample::paper_sample().to_table()),
-        );
+        let inputs = sample_inputs();
         let p = MaterialFitParams {
             model: Family::MooneyRivlin,
             compare: false,
@@ -582,10 +587,7 @@ mod tests {
 
     #[test]
     fn compare_false_gives_one_comparison_row() {
-        let inputs = Inputs::new().with(
-            "tensile",
-            Product::Table(crate::sample::paper_sample().to_table()),
-        );
+        let inputs = sample_inputs();
         let p = MaterialFitParams {
             model: Family::MooneyRivlin,
             compare: false,
@@ -641,10 +643,7 @@ mod tests {
 
     #[test]
     fn e0_and_e0_star_follow_poisson() {
-        let inputs = Inputs::new().with(
-            "tensile",
-            Product::Table(crate::sample::paper_sample().to_table()),
-        );
+        let inputs = sample_inputs();
         let run = |poisson: f64| {
             let p = MaterialFitParams {
                 model: Family::NeoHookean,
