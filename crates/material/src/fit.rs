@@ -17,7 +17,7 @@ use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt, TerminationRe
 use nalgebra::storage::Owned;
 use nalgebra::{DMatrix, DVector, Dyn, SVD};
 
-use crate::nnls::nnls;
+use crate::nnls::{least_squares, nnls};
 use crate::tensile::TensileData;
 use crate::{Family, Hyperelastic, MaterialError, Mode};
 
@@ -135,9 +135,13 @@ impl Projected<'_> {
         if !basis.norm_squared().is_finite() || y.iter().any(|v| !v.is_finite()) {
             return None;
         }
+        // With the constraint, the moduli held at zero do not move with θ:
+        // the range is that of the free columns, so the Jacobian is
+        // Kaufman's on them, and zero along the shape parameters of terms
+        // held at zero.
         let (moduli, range) = match self.constraint {
-            Constraint::Free => free_moduli(&basis, &y)?,
-            Constraint::Stable => non_negative_moduli(&basis, &y)?,
+            Constraint::Free => least_squares(basis.clone(), &y)?,
+            Constraint::Stable => nnls(&basis, &y).map(|s| (s.x, s.range))?,
         };
         x[..k].copy_from_slice(moduli.as_slice());
         let residuals = &basis * &moduli - y;
@@ -149,44 +153,6 @@ impl Projected<'_> {
             },
         )
     }
-}
-
-/// The least-squares moduli by SVD and an orthonormal basis of B's
-/// numerical range.
-fn free_moduli(basis: &DMatrix<f64>, y: &DVector<f64>) -> Option<(DVector<f64>, DMatrix<f64>)> {
-    // `svd` with the same tolerance, checked before the sort.
-    let mut svd = SVD::try_new_unordered(basis.clone(), true, true, 5.0 * f64::EPSILON, 0)?;
-    if svd.singular_values.iter().any(|s| !s.is_finite()) {
-        return None;
-    }
-    svd.sort_by_singular_values();
-    let largest = svd.singular_values.max();
-    // Columns closer to collinear than this are one column: the
-    // solve stays finite when two α_i meet.
-    let cutoff = 1e-13 * largest;
-    let moduli = svd.solve(y, cutoff).ok()?;
-    let u = svd.u.as_ref()?;
-    let kept: Vec<usize> = (0..svd.singular_values.len())
-        .filter(|&j| svd.singular_values[j] > cutoff)
-        .collect();
-    Some((moduli, u.select_columns(&kept)))
-}
-
-/// The non-negative least-squares moduli (Lawson–Hanson) and an
-/// orthonormal basis of the range of B's free columns: the moduli held at
-/// zero do not move with θ, so the projection leaves them out (the
-/// Jacobian of the residual is then Kaufman's on the free columns, and
-/// zero along the shape parameters of terms held at zero).
-fn non_negative_moduli(
-    basis: &DMatrix<f64>,
-    y: &DVector<f64>,
-) -> Option<(DVector<f64>, DMatrix<f64>)> {
-    let solution = nnls(basis, y)?;
-    if solution.free.is_empty() {
-        return Some((solution.x, DMatrix::zeros(basis.nrows(), 0)));
-    }
-    let (_, range) = free_moduli(&basis.select_columns(&solution.free), y)?;
-    Some((solution.x, range))
 }
 
 impl LeastSquaresProblem<f64, Dyn, Dyn> for Projected<'_> {

@@ -1,8 +1,10 @@
-//! Non-negative linear least squares, min |A x − b| subject to x ≥ 0, by
-//! the active-set method of Lawson & Hanson (1974, "Solving Least Squares
-//! Problems", ch. 23). The constrained fit solves its moduli with it, as
-//! the unconstrained fit solves them by SVD: a handful of columns (one per
-//! Ogden term), some hundred rows.
+//! Linear least squares for the fit's moduli: [`least_squares`] by SVD
+//! (the unconstrained fit) and, on top of it, non-negative least squares,
+//! min |A x − b| subject to x ≥ 0, by the active-set method of Lawson &
+//! Hanson (1974, "Solving Least Squares Problems", ch. 23; the constrained
+//! fit). A handful of columns (one per Ogden term), some hundred rows. Both
+//! give, beside the solution, an orthonormal basis of the range of the
+//! columns they used, which the variable projection's Jacobian needs.
 //!
 //! Written here rather than taken from a crate: the one Rust NNLS crate
 //! (`nnls` 0.3) is built on ndarray 0.15 and ndarray-stats, a second
@@ -11,27 +13,44 @@
 
 use nalgebra::{DMatrix, DVector, SVD};
 
-/// The solution and which columns are free (x_j > 0) at it.
+/// The solution, which columns are free (x_j > 0) at it, and an
+/// orthonormal basis of the free columns' numerical range.
 #[derive(Clone, Debug)]
 pub struct Nnls {
     pub x: DVector<f64>,
     /// Column indices with x_j > 0, ascending.
     pub free: Vec<usize>,
+    /// Orthonormal basis of the range of A's free columns (no columns
+    /// when none is free).
+    pub range: DMatrix<f64>,
 }
 
-/// Least squares on the columns `cols` of `a`, by SVD with the fit's
-/// cutoff (columns closer to collinear than 1e-13 of the largest singular
-/// value count as one). None where the SVD breaks down.
-fn subset_solve(a: &DMatrix<f64>, b: &DVector<f64>, cols: &[usize]) -> Option<DVector<f64>> {
-    let sub = a.select_columns(cols);
+/// min |A x − b| by SVD, and an orthonormal basis of A's numerical range.
+/// Columns closer to collinear than 1e-13 of the largest singular value
+/// count as one, so the solve stays finite when two α_i meet. None where
+/// the SVD breaks down (non-finite singular values).
+pub fn least_squares(a: DMatrix<f64>, b: &DVector<f64>) -> Option<(DVector<f64>, DMatrix<f64>)> {
     // Unordered first: nalgebra's sort panics on a NaN singular value.
-    let mut svd = SVD::try_new_unordered(sub, true, true, 5.0 * f64::EPSILON, 0)?;
+    let mut svd = SVD::try_new_unordered(a, true, true, 5.0 * f64::EPSILON, 0)?;
     if svd.singular_values.iter().any(|s| !s.is_finite()) {
         return None;
     }
     svd.sort_by_singular_values();
     let cutoff = 1e-13 * svd.singular_values.max();
-    svd.solve(b, cutoff).ok()
+    let x = svd.solve(b, cutoff).ok()?;
+    let kept: Vec<usize> = (0..svd.singular_values.len())
+        .filter(|&j| svd.singular_values[j] > cutoff)
+        .collect();
+    Some((x, svd.u.as_ref()?.select_columns(&kept)))
+}
+
+/// [`least_squares`] on the columns `cols` of `a`.
+fn subset_solve(
+    a: &DMatrix<f64>,
+    b: &DVector<f64>,
+    cols: &[usize],
+) -> Option<(DVector<f64>, DMatrix<f64>)> {
+    least_squares(a.select_columns(cols), b)
 }
 
 /// min |A x − b| with x ≥ 0. None if a subproblem's SVD breaks down
@@ -40,6 +59,8 @@ pub fn nnls(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<Nnls> {
     let n = a.ncols();
     let mut x = DVector::zeros(n);
     let mut free = vec![false; n];
+    let no_range = || DMatrix::zeros(a.nrows(), 0);
+    let mut range = no_range();
     // The dual (gradient of −½|Ax − b|²) below this counts as zero: the
     // scale of Aᵀb times a few thousand roundings.
     let scale = (a.transpose() * b).amax().max(f64::MIN_POSITIVE);
@@ -57,13 +78,14 @@ pub fn nnls(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<Nnls> {
         free[t] = true;
         loop {
             let cols: Vec<usize> = (0..n).filter(|&j| free[j]).collect();
-            let s_free = subset_solve(a, b, &cols)?;
+            let (s_free, s_range) = subset_solve(a, b, &cols)?;
             let mut s = DVector::zeros(n);
             for (k, &j) in cols.iter().enumerate() {
                 s[j] = s_free[k];
             }
             if cols.iter().all(|&j| s[j] > 0.0) {
                 x = s;
+                range = s_range;
                 break;
             }
             // Step from x towards s as far as x stays feasible, then fix
@@ -81,6 +103,7 @@ pub fn nnls(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<Nnls> {
                 }
             }
             if free.iter().all(|f| !f) {
+                range = no_range();
                 break;
             }
         }
@@ -88,6 +111,7 @@ pub fn nnls(a: &DMatrix<f64>, b: &DVector<f64>) -> Option<Nnls> {
     x.iter().all(|v| v.is_finite()).then(|| Nnls {
         free: (0..n).filter(|&j| x[j] > 0.0).collect(),
         x,
+        range,
     })
 }
 
@@ -104,7 +128,7 @@ mod tests {
         let mut best = b.norm_squared();
         for mask in 1..(1usize << n) {
             let cols: Vec<usize> = (0..n).filter(|j| mask >> j & 1 == 1).collect();
-            let s = subset_solve(a, b, &cols).unwrap();
+            let (s, _) = subset_solve(a, b, &cols).unwrap();
             if s.iter().all(|v| *v >= 0.0) {
                 best = best.min((a.select_columns(&cols) * s - b).norm_squared());
             }
