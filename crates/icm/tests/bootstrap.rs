@@ -7,7 +7,9 @@ use std::sync::Arc;
 
 use hypercontact_core::{Context, Inputs, Params, Product, Schema, Stage, Table};
 use hypercontact_icm::stage::{Icm, IcmParams};
-use hypercontact_icm::{CompositeModulus, Model, ProfileSlices, Scheme, solve};
+mod common;
+
+use hypercontact_icm::{Model, Scheme};
 use hypercontact_material::fit_stage::{BootstrapParams, MaterialFit, MaterialFitParams};
 use hypercontact_material::sample::synthetic_tensile;
 use hypercontact_material::{Family, Ogden};
@@ -50,20 +52,9 @@ fn mid_row(p: &Profile) -> usize {
 /// The generating material's load and tangent modulus at every plane, Pa
 /// and N, with its E0*.
 fn truth_curve(p: &Profile) -> (Vec<f64>, Vec<f64>, f64) {
-    let modulus = CompositeModulus::new(Arc::new(truth()), Model::Hyperelastic, 0.5).unwrap();
-    let patches: Vec<f64> = p.patches.iter().map(|&n| n as f64).collect();
-    let s = solve(
-        ProfileSlices {
-            z_m: &p.z_m,
-            area_m2: &p.area_m2,
-            patches: &patches,
-            radius_m: &p.radius_m,
-        },
-        Scheme::Heun,
-        &mut |s| modulus.at_stress_pa(s).map_err(|e| e.to_string()),
-    )
-    .unwrap();
-    (s.load_n, s.modulus_pa, modulus.e0_star_pa())
+    let (s, e0_star) =
+        common::solve_profile(p, Arc::new(truth()), Model::Hyperelastic, Scheme::Heun);
+    (s.load_n, s.modulus_pa, e0_star)
 }
 
 struct Run {

@@ -3,7 +3,9 @@
 
 use std::sync::Arc;
 
-use hypercontact_icm::{CompositeModulus, Model, ProfileSlices, Scheme, Solution, solve};
+mod common;
+
+use hypercontact_icm::{Model, Scheme, Solution};
 use hypercontact_material::presets::paper_epdm;
 use hypercontact_synth::surface::SelfAffine;
 use hypercontact_truncation::{Levels, Profile, TruncationOptions, truncate};
@@ -18,20 +20,7 @@ fn profile_of(h: &Array2<f64>, pixel_m: f64, levels: Levels) -> Profile {
 }
 
 fn run(p: &Profile, model: Model, scheme: Scheme) -> (Solution, f64) {
-    let modulus = CompositeModulus::new(Arc::new(paper_epdm()), model, 0.5).unwrap();
-    let patches: Vec<f64> = p.patches.iter().map(|&n| n as f64).collect();
-    let s = solve(
-        ProfileSlices {
-            z_m: &p.z_m,
-            area_m2: &p.area_m2,
-            patches: &patches,
-            radius_m: &p.radius_m,
-        },
-        scheme,
-        &mut |s| modulus.at_stress_pa(s).map_err(|e| e.to_string()),
-    )
-    .unwrap();
-    (s, modulus.e0_star_pa())
+    common::solve_profile(p, Arc::new(paper_epdm()), model, scheme)
 }
 
 /// F/(E0* A0) at A/A0 = `fraction`, linear in A/A0 between planes.

@@ -132,7 +132,13 @@ impl QualityTable {
                 .collect(),
             free_params: qualities
                 .iter()
-                .map(|q| whole(q, conditioning.free_params as f64, 0.0) as i64)
+                .map(|q| {
+                    if q.mode.is_none() {
+                        conditioning.free_params as i64
+                    } else {
+                        0
+                    }
+                })
                 .collect(),
             mode: qualities.iter().map(|q| q.label().to_owned()).collect(),
             r2: qualities.iter().map(|q| q.r2).collect(),
