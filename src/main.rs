@@ -8,6 +8,7 @@ use anyhow::{Context as _, Result, bail};
 use clap::{Parser, Subcommand};
 use hypercontact_runner::cache::{Cache, EntryState};
 use hypercontact_runner::exec::default_cache_dir;
+use hypercontact_runner::slurm::{JobSpec, PipelineRun, SiteProfile, SlurmRun, Submission};
 use hypercontact_runner::{Pipeline, PlanOptions, RunOptions};
 
 mod stages;
@@ -45,6 +46,28 @@ struct RunArgs {
     /// No progress bars and no summary.
     #[arg(long, short)]
     quiet: bool,
+    /// Where stages run: here, or as Slurm batch jobs on a cluster sharing
+    /// the cache folder (see README, "Running on a Slurm cluster").
+    #[arg(long, value_enum, default_value_t = Executor::Local)]
+    executor: Executor,
+    /// With `--executor slurm`: submit, print the job ids and return;
+    /// `hypercontact status` follows them, the same command again collects
+    /// the outputs once they are done.
+    #[arg(long)]
+    detach: bool,
+    /// The site's Slurm profile (partition, account, module loads)
+    /// [default: $HYPERCONTACT_SLURM_PROFILE, else
+    /// ~/.config/hypercontact/slurm.yaml if present].
+    #[arg(long, value_name = "FILE")]
+    slurm_profile: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Executor {
+    /// Every stage in this process.
+    Local,
+    /// Every stage a Slurm job (`sbatch`), chained by dependencies.
+    Slurm,
 }
 
 #[derive(Subcommand)]
@@ -72,6 +95,21 @@ enum Command {
         /// Machine-readable output.
         #[arg(long)]
         json: bool,
+    },
+    /// The Slurm jobs of a pipeline's last submission (`--executor slurm`):
+    /// state, entry, log.
+    Status {
+        /// The pipeline file (YAML).
+        pipeline: PathBuf,
+        /// Output folder of the run or study [default: runs/<pipeline name>/].
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Compute one stage of a submitted plan into the cache: what each
+    /// Slurm job runs (`<out>/slurm/jobs/<key>.json`).
+    ExecStage {
+        /// The job file written at submission.
+        job: PathBuf,
     },
     /// Inspect or prune the cache.
     Cache {
@@ -157,6 +195,20 @@ fn dispatch(cli: Cli) -> Result<()> {
         Command::Run { args, force, only } => {
             let (pipeline, mut options) = prepare(&args, &registry)?;
             options.plan = PlanOptions { force, only };
+            if args.executor == Executor::Slurm {
+                let runs = [PipelineRun {
+                    pipeline: &pipeline,
+                    sets: args.set.clone(),
+                    values: Vec::new(),
+                    plan: options.plan.clone(),
+                }];
+                let Some(remote) = on_slurm(&args, &options, &runs)? else {
+                    return Ok(());
+                };
+                // The jobs computed every entry: what follows exports them.
+                options.plan.force.clear();
+                options.remote = remote;
+            }
             let report = hypercontact_runner::run(&pipeline, &options)?;
             if args.dry_run {
                 print!("{}", report.plan.describe());
@@ -176,7 +228,23 @@ fn dispatch(cli: Cli) -> Result<()> {
             }
         }
         Command::Study { args } => {
-            let (pipeline, options) = prepare(&args, &registry)?;
+            let (pipeline, mut options) = prepare(&args, &registry)?;
+            if args.executor == Executor::Slurm {
+                let variants = hypercontact_runner::study::variant_pipelines(&pipeline)?;
+                let runs: Vec<PipelineRun> = variants
+                    .iter()
+                    .map(|(values, p)| PipelineRun {
+                        pipeline: p,
+                        sets: args.set.clone(),
+                        values: values.iter().map(|(k, v)| (k.clone(), v.clone())).collect(),
+                        plan: PlanOptions::default(),
+                    })
+                    .collect();
+                let Some(remote) = on_slurm(&args, &options, &runs)? else {
+                    return Ok(());
+                };
+                options.remote = remote;
+            }
             let report = hypercontact_runner::study::run_study(&pipeline, &options)?;
             for (k, (variant, run)) in report.runs.iter().enumerate() {
                 let values: Vec<String> = variant.iter().map(|(p, v)| format!("{p}={v}")).collect();
@@ -199,6 +267,12 @@ fn dispatch(cli: Cli) -> Result<()> {
             }
         }
         Command::Stages { kind, json } => stages::print(&registry, kind.as_deref(), json)?,
+        Command::Status { pipeline, out } => {
+            let pipeline = Pipeline::load(&pipeline, &registry)?;
+            let out = out.unwrap_or_else(|| RunOptions::for_pipeline(&pipeline).out_dir);
+            slurm_status(&out.join("slurm"))?;
+        }
+        Command::ExecStage { job } => exec_stage(&job, &registry)?,
         Command::Cache { action } => cache_command(action, &registry)?,
     }
     Ok(())
@@ -208,6 +282,9 @@ fn prepare(
     args: &RunArgs,
     registry: &hypercontact_core::Registry,
 ) -> Result<(Pipeline, RunOptions)> {
+    if args.detach && args.executor != Executor::Slurm {
+        bail!("--detach returns while Slurm jobs run: give it with `--executor slurm`");
+    }
     let mut pipeline = Pipeline::load(&args.pipeline, registry)?;
     for assignment in &args.set {
         pipeline.set(assignment)?;
@@ -223,6 +300,139 @@ fn prepare(
     options.quiet = args.quiet;
     options.overrides = args.set.clone();
     Ok((pipeline, options))
+}
+
+/// Set by Ctrl-C (or SIGTERM) while waiting on Slurm.
+static CANCEL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Submits the plans to Slurm and waits for their jobs. `None` when there
+/// is nothing more to do here (a dry run, `--detach`); else the entries the
+/// jobs computed (key → job), for the export that follows.
+fn on_slurm(
+    args: &RunArgs,
+    options: &RunOptions,
+    runs: &[PipelineRun],
+) -> Result<Option<std::collections::BTreeMap<String, String>>> {
+    let slurm = SlurmRun {
+        cache_dir: options.cache_dir.clone(),
+        log_dir: options.out_dir.join("slurm"),
+        profile: SiteProfile::find(args.slurm_profile.as_deref())?,
+        dry_run: args.dry_run,
+        quiet: args.quiet,
+    };
+    let submission = hypercontact_runner::slurm::submit(runs, &slurm)?;
+    if args.dry_run {
+        println!("would submit {} Slurm jobs:", submission.jobs.len());
+        for j in &submission.jobs {
+            println!(
+                "  {:<20} {:<20} {} CPUs, {} MiB, {} min, entry {}",
+                j.stage,
+                j.kind,
+                j.cpus,
+                j.mem_mb,
+                j.time_min,
+                &j.key[..12]
+            );
+        }
+        return Ok(None);
+    }
+    if args.detach {
+        if !args.quiet {
+            let ids: Vec<&str> = submission.jobs.iter().map(|j| j.job_id.as_str()).collect();
+            println!(
+                "submitted {} Slurm jobs ({}); `hypercontact status {}{}` follows them, the \
+                 same command again collects the outputs",
+                ids.len(),
+                ids.join(" "),
+                args.pipeline.display(),
+                args.out
+                    .as_ref()
+                    .map(|o| format!(" --out {}", o.display()))
+                    .unwrap_or_default()
+            );
+        }
+        return Ok(None);
+    }
+    if !submission.jobs.is_empty() {
+        ctrlc::set_handler(|| CANCEL.store(true, std::sync::atomic::Ordering::SeqCst))
+            .context("installing the Ctrl-C handler")?;
+        if !args.quiet {
+            eprintln!(
+                "submitted {} Slurm jobs; logs in {}",
+                submission.jobs.len(),
+                slurm.log_dir.join("logs").display()
+            );
+        }
+    }
+    hypercontact_runner::slurm::wait(&submission, &slurm, &CANCEL)?;
+    Ok(Some(submission.remote()))
+}
+
+fn slurm_status(log_dir: &Path) -> Result<()> {
+    let Some(submission) = Submission::read(log_dir)? else {
+        bail!(
+            "no Slurm submission in {} (run with `--executor slurm` first)",
+            log_dir.display()
+        );
+    };
+    let statuses = hypercontact_runner::slurm::status(&submission)?;
+    let mut done = 0;
+    let mut failed = 0;
+    let mut queued = 0;
+    for s in &statuses {
+        let entry = if s.entry { "entry" } else { "-" };
+        println!(
+            "{:<20} {:>8}  {:<12} {:<6} {}",
+            s.job.stage,
+            s.job.job_id,
+            s.state,
+            entry,
+            s.job.log.display()
+        );
+        match (s.entry, s.state.as_str()) {
+            (true, _) => done += 1,
+            (false, "PENDING" | "RUNNING" | "CONFIGURING" | "COMPLETING" | "SUSPENDED") => {
+                queued += 1
+            }
+            _ => failed += 1,
+        }
+    }
+    println!(
+        "{} jobs: {done} done, {queued} queued or running, {failed} failed or cancelled",
+        statuses.len()
+    );
+    if queued == 0 && failed == 0 {
+        println!("all entries are in the cache: the same run command again exports them");
+    }
+    Ok(())
+}
+
+/// One Slurm job: rebuild the pipeline as submitted, compute the stage.
+fn exec_stage(job_file: &Path, registry: &hypercontact_core::Registry) -> Result<()> {
+    let spec = JobSpec::read(job_file)?;
+    let mut pipeline = Pipeline::load(&spec.pipeline, registry)?;
+    for assignment in &spec.sets {
+        pipeline.set(assignment)?;
+    }
+    for (path, value) in &spec.values {
+        pipeline.set_value(
+            path,
+            value.clone(),
+            &format!("study value {path} = {value}"),
+        )?;
+    }
+    let short = &spec.job.key[..spec.job.key.len().min(12)];
+    match hypercontact_runner::exec::exec_stage(&pipeline, &spec.cache, &spec.job)? {
+        hypercontact_runner::exec::JobOutcome::Computed { compute_s } => println!(
+            "computed stage `{}` (entry {short}) in {compute_s:.2} s",
+            spec.job.stage
+        ),
+        hypercontact_runner::exec::JobOutcome::AlreadyCached => println!(
+            "stage `{}`: entry {short} was already in the cache; nothing to do",
+            spec.job.stage
+        ),
+    }
+    Ok(())
 }
 
 fn cache_dir(at: &CacheWhere, registry: &hypercontact_core::Registry) -> Result<PathBuf> {

@@ -146,6 +146,13 @@ pub fn describe_text(stage: &dyn DynStage, full: bool) -> String {
             ));
         }
     }
+    if full {
+        let r = stage.resources();
+        out.push_str(&format!(
+            "  slurm job (--executor slurm): {} CPUs, {} MiB, {} min\n",
+            r.cpus, r.mem_mb, r.time_min
+        ));
+    }
     out.push('\n');
     out
 }
@@ -165,6 +172,11 @@ fn describe_json(stage: &dyn DynStage) -> Value {
         "outputs": info.outputs.iter().map(|o| json!({
             "name": o.name, "kind": o.kind, "doc": o.doc, "columns": o.columns,
         })).collect::<Vec<_>>(),
+        "resources": {
+            "cpus": stage.resources().cpus,
+            "mem_mb": stage.resources().mem_mb,
+            "time_min": stage.resources().time_min,
+        },
     })
 }
 

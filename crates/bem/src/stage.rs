@@ -182,6 +182,11 @@ impl Stage for Bem {
         &INFO
     }
 
+    /// Parallel over its work (rayon): a few cores pay off on a cluster.
+    fn resources(&self) -> hypercontact_core::Resources {
+        hypercontact_core::Resources::PARALLEL
+    }
+
     fn run(
         &self,
         p: &Checked<BemParams>,

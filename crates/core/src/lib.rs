@@ -41,7 +41,7 @@ pub use product::{Files, Inputs, Outputs, Product, ProductKind};
 pub use registry::{AnyParams, DynStage, ParamsError, Registry};
 pub use schema::Schema;
 pub use source::FileSource;
-pub use stage::{Arity, ColumnSpec, InputSpec, OutputSpec, Stage, StageInfo};
+pub use stage::{Arity, ColumnSpec, InputSpec, OutputSpec, Resources, Stage, StageInfo};
 pub use table::{ColumnData, DType, NotANumber, Table, TableError};
 
 /// What the derives' generated code names; not part of the API.

@@ -76,6 +76,8 @@ impl ParamsError {
 /// A stage of any kind, as the runner sees it.
 pub trait DynStage: Send + Sync {
     fn info(&self) -> &'static StageInfo;
+    /// The kind's default cluster resources ([`Stage::resources`]).
+    fn resources(&self) -> crate::stage::Resources;
     /// The declared parameters.
     fn params_spec(&self) -> Vec<ParamSpec>;
     /// Typed parameters from their JSON form, input paths resolved against
@@ -96,6 +98,10 @@ pub trait DynStage: Send + Sync {
 impl<S: Stage> DynStage for S {
     fn info(&self) -> &'static StageInfo {
         Stage::info(self)
+    }
+
+    fn resources(&self) -> crate::stage::Resources {
+        Stage::resources(self)
     }
 
     fn params_spec(&self) -> Vec<ParamSpec> {

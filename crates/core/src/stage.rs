@@ -167,6 +167,40 @@ impl StageInfo {
     }
 }
 
+/// What one computation of a stage kind asks of a cluster node: the
+/// defaults of a Slurm job (`--cpus-per-task`, `--mem`, `--time`) when the
+/// pipeline runs with `--executor slurm`. A pipeline's `slurm:` keys
+/// override them; they never change a result, so they are not part of any
+/// cache key.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Resources {
+    pub cpus: u32,
+    pub mem_mb: u64,
+    pub time_min: u64,
+}
+
+impl Resources {
+    /// A light stage: one core, 2 GiB, 30 minutes.
+    pub const LIGHT: Resources = Resources {
+        cpus: 1,
+        mem_mb: 2048,
+        time_min: 30,
+    };
+
+    /// A stage whose work is parallel (rayon) over maps or replicates.
+    pub const PARALLEL: Resources = Resources {
+        cpus: 4,
+        mem_mb: 8192,
+        time_min: 120,
+    };
+}
+
+impl Default for Resources {
+    fn default() -> Self {
+        Self::LIGHT
+    }
+}
+
 /// A pipeline stage: a pure function of its parameters and inputs.
 ///
 /// Its parameters are declared by its `Params` type (see
@@ -194,6 +228,12 @@ pub trait Stage: Send + Sync + 'static {
     type Params: Params;
 
     fn info(&self) -> &'static StageInfo;
+
+    /// What a cluster job of this kind asks for by default
+    /// ([`Resources::LIGHT`] unless the kind says more).
+    fn resources(&self) -> Resources {
+        Resources::LIGHT
+    }
 
     fn run(
         &self,

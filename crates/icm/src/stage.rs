@@ -86,6 +86,11 @@ impl Stage for Icm {
         &INFO
     }
 
+    /// Parallel over its work (rayon): a few cores pay off on a cluster.
+    fn resources(&self) -> hypercontact_core::Resources {
+        hypercontact_core::Resources::PARALLEL
+    }
+
     fn run(
         &self,
         p: &Checked<IcmParams>,

@@ -36,6 +36,9 @@ pub struct RunOptions {
     /// Keep the entries of temporary stages (a study drops them once every
     /// variant has run, so variants sharing a temporary entry reuse it).
     pub keep_temps: bool,
+    /// Entries computed by cluster jobs of this run (key → job id), so
+    /// provenance counts them as this run's work.
+    pub remote: BTreeMap<String, String>,
 }
 
 impl RunOptions {
@@ -51,6 +54,7 @@ impl RunOptions {
             overrides: Vec::new(),
             export: true,
             keep_temps: false,
+            remote: BTreeMap::new(),
         }
     }
 }
@@ -93,6 +97,10 @@ pub enum RunError {
     },
     #[error(transparent)]
     Store(#[from] StoreError),
+    /// A cluster job cannot do what it was submitted for, or a cluster run
+    /// failed (the message names the stage, job and log).
+    #[error("{0}")]
+    Job(String),
     /// The entry of a temporary stage this run planned to read was dropped
     /// by a concurrent run; [`run`] plans again and regenerates it.
     #[error("the entry of temporary stage `{stage}` was removed by another run")]
@@ -149,6 +157,8 @@ impl RunReport {
                 CacheUse::Hit => format!("{:>8.2} s", r.compute_s),
                 // Not part of this run: its time is an earlier run's.
                 CacheUse::Skipped => format!("{:>10}", "-"),
+                // Computed by a cluster job: its own compute time.
+                CacheUse::Miss if r.job.is_some() => format!("{:>8.2} s", r.compute_s),
                 CacheUse::Miss | CacheUse::Forced => format!("{:>8.2} s", r.wall_s),
             };
             out.push_str(&format!(
@@ -233,7 +243,6 @@ fn run_once(
         None => ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden()),
     };
 
-    let reader = hypercontact_io::RunnerReader;
     let mut products: HashMap<(String, String), Arc<Product>> = HashMap::new();
     // How many later stages still read each product: at zero it leaves
     // memory (a paper-scale run would otherwise hold every sample's tiles
@@ -256,67 +265,32 @@ fn run_once(
             overall.inc(1);
             continue;
         }
-        let decl = pipeline
-            .stage(&planned.name)
-            .expect("the plan only names pipeline stages");
-        let forced = matches!(planned.reason, Reason::Forced);
-
-        // A hit needs no lock: entries appear by rename, whole or not at all.
-        // The plan already verified a cached entry; reuse that check.
-        let mut manifest = match planned.reason {
-            Reason::Cached => planned.manifest.clone(),
-            _ => None,
-        };
-        let mut use_ = CacheUse::Hit;
-        if manifest.is_none() {
-            let _lock = cache.lock(&planned.key).map_err(|source| RunError::Cache {
-                path: cache.root().to_owned(),
-                cause: source,
-            })?;
-            // Staging folders of this entry are debris of killed runs now.
-            cache.clear_staging(&planned.key);
-            // Another run may have finished this entry while we waited.
-            if !forced && let EntryState::Valid(m) = cache.check(&planned.key) {
-                manifest = Some(*m);
-            } else {
-                let inputs = gather_inputs(&plan, planned, &cache, &manifests, &mut products)?;
-                let ctx = Context::with(&planned.name, multi.as_ref(), &reader)
-                    .with_upstream(upstream_record(&plan, planned, pipeline));
-                let t_compute = Instant::now();
-                let outputs = decl
-                    .stage
-                    .run_dyn(decl.params.as_ref(), &inputs, &ctx)
-                    .map_err(|source| RunError::Stage {
-                        file: pipeline.file.clone(),
-                        stage: planned.name.clone(),
-                        kind: planned.kind.clone(),
-                        cause: Box::new(source),
-                    })?;
-                let compute_s = t_compute.elapsed().as_secs_f64();
-                check_contract(planned, decl.stage.info(), &outputs)?;
-                let m = write_entry(
-                    &cache,
-                    planned,
-                    &outputs,
-                    compute_s,
-                    ctx.notes(),
-                    after_file,
-                )?;
-                for (name, product) in outputs.into_inner() {
-                    let id = (planned.name.clone(), name);
-                    if readers.get(&id).is_some_and(|&n| n > 0) {
-                        products.insert(id, Arc::new(product));
-                    }
-                }
-                use_ = if forced {
-                    CacheUse::Forced
-                } else {
-                    CacheUse::Miss
-                };
-                manifest = Some(m);
+        let Obtained {
+            manifest,
+            mut use_,
+            outputs,
+        } = obtain_entry(
+            pipeline,
+            &plan,
+            planned,
+            &cache,
+            &manifests,
+            &mut products,
+            multi.as_ref(),
+            after_file,
+        )?;
+        for (name, product) in outputs.map(Outputs::into_inner).into_iter().flatten() {
+            let id = (planned.name.clone(), name);
+            if readers.get(&id).is_some_and(|&n| n > 0) {
+                products.insert(id, Arc::new(product));
             }
         }
-        let manifest = manifest.expect("a hit or a fresh entry");
+        // Computed by a cluster job of this run: a hit here, but this run's
+        // work.
+        let job = options.remote.get(&planned.key).cloned();
+        if use_ == CacheUse::Hit && job.is_some() {
+            use_ = CacheUse::Miss;
+        }
         if use_ == CacheUse::Hit {
             cache.touch(&planned.key);
         }
@@ -353,6 +327,7 @@ fn run_once(
                 compute_s: manifest.compute_s,
                 temp: planned.temp,
                 notes: manifest.notes.clone(),
+                job,
             },
         );
         cache.restamp(&planned.key, &manifest);
@@ -394,6 +369,181 @@ fn run_once(
             })?;
     }
     Ok(RunReport { plan, provenance })
+}
+
+/// A stage's entry as [`obtain_entry`] found or made it.
+struct Obtained {
+    manifest: Manifest,
+    use_: CacheUse,
+    /// The products, when computed now (kept in memory for later stages).
+    outputs: Option<Outputs>,
+}
+
+/// The entry of a planned stage: the one the plan verified, or computed
+/// now under the entry's lock, unless another process (a concurrent run, a
+/// cluster job) finished it while this one waited for the lock.
+#[allow(clippy::too_many_arguments)]
+fn obtain_entry(
+    pipeline: &Pipeline,
+    plan: &Plan,
+    planned: &PlannedStage,
+    cache: &Cache,
+    manifests: &HashMap<String, Manifest>,
+    products: &mut HashMap<(String, String), Arc<Product>>,
+    multi: Option<&MultiProgress>,
+    after_file: AfterFile,
+) -> Result<Obtained, RunError> {
+    let forced = matches!(planned.reason, Reason::Forced);
+    // A hit needs no lock: entries appear by rename, whole or not at all.
+    // The plan already verified a cached entry; reuse that check.
+    if planned.reason == Reason::Cached
+        && let Some(manifest) = &planned.manifest
+    {
+        return Ok(Obtained {
+            manifest: manifest.clone(),
+            use_: CacheUse::Hit,
+            outputs: None,
+        });
+    }
+    let cache_err = |cause| RunError::Cache {
+        path: cache.root().to_owned(),
+        cause,
+    };
+    let _lock = cache.lock(&planned.key).map_err(cache_err)?;
+    // Staging folders of this entry are debris of killed runs now.
+    cache.clear_staging(&planned.key);
+    // Another run may have finished this entry while we waited.
+    if !forced && let EntryState::Valid(m) = cache.check(&planned.key) {
+        return Ok(Obtained {
+            manifest: *m,
+            use_: CacheUse::Hit,
+            outputs: None,
+        });
+    }
+    let decl = pipeline
+        .stage(&planned.name)
+        .expect("the plan only names pipeline stages");
+    let inputs = gather_inputs(plan, planned, cache, manifests, products)?;
+    let reader = hypercontact_io::RunnerReader;
+    let ctx = Context::with(&planned.name, multi, &reader)
+        .with_upstream(upstream_record(plan, planned, pipeline));
+    let t_compute = Instant::now();
+    let outputs = decl
+        .stage
+        .run_dyn(decl.params.as_ref(), &inputs, &ctx)
+        .map_err(|source| RunError::Stage {
+            file: pipeline.file.clone(),
+            stage: planned.name.clone(),
+            kind: planned.kind.clone(),
+            cause: Box::new(source),
+        })?;
+    let compute_s = t_compute.elapsed().as_secs_f64();
+    check_contract(planned, decl.stage.info(), &outputs)?;
+    let manifest = write_entry(cache, planned, &outputs, compute_s, ctx.notes(), after_file)?;
+    Ok(Obtained {
+        manifest,
+        use_: if forced {
+            CacheUse::Forced
+        } else {
+            CacheUse::Miss
+        },
+        outputs: Some(outputs),
+    })
+}
+
+/// One stage of a pipeline as a cluster job runs it.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize, PartialEq)]
+pub struct StageJob {
+    pub stage: String,
+    /// The key the submitter planned: the job refuses to write any other.
+    pub key: String,
+    /// Recompute even if the entry exists (`--force`).
+    #[serde(default)]
+    pub force: bool,
+}
+
+/// What [`exec_stage`] did.
+#[derive(Clone, Debug, PartialEq)]
+pub enum JobOutcome {
+    Computed {
+        compute_s: f64,
+    },
+    /// The entry was there already (another job or run made it).
+    AlreadyCached,
+}
+
+/// Computes one stage's entry from the entries of the stages it reads,
+/// which must be in the cache (`hypercontact exec-stage`, a cluster job):
+/// the same lock, staging folder and rename as a local run, so a job killed
+/// mid-stage leaves the entry absent and the cache valid.
+pub fn exec_stage(
+    pipeline: &Pipeline,
+    cache_dir: &Path,
+    job: &StageJob,
+) -> Result<JobOutcome, RunError> {
+    let cache = Cache::open(cache_dir).map_err(|cause| RunError::Cache {
+        path: cache_dir.to_owned(),
+        cause,
+    })?;
+    let options = PlanOptions {
+        force: if job.force {
+            vec![job.stage.clone()]
+        } else {
+            Vec::new()
+        },
+        only: Some(job.stage.clone()),
+    };
+    let plan = Plan::build(pipeline, &cache, &options, None)?;
+    let planned = plan.stage(&job.stage).expect("checked by the plan");
+    if planned.key != job.key {
+        return Err(RunError::Job(format!(
+            "stage `{}`: its key is now {} but the job was submitted for {}: the pipeline, a file \
+             it reads or the hypercontact binary changed since submission; submit again",
+            job.stage,
+            &planned.key[..12],
+            &job.key[..job.key.len().min(12)]
+        )));
+    }
+    if planned.reason == Reason::Cached {
+        cache.touch(&planned.key);
+        return Ok(JobOutcome::AlreadyCached);
+    }
+    let mut manifests = HashMap::new();
+    for input in &planned.inputs {
+        let upstream = plan.stage(&input.from_stage).expect("inputs name stages");
+        match &upstream.manifest {
+            Some(m) => {
+                manifests.insert(upstream.name.clone(), m.clone());
+            }
+            None => {
+                return Err(RunError::Job(format!(
+                    "stage `{}` reads `{}`, whose entry {} is not in the cache {} ({})",
+                    job.stage,
+                    upstream.name,
+                    &upstream.key[..12],
+                    cache_dir.display(),
+                    upstream.reason
+                )));
+            }
+        }
+    }
+    let obtained = obtain_entry(
+        pipeline,
+        &plan,
+        planned,
+        &cache,
+        &manifests,
+        &mut HashMap::new(),
+        None,
+        &mut |_| {},
+    )?;
+    cache.restamp(&planned.key, &obtained.manifest);
+    Ok(match obtained.use_ {
+        CacheUse::Hit => JobOutcome::AlreadyCached,
+        _ => JobOutcome::Computed {
+            compute_s: obtained.manifest.compute_s,
+        },
+    })
 }
 
 /// Removes the entry of every temporary stage of this run whose readers all

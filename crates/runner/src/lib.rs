@@ -8,6 +8,7 @@ pub mod hash;
 pub mod pipeline;
 pub mod plan;
 pub mod provenance;
+pub mod slurm;
 mod stage_params;
 pub mod store;
 pub mod study;

@@ -12,6 +12,7 @@ use indexmap::IndexMap;
 use serde::Deserialize;
 
 pub use crate::error::PipelineError;
+use crate::slurm::SlurmKeys;
 use crate::stage_params::ParamSources;
 use crate::yaml::{Located, Location};
 
@@ -45,6 +46,8 @@ pub struct StageDecl {
     /// its own entry, and recomputed from its key if a later run needs it
     /// (Snakemake's temporary files); its outputs are not exported.
     pub temp: bool,
+    /// `slurm:`: this stage's job resources under `--executor slurm`.
+    pub slurm: SlurmKeys,
     pub(crate) sources: ParamSources,
 }
 
@@ -90,6 +93,9 @@ pub struct Pipeline {
     pub dir: PathBuf,
     pub stages: Vec<StageDecl>,
     pub study: Option<StudySpec>,
+    /// `slurm:` at the top: job resources for every stage under
+    /// `--executor slurm` (a stage's own `slurm:` overrides them).
+    pub slurm: SlurmKeys,
     source: String,
     doc: Located,
 }
@@ -103,6 +109,8 @@ struct RawPipeline {
     stages: IndexMap<String, RawStage>,
     #[serde(default)]
     study: Option<RawStudy>,
+    #[serde(default)]
+    slurm: SlurmKeys,
 }
 
 #[derive(Deserialize)]
@@ -119,6 +127,8 @@ struct RawStage {
     inputs: IndexMap<String, RawInput>,
     #[serde(default)]
     temp: bool,
+    #[serde(default)]
+    slurm: SlurmKeys,
     /// Free text for the reader of the pipeline.
     #[serde(default, rename = "doc")]
     _doc: Option<String>,
@@ -289,6 +299,7 @@ impl Pipeline {
                 inputs: bindings(&rs.inputs),
                 line: at(&[]).map(|l| l.line),
                 temp: rs.temp,
+                slurm: rs.slurm.clone(),
                 sources,
             });
         }
@@ -314,6 +325,7 @@ impl Pipeline {
             dir,
             stages,
             study,
+            slurm: raw.slurm,
             source: source.to_owned(),
             doc,
         })

@@ -168,7 +168,13 @@ impl Plan {
             keys.insert(decl.name.clone(), key.clone());
 
             let is_selected = selected.contains(&decl.name);
-            let state = cache.check(&key);
+            // A stage `--only` does not need is not looked up (a cluster
+            // job plans with `--only` its stage: it reads its inputs' entries,
+            // not every entry of the pipeline).
+            let state = match is_selected {
+                true => cache.check(&key),
+                false => EntryState::Missing,
+            };
             let reason = if !is_selected {
                 Reason::NotSelected
             } else if options.force.contains(&decl.name) {

@@ -53,6 +53,9 @@ pub struct StageRecord {
     /// warnings), kept with the entry so a cached stage reports them too.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub notes: Vec<String>,
+    /// The cluster job that computed the entry in this run (`slurm 1234`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub job: Option<String>,
 }
 
 /// The record of one run.

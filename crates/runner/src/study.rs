@@ -62,54 +62,23 @@ pub struct StudyReport {
 /// Runs every variant; variant `k` exports to `<out>/variants/<k>/`, and the
 /// gathered tables land as `<out>/<stage>.<output>.parquet`.
 pub fn run_study(pipeline: &Pipeline, options: &RunOptions) -> Result<StudyReport, RunError> {
-    let spec = pipeline.study.clone().ok_or_else(|| {
-        PipelineError::new(&pipeline.file, "the pipeline has no `study:` section")
-    })?;
-    for (i, target) in spec.collect.iter().enumerate() {
-        let at = pipeline.locate(&["study".to_owned(), "collect".to_owned(), i.to_string()]);
-        let err = |message: String| PipelineError::new(&pipeline.file, message).located(at);
-        let (stage, output) = target
-            .split_once('.')
-            .ok_or_else(|| err(format!("study.collect `{target}`: expected STAGE.OUTPUT")))?;
-        let decl = pipeline
-            .stage(stage)
-            .ok_or_else(|| err(format!("study.collect `{target}`: no stage `{stage}`")))?;
-        if decl.temp {
-            return Err(err(format!(
-                "study.collect `{target}`: `{stage}` is temporary (`temp: true`), its entries are \
-                 dropped; collect a stage that reads it, or make it permanent"
-            ))
-            .into());
-        }
-        match decl.stage.info().output(output) {
-            Some(o) if o.kind == hypercontact_core::ProductKind::Table => {}
-            _ => {
-                return Err(err(format!(
-                    "study.collect `{target}`: `{stage}` has no table output `{output}`"
-                ))
-                .into());
-            }
-        }
-    }
-    let all = variants(&spec);
+    let spec = study_spec(pipeline)?;
     let mut runs = Vec::new();
-    for (k, variant) in all.iter().enumerate() {
-        let mut p = pipeline.clone();
-        for (path, value) in variant {
-            let origin = format!("study variant {k} ({path} = {value})");
-            p.set_value(path, value.clone(), &origin).map_err(|e| {
-                // A value of the grid is reported where the grid gives it.
-                let at = pipeline.locate(&["study", "grid", path.as_str()]);
-                if e.line.is_none() { e.located(at) } else { e }
-            })?;
-        }
+    // Entries a cluster job computed count as the work of the first
+    // variant that reads them; later variants find them cached.
+    let mut unclaimed = options.remote.clone();
+    for (k, (variant, p)) in variant_pipelines(pipeline)?.into_iter().enumerate() {
         let mut o = options.clone();
         o.out_dir = options.out_dir.join("variants").join(format!("{k:03}"));
         o.overrides = variant.iter().map(|(p, v)| format!("{p}={v}")).collect();
         // Variants may share a temporary entry: drop them after the last.
         o.keep_temps = true;
+        o.remote = unclaimed.clone();
         let report = run(&p, &o)?;
-        runs.push((variant.clone(), report));
+        for s in &report.plan.stages {
+            unclaimed.remove(&s.key);
+        }
+        runs.push((variant, report));
     }
     if options.dry_run {
         return Ok(StudyReport {
@@ -186,6 +155,60 @@ pub fn run_study(pipeline: &Pipeline, options: &RunOptions) -> Result<StudyRepor
         cause,
     })?;
     Ok(StudyReport { runs, tables })
+}
+
+/// The pipeline's study, its `collect:` targets checked.
+fn study_spec(pipeline: &Pipeline) -> Result<StudySpec, RunError> {
+    let spec = pipeline.study.clone().ok_or_else(|| {
+        PipelineError::new(&pipeline.file, "the pipeline has no `study:` section")
+    })?;
+    for (i, target) in spec.collect.iter().enumerate() {
+        let at = pipeline.locate(&["study".to_owned(), "collect".to_owned(), i.to_string()]);
+        let err = |message: String| PipelineError::new(&pipeline.file, message).located(at);
+        let (stage, output) = target
+            .split_once('.')
+            .ok_or_else(|| err(format!("study.collect `{target}`: expected STAGE.OUTPUT")))?;
+        let decl = pipeline
+            .stage(stage)
+            .ok_or_else(|| err(format!("study.collect `{target}`: no stage `{stage}`")))?;
+        if decl.temp {
+            return Err(err(format!(
+                "study.collect `{target}`: `{stage}` is temporary (`temp: true`), its entries are \
+                 dropped; collect a stage that reads it, or make it permanent"
+            ))
+            .into());
+        }
+        match decl.stage.info().output(output) {
+            Some(o) if o.kind == hypercontact_core::ProductKind::Table => {}
+            _ => {
+                return Err(err(format!(
+                    "study.collect `{target}`: `{stage}` has no table output `{output}`"
+                ))
+                .into());
+            }
+        }
+    }
+    Ok(spec)
+}
+
+/// Every variant of the pipeline's study with the pipeline it runs (its
+/// values set, each error placed where the study gives the value).
+pub fn variant_pipelines(pipeline: &Pipeline) -> Result<Vec<(Variant, Pipeline)>, RunError> {
+    let spec = study_spec(pipeline)?;
+    let mut out = Vec::new();
+    for (k, variant) in variants(&spec).into_iter().enumerate() {
+        let mut p = pipeline.clone();
+        for (path, value) in &variant {
+            let origin = format!("study variant {k} ({path} = {value})");
+            p.set_value(path, value.clone(), &origin).map_err(|e| {
+                // A value of the grid is reported where the grid gives it.
+                let at = pipeline.locate(&["study", "grid", path.as_str()]);
+                if e.line.is_none() { e.located(at) } else { e }
+            })?;
+        }
+        out.push((variant, p));
+    }
+    Ok(out)
 }
 
 /// The varied parameters of one variant as a one-row table. A parameter

@@ -546,6 +546,11 @@ impl Stage for Surface {
         &INFO
     }
 
+    /// Parallel over its work (rayon): a few cores pay off on a cluster.
+    fn resources(&self) -> hypercontact_core::Resources {
+        hypercontact_core::Resources::PARALLEL
+    }
+
     fn run(
         &self,
         p: &Checked<SurfaceParams>,
