@@ -193,6 +193,7 @@ fn dispatch(cli: Cli) -> Result<()> {
     let registry = hypercontact::registry();
     match cli.command {
         Command::Run { args, force, only } => {
+            let started = std::time::Instant::now();
             let (pipeline, mut options) = prepare(&args, &registry)?;
             options.plan = PlanOptions { force, only };
             if args.executor == Executor::Slurm {
@@ -222,7 +223,11 @@ fn dispatch(cli: Cli) -> Result<()> {
                     "{} ran, {} cached{temps} in {:.2} s; outputs in {}",
                     report.computed(),
                     report.hits(),
-                    report.provenance.wall_s,
+                    // On Slurm, the whole wait, not only the export.
+                    started
+                        .elapsed()
+                        .as_secs_f64()
+                        .max(report.provenance.wall_s),
                     options.out_dir.display()
                 );
             }
@@ -320,6 +325,11 @@ fn on_slurm(
         dry_run: args.dry_run,
         quiet: args.quiet,
     };
+    if !args.dry_run && !args.detach {
+        // Before submitting: a Ctrl-C from the first job on cancels them all.
+        ctrlc::set_handler(|| CANCEL.store(true, std::sync::atomic::Ordering::SeqCst))
+            .context("installing the Ctrl-C handler")?;
+    }
     let submission = hypercontact_runner::slurm::submit(runs, &slurm)?;
     if args.dry_run {
         println!("would submit {} Slurm jobs:", submission.jobs.len());
@@ -353,18 +363,19 @@ fn on_slurm(
         }
         return Ok(None);
     }
-    if !submission.jobs.is_empty() {
-        ctrlc::set_handler(|| CANCEL.store(true, std::sync::atomic::Ordering::SeqCst))
-            .context("installing the Ctrl-C handler")?;
-        if !args.quiet {
-            eprintln!(
-                "submitted {} Slurm jobs; logs in {}",
-                submission.jobs.len(),
+    if !args.quiet {
+        match submission.jobs.len() {
+            0 => eprintln!("nothing to submit: every entry the plan needs is in the cache"),
+            n => eprintln!(
+                "submitted {n} Slurm jobs; logs in {}",
                 slurm.log_dir.join("logs").display()
-            );
+            ),
         }
     }
     hypercontact_runner::slurm::wait(&submission, &slurm, &CANCEL)?;
+    if CANCEL.load(std::sync::atomic::Ordering::SeqCst) {
+        bail!("cancelled after the jobs finished: their entries are in the cache, not exported");
+    }
     Ok(Some(submission.remote()))
 }
 
@@ -422,6 +433,12 @@ fn exec_stage(job_file: &Path, registry: &hypercontact_core::Registry) -> Result
         )?;
     }
     let short = &spec.job.key[..spec.job.key.len().min(12)];
+    println!(
+        "stage `{}` of {}, entry {short}, cache {}",
+        spec.job.stage,
+        spec.pipeline.display(),
+        spec.cache.display()
+    );
     match hypercontact_runner::exec::exec_stage(&pipeline, &spec.cache, &spec.job)? {
         hypercontact_runner::exec::JobOutcome::Computed { compute_s } => println!(
             "computed stage `{}` (entry {short}) in {compute_s:.2} s",

@@ -149,7 +149,7 @@ pub fn describe_text(stage: &dyn DynStage, full: bool) -> String {
     if full {
         let r = stage.resources();
         out.push_str(&format!(
-            "  slurm job (--executor slurm): {} CPUs, {} MiB, {} min\n",
+            "  slurm job (--executor slurm): cpus {}, mem {} MiB, time {} min\n",
             r.cpus, r.mem_mb, r.time_min
         ));
     }

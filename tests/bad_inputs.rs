@@ -556,6 +556,35 @@ cases! {
     duplicate_input_label: Case::run(&TENSILE.replace("inputs: { tensile: tensile }", "inputs:\n      tensile:\n        UT: tensile\n        UT: tensile"), &[]).file("t.csv", CSV)
         .mentions(&["<dir>/p.yaml:11:"]);
     empty_stages: Case::run("name: x\nstages: {}\n", &[]);
+    // --- the Slurm executor's inputs (issue #19)
+    detach_without_slurm: Case::run(TENSILE, &["--detach"]).file("t.csv", CSV)
+        .mentions(&["--executor slurm"]);
+    executor_unknown: Case::run(TENSILE, &["--executor", "pbs"]).file("t.csv", CSV).exit(2);
+    slurm_profile_missing: Case::run(TENSILE, &["--executor", "slurm", "--slurm-profile", "<dir>/site.yaml"])
+        .file("t.csv", CSV)
+        .mentions(&["<dir>/site.yaml", "Slurm site profile"]);
+    slurm_profile_unknown_key: Case::run(TENSILE, &["--executor", "slurm", "--slurm-profile", "<dir>/site.yaml"])
+        .file("t.csv", CSV)
+        .file("site.yaml", "partition: compute\nlimit: { cpus: 2 }\n")
+        .mentions(&["<dir>/site.yaml:2:1"]);
+    slurm_profile_bad_time: Case::run(TENSILE, &["--executor", "slurm", "--slurm-profile", "<dir>/site.yaml"])
+        .file("t.csv", CSV)
+        .file("site.yaml", "limits:\n  time: 90 minutes\n")
+        .mentions(&["<dir>/site.yaml:2:", "time limit"]);
+    slurm_pipeline_bad_mem: Case::run(&TENSILE.replace("    uses: material-fit\n", "    uses: material-fit\n    slurm: { mem: 16 GB }\n"), &[])
+        .file("t.csv", CSV)
+        .mentions(&["<dir>/p.yaml:", "stage `fit`", "amount of memory"]);
+    status_without_submission: Case::new(&["status", "<dir>/p.yaml", "--out", "<dir>/out"])
+        .file("p.yaml", TENSILE)
+        .mentions(&["<dir>/out/slurm", "--executor slurm"]);
+    exec_stage_job_missing: Case::new(&["exec-stage", "<dir>/job.json"])
+        .mentions(&["<dir>/job.json"]);
+    exec_stage_job_garbage: Case::new(&["exec-stage", "<dir>/job.json"])
+        .file("job.json", "{ \"format\": 1, \"pipeline\": ")
+        .mentions(&["<dir>/job.json"]);
+    exec_stage_job_format: Case::new(&["exec-stage", "<dir>/job.json"])
+        .file("job.json", "{\"format\": 9, \"pipeline\": \"p.yaml\", \"sets\": [], \"values\": [], \"cache\": \"c\", \"job\": {\"stage\": \"a\", \"key\": \"k\"}}")
+        .mentions(&["<dir>/job.json", "format 9"]);
     cycle: Case::run("name: c\nstages:\n  a:\n    uses: truncation\n    inputs: { surface: b }\n  b:\n    uses: surface\n    inputs: { height: a.profile }\n", &[]);
     input_names_missing_stage: Case::run(&TENSILE.replace("{ tensile: tensile }", "{ tensile: tensil }"), &[]).file("t.csv", CSV);
     input_names_missing_output: Case::run(&TENSILE.replace("{ tensile: tensile }", "{ tensile: tensile.table }"), &[]).file("t.csv", CSV);

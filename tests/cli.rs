@@ -1,25 +1,12 @@
 //! The `hypercontact` binary end to end on the shipped sample map.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use hypercontact_core::Schema;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_hypercontact"))
-}
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
+mod common;
+use common::{bin, repo, text};
 
 /// The demo pipeline, pointed at the repository's sample from a temp folder.
 fn demo_in(dir: &Path) -> PathBuf {
@@ -218,6 +205,18 @@ fn stages_lists_every_kind_with_defaults_and_schemas() {
             .find(|p| p["name"] == "levels")
             .unwrap()["default"],
         1000
+    );
+    // What a Slurm job of the kind asks for: light, or parallel.
+    assert_eq!(
+        v[0]["resources"],
+        serde_json::json!({ "cpus": 1, "mem_mb": 2048, "time_min": 30 })
+    );
+    let bem = bin().args(["stages", "bem", "--json"]).output().unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&bem.stdout).unwrap();
+    assert_eq!(v[0]["resources"]["cpus"], 4);
+    let bem = bin().args(["stages", "bem"]).output().unwrap();
+    assert!(
+        text(&bem).contains("slurm job (--executor slurm): cpus 4, mem 8192 MiB, time 120 min")
     );
     let unknown = bin().args(["stages", "nope"]).output().unwrap();
     assert!(!unknown.status.success() && text(&unknown).contains("unknown stage kind"));

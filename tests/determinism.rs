@@ -5,15 +5,11 @@
 //! records wall times and cache use, which belong to the run.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 
-/// Files of a run that record the run itself rather than its results.
-const RUN_RECORDS: [&str; 1] = ["provenance.json"];
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+mod common;
+use common::{products, repo};
 
 /// Starts `run pipelines/quick.yaml` into `dir`/out with its own cache in
 /// `dir`/cache on `threads` rayon threads.
@@ -31,30 +27,6 @@ fn start_quick(dir: &Path, threads: usize) -> Child {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap()
-}
-
-/// Every file under `root` by its path relative to `root`, with its bytes.
-fn products(root: &Path) -> BTreeMap<String, Vec<u8>> {
-    let mut files = BTreeMap::new();
-    let mut folders = vec![root.to_path_buf()];
-    while let Some(folder) = folders.pop() {
-        for entry in std::fs::read_dir(&folder).unwrap() {
-            let path = entry.unwrap().path();
-            if path.is_dir() {
-                folders.push(path);
-                continue;
-            }
-            let name = path
-                .strip_prefix(root)
-                .unwrap()
-                .to_string_lossy()
-                .replace('\\', "/");
-            if !RUN_RECORDS.contains(&name.as_str()) {
-                files.insert(name, std::fs::read(&path).unwrap());
-            }
-        }
-    }
-    files
 }
 
 /// The files that differ between two runs' products (present in one only,
@@ -91,7 +63,7 @@ fn the_quick_pipeline_is_byte_identical_on_one_and_two_threads() {
         );
     }
 
-    let reference = products(&dirs[0].path().join("out"));
+    let reference = products(&dirs[0].path().join("out"), |n| n == "provenance.json");
     // 61 since the synthetic raw data are temporary (not exported): every
     // stage's products from DIC and stitching on.
     assert!(
@@ -102,7 +74,10 @@ fn the_quick_pipeline_is_byte_identical_on_one_and_two_threads() {
     );
     let mut failures = Vec::new();
     for ((label, _), dir) in runs.iter().zip(&dirs).skip(1) {
-        let files = differing(&reference, &products(&dir.path().join("out")));
+        let files = differing(
+            &reference,
+            &products(&dir.path().join("out"), |n| n == "provenance.json"),
+        );
         if !files.is_empty() {
             failures.push(format!(
                 "{label} vs {}: {} of {} files differ:\n  {}",

@@ -2,22 +2,12 @@
 //! moments on one cache, then a clean run must equal an uninterrupted one
 //! byte for byte, and every entry left in the cache must pass its hashes.
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_hypercontact"))
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
+mod common;
+use common::{bin, products, run_record, text};
 
 fn quick() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("pipelines/quick.yaml")
@@ -33,24 +23,6 @@ fn run(cache: &Path, out: &Path) -> Command {
         .arg("--out")
         .arg(out);
     c
-}
-
-/// Every file under `dir` by relative path, except the run's own record.
-fn products(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    fn walk(root: &Path, dir: &Path, out: &mut BTreeMap<PathBuf, Vec<u8>>) {
-        for entry in std::fs::read_dir(dir).unwrap() {
-            let path = entry.unwrap().path();
-            if path.is_dir() {
-                walk(root, &path, out);
-            } else if path.file_name().is_some_and(|n| n != "provenance.json") {
-                let rel = path.strip_prefix(root).unwrap().to_owned();
-                out.insert(rel, std::fs::read(&path).unwrap());
-            }
-        }
-    }
-    let mut out = BTreeMap::new();
-    walk(dir, dir, &mut out);
-    out
 }
 
 /// splitmix64: a fixed sequence of kill moments, the same on every run of
@@ -143,7 +115,10 @@ fn runs_killed_at_random_moments_leave_a_cache_that_gives_the_reference_bytes() 
         "kills at {schedule:?} ms: {}",
         text(&after)
     );
-    let (want, got) = (products(&reference_out), products(&out));
+    let (want, got) = (
+        products(&reference_out, run_record),
+        products(&out, run_record),
+    );
     let differing: Vec<_> = want
         .keys()
         .chain(got.keys())

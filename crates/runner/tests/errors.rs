@@ -329,6 +329,36 @@ fn pipeline_refusals() {
             refusal(BASIC, &[], &["double.=1"], &[]),
         ),
         ("--set empty path", refusal(BASIC, &[], &["=1"], &[])),
+        (
+            "slurm: memory not in Slurm's notation",
+            refusal(&format!("{BASIC}slurm: {{ mem: 4X }}\n"), &[], &[], &[]),
+        ),
+        (
+            "slurm: a stage's time limit of zero",
+            refusal(
+                &BASIC.replace("  double:\n", "  double:\n    slurm: { time: \"0:00\" }\n"),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "slurm: unknown key",
+            refusal(&format!("{BASIC}slurm: {{ memory: 4G }}\n"), &[], &[], &[]),
+        ),
+        (
+            "slurm: zero CPUs",
+            refusal(&format!("{BASIC}slurm: {{ cpus: 0 }}\n"), &[], &[], &[]),
+        ),
+        (
+            "slurm: partition with a space",
+            refusal(
+                &format!("{BASIC}slurm: {{ partition: a b }}\n"),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
     ];
     let text: String = cases
         .iter()
@@ -350,6 +380,7 @@ fn study_and_run_refusals() {
         overrides: vec![],
         export: true,
         keep_temps: false,
+        remote: Default::default(),
     };
     let study = |name: &str, text: &str| {
         let path = write(t.path(), &format!("{name}.yaml"), text);

@@ -22,6 +22,7 @@ fn options(dir: &Path) -> RunOptions {
         overrides: vec![],
         export: true,
         keep_temps: false,
+        remote: Default::default(),
     }
 }
 
@@ -715,6 +716,7 @@ stages:
     let p = load(t.path(), "p.yaml", text);
     let keep = RunOptions {
         keep_temps: true,
+        remote: Default::default(),
         ..options(t.path())
     };
     run(&p, &keep).unwrap();
@@ -844,4 +846,73 @@ fn the_dry_run_aligns_multi_byte_names() {
         })
         .collect();
     assert!(columns.windows(2).all(|w| w[0] == w[1]), "{describe}");
+}
+
+/// `exec-stage`, what each Slurm job runs: one entry from its inputs'
+/// entries, refused when an input's entry is missing or the plan's key is
+/// not the submitted one; the entries it leaves are what a local run makes.
+#[test]
+fn a_cluster_job_computes_one_entry_from_cached_inputs() {
+    use hypercontact_runner::exec::{JobOutcome, StageJob, exec_stage};
+    let t = tempfile::tempdir().unwrap();
+    let p = load(t.path(), "p.yaml", BASIC);
+    let cache_dir = t.path().join("cache");
+    let cache = Cache::open(&cache_dir).unwrap();
+    let plan = Plan::build(&p, &cache, &PlanOptions::default(), None).unwrap();
+    let job = |stage: &str, force: bool| StageJob {
+        stage: stage.to_owned(),
+        key: plan.stage(stage).unwrap().key.clone(),
+        force,
+    };
+
+    let e = exec_stage(&p, &cache_dir, &job("double", false)).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("stage `double` reads `src`, whose entry"),
+        "{e}"
+    );
+    let stale = StageJob {
+        key: "0".repeat(32),
+        ..job("src", false)
+    };
+    let e = exec_stage(&p, &cache_dir, &stale).unwrap_err();
+    assert!(e.to_string().contains("changed since submission"), "{e}");
+    assert!(!cache.entry_dir(&job("src", false).key).exists());
+
+    assert!(matches!(
+        exec_stage(&p, &cache_dir, &job("src", false)).unwrap(),
+        JobOutcome::Computed { .. }
+    ));
+    assert!(matches!(
+        exec_stage(&p, &cache_dir, &job("double", false)).unwrap(),
+        JobOutcome::Computed { .. }
+    ));
+    assert_eq!(
+        exec_stage(&p, &cache_dir, &job("double", false)).unwrap(),
+        JobOutcome::AlreadyCached
+    );
+    assert!(matches!(
+        exec_stage(&p, &cache_dir, &job("double", true)).unwrap(),
+        JobOutcome::Computed { .. }
+    ));
+
+    // A local run then finds every entry, and exports what a run on a
+    // fresh cache computes; provenance names the jobs it is told of.
+    let mut o = options(t.path());
+    o.remote = [(job("double", false).key, "slurm 7".to_owned())].into();
+    let report = run(&p, &o).unwrap();
+    assert_eq!(report.hits() + report.computed(), 2);
+    let double = &report.provenance.stages["double"];
+    assert_eq!(double.cache, CacheUse::Miss);
+    assert_eq!(double.job.as_deref(), Some("slurm 7"));
+    assert_eq!(report.provenance.stages["src"].cache, CacheUse::Hit);
+    let fresh = tempfile::tempdir().unwrap();
+    let local = run(&p, &options(fresh.path())).unwrap();
+    assert_eq!(local.computed(), 2);
+    for stage in ["src", "double"] {
+        assert_eq!(
+            report.provenance.stages[stage].outputs,
+            local.provenance.stages[stage].outputs
+        );
+    }
 }

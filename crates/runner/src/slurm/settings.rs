@@ -65,9 +65,7 @@ impl TryFrom<serde_json::Value> for Cpus {
     fn try_from(value: serde_json::Value) -> Result<Self, String> {
         match value.as_u64() {
             Some(n @ 1..=4096) => Ok(Cpus(n as u32)),
-            _ => Err(format!(
-                "cpus: {value} is not a count of CPUs from 1 to 4096"
-            )),
+            _ => Err(format!("{value} is not a count of CPUs from 1 to 4096")),
         }
     }
 }
@@ -83,10 +81,10 @@ impl TryFrom<serde_json::Value> for MemoryMb {
         let text = match &value {
             serde_json::Value::String(s) => s.clone(),
             serde_json::Value::Number(n) => n.to_string(),
-            other => return Err(format!("mem: {other} is not an amount of memory")),
+            other => return Err(format!("{other} is not an amount of memory")),
         };
         parse_memory_mb(&text).map(MemoryMb).ok_or_else(|| {
-            format!("mem: `{text}` is not an amount of memory (Slurm's notation: 4096, 500M, 4G)")
+            format!("`{text}` is not an amount of memory (Slurm's notation: 4096, 500M, 4G)")
         })
     }
 }
@@ -102,11 +100,11 @@ impl TryFrom<serde_json::Value> for TimeMin {
         let text = match &value {
             serde_json::Value::String(s) => s.clone(),
             serde_json::Value::Number(n) => n.to_string(),
-            other => return Err(format!("time: {other} is not a time limit")),
+            other => return Err(format!("{other} is not a time limit")),
         };
         parse_time_min(&text).map(TimeMin).ok_or_else(|| {
             format!(
-                "time: `{text}` is not a time limit (Slurm's notation: minutes, MM:SS, HH:MM:SS, \
+                "`{text}` is not a time limit (Slurm's notation: minutes, MM:SS, HH:MM:SS, \
                  D-HH, D-HH:MM or D-HH:MM:SS)"
             )
         })
@@ -135,7 +133,7 @@ pub fn parse_memory_mb(text: &str) -> Option<u64> {
     }
     let value: f64 = number.parse().ok()?;
     let mb = (value * scale).ceil();
-    (mb >= 1.0 && mb < 1e12).then_some(mb as u64)
+    (1.0..1e12).contains(&mb).then_some(mb as u64)
 }
 
 /// Slurm's time formats → whole minutes, rounded up; `None` for anything
@@ -359,7 +357,7 @@ mod tests {
         ] {
             assert_eq!(parse_memory_mb(text), Some(mb), "{text}");
         }
-        for bad in ["", "0", "G", "4X", "-1G", "4 GB", "1e3", "nan", "0.0001M"] {
+        for bad in ["", "0", "G", "4X", "-1G", "4 GB", "1e3", "nan", "0.0M"] {
             assert_eq!(parse_memory_mb(bad), None, "{bad}");
         }
     }
@@ -462,5 +460,76 @@ mod tests {
         };
         let r = JobResources::resolve(declared, &capped, &SlurmKeys::default(), &stage);
         assert_eq!((r.cpus, r.mem_mb, r.time_min), (2, 4096, 120));
+    }
+
+    #[test]
+    fn the_shipped_example_profile_reads() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/slurm/site.yaml");
+        let p = SiteProfile::load(&path).unwrap();
+        assert_eq!(p.partition, Some(Name("compute".into())));
+        assert_eq!(p.setup.len(), 2);
+        assert_eq!(p.limits.mem, Some(MemoryMb(64 * 1024)));
+        assert_eq!(p.limits.time, Some(TimeMin(2 * 24 * 60)));
+        assert_eq!(p.poll_s, Some(10.0));
+    }
+
+    #[test]
+    fn a_bad_profile_is_refused_with_its_line() {
+        let t = tempfile::tempdir().unwrap();
+        let path = t.path().join("site.yaml");
+        for (text, says) in [
+            (
+                "partition: a\nlimit: { cpus: 2 }\n",
+                "2:1: unknown field `limit`",
+            ),
+            (
+                "limits:\n  mem: lots\n",
+                "`lots` is not an amount of memory",
+            ),
+            ("poll_s: 0\n", "1:1: poll_s: 0 s is outside"),
+            (
+                "setup:\n  - \"module load x\\nrm -rf /\"\n",
+                "2:5: setup: one shell line",
+            ),
+        ] {
+            std::fs::write(&path, text).unwrap();
+            let e = SiteProfile::load(&path).unwrap_err().to_string();
+            assert!(e.contains("site.yaml") && e.contains(says), "{e}");
+        }
+        let e = SiteProfile::load(&t.path().join("none.yaml")).unwrap_err();
+        assert!(e.to_string().contains("cannot read the Slurm site profile"));
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
+
+        /// Any text: an answer or a refusal, never a panic; every written
+        /// form of a duration reads back as its minutes, rounded up.
+        #[test]
+        fn time_and_memory_never_panic_and_read_back(
+            text in "\\PC{0,24}",
+            d in 0u64..30, h in 0u64..24, m in 0u64..60, sec in 0u64..60,
+        ) {
+            let _ = parse_time_min(&text);
+            let _ = parse_memory_mb(&text);
+            let seconds = ((d * 24 + h) * 60 + m) * 60 + sec;
+            let want = (seconds > 0).then(|| seconds.div_ceil(60));
+            proptest::prop_assert_eq!(parse_time_min(&format!("{d}-{h:02}:{m:02}:{sec:02}")), want);
+            if d == 0 {
+                proptest::prop_assert_eq!(parse_time_min(&format!("{h}:{m:02}:{sec:02}")), want);
+            }
+        }
+
+        /// Any bytes as a profile file: a profile or an error naming the
+        /// file, never a panic.
+        #[test]
+        fn any_profile_bytes_are_read_or_refused(bytes in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..200)) {
+            let t = tempfile::tempdir().unwrap();
+            let path = t.path().join("site.yaml");
+            std::fs::write(&path, &bytes).unwrap();
+            if let Err(e) = SiteProfile::load(&path) {
+                proptest::prop_assert!(e.to_string().contains("site.yaml"));
+            }
+        }
     }
 }
