@@ -18,17 +18,12 @@ use crate::yaml::Located;
 
 /// A `slurm:` key of a pipeline (pipeline-wide or one stage's).
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct SlurmKeys {
-    #[serde(default)]
     pub partition: Option<Name>,
-    #[serde(default)]
     pub account: Option<Name>,
-    #[serde(default)]
     pub cpus: Option<Cpus>,
-    #[serde(default)]
     pub mem: Option<MemoryMb>,
-    #[serde(default)]
     pub time: Option<TimeMin>,
 }
 
@@ -175,42 +170,32 @@ pub fn parse_time_min(text: &str) -> Option<u64> {
 /// `$HYPERCONTACT_SLURM_PROFILE`, else `~/.config/hypercontact/slurm.yaml`
 /// when it exists.
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct SiteProfile {
-    #[serde(default)]
     pub partition: Option<Name>,
-    #[serde(default)]
     pub account: Option<Name>,
     /// Shell lines run in every job before the stage (`module load …`).
-    #[serde(default)]
     pub setup: Vec<String>,
     /// More `sbatch` options, one per item (`--qos=normal`).
-    #[serde(default)]
     pub sbatch_args: Vec<String>,
     /// The `hypercontact` the jobs run [default: this very binary]; on a
     /// cluster, a path every node sees.
-    #[serde(default)]
     pub command: Option<PathBuf>,
     /// Seconds between two looks at the queue [default 5].
-    #[serde(default)]
     pub poll_s: Option<f64>,
     /// The most a job may ask for here (`cpus`, `mem`, `time`): what the
     /// site's nodes and partition allow. Every request above is lowered to
     /// it, so a kind declared for 4 CPUs still runs on 2-core nodes rather
     /// than waiting in the queue for ever.
-    #[serde(default)]
     pub limits: Limits,
 }
 
 /// Upper bounds of a job's resources.
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct Limits {
-    #[serde(default)]
     pub cpus: Option<Cpus>,
-    #[serde(default)]
     pub mem: Option<MemoryMb>,
-    #[serde(default)]
     pub time: Option<TimeMin>,
 }
 
