@@ -195,7 +195,11 @@ fn dispatch(cli: Cli) -> Result<()> {
         Command::Run { args, force, only } => {
             let started = std::time::Instant::now();
             let (pipeline, mut options) = prepare(&args, &registry)?;
-            options.plan = PlanOptions { force, only };
+            options.plan = PlanOptions {
+                force,
+                only,
+                prune: false,
+            };
             if args.executor == Executor::Slurm {
                 let runs = [PipelineRun {
                     pipeline: &pipeline,

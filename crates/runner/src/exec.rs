@@ -492,6 +492,7 @@ pub fn exec_stage(
             Vec::new()
         },
         only: Some(job.stage.clone()),
+        prune: true,
     };
     let plan = Plan::build(pipeline, &cache, &options, None)?;
     let planned = plan.stage(&job.stage).expect("checked by the plan");

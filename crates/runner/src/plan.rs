@@ -121,6 +121,10 @@ pub struct Plan {
 pub struct PlanOptions {
     pub force: Vec<String>,
     pub only: Option<String>,
+    /// With `only`: leave the stages it does not need out of the plan
+    /// altogether, neither keyed nor looked up (a cluster job, which must
+    /// not hash every input file of the pipeline to compute one stage).
+    pub prune: bool,
 }
 
 impl Plan {
@@ -152,6 +156,9 @@ impl Plan {
         let mut stages = Vec::new();
         for index in order {
             let decl = &pipeline.stages[index];
+            if options.prune && !selected.contains(&decl.name) {
+                continue;
+            }
             let info = decl.stage.info();
             let inputs = resolve_inputs(pipeline, decl, info, &keys)?;
             let (params, files) = keyed_params(decl)?;

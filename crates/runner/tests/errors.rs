@@ -37,6 +37,7 @@ fn refusal(text: &str, files: &[(&str, &str)], sets: &[&str], force: &[&str]) ->
         let options = PlanOptions {
             force: force.iter().map(|s| s.to_string()).collect(),
             only: None,
+            prune: false,
         };
         Plan::build(&p, &cache, &options, None).map(|_| ())
     });
