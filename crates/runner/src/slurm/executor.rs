@@ -245,9 +245,10 @@ pub fn submit(variants: &[PipelineRun], run: &SlurmRun) -> Result<Submission, Ru
     }
 
     // Jobs of an earlier submission still queued for an entry: wait for
-    // them rather than computing the entry twice.
+    // them rather than computing the entry twice. (An unreadable record
+    // only costs that: the entry's lock still lets one job compute it.)
     let mut queued: HashMap<String, SubmittedJob> = HashMap::new();
-    if let Some(previous) = Submission::read(&log_dir)?
+    if let Ok(Some(previous)) = Submission::read(&log_dir)
         && previous.cache == cache_dir
     {
         let ids: Vec<String> = previous.jobs.iter().map(|j| j.job_id.clone()).collect();
