@@ -13,6 +13,23 @@ use hypercontact_runner::{Pipeline, PlanOptions, RunOptions};
 
 mod stages;
 
+/// `println!` for what a command reports on stdout, which ends the program
+/// quietly once stdout is a closed pipe (`… | head`), as a tool that
+/// SIGPIPE stops does, instead of panicking (Rust ignores SIGPIPE, so
+/// `println!` panics there).
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout().lock(), $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+            eprintln!("error: writing to stdout: {e}");
+            std::process::exit(1);
+        }
+    }};
+}
+
 #[derive(Parser)]
 #[command(
     name = "hypercontact",
@@ -216,14 +233,14 @@ fn dispatch(cli: Cli) -> Result<()> {
             }
             let report = hypercontact_runner::run(&pipeline, &options)?;
             if args.dry_run {
-                print!("{}", report.plan.describe());
+                say_text(report.plan.describe());
             } else if !args.quiet {
-                print!("{}", report.summary());
+                say_text(report.summary());
                 let temps = match report.temps_not_needed() {
                     0 => String::new(),
                     n => format!(", {n} temporary not needed"),
                 };
-                println!(
+                say!(
                     "{} ran, {} cached{temps} in {:.2} s; outputs in {}",
                     report.computed(),
                     report.hits(),
@@ -258,10 +275,10 @@ fn dispatch(cli: Cli) -> Result<()> {
             for (k, (variant, run)) in report.runs.iter().enumerate() {
                 let values: Vec<String> = variant.iter().map(|(p, v)| format!("{p}={v}")).collect();
                 if args.dry_run {
-                    println!("variant {k}: {}", values.join(" "));
-                    print!("{}", run.plan.describe());
+                    say!("variant {k}: {}", values.join(" "));
+                    say_text(run.plan.describe());
                 } else if !args.quiet {
-                    println!(
+                    say!(
                         "variant {k}: {:<50} {} ran, {} cached",
                         values.join(" "),
                         run.computed(),
@@ -271,7 +288,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             }
             if !args.quiet {
                 for (target, path) in &report.tables {
-                    println!("{target} → {}", path.display());
+                    say!("{target} → {}", path.display());
                 }
             }
         }
@@ -311,6 +328,14 @@ fn prepare(
     Ok((pipeline, options))
 }
 
+/// A block of lines for stdout, as [`say!`] writes them (nothing for an
+/// empty block).
+fn say_text(text: String) {
+    if !text.is_empty() {
+        say!("{}", text.trim_end_matches('\n'));
+    }
+}
+
 /// Set by Ctrl-C (or SIGTERM) while waiting on Slurm.
 static CANCEL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
@@ -336,10 +361,10 @@ fn on_slurm(
     }
     let submission = hypercontact_runner::slurm::submit(runs, &slurm)?;
     if args.dry_run {
-        println!("would submit {} Slurm jobs:", submission.jobs.len());
+        say!("would submit {} Slurm jobs:", submission.jobs.len());
         for j in &submission.jobs {
-            println!(
-                "  {:<20} {:<20} {} CPUs, {} MiB, {} min, entry {}",
+            say!(
+                "  {:<20} {:<20} cpus {}, mem {} MiB, time {} min, entry {}",
                 j.stage,
                 j.kind,
                 j.cpus,
@@ -353,7 +378,7 @@ fn on_slurm(
     if args.detach {
         if !args.quiet {
             let ids: Vec<&str> = submission.jobs.iter().map(|j| j.job_id.as_str()).collect();
-            println!(
+            say!(
                 "submitted {} Slurm jobs ({}); `hypercontact status {}{}` follows them, the \
                  same command again collects the outputs",
                 ids.len(),
@@ -396,7 +421,7 @@ fn slurm_status(log_dir: &Path) -> Result<()> {
     let mut queued = 0;
     for s in &statuses {
         let entry = if s.entry { "entry" } else { "-" };
-        println!(
+        say!(
             "{:<20} {:>8}  {:<12} {:<6} {}",
             s.job.stage,
             s.job.job_id,
@@ -412,12 +437,12 @@ fn slurm_status(log_dir: &Path) -> Result<()> {
             _ => failed += 1,
         }
     }
-    println!(
+    say!(
         "{} jobs: {done} done, {queued} queued or running, {failed} failed or cancelled",
         statuses.len()
     );
     if queued == 0 && failed == 0 {
-        println!("all entries are in the cache: the same run command again exports them");
+        say!("all entries are in the cache: the same run command again exports them");
     }
     Ok(())
 }
@@ -437,18 +462,18 @@ fn exec_stage(job_file: &Path, registry: &hypercontact_core::Registry) -> Result
         )?;
     }
     let short = &spec.job.key[..spec.job.key.len().min(12)];
-    println!(
+    say!(
         "stage `{}` of {}, entry {short}, cache {}",
         spec.job.stage,
         spec.pipeline.display(),
         spec.cache.display()
     );
     match hypercontact_runner::exec::exec_stage(&pipeline, &spec.cache, &spec.job)? {
-        hypercontact_runner::exec::JobOutcome::Computed { compute_s } => println!(
+        hypercontact_runner::exec::JobOutcome::Computed { compute_s } => say!(
             "computed stage `{}` (entry {short}) in {compute_s:.2} s",
             spec.job.stage
         ),
-        hypercontact_runner::exec::JobOutcome::AlreadyCached => println!(
+        hypercontact_runner::exec::JobOutcome::AlreadyCached => say!(
             "stage `{}`: entry {short} was already in the cache; nothing to do",
             spec.job.stage
         ),
@@ -471,7 +496,7 @@ fn cache_command(action: CacheAction, registry: &hypercontact_core::Registry) ->
             let Some(cache) =
                 Cache::open_existing(&dir).with_context(|| format!("opening {}", dir.display()))?
             else {
-                println!("no cache at {}", dir.display());
+                say!("no cache at {}", dir.display());
                 return Ok(());
             };
             let entries = cache.list()?;
@@ -481,7 +506,7 @@ fn cache_command(action: CacheAction, registry: &hypercontact_core::Registry) ->
                 let (kind, stage) = e.manifest.as_ref().map_or(("(unreadable)", ""), |m| {
                     (m.kind.as_str(), m.stage.as_str())
                 });
-                println!(
+                say!(
                     "{}  {:<16} {:<16} {:>10}  {}",
                     &e.key,
                     kind,
@@ -490,7 +515,7 @@ fn cache_command(action: CacheAction, registry: &hypercontact_core::Registry) ->
                     e.last_used.map_or("-".into(), ago)
                 );
             }
-            println!(
+            say!(
                 "{} entries, {} in {}",
                 entries.len(),
                 human_bytes(total),
@@ -504,7 +529,7 @@ fn cache_command(action: CacheAction, registry: &hypercontact_core::Registry) ->
         } => {
             let dir = cache_dir(&at, registry)?;
             let Some(cache) = Cache::open_existing(&dir)? else {
-                println!("no cache at {}: nothing to remove", dir.display());
+                say!("no cache at {}: nothing to remove", dir.display());
                 return Ok(());
             };
             let mut keys = std::collections::HashSet::new();
@@ -540,7 +565,7 @@ fn cache_command(action: CacheAction, registry: &hypercontact_core::Registry) ->
                 }
             }
             let debris = cache.clean_debris()?;
-            println!(
+            say!(
                 "removed {removed} entries ({}) and {debris} leftovers of interrupted runs",
                 human_bytes(freed)
             );
@@ -548,7 +573,7 @@ fn cache_command(action: CacheAction, registry: &hypercontact_core::Registry) ->
         CacheAction::Verify { at } => {
             let dir = cache_dir(&at, registry)?;
             let Some(cache) = Cache::open_existing(&dir)? else {
-                println!("no cache at {}", dir.display());
+                say!("no cache at {}", dir.display());
                 return Ok(());
             };
             let entries = cache.list()?;
@@ -558,13 +583,13 @@ fn cache_command(action: CacheAction, registry: &hypercontact_core::Registry) ->
                     EntryState::Valid(_) => {}
                     EntryState::Corrupt(why) => {
                         corrupt += 1;
-                        println!("corrupt  {}  {why}", e.key);
+                        say!("corrupt  {}  {why}", e.key);
                     }
                     // Removed by a concurrent `gc` or a dropped temporary.
                     EntryState::Missing => {}
                 }
             }
-            println!(
+            say!(
                 "{} entries checked, {corrupt} corrupt, in {}",
                 entries.len(),
                 dir.display()
@@ -578,7 +603,7 @@ fn cache_command(action: CacheAction, registry: &hypercontact_core::Registry) ->
             if dir.exists() {
                 Cache::open(&dir)?.clean()?;
             }
-            println!("removed {}", dir.display());
+            say!("removed {}", dir.display());
         }
     }
     Ok(())

@@ -818,3 +818,41 @@ fn lab_files_go_in_as_the_instruments_wrote_them() {
     }
     assert!(String::from_utf8_lossy(&out.stderr).contains("no force.csv"));
 }
+
+/// Output into a pipe its reader has closed (`… | head`): the command ends
+/// quietly, as one stopped by SIGPIPE, not with a panic (Rust's
+/// `println!` panics on a broken pipe).
+#[test]
+fn a_closed_stdout_pipe_ends_the_command_quietly() {
+    let t = tempfile::tempdir().unwrap();
+    let pipeline = repo().join("pipelines/quick.yaml");
+    for args in [
+        vec!["run", "--dry-run"],
+        vec!["run", "--dry-run", "--executor", "slurm"],
+        vec!["study", "--dry-run"],
+    ] {
+        let pipeline = if args[0] == "study" {
+            repo().join("pipelines/demo.yaml")
+        } else {
+            pipeline.clone()
+        };
+        let mut child = bin()
+            .args(&args[..1])
+            .arg(&pipeline)
+            .args(&args[1..])
+            .arg("--cache")
+            .arg(t.path().join("cache"))
+            .arg("--out")
+            .arg(t.path().join("out"))
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // The reader goes before the command has written a line.
+        drop(child.stdout.take());
+        let o = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {err}");
+    }
+}
