@@ -532,22 +532,28 @@ mod tests {
         assert_eq!(table(&out, "curves").n_rows(), 151);
     }
 
-    #[test]
-    fn bootstrap_writes_every_replicate_and_intervals_around_the_fit() {
-        let inputs = sample_inputs();
+    /// The sample fitted with Mooney–Rivlin alone (`compare: false`).
+    fn fit_mooney_rivlin(bootstrap: BootstrapParams) -> Outputs {
         let p = MaterialFitParams {
             model: Family::MooneyRivlin,
             compare: false,
-            bootstrap: BootstrapParams {
-                count: 40,
-                seed: 5,
-                starts: 1,
-            },
+            bootstrap,
             ..Default::default()
         }
         .check()
         .unwrap();
-        let out = MaterialFit.run(&p, &inputs, &Context::new("fit")).unwrap();
+        MaterialFit
+            .run(&p, &sample_inputs(), &Context::new("fit"))
+            .unwrap()
+    }
+
+    #[test]
+    fn bootstrap_writes_every_replicate_and_intervals_around_the_fit() {
+        let out = fit_mooney_rivlin(BootstrapParams {
+            count: 40,
+            seed: 5,
+            starts: 1,
+        });
         let reps = crate::bootstrap::from_replicates_table(table(&out, "replicates")).unwrap();
         assert_eq!(reps.len(), 40);
         assert_eq!(reps.last().unwrap().0, 40);
@@ -572,14 +578,7 @@ mod tests {
         );
         assert!((p95[mu0] - p05[mu0]) / value[mu0] < 0.05);
         // Without a bootstrap: no rows, NaN intervals.
-        let p = MaterialFitParams {
-            model: Family::MooneyRivlin,
-            compare: false,
-            ..Default::default()
-        }
-        .check()
-        .unwrap();
-        let out = MaterialFit.run(&p, &inputs, &Context::new("fit")).unwrap();
+        let out = fit_mooney_rivlin(BootstrapParams::default());
         assert_eq!(table(&out, "replicates").n_rows(), 0);
         assert!(
             table(&out, "params")
@@ -592,15 +591,7 @@ mod tests {
 
     #[test]
     fn compare_false_gives_one_comparison_row() {
-        let inputs = sample_inputs();
-        let p = MaterialFitParams {
-            model: Family::MooneyRivlin,
-            compare: false,
-            ..Default::default()
-        }
-        .check()
-        .unwrap();
-        let out = MaterialFit.run(&p, &inputs, &Context::new("fit")).unwrap();
+        let out = fit_mooney_rivlin(BootstrapParams::default());
         let c = table(&out, "comparison");
         assert_eq!(c.str("model").unwrap(), ["mooney-rivlin", "mooney-rivlin"]);
         let selected = c.i64("selected").unwrap();
