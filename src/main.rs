@@ -429,12 +429,10 @@ fn slurm_status(log_dir: &Path) -> Result<()> {
             entry,
             s.job.log.display()
         );
-        match (s.entry, s.state.as_str()) {
+        match (s.entry, s.queued()) {
             (true, _) => done += 1,
-            (false, "PENDING" | "RUNNING" | "CONFIGURING" | "COMPLETING" | "SUSPENDED") => {
-                queued += 1
-            }
-            _ => failed += 1,
+            (false, true) => queued += 1,
+            (false, false) => failed += 1,
         }
     }
     say!(

@@ -10,7 +10,6 @@
 //! (`CI` set, as `.ci/run` does, which installs Slurm) that is a failure.
 
 use std::collections::BTreeMap;
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -165,7 +164,6 @@ impl Cluster {
             daemons: Vec::new(),
             dir,
         };
-        let d = cluster.dir.path().to_owned();
         cluster.spawn(
             "munged",
             Command::new(which("munged").unwrap()).args([
@@ -198,7 +196,6 @@ impl Cluster {
                 .output()
                 .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "idle")
         });
-        let _ = d;
         Some(cluster)
     }
 
@@ -360,6 +357,12 @@ fn the_slurm_executor_gives_the_local_bytes_with_one_job_per_entry() {
         .into_iter()
         .chain([profile.to_str().unwrap()])
         .collect();
+    // The Slurm arguments and more.
+    let on_slurm = |extra: &[&'static str]| {
+        let mut args = slurm.clone();
+        args.extend_from_slice(extra);
+        args
+    };
 
     // 1. The quick pipeline, locally and through Slurm, on separate caches.
     let t0 = Instant::now();
@@ -495,7 +498,7 @@ fn the_slurm_executor_gives_the_local_bytes_with_one_job_per_entry() {
 
     // 4. A job cancelled mid-stage: the fit with a long bootstrap, alone.
     let set = ["--set", "fit.bootstrap.count=2500", "--only", "fit"];
-    let args: Vec<&str> = slurm.iter().copied().chain(set).collect();
+    let args = on_slurm(&set);
     let submitter = run("run", "quick.yaml", "slurm-cache", "cancelled", &args)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -622,11 +625,7 @@ fn the_slurm_executor_gives_the_local_bytes_with_one_job_per_entry() {
         "demo.yaml",
         "slurm-cache",
         "interrupted",
-        &slurm
-            .iter()
-            .copied()
-            .chain(["--set", "trunc.levels=400"])
-            .collect::<Vec<_>>(),
+        &on_slurm(&["--set", "trunc.levels=400"]),
     )
     .stdout(Stdio::piped())
     .stderr(Stdio::piped())
@@ -663,11 +662,7 @@ fn the_slurm_executor_gives_the_local_bytes_with_one_job_per_entry() {
 
     // 7. --detach returns with the jobs queued; status follows them; the
     //    same command again collects the outputs without resubmitting.
-    let args: Vec<&str> = slurm
-        .iter()
-        .copied()
-        .chain(["--set", "trunc.levels=300", "--detach"])
-        .collect();
+    let args = on_slurm(&["--set", "trunc.levels=300", "--detach"]);
     let o = run("run", "demo.yaml", "slurm-cache", "detached", &args)
         .output()
         .unwrap();
@@ -696,16 +691,11 @@ fn the_slurm_executor_gives_the_local_bytes_with_one_job_per_entry() {
         assert!(t0.elapsed() < Duration::from_secs(120), "{said}");
         std::thread::sleep(Duration::from_millis(300));
     }
-    let args: Vec<&str> = slurm
-        .iter()
-        .copied()
-        .chain(["--set", "trunc.levels=300"])
-        .collect();
+    let args = on_slurm(&["--set", "trunc.levels=300"]);
     let o = run("run", "demo.yaml", "slurm-cache", "detached", &args)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", text(&o));
     assert!(jobs(&t.path().join("detached")).is_empty());
     assert!(t.path().join("detached/contact/response.parquet").exists());
-    let _ = std::io::stderr().flush();
 }

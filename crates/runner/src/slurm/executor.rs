@@ -493,6 +493,13 @@ pub struct JobStatus {
     pub entry: bool,
 }
 
+impl JobStatus {
+    /// Queued or running: Slurm may still start or finish it.
+    pub fn queued(&self) -> bool {
+        self.state != "gone" && !is_final(&self.state)
+    }
+}
+
 /// The state of every job of a submission.
 pub fn status(submission: &Submission) -> Result<Vec<JobStatus>, RunError> {
     let cache = Cache::open(&submission.cache).map_err(|cause| RunError::Cache {

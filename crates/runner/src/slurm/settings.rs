@@ -73,11 +73,7 @@ pub struct MemoryMb(pub u64);
 impl TryFrom<serde_json::Value> for MemoryMb {
     type Error = String;
     fn try_from(value: serde_json::Value) -> Result<Self, String> {
-        let text = match &value {
-            serde_json::Value::String(s) => s.clone(),
-            serde_json::Value::Number(n) => n.to_string(),
-            other => return Err(format!("{other} is not an amount of memory")),
-        };
+        let text = scalar_text(value, "an amount of memory")?;
         parse_memory_mb(&text).map(MemoryMb).ok_or_else(|| {
             format!("`{text}` is not an amount of memory (Slurm's notation: 4096, 500M, 4G)")
         })
@@ -92,17 +88,23 @@ pub struct TimeMin(pub u64);
 impl TryFrom<serde_json::Value> for TimeMin {
     type Error = String;
     fn try_from(value: serde_json::Value) -> Result<Self, String> {
-        let text = match &value {
-            serde_json::Value::String(s) => s.clone(),
-            serde_json::Value::Number(n) => n.to_string(),
-            other => return Err(format!("{other} is not a time limit")),
-        };
+        let text = scalar_text(value, "a time limit")?;
         parse_time_min(&text).map(TimeMin).ok_or_else(|| {
             format!(
                 "`{text}` is not a time limit (Slurm's notation: minutes, MM:SS, HH:MM:SS, \
                  D-HH, D-HH:MM or D-HH:MM:SS)"
             )
         })
+    }
+}
+
+/// A number or text as the text Slurm would read (`4096`, `4G`, `1:00:00`);
+/// anything else is not `what`.
+fn scalar_text(value: serde_json::Value, what: &str) -> Result<String, String> {
+    match value {
+        serde_json::Value::String(s) => Ok(s),
+        serde_json::Value::Number(n) => Ok(n.to_string()),
+        other => Err(format!("{other} is not {what}")),
     }
 }
 
