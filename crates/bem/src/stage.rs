@@ -5,15 +5,16 @@
 
 use std::sync::Arc;
 
-use hypercontact_core::contact::{area_fraction_label, check_map_fraction};
+use hypercontact_core::contact::{
+    Curve, ModelMapIndex, ResponseTable, area_fraction_label, check_map_fraction,
+};
 use hypercontact_core::field::SurfaceProblem;
 use hypercontact_core::{
     Arity, Checked, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs, ParamError,
     Schema, Stage, StageError, StageInfo, params,
 };
 use hypercontact_icm::tangent::integrate;
-use hypercontact_icm::{CompositeModulus, Model, Scheme};
-use hypercontact_material::Poisson;
+use hypercontact_icm::{CompositeModulus, LawParams, Scheme};
 use hypercontact_material::table::MaterialTable;
 
 use crate::curve::{CurveOptions, solve_curve};
@@ -27,15 +28,8 @@ pub struct BemParams {
     /// how the map continues beyond its edges
     #[param(default = Boundary::Free)]
     pub boundary: Boundary,
-    /// contact law
-    #[param(default = Model::Hyperelastic)]
-    pub model: Model,
-    /// integration of the hyperelastic load over the steps (as in `icm`)
-    #[param(default = Scheme::Heun)]
-    pub scheme: Scheme,
-    /// Poisson's ratio ν of the composite moduli
-    #[param(default = Poisson::INCOMPRESSIBLE)]
-    pub poisson: Poisson,
+    #[param(flatten)]
+    pub law: LawParams,
     /// load steps after first contact, about evenly spaced in A/A0
     #[param(default = 40, range = 1..=100_000)]
     pub steps: usize,
@@ -66,24 +60,11 @@ fn maps_within_curve(p: &BemParams) -> Result<(), ParamError> {
     Ok(())
 }
 
-/// The `response` table: `icm`'s columns, then the solver's.
+/// The `response` table: every contact model's columns, then the solver's.
 #[derive(Clone, Debug, PartialEq, Schema)]
 pub struct BemResponseTable {
-    /// rigid-plane height above the lowest measured point
-    #[column(unit = "m")]
-    pub z_m: Vec<f64>,
-    /// A / A0 (contact pixels / measured pixels)
-    pub area_fraction: Vec<f64>,
-    /// total contact load F
-    #[column(unit = "N")]
-    pub load_n: Vec<f64>,
-    /// F / (E0* A0)
-    pub load_norm: Vec<f64>,
-    /// F / A (magnitude; the law is evaluated at S = −F/A)
-    #[column(unit = "Pa")]
-    pub mean_stress_pa: Vec<f64>,
-    /// E_t*(S) / E0*; 1 for a linear model
-    pub tangent_ratio: Vec<f64>,
+    #[column(flatten)]
+    pub response: ResponseTable,
     /// (A/A0) / (p̄ / (E0* h'rms)), p̄ = F/A0; NaN at first contact
     pub kappa: Vec<f64>,
     /// conjugate-gradient iterations spent on the step
@@ -92,16 +73,26 @@ pub struct BemResponseTable {
     pub residual: Vec<f64>,
 }
 
-/// The `contact_maps` index, `maps.csv`.
-const MAPS_COLUMNS: &str =
-    "requested_area_fraction,area_fraction,step,z_m,load_n,pressure_file,gap_file,dx_m,dy_m";
+/// The index of `contact_maps`: every model's map columns, then the gap.
+#[derive(Clone, Debug, Default, PartialEq, Schema)]
+pub struct BemMapIndex {
+    #[column(flatten)]
+    pub maps: ModelMapIndex,
+    /// the step kept (a row of `response`)
+    pub step: Vec<i64>,
+    /// its rigid-plane height (`response`'s z_m)
+    #[column(unit = "m")]
+    pub z_m: Vec<f64>,
+    /// the gap map (.npy, m; NaN where not measured)
+    pub gap_file: Vec<String>,
+}
 
 /// The `bem` stage.
 pub struct Bem;
 
 static INFO: StageInfo = StageInfo {
     kind: "bem",
-    version: 1,
+    version: 2,
     summary: "Boundary elements: load against contact area of a height map on an elastic \
               half-space",
     doc: "The rough surface as a linearly elastic half-space pressed onto a rigid plane, solved \
@@ -140,8 +131,8 @@ static INFO: StageInfo = StageInfo {
           the linear solution's; the pressure map is the linear one scaled to the load (F/f). \
           CONTACT_MAPS: for each of map_fractions, the step whose A/A0 is nearest: \
           pressure_a<fraction>.npy (Pa) and gap_a<fraction>.npy (m, NaN where not measured), \
-          axis 0 = x as in the input, and maps.csv (requested_area_fraction, area_fraction, \
-          step, z_m, load_n, pressure_file, gap_file, dx_m, dy_m).",
+          axis 0 = x as in the input, indexed by the table contact_maps.parquet (one row per \
+          map: requested and kept A/A0, load, files, spacing, step, z_m).",
     inputs: &[
         InputSpec::field(
             "surface",
@@ -159,9 +150,9 @@ static INFO: StageInfo = StageInfo {
             "response",
             "one row per load step, first contact first (icm's columns first)",
         ),
-        OutputSpec::files(
+        OutputSpec::files_indexed::<BemMapIndex>(
             "contact_maps",
-            "pressure and gap maps (.npy) at map_fractions, with maps.csv",
+            "pressure and gap maps (.npy) at map_fractions, indexed",
         ),
     ],
 };
@@ -197,16 +188,15 @@ impl Stage for Bem {
         let heights_m = checked_heights(surface).map_err(StageError::other)?;
         let material = hypercontact_material::table::from_table(inputs.table("material")?)
             .map_err(|e| StageError::other(BemError::Material(e)))?;
-        let modulus = CompositeModulus::new(Arc::from(material), p.model, p.poisson.0)
+        let modulus = p
+            .law
+            .modulus(Arc::from(material))
             .map_err(|e| StageError::other(BemError::Material(e)))?;
-        let e0_star = modulus.e0_star_pa();
-        let (nx, ny, dx, dy) = (surface.nx(), surface.ny(), surface.dx_m, surface.dy_m);
-        let pixel_m2 = dx * dy;
-
-        let influence = Influence::new(nx, ny, dx, dy, p.boundary);
+        let grid = (surface.nx(), surface.ny(), surface.dx_m, surface.dy_m);
+        let influence = Influence::new(grid.0, grid.1, grid.2, grid.3, p.boundary);
         let problem = Problem::new(&influence, &heights_m)
             .map_err(|e| StageError::other(BemError::Surface(e.to_string())))?;
-        let a0_m2 = problem.measured() as f64 * pixel_m2;
+        let a0_m2 = problem.measured() as f64 * grid.2 * grid.3;
         let lowest_m = heights_m
             .iter()
             .copied()
@@ -214,97 +204,101 @@ impl Stage for Bem {
             .fold(f64::INFINITY, f64::min);
         let z_of = |approach_m: f64| problem.top_m() - approach_m - lowest_m;
 
-        let options = CurveOptions {
-            steps: p.steps,
-            max_area_fraction: p.max_area_fraction,
-            solver: SolverOptions {
-                tolerance: p.tolerance,
-                max_iterations: p.max_iterations,
-                ..SolverOptions::default()
-            },
-        };
-        let mut maps: Vec<Option<MapChoice>> = p.map_fractions.iter().map(|_| None).collect();
-        let progress = ctx.progress(p.steps as u64, "load steps");
-        let mut keep = |k: usize, row: &crate::Step, solution: &Solution| {
-            progress.inc(1);
-            for (slot, &requested) in maps.iter_mut().zip(&p.map_fractions) {
-                let nearer = slot.as_ref().is_none_or(|m| {
-                    (row.area_fraction - requested).abs() < (m.area_fraction - requested).abs()
-                });
-                if nearer {
-                    *slot = Some(MapChoice {
-                        requested,
-                        step: k,
-                        area_fraction: row.area_fraction,
-                        pressure: solution.pressure.clone(),
-                        gap_m: solution.gap_m.clone(),
-                    });
-                }
-            }
-        };
-        let rows = solve_curve(&problem, options, &mut keep)
-            .map_err(|e| StageError::other(not_converged(e, &z_of, e0_star * a0_m2)))?;
-        drop(progress);
-
-        // Loads: E0* f, or the tangent-modulus integral over f.
-        let unit_load_m2: Vec<f64> = rows.iter().map(|r| r.mean_pressure * a0_m2).collect();
-        let area_m2: Vec<f64> = rows
-            .iter()
-            .map(|r| r.contact_pixels as f64 * pixel_m2)
-            .collect();
-        let tangent = integrate(&unit_load_m2, &area_m2, p.scheme, &mut |s| {
-            modulus.at_stress_pa(s).map_err(|e| e.to_string())
-        })
-        .map_err(|e| StageError::other(BemError::Tangent(e)))?;
-
-        let slope = hypercontact_surface::stats::rms_slope(&surface.values, dx, dy);
-        let response = BemResponseTable {
-            z_m: rows.iter().map(|r| z_of(r.approach_m)).collect(),
-            area_fraction: rows.iter().map(|r| r.area_fraction).collect(),
-            load_norm: tangent
-                .load_n
-                .iter()
-                .map(|f| f / (e0_star * a0_m2))
-                .collect(),
-            mean_stress_pa: tangent
-                .load_n
-                .iter()
-                .zip(&area_m2)
-                .map(|(f, a)| if *a > 0.0 { f / a } else { 0.0 })
-                .collect(),
-            tangent_ratio: tangent.modulus_pa.iter().map(|e| e / e0_star).collect(),
-            kappa: rows
-                .iter()
-                .zip(&tangent.load_n)
-                .map(|(r, f)| {
-                    if *f > 0.0 {
-                        r.area_fraction * e0_star * slope / (f / a0_m2)
-                    } else {
-                        f64::NAN
-                    }
-                })
-                .collect(),
-            iterations: rows.iter().map(|r| r.iterations as i64).collect(),
-            residual: rows.iter().map(|r| r.residual).collect(),
-            load_n: tangent.load_n,
-        };
+        let (rows, maps) = solve_steps(&problem, p, ctx).map_err(|e| {
+            StageError::other(not_converged(e, &z_of, modulus.e0_star_pa() * a0_m2))
+        })?;
         ctx.note(&format!(
             "{} steps, {} iterations, A/A0 up to {:.4}",
             p.steps,
             rows.iter().map(|r| r.iterations).sum::<usize>(),
             rows.last().map_or(0.0, |r| r.area_fraction),
         ));
-
-        let files = map_files(
-            maps.into_iter().flatten().collect(),
-            &response,
-            &unit_load_m2,
-            (nx, ny, dx, dy),
-        )?;
+        let curve = Curve {
+            z_m: rows.iter().map(|r| z_of(r.approach_m)).collect(),
+            area_fraction: rows.iter().map(|r| r.area_fraction).collect(),
+            area_m2: rows
+                .iter()
+                .map(|r| r.contact_pixels as f64 * grid.2 * grid.3)
+                .collect(),
+            ..Curve::default()
+        };
+        let unit_load_m2: Vec<f64> = rows.iter().map(|r| r.mean_pressure * a0_m2).collect();
+        let response = respond(curve, &unit_load_m2, &modulus, p.law.scheme, a0_m2)?;
+        let slope = hypercontact_surface::stats::rms_slope(&surface.values, grid.2, grid.3);
+        let table = BemResponseTable {
+            kappa: response.kappa(slope),
+            iterations: rows.iter().map(|r| r.iterations as i64).collect(),
+            residual: rows.iter().map(|r| r.residual).collect(),
+            response,
+        };
+        let files = map_files(maps, &table.response, &unit_load_m2, grid)?;
         Ok(Outputs::new()
-            .table("response", response.into_table())
+            .table("response", table.into_table())
             .files("contact_maps", files))
     }
+}
+
+/// The curve from first contact to max_area_fraction, for E* = 1, with the
+/// maps nearest each of map_fractions.
+fn solve_steps(
+    problem: &Problem<'_>,
+    p: &BemParams,
+    ctx: &Context,
+) -> Result<(Vec<crate::Step>, Vec<MapChoice>), CurveError> {
+    let options = CurveOptions {
+        steps: p.steps,
+        max_area_fraction: p.max_area_fraction,
+        solver: SolverOptions {
+            tolerance: p.tolerance,
+            max_iterations: p.max_iterations,
+            ..SolverOptions::default()
+        },
+    };
+    let mut maps: Vec<Option<MapChoice>> = p.map_fractions.iter().map(|_| None).collect();
+    let progress = ctx.progress(p.steps as u64, "load steps");
+    let mut keep = |k: usize, row: &crate::Step, solution: &Solution| {
+        progress.inc(1);
+        for (slot, &requested) in maps.iter_mut().zip(&p.map_fractions) {
+            let nearer = slot.as_ref().is_none_or(|m| {
+                (row.area_fraction - requested).abs() < (m.area_fraction - requested).abs()
+            });
+            if nearer {
+                *slot = Some(MapChoice {
+                    requested,
+                    step: k,
+                    area_fraction: row.area_fraction,
+                    pressure: solution.pressure.clone(),
+                    gap_m: solution.gap_m.clone(),
+                });
+            }
+        }
+    };
+    let rows = solve_curve(problem, options, &mut keep)?;
+    drop(progress);
+    Ok((rows, maps.into_iter().flatten().collect()))
+}
+
+/// The response under the contact law: E0* f for a linear law, or the
+/// tangent-modulus integral over the unit-modulus loads f
+/// (`unit_load_m2`, F/E* in m²) on the curve's contact areas.
+fn respond(
+    mut curve: Curve,
+    unit_load_m2: &[f64],
+    modulus: &CompositeModulus,
+    scheme: Scheme,
+    a0_m2: f64,
+) -> Result<ResponseTable, StageError> {
+    let tangent = integrate(unit_load_m2, &curve.area_m2, scheme, &mut |s| {
+        modulus.at_stress_pa(s).map_err(|e| e.to_string())
+    })
+    .map_err(|e| StageError::other(BemError::Tangent(e)))?;
+    curve.load_n = tangent.load_n;
+    curve.modulus_pa = tangent.modulus_pa;
+    Ok(ResponseTable::from_curve(
+        curve,
+        modulus.e0_star_pa(),
+        a0_m2,
+    ))
 }
 
 /// The heights as a row-major vector (axis 0 = x), refused if they cannot be
@@ -342,10 +336,10 @@ fn not_converged(e: CurveError, z_of: &dyn Fn(f64) -> f64, load_per_pressure_n: 
 }
 
 /// The `contact_maps` product: pressure (Pa) and gap (m) at the chosen
-/// steps, and maps.csv.
+/// steps, with their index.
 fn map_files(
     maps: Vec<MapChoice>,
-    response: &BemResponseTable,
+    response: &ResponseTable,
     unit_load_m2: &[f64],
     (nx, ny, dx, dy): (usize, usize, f64, f64),
 ) -> Result<Files, StageError> {
@@ -358,7 +352,7 @@ fn map_files(
         Ok(bytes)
     };
     let mut files = Files::new();
-    let mut csv = format!("{MAPS_COLUMNS}\n");
+    let mut index = BemMapIndex::default();
     for map in maps {
         let k = map.step;
         // p in Pa: the unit-modulus pressure times the secant modulus F/f.
@@ -370,11 +364,16 @@ fn map_files(
             npy(map.pressure.iter().map(|p| p * secant_pa).collect())?,
         );
         files.files.insert(gap_file.clone(), npy(map.gap_m)?);
-        csv.push_str(&format!(
-            "{},{},{k},{},{},{pressure_file},{gap_file},{dx},{dy}\n",
-            map.requested, map.area_fraction, response.z_m[k], response.load_n[k]
-        ));
+        let m = &mut index.maps;
+        m.requested_area_fraction.push(map.requested);
+        m.area_fraction.push(map.area_fraction);
+        m.load_n.push(response.load_n[k]);
+        m.pressure_file.push(pressure_file);
+        m.dx_m.push(dx);
+        m.dy_m.push(dy);
+        index.step.push(k as i64);
+        index.z_m.push(response.z_m[k]);
+        index.gap_file.push(gap_file);
     }
-    files.files.insert("maps.csv".to_owned(), csv.into_bytes());
-    Ok(files)
+    Ok(files.with_index(index))
 }

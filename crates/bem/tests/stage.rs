@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use hypercontact_bem::stage::{Bem, BemParams, BemResponseTable};
+use hypercontact_bem::stage::{Bem, BemMapIndex, BemParams, BemResponseTable};
 use hypercontact_core::contact::ResponseTable;
 use hypercontact_core::{
     Checked, Context, Field, Inputs, Outputs, Params, Product, Schema, Stage, Table,
@@ -64,9 +64,9 @@ fn table(out: &Outputs) -> &Table {
     }
 }
 
-fn maps(out: &Outputs) -> &std::collections::BTreeMap<String, Vec<u8>> {
+fn maps(out: &Outputs) -> &hypercontact_core::Files {
     match out.get("contact_maps") {
-        Some(Product::Files(f)) => &f.files,
+        Some(Product::Files(f)) => f,
         _ => panic!("no contact maps"),
     }
 }
@@ -82,17 +82,17 @@ fn kappa_on_a_self_affine_map_is_about_two_at_small_load() {
     eprintln!(
         "κ {:?} at A/A0 {:?} in {:?}",
         r.kappa,
-        r.area_fraction,
+        r.response.area_fraction,
         started.elapsed()
     );
     assert!(r.kappa[0].is_nan());
     for k in 1..r.kappa.len() {
-        assert!(r.area_fraction[k] < 0.06);
+        assert!(r.response.area_fraction[k] < 0.06);
         assert!(
             (2.0..=2.5).contains(&r.kappa[k]),
             "step {k}: κ = {} at A/A0 = {}",
             r.kappa[k],
-            r.area_fraction[k]
+            r.response.area_fraction[k]
         );
     }
     // κ falls with load (BEM literature, tamaas).
@@ -112,60 +112,69 @@ fn response_has_icm_columns_first_and_even_area_steps() {
     ResponseTable::from_table(t).unwrap();
 
     let r = response(&out);
-    assert_eq!(r.z_m.len(), 9);
-    assert_eq!((r.area_fraction[0], r.load_n[0]), (0.0, 0.0));
+    assert_eq!(r.response.z_m.len(), 9);
+    assert_eq!(
+        (r.response.area_fraction[0], r.response.load_n[0]),
+        (0.0, 0.0)
+    );
     // Hyperelastic (the default): E_t*/E0* = 2 at first contact, rising.
-    assert!((r.tangent_ratio[0] - 2.0).abs() < 1e-9);
-    for k in 1..r.z_m.len() {
+    assert!((r.response.tangent_ratio[0] - 2.0).abs() < 1e-9);
+    for k in 1..r.response.z_m.len() {
         let target = 0.05 * k as f64;
         assert!(
-            (r.area_fraction[k] - target).abs() <= 0.25 * 0.05 + 1e-12,
+            (r.response.area_fraction[k] - target).abs() <= 0.25 * 0.05 + 1e-12,
             "{k}: {}",
-            r.area_fraction[k]
+            r.response.area_fraction[k]
         );
         if k == 8 {
             // The top is reached, so the curve can be read at 0.4.
-            assert!(r.area_fraction[k] >= 0.4, "{}", r.area_fraction[k]);
+            assert!(
+                r.response.area_fraction[k] >= 0.4,
+                "{}",
+                r.response.area_fraction[k]
+            );
         }
-        assert!(r.z_m[k] < r.z_m[k - 1] && r.load_n[k] > r.load_n[k - 1]);
-        assert!(r.tangent_ratio[k] >= r.tangent_ratio[k - 1]);
+        assert!(
+            r.response.z_m[k] < r.response.z_m[k - 1]
+                && r.response.load_n[k] > r.response.load_n[k - 1]
+        );
+        assert!(r.response.tangent_ratio[k] >= r.response.tangent_ratio[k - 1]);
         assert!(r.residual[k] <= 1e-8 && r.iterations[k] > 0);
     }
-    let files = maps(&out);
+    let files = &maps(&out).files;
     let names: Vec<&str> = files.keys().map(String::as_str).collect();
     assert_eq!(
         names,
         [
             "gap_a0.100.npy",
             "gap_a0.400.npy",
-            "maps.csv",
             "pressure_a0.100.npy",
             "pressure_a0.400.npy"
         ]
     );
-    let csv = String::from_utf8(files["maps.csv"].clone()).unwrap();
-    assert!(
-        csv.starts_with("requested_area_fraction,area_fraction,step,"),
-        "{csv}"
-    );
+    let index = BemMapIndex::from_table(maps(&out).index.as_ref().unwrap()).unwrap();
+    assert_eq!(index.maps.requested_area_fraction, [0.1, 0.4]);
+    assert_eq!(index.maps.pressure_file[1], "pressure_a0.400.npy");
+    assert_eq!(index.gap_file[1], "gap_a0.400.npy");
     // The pressure map integrates to the step's load; the gap is closed
     // where it presses, open elsewhere, NaN where nothing was measured.
-    let row: Vec<&str> = csv.lines().nth(2).unwrap().split(',').collect();
-    let step: usize = row[2].parse().unwrap();
+    let step = index.step[1] as usize;
     assert_eq!(step, 8);
+    assert_eq!(index.maps.load_n[1], r.response.load_n[step]);
+    assert_eq!(index.z_m[1], r.response.z_m[step]);
     let pressure = Field::read_npy(files["pressure_a0.400.npy"].as_slice(), 2e-5, 2e-5).unwrap();
     let gap = Field::read_npy(files["gap_a0.400.npy"].as_slice(), 2e-5, 2e-5).unwrap();
     let load: f64 = pressure.values.iter().sum::<f64>() * 4e-10;
-    assert!((load / r.load_n[step] - 1.0).abs() < 1e-12);
+    assert!((load / r.response.load_n[step] - 1.0).abs() < 1e-12);
     assert!(gap.values[[3, 5]].is_nan() && pressure.values[[3, 5]] == 0.0);
     let contact = pressure.values.iter().filter(|&&p| p > 0.0).count();
     let measured = gap.values.iter().filter(|g| !g.is_nan()).count();
-    assert!((contact as f64 / measured as f64 - r.area_fraction[step]).abs() < 1e-15);
+    assert!((contact as f64 / measured as f64 - r.response.area_fraction[step]).abs() < 1e-15);
     for (p, g) in pressure.values.iter().zip(&gap.values) {
         if *p > 0.0 {
-            assert!(g.abs() < 1e-6 * r.z_m[0]);
+            assert!(g.abs() < 1e-6 * r.response.z_m[0]);
         } else if !g.is_nan() {
-            assert!(*g >= -1e-6 * r.z_m[0]);
+            assert!(*g >= -1e-6 * r.response.z_m[0]);
         }
     }
 }
@@ -180,16 +189,19 @@ fn linear_contact_does_not_depend_on_the_modulus_and_the_tangent_model_scales_it
     let a = run(&p, small_map(40, 40), &soft);
     let b = run(&p, small_map(40, 40), &stiff);
     let (ra, rb) = (response(&a), response(&b));
-    assert_eq!(ra.area_fraction, rb.area_fraction);
-    assert_eq!(ra.z_m, rb.z_m);
-    for (a, b) in ra.load_norm.iter().zip(&rb.load_norm) {
+    assert_eq!(ra.response.area_fraction, rb.response.area_fraction);
+    assert_eq!(ra.response.z_m, rb.response.z_m);
+    for (a, b) in ra.response.load_norm.iter().zip(&rb.response.load_norm) {
         assert!((a - b).abs() <= 1e-14 * a, "{a} {b}");
     }
-    assert_eq!(maps(&a)["gap_a0.200.npy"], maps(&b)["gap_a0.200.npy"]);
-    for (fa, fb) in ra.load_n.iter().zip(&rb.load_n) {
+    assert_eq!(
+        maps(&a).files["gap_a0.200.npy"],
+        maps(&b).files["gap_a0.200.npy"]
+    );
+    for (fa, fb) in ra.response.load_n.iter().zip(&rb.response.load_n) {
         assert!((fb - 15.0 * fa).abs() <= 1e-12 * fb, "{fa} {fb}");
     }
-    assert!(ra.tangent_ratio.iter().all(|&t| t == 1.0));
+    assert!(ra.response.tangent_ratio.iter().all(|&t| t == 1.0));
     // The tangent model on the same contact: same areas and planes, more
     // load (the rubber stiffens in compression), never less than 2× linear.
     let h = run(
@@ -198,9 +210,12 @@ fn linear_contact_does_not_depend_on_the_modulus_and_the_tangent_model_scales_it
         &soft,
     );
     let rh = response(&h);
-    assert_eq!(rh.area_fraction, ra.area_fraction);
-    for k in 1..rh.load_n.len() {
-        assert!(rh.load_n[k] >= 2.0 * ra.load_n[k] * (1.0 - 1e-12), "{k}");
+    assert_eq!(rh.response.area_fraction, ra.response.area_fraction);
+    for k in 1..rh.response.load_n.len() {
+        assert!(
+            rh.response.load_n[k] >= 2.0 * ra.response.load_n[k] * (1.0 - 1e-12),
+            "{k}"
+        );
     }
 }
 
@@ -221,10 +236,16 @@ fn bytes_are_the_same_on_one_two_and_three_threads() {
             .install(|| {
                 let out = run(p, map.clone(), &paper_epdm());
                 let r = response(&out);
-                let bits: Vec<Vec<u64>> = [r.z_m, r.load_n, r.area_fraction, r.kappa, r.residual]
-                    .iter()
-                    .map(|c| c.iter().map(|v| v.to_bits()).collect())
-                    .collect();
+                let bits: Vec<Vec<u64>> = [
+                    r.response.z_m,
+                    r.response.load_n,
+                    r.response.area_fraction,
+                    r.kappa,
+                    r.residual,
+                ]
+                .iter()
+                .map(|c| c.iter().map(|v| v.to_bits()).collect())
+                .collect();
                 (bits, r.iterations, maps(&out).clone())
             })
     };
@@ -234,12 +255,13 @@ fn bytes_are_the_same_on_one_two_and_three_threads() {
             let (other_bits, other_iterations, other_files) = on(threads, p);
             assert_eq!(bits, other_bits, "{threads} threads");
             assert_eq!(iterations, other_iterations, "{threads} threads");
-            for (name, bytes) in &files {
+            for (name, bytes) in &files.files {
                 assert!(
-                    other_files[name] == *bytes,
+                    other_files.files[name] == *bytes,
                     "{name} differs on {threads} threads"
                 );
             }
+            assert_eq!(files.index, other_files.index, "index on {threads} threads");
         }
     }
 }

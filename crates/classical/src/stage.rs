@@ -5,13 +5,13 @@
 
 use std::sync::Arc;
 
+use hypercontact_core::contact::{Curve, ResponseTable};
 use hypercontact_core::{
     Arity, Checked, Choice, Context, InputSpec, Inputs, OutputSpec, Outputs, ParamError, Schema,
     Stage, StageError, StageInfo, params,
 };
 use hypercontact_icm::tangent::TangentError;
-use hypercontact_icm::{CompositeModulus, Model, Scheme};
-use hypercontact_material::Poisson;
+use hypercontact_icm::{CompositeModulus, LawParams, Scheme};
 use hypercontact_material::table::MaterialTable;
 use hypercontact_surface::surface_stage::{PsdTable, StatsTable};
 
@@ -31,8 +31,8 @@ pub enum PerssonVariant {
     YangPersson,
 }
 
-/// Parameters of `persson`.
-#[params(check = persson_consistent)]
+/// Parameters of `persson`: the theory's form, then what both theories take.
+#[params]
 pub struct PerssonParams {
     /// the theory's form
     #[param(default = PerssonVariant::Original)]
@@ -40,19 +40,27 @@ pub struct PerssonParams {
     /// Yang & Persson's γ (0.42–0.45 in the literature); only for yang-persson
     #[param(default = 0.45, positive, range = ..=1.0)]
     pub gamma: f64,
-    /// contact law
-    #[param(default = Model::Hyperelastic)]
-    pub model: Model,
-    /// integration of the hyperelastic load over the rows (as in `icm`)
-    #[param(default = Scheme::Heun)]
-    pub scheme: Scheme,
-    /// Poisson's ratio ν of the composite moduli
-    #[param(default = Poisson::INCOMPRESSIBLE)]
-    pub poisson: Poisson,
+    #[param(flatten)]
+    pub spectrum: SpectrumParams,
+}
+
+/// Parameters of `greenwood-williamson`: what both theories take.
+#[params]
+pub struct GwParams {
+    #[param(flatten)]
+    pub spectrum: SpectrumParams,
+}
+
+/// The contact law, the rows and the spectrum's route, as both theories
+/// take them.
+#[params(check = ordered)]
+pub struct SpectrumParams {
+    #[param(flatten)]
+    pub law: LawParams,
     /// A/A0 of the first row
     #[param(default = 0.001, positive, range = ..1.0)]
     pub min_area_fraction: f64,
-    /// A/A0 of the last row (below 1: the theory reaches full contact only asymptotically)
+    /// A/A0 of the last row (below 1: the theories reach full contact only as the load grows without bound)
     #[param(default = 0.95, positive, range = ..1.0)]
     pub max_area_fraction: f64,
     /// rows, evenly spaced in ln(load)
@@ -75,52 +83,15 @@ pub struct PerssonParams {
     pub periodic: bool,
 }
 
-/// Parameters of `greenwood-williamson`.
-#[params(check = gw_consistent)]
-pub struct GwParams {
-    /// contact law
-    #[param(default = Model::Hyperelastic)]
-    pub model: Model,
-    /// integration of the hyperelastic load over the rows (as in `icm`)
-    #[param(default = Scheme::Heun)]
-    pub scheme: Scheme,
-    /// Poisson's ratio ν of the composite moduli
-    #[param(default = Poisson::INCOMPRESSIBLE)]
-    pub poisson: Poisson,
-    /// A/A0 of the first row
-    #[param(default = 0.001, positive, range = ..1.0)]
-    pub min_area_fraction: f64,
-    /// A/A0 of the last row
-    #[param(default = 0.95, positive, range = ..=1.0)]
-    pub max_area_fraction: f64,
-    /// rows, evenly spaced in ln(load)
-    #[param(default = 200, range = 2..=100_000)]
-    pub steps: usize,
-    /// smallest wavevector in the moments (default: the spectrum's first)
-    #[param(unit = "rad/m", positive)]
-    pub q_min_per_m: Option<f64>,
-    /// largest wavevector in the moments (default: the spectrum's last, the map's Nyquist)
-    #[param(unit = "rad/m", positive)]
-    pub q_max_per_m: Option<f64>,
-    /// A0 when neither `stats` nor `surface` gives it
-    #[param(unit = "m²", positive)]
-    pub nominal_area_m2: Option<f64>,
-    /// log bins per decade of the PSD computed from input `surface`
-    #[param(default = 10, range = 1..=100)]
-    pub bins_per_decade: usize,
-    /// input `surface` is periodic (no window for its PSD)
-    #[param(default = false)]
-    pub periodic: bool,
-}
-
-fn ordered(min: f64, max: f64, q: (Option<f64>, Option<f64>)) -> Result<(), ParamError> {
+fn ordered(p: &SpectrumParams) -> Result<(), ParamError> {
+    let (min, max) = (p.min_area_fraction, p.max_area_fraction);
     if min >= max {
         return Err(ParamError::new(
             "min_area_fraction",
             format!("{min} is not below max_area_fraction ({max})"),
         ));
     }
-    if let (Some(lo), Some(hi)) = q
+    if let (Some(lo), Some(hi)) = (p.q_min_per_m, p.q_max_per_m)
         && lo >= hi
     {
         return Err(ParamError::new(
@@ -131,65 +102,24 @@ fn ordered(min: f64, max: f64, q: (Option<f64>, Option<f64>)) -> Result<(), Para
     Ok(())
 }
 
-fn persson_consistent(p: &PerssonParams) -> Result<(), ParamError> {
-    ordered(
-        p.min_area_fraction,
-        p.max_area_fraction,
-        (p.q_min_per_m, p.q_max_per_m),
-    )
-}
-
-fn gw_consistent(p: &GwParams) -> Result<(), ParamError> {
-    ordered(
-        p.min_area_fraction,
-        p.max_area_fraction,
-        (p.q_min_per_m, p.q_max_per_m),
-    )
-}
-
-/// `persson`'s `response`: `icm`'s columns, then the theory's.
+/// `persson`'s `response`: every contact model's columns, then the theory's.
 #[derive(Clone, Debug, PartialEq, Schema)]
 pub struct PerssonResponseTable {
-    /// the mean interfacial separation ū (Persson 2007), as mean_separation_m
-    #[column(unit = "m")]
-    pub z_m: Vec<f64>,
-    /// A / A0
-    pub area_fraction: Vec<f64>,
-    /// total contact load F = p̄ A0
-    #[column(unit = "N")]
-    pub load_n: Vec<f64>,
-    /// F / (E0* A0)
-    pub load_norm: Vec<f64>,
-    /// F / A (magnitude; the law is evaluated at S = −F/A)
-    #[column(unit = "Pa")]
-    pub mean_stress_pa: Vec<f64>,
-    /// E_t*(S) / E0*; 1 for a linear model
-    pub tangent_ratio: Vec<f64>,
-    /// mean interfacial separation ū, from the elastic energy (Persson 2007)
+    #[column(flatten)]
+    pub response: ResponseTable,
+    /// mean interfacial separation ū, from the elastic energy (Persson 2007); `z_m` too
     #[column(unit = "m")]
     pub mean_separation_m: Vec<f64>,
     /// (A/A0) / (p̄ / (E0* h'rms)), h'rms of the spectrum integrated
     pub kappa: Vec<f64>,
 }
 
-/// `greenwood-williamson`'s `response`: `icm`'s columns, then the theory's.
+/// `greenwood-williamson`'s `response`: every contact model's columns, then
+/// the theory's.
 #[derive(Clone, Debug, PartialEq, Schema)]
 pub struct GwResponseTable {
-    /// the flat's separation from the mean plane of the surface heights
-    #[column(unit = "m")]
-    pub z_m: Vec<f64>,
-    /// A / A0
-    pub area_fraction: Vec<f64>,
-    /// total contact load F = p̄ A0
-    #[column(unit = "N")]
-    pub load_n: Vec<f64>,
-    /// F / (E0* A0)
-    pub load_norm: Vec<f64>,
-    /// F / A (magnitude; the law is evaluated at S = −F/A)
-    #[column(unit = "Pa")]
-    pub mean_stress_pa: Vec<f64>,
-    /// E_t*(S) / E0*; 1 for a linear model
-    pub tangent_ratio: Vec<f64>,
+    #[column(flatten)]
+    pub response: ResponseTable,
     /// (A/A0) / (p̄ / (E0* h'rms)), h'rms = √(2 m2)
     pub kappa: Vec<f64>,
     /// summits in contact per area
@@ -360,17 +290,7 @@ impl Stage for PerssonStage {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let source = read(
-            inputs,
-            &SourceOptions {
-                q_min_per_m: p.q_min_per_m,
-                q_max_per_m: p.q_max_per_m,
-                nominal_area_m2: p.nominal_area_m2,
-                bins_per_decade: p.bins_per_decade,
-                periodic: p.periodic,
-            },
-        )?;
-        let modulus = modulus(inputs, p.model, p.poisson)?;
+        let (source, modulus) = setup(inputs, &p.spectrum)?;
         let variant = match p.variant {
             PerssonVariant::Original => Variant::Original,
             PerssonVariant::YangPersson => Variant::YangPersson { gamma: p.gamma },
@@ -378,36 +298,23 @@ impl Stage for PerssonStage {
         let theory = Persson::new(&source.spectrum, variant);
         let moments = source.spectrum.moments();
         let slope = moments.rms_slope();
-        let unit_pressure = load_rows(
-            &theory,
-            slope,
-            p.min_area_fraction,
-            p.max_area_fraction,
-            p.steps,
-        )?;
+        let unit_pressure = load_rows(&theory, slope, &p.spectrum)?;
         let progress = ctx.progress(1, "mean separation");
         let points = theory.curve(&unit_pressure);
         drop(progress);
         let area_fraction: Vec<f64> = points.iter().map(|q| q.area_fraction).collect();
         let separation: Vec<f64> = points.iter().map(|q| q.mean_separation_m).collect();
-        let rows = Rows::new(
+        let response = respond(
             &unit_pressure,
-            area_fraction,
-            separation.clone(),
+            (area_fraction, separation.clone()),
             &source,
             &modulus,
-            p.scheme,
-            slope,
+            p.spectrum.law.scheme,
         )?;
         let response = PerssonResponseTable {
-            z_m: rows.z_m,
-            area_fraction: rows.area_fraction,
-            load_n: rows.load_n,
-            load_norm: rows.load_norm,
-            mean_stress_pa: rows.mean_stress_pa,
-            tangent_ratio: rows.tangent_ratio,
+            kappa: response.kappa(slope),
             mean_separation_m: separation,
-            kappa: rows.kappa,
+            response,
         };
         let tiny = 1e-6 * slope;
         let summary = PerssonSummaryTable {
@@ -425,11 +332,12 @@ impl Stage for PerssonStage {
             nominal_area_m2: vec![source.nominal_area_m2],
             e0_star_pa: vec![modulus.e0_star_pa()],
         };
+        let area = &response.response.area_fraction;
         ctx.note(&format!(
             "{} rows, A/A0 {:.4} … {:.4}, h'rms {:.4} over q = {:.3e} … {:.3e} rad/m",
-            p.steps,
-            response.area_fraction[0],
-            response.area_fraction[response.area_fraction.len() - 1],
+            p.spectrum.steps,
+            area[0],
+            area[area.len() - 1],
             slope,
             source.spectrum.q_min(),
             source.spectrum.q_max()
@@ -491,28 +399,12 @@ impl Stage for GreenwoodWilliamson {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let source = read(
-            inputs,
-            &SourceOptions {
-                q_min_per_m: p.q_min_per_m,
-                q_max_per_m: p.q_max_per_m,
-                nominal_area_m2: p.nominal_area_m2,
-                bins_per_decade: p.bins_per_decade,
-                periodic: p.periodic,
-            },
-        )?;
-        let modulus = modulus(inputs, p.model, p.poisson)?;
+        let (source, modulus) = setup(inputs, &p.spectrum)?;
         let m = source.spectrum.moments();
         let asperities = Asperities::from_moments(m)
             .map_err(|e| ClassicalError::Input(format!("input `{}`: {e}", source.input)))?;
         let slope = m.rms_slope();
-        let unit_pressure = load_rows(
-            &asperities,
-            slope,
-            p.min_area_fraction,
-            p.max_area_fraction,
-            p.steps,
-        )?;
+        let unit_pressure = load_rows(&asperities, slope, &p.spectrum)?;
         let points: Vec<_> = unit_pressure
             .iter()
             .map(|&pu| {
@@ -520,23 +412,19 @@ impl Stage for GreenwoodWilliamson {
                 (d, asperities.at_separation(d))
             })
             .collect();
-        let rows = Rows::new(
+        let response = respond(
             &unit_pressure,
-            points.iter().map(|(_, q)| q.area_fraction).collect(),
-            points.iter().map(|(d, _)| *d).collect(),
+            (
+                points.iter().map(|(_, q)| q.area_fraction).collect(),
+                points.iter().map(|(d, _)| *d).collect(),
+            ),
             &source,
             &modulus,
-            p.scheme,
-            slope,
+            p.spectrum.law.scheme,
         )?;
         let response = GwResponseTable {
-            z_m: rows.z_m,
-            area_fraction: rows.area_fraction,
-            load_n: rows.load_n,
-            load_norm: rows.load_norm,
-            mean_stress_pa: rows.mean_stress_pa,
-            tangent_ratio: rows.tangent_ratio,
-            kappa: rows.kappa,
+            kappa: response.kappa(slope),
+            response,
             contacts_per_m2: points.iter().map(|(_, q)| q.contacts_per_m2).collect(),
             mean_contact_radius_m: points
                 .iter()
@@ -572,75 +460,55 @@ impl Stage for GreenwoodWilliamson {
     }
 }
 
-fn modulus(
-    inputs: &Inputs,
-    model: Model,
-    poisson: Poisson,
-) -> Result<CompositeModulus, StageError> {
+/// The spectrum (input `psd` or `surface`) and the contact law of `material`.
+fn setup(inputs: &Inputs, p: &SpectrumParams) -> Result<(Source, CompositeModulus), StageError> {
+    let source = read(
+        inputs,
+        &SourceOptions {
+            q_min_per_m: p.q_min_per_m,
+            q_max_per_m: p.q_max_per_m,
+            nominal_area_m2: p.nominal_area_m2,
+            bins_per_decade: p.bins_per_decade,
+            periodic: p.periodic,
+        },
+    )?;
     let material = hypercontact_material::table::from_table(inputs.table("material")?)
         .map_err(ClassicalError::Material)?;
-    Ok(CompositeModulus::new(Arc::from(material), model, poisson.0)
-        .map_err(ClassicalError::Material)?)
+    let modulus = p
+        .law
+        .modulus(Arc::from(material))
+        .map_err(ClassicalError::Material)?;
+    Ok((source, modulus))
 }
 
 /// p̄/E* of the rows: from the load at min to the load at max A/A0.
-fn load_rows(
-    theory: &dyn Theory,
-    slope: f64,
-    min_area_fraction: f64,
-    max_area_fraction: f64,
-    steps: usize,
-) -> Result<Vec<f64>, StageError> {
-    let lo = unit_pressure_at(theory, min_area_fraction, slope).map_err(ClassicalError::Range)?;
-    let hi = unit_pressure_at(theory, max_area_fraction, slope).map_err(ClassicalError::Range)?;
-    Ok(log_grid(lo, hi, steps))
+fn load_rows(theory: &dyn Theory, slope: f64, p: &SpectrumParams) -> Result<Vec<f64>, StageError> {
+    let lo = unit_pressure_at(theory, p.min_area_fraction, slope).map_err(ClassicalError::Range)?;
+    let hi = unit_pressure_at(theory, p.max_area_fraction, slope).map_err(ClassicalError::Range)?;
+    Ok(log_grid(lo, hi, p.steps))
 }
 
-/// The response columns both stages share.
-struct Rows {
-    z_m: Vec<f64>,
-    area_fraction: Vec<f64>,
-    load_n: Vec<f64>,
-    load_norm: Vec<f64>,
-    mean_stress_pa: Vec<f64>,
-    tangent_ratio: Vec<f64>,
-    kappa: Vec<f64>,
-}
-
-impl Rows {
-    fn new(
-        unit_pressure: &[f64],
-        area_fraction: Vec<f64>,
-        z_m: Vec<f64>,
-        source: &Source,
-        modulus: &CompositeModulus,
-        scheme: Scheme,
-        slope: f64,
-    ) -> Result<Self, ClassicalError> {
-        let a0 = source.nominal_area_m2;
-        let loads = tangent_loads(unit_pressure, &area_fraction, a0, modulus, scheme)
-            .map_err(|e| tangent_error(e, &area_fraction))?;
-        let e0 = modulus.e0_star_pa();
-        let load_norm: Vec<f64> = loads.load_n.iter().map(|f| f / (e0 * a0)).collect();
-        Ok(Self {
-            kappa: area_fraction
-                .iter()
-                .zip(&load_norm)
-                .map(|(a, l)| a * slope / l)
-                .collect(),
-            mean_stress_pa: loads
-                .load_n
-                .iter()
-                .zip(&area_fraction)
-                .map(|(f, a)| f / (a * a0))
-                .collect(),
-            tangent_ratio: loads.modulus_pa.iter().map(|e| e / e0).collect(),
-            load_n: loads.load_n,
-            load_norm,
-            z_m,
-            area_fraction,
-        })
-    }
+/// The response on the theory's rows (A/A0 and z at each p̄/E* of
+/// `unit_pressure`) under the contact law: E0* times the theory's load, or
+/// the tangent-modulus integral over it.
+fn respond(
+    unit_pressure: &[f64],
+    (area_fraction, z_m): (Vec<f64>, Vec<f64>),
+    source: &Source,
+    modulus: &CompositeModulus,
+    scheme: Scheme,
+) -> Result<ResponseTable, ClassicalError> {
+    let a0 = source.nominal_area_m2;
+    let loads = tangent_loads(unit_pressure, &area_fraction, a0, modulus, scheme)
+        .map_err(|e| tangent_error(e, &area_fraction))?;
+    let curve = Curve {
+        area_m2: area_fraction.iter().map(|a| a * a0).collect(),
+        z_m,
+        area_fraction,
+        load_n: loads.load_n,
+        modulus_pa: loads.modulus_pa,
+    };
+    Ok(ResponseTable::from_curve(curve, modulus.e0_star_pa(), a0))
 }
 
 fn tangent_error(e: TangentError, area_fraction: &[f64]) -> ClassicalError {

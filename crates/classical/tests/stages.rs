@@ -94,22 +94,22 @@ fn persson_emits_the_icm_columns_and_its_small_load_slope() {
     t.conform(ResponseTable::COLUMNS).unwrap();
     let names: Vec<&str> = ResponseTable::COLUMNS.iter().map(|c| c.name).collect();
     assert_eq!(&t.column_names()[..6], &names[..]);
-    assert_eq!(r.area_fraction.len(), 50);
-    assert!((r.area_fraction[0] / 0.001 - 1.0).abs() < 1e-9);
-    assert!((r.area_fraction[49] / 0.95 - 1.0).abs() < 1e-9);
+    assert_eq!(r.response.area_fraction.len(), 50);
+    assert!((r.response.area_fraction[0] / 0.001 - 1.0).abs() < 1e-9);
+    assert!((r.response.area_fraction[49] / 0.95 - 1.0).abs() < 1e-9);
     // Linear, original: κ on the spectrum's own h'rms is √(8/π) at small load.
     assert!(
         (r.kappa[0] / (8.0 / std::f64::consts::PI).sqrt() - 1.0).abs() < 1e-3,
         "{}",
         r.kappa[0]
     );
-    assert!(r.tangent_ratio.iter().all(|&x| x == 1.0));
+    assert!(r.response.tangent_ratio.iter().all(|&x| x == 1.0));
     // A0 = the map's area; z_m is the mean separation, falling with load.
     let a0 = (N * N) as f64 * PIXEL_M * PIXEL_M;
     let e0 = summary.f64("e0_star_pa").unwrap()[0];
-    assert!((r.load_n[10] / (r.load_norm[10] * e0 * a0) - 1.0).abs() < 1e-12);
-    assert_eq!(r.z_m, r.mean_separation_m);
-    assert!(r.z_m.windows(2).all(|w| w[1] < w[0]));
+    assert!((r.response.load_n[10] / (r.response.load_norm[10] * e0 * a0) - 1.0).abs() < 1e-12);
+    assert_eq!(r.response.z_m, r.mean_separation_m);
+    assert!(r.response.z_m.windows(2).all(|w| w[1] < w[0]));
     assert_eq!(summary.str("variant").unwrap()[0], "original");
     assert_eq!(summary.str("input").unwrap()[0], "surface");
 }
@@ -123,10 +123,15 @@ fn the_psd_route_and_the_map_route_agree() {
     // The same spectrum up to rounding (the map route removes the mean
     // first); the corrected march's Runge–Kutta steps (≤ 5 % of x, error
     // ~1e-7) may fall differently on such a change.
-    for (x, y) in a.load_n.iter().zip(&b.load_n) {
+    for (x, y) in a.response.load_n.iter().zip(&b.response.load_n) {
         assert!((x / y - 1.0).abs() < 1e-6, "{x} vs {y}");
     }
-    for (x, y) in a.area_fraction.iter().zip(&b.area_fraction) {
+    for (x, y) in a
+        .response
+        .area_fraction
+        .iter()
+        .zip(&b.response.area_fraction)
+    {
         assert!((x / y - 1.0).abs() < 1e-9, "{x} vs {y}");
     }
 }
@@ -137,13 +142,20 @@ fn hyperelastic_persson_stiffens_and_the_corrected_variant_needs_less_load() {
     let (linear, _) = persson(r#"{"periodic": true, "model": "linear"}"#, &from_map()).unwrap();
     // E_t*/E0* above 2 from the first row (the contact stress is not zero
     // there) and rising; more load than the linear law at every area.
-    assert!(hyper.tangent_ratio[0] > 2.0);
-    assert!(hyper.tangent_ratio.windows(2).all(|w| w[1] >= w[0]));
+    assert!(hyper.response.tangent_ratio[0] > 2.0);
     assert!(
         hyper
+            .response
+            .tangent_ratio
+            .windows(2)
+            .all(|w| w[1] >= w[0])
+    );
+    assert!(
+        hyper
+            .response
             .load_n
             .iter()
-            .zip(&linear.load_n)
+            .zip(&linear.response.load_n)
             .all(|(h, l)| h > &(2.0 * l))
     );
     let (corrected, _) = persson(
@@ -153,8 +165,14 @@ fn hyperelastic_persson_stiffens_and_the_corrected_variant_needs_less_load() {
     .unwrap();
     // Rows 0 and last sit at min and max A/A0 in both.
     for k in [0, 199] {
-        assert!((corrected.area_fraction[k] / hyper.area_fraction[k] - 1.0).abs() < 1e-9);
-        assert!(corrected.load_n[k] < hyper.load_n[k], "row {k}");
+        assert!(
+            (corrected.response.area_fraction[k] / hyper.response.area_fraction[k] - 1.0).abs()
+                < 1e-9
+        );
+        assert!(
+            corrected.response.load_n[k] < hyper.response.load_n[k],
+            "row {k}"
+        );
     }
 }
 
@@ -170,7 +188,7 @@ fn greenwood_williamson_falls_in_kappa_and_reports_its_summits() {
     t.conform(ResponseTable::COLUMNS).unwrap();
     let r = GwResponseTable::from_table(t).unwrap();
     assert!(r.kappa.windows(2).all(|w| w[1] < w[0]), "{:?}", r.kappa);
-    assert!(r.z_m.windows(2).all(|w| w[1] < w[0]));
+    assert!(r.response.z_m.windows(2).all(|w| w[1] < w[0]));
     assert!(r.contacts_per_m2.windows(2).all(|w| w[1] > w[0]));
     let Some(Product::Table(s)) = out.get("summary") else {
         panic!()

@@ -5,7 +5,9 @@
 //! scored against the measured one (agreement per model).
 
 use hypercontact_contact_images::stage::ContactTable;
-use hypercontact_core::contact::{ResponseTable, area_fraction_label};
+use hypercontact_core::contact::{
+    ModelMapIndex, ObservedMapIndex, ResponseTable, area_fraction_label,
+};
 use hypercontact_core::png::{Pixels, encode_png};
 use hypercontact_core::robust::median_and_sigma;
 use hypercontact_core::sequence::GrayFrame;
@@ -13,7 +15,7 @@ use std::collections::BTreeMap;
 
 use hypercontact_core::{
     Arity, Checked, Choice, Context, Field, FileSource, Files, InputSpec, Inputs, OutputSpec,
-    Outputs, ParamError, Product, Schema, Stage, StageError, StageInfo, Table, params,
+    Outputs, ParamError, Product, Schema, Stage, StageError, StageInfo, params,
 };
 use hypercontact_interference::CameraGrid;
 use ndarray::Array2;
@@ -215,7 +217,7 @@ static INFO: StageInfo = StageInfo {
     version: 3,
     summary: "Models against the contact experiment: registration of the observed contact \
               maps, overlap per frame and agreement of the load-area curves (Figs. 6, 7)",
-    doc: "REGISTRATION: the observed map (contact-images' contact_maps, maps.csv) nearest \
+    doc: "REGISTRATION: the observed map (contact-images' contact_maps) nearest \
           register_at is registered onto the prediction register_with, on the scan's grid: \
           `truncation` (the height map `surface` cut at the observed A/A0: contact where the \
           height is at or above the level that leaves that fraction above it, profile theory) \
@@ -256,10 +258,10 @@ static INFO: StageInfo = StageInfo {
           figures.csv.",
     inputs: &[
         InputSpec::table::<ContactTable>("contact", Arity::One, "contact-images' contact table"),
-        InputSpec::files(
+        InputSpec::files_indexed::<ObservedMapIndex>(
             "observed_maps",
             Arity::One,
-            "contact-images' contact_maps (mask PNGs and maps.csv)",
+            "contact-images' contact_maps (mask PNGs, indexed)",
         ),
         InputSpec::field(
             "surface",
@@ -271,10 +273,10 @@ static INFO: StageInfo = StageInfo {
             Arity::Many,
             "load-area curves of the models, labelled (icm, bem, ...)",
         ),
-        InputSpec::files(
+        InputSpec::files_indexed::<ModelMapIndex>(
             "model_maps",
             Arity::Many,
-            "bem contact_maps, labelled (pressure maps and maps.csv)",
+            "contact models' contact_maps (bem's), labelled (pressure maps, indexed)",
         ),
     ],
     outputs: &[
@@ -817,45 +819,27 @@ fn labels(models: &[ModelMaps]) -> String {
     }
 }
 
-/// The numbers of column `name` of a maps.csv, the file named in errors.
-fn column_f64(table: &Table, name: &str, shown: &str) -> Result<Vec<f64>, StageError> {
-    table
-        .to_f64(name)
-        .map_err(|e| StageError::file(shown, e.to_string()))
-}
-
-fn column_str(table: &Table, name: &str, shown: &str) -> Result<Vec<String>, StageError> {
-    table
-        .str(name)
-        .map(<[String]>::to_vec)
-        .map_err(|e| StageError::file(shown, e.to_string()))
-}
-
-/// contact-images' maps: maps.csv and the masks it names.
+/// contact-images' maps: the masks its index lists.
 fn read_observed(inputs: &Inputs) -> Result<Vec<ObservedMap>, StageError> {
+    let (files, index) = inputs.indexed_files::<ObservedMapIndex>("observed_maps")?;
     let source = FileSource::Files {
-        files: inputs.files("observed_maps")?,
+        files,
         input: "observed_maps".into(),
     };
-    let shown = source.display("maps.csv");
-    let table = source.read_csv("maps.csv")?;
-    let requested = column_f64(&table, "requested_area_fraction", &shown)?;
-    let fractions = column_f64(&table, "area_fraction", &shown)?;
-    let frames = column_f64(&table, "frame", &shown)?;
-    let pixels = column_f64(&table, "pixel_m", &shown)?;
-    let files = column_str(&table, "file", &shown)?;
-    if files.is_empty() {
-        return Err(StageError::file(shown, "lists no map"));
+    if index.file.is_empty() {
+        return Err(StageError::invalid(
+            "input `observed_maps`: its index lists no map",
+        ));
     }
-    let mut maps = Vec::with_capacity(files.len());
-    for (k, file) in files.iter().enumerate() {
+    let mut maps = Vec::with_capacity(index.file.len());
+    for (k, file) in index.file.iter().enumerate() {
         let image = GrayFrame::decode(&source.display(file), &source.read(file)?)?;
         let half = image.full_scale() / 2.0;
         maps.push(ObservedMap {
-            requested: requested[k],
-            area_fraction: fractions[k],
-            frame: frames[k] as i64,
-            pixel_m: pixels[k],
+            requested: index.requested_area_fraction[k],
+            area_fraction: index.area_fraction[k],
+            frame: index.frame[k],
+            pixel_m: index.pixel_m[k],
             width: image.width,
             height: image.height,
             contact: image.data.iter().map(|&v| f64::from(v) > half).collect(),
@@ -864,34 +848,26 @@ fn read_observed(inputs: &Inputs) -> Result<Vec<ObservedMap>, StageError> {
     Ok(maps)
 }
 
-/// bem's contact maps per label: maps.csv and the pressure maps it names
+/// Each labelled model's contact maps: the pressure maps its index lists
 /// (contact where the pressure is positive).
 fn read_model_maps(inputs: &Inputs) -> Result<Vec<ModelMaps>, StageError> {
     let mut models = Vec::new();
-    for (label, product) in inputs.labelled("model_maps") {
-        let Product::Files(files) = product else {
-            return Err(StageError::invalid(format!(
-                "input `model_maps.{label}` is not a set of files"
-            )));
-        };
+    for (label, _) in inputs.labelled("model_maps") {
         let input = format!("model_maps.{label}");
+        let (files, index) = inputs.indexed_files::<ModelMapIndex>(&input)?;
         let source = FileSource::Files {
             files,
             input: input.clone(),
         };
-        let shown = source.display("maps.csv");
-        let table = source.read_csv("maps.csv")?;
-        let fractions = column_f64(&table, "area_fraction", &shown)?;
-        let dx = column_f64(&table, "dx_m", &shown)?;
-        let dy = column_f64(&table, "dy_m", &shown)?;
-        let names = column_str(&table, "pressure_file", &shown)?;
-        if names.is_empty() {
-            return Err(StageError::file(shown, "lists no map"));
+        if index.pressure_file.is_empty() {
+            return Err(StageError::invalid(format!(
+                "input `{input}`: its index lists no map"
+            )));
         }
-        let mut maps = Vec::with_capacity(names.len());
-        for (k, name) in names.iter().enumerate() {
+        let mut maps = Vec::with_capacity(index.pressure_file.len());
+        for (k, name) in index.pressure_file.iter().enumerate() {
             let bytes = source.read(name)?;
-            let pressure = Field::read_npy(&bytes[..], dx[k], dy[k])
+            let pressure = Field::read_npy(&bytes[..], index.dx_m[k], index.dy_m[k])
                 .map_err(|e| StageError::file(source.display(name), e.to_string()))?;
             let values: Array2<f64> = pressure.values.mapv(|p| {
                 if p.is_nan() {
@@ -903,11 +879,11 @@ fn read_model_maps(inputs: &Inputs) -> Result<Vec<ModelMaps>, StageError> {
                 }
             });
             maps.push((
-                fractions[k],
+                index.area_fraction[k],
                 Field {
                     values,
-                    dx_m: dx[k],
-                    dy_m: dy[k],
+                    dx_m: index.dx_m[k],
+                    dy_m: index.dy_m[k],
                 },
             ));
         }

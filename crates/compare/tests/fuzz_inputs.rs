@@ -1,12 +1,16 @@
-//! `contact-compare`'s readers on edited inputs: maps.csv, the mask PNGs
-//! and a model's maps.csv and pressure `.npy` of a small valid comparison,
-//! with bytes overwritten, inserted or cut. The stage returns a result or
-//! an error, never panics; the untouched inputs compare.
+//! `contact-compare`'s readers on edited inputs: the mask PNGs and a
+//! model's pressure `.npy` of a small valid comparison with bytes
+//! overwritten, inserted or cut, and their indexes with absurd values in any
+//! cell. The stage returns a result or an error, never panics; the
+//! untouched inputs compare.
 
 use hypercontact_compare::stage::{ContactCompare, ContactCompareParams};
 use hypercontact_contact_images::stage::ContactTable;
+use hypercontact_core::contact::{ModelMapIndex, ObservedMapIndex};
 use hypercontact_core::png::{Pixels, encode_png};
-use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Schema, Stage};
+use hypercontact_core::{
+    ColumnData, Context, Field, Files, Inputs, Params, Product, Schema, Stage, Table,
+};
 use hypercontact_fuzz::{byte_edits, config, splice};
 use hypercontact_interference::{CameraGrid, GapMap, Placement, resample};
 use proptest::prelude::*;
@@ -93,13 +97,13 @@ fn observed() -> Files {
     Files::new()
         .with("mask_a0.300.png", mask_png(&s, 0.3))
         .with("mask_a0.500.png", mask_png(&s, 0.5))
-        .with(
-            "maps.csv",
-            b"requested_area_fraction,area_fraction,frame,time_s,force_n,file,pixel_m\n\
-              0.3,0.3,1,1.0,1.0,mask_a0.300.png,1e-5\n\
-              0.5,0.5,2,2.0,3.0,mask_a0.500.png,1e-5\n"
-                .to_vec(),
-        )
+        .with_index(ObservedMapIndex {
+            requested_area_fraction: vec![0.3, 0.5],
+            area_fraction: vec![0.3, 0.5],
+            frame: vec![1, 2],
+            file: vec!["mask_a0.300.png".into(), "mask_a0.500.png".into()],
+            pixel_m: vec![1e-5, 1e-5],
+        })
 }
 
 fn model() -> Files {
@@ -108,15 +112,53 @@ fn model() -> Files {
     sorted.sort_by(f64::total_cmp);
     let median = sorted[sorted.len() / 2];
     Files::new()
-        .with("pressure_a0.500.npy", npy(s.values.mapv(|h| (h - median).max(0.0) * 1e9)))
         .with(
-            "maps.csv",
-            format!(
-                "requested_area_fraction,area_fraction,step,z_m,load_n,pressure_file,gap_file,dx_m,dy_m\n\
-                 0.5,0.5,3,0,2,pressure_a0.500.npy,gap_a0.500.npy,{DX_M},{DX_M}\n"
-            )
-            .into_bytes(),
+            "pressure_a0.500.npy",
+            npy(s.values.mapv(|h| (h - median).max(0.0) * 1e9)),
         )
+        .with_index(ModelMapIndex {
+            requested_area_fraction: vec![0.5],
+            area_fraction: vec![0.5],
+            load_n: vec![2.0],
+            pressure_file: vec!["pressure_a0.500.npy".into()],
+            dx_m: vec![DX_M],
+            dy_m: vec![DX_M],
+        })
+}
+
+/// Values no index should hold, for the cells the fuzz test edits.
+const ABSURD: [f64; 8] = [
+    f64::NAN,
+    f64::INFINITY,
+    -1.0,
+    0.0,
+    1e300,
+    -1e-300,
+    7.5,
+    1e-12,
+];
+
+/// `files`' index with cell `(column, row)` (wrapped) made absurd: a number
+/// from [`ABSURD`], or a file name that is not there, empty, or reaching out.
+fn edit_index(files: &mut Files, column: usize, row: usize, pick: usize) {
+    let index = files.index.as_ref().unwrap();
+    let name = index.column_names()[column % index.column_names().len()].to_owned();
+    let mut table = Table::new();
+    for c in index.columns() {
+        let mut data = c.data.clone();
+        if c.name == name {
+            let n = data.len();
+            match &mut data {
+                ColumnData::F64(v) => v[row % n] = ABSURD[pick % ABSURD.len()],
+                ColumnData::I64(v) => v[row % n] = [i64::MIN, -1, 0, i64::MAX][pick % 4],
+                ColumnData::Str(v) => {
+                    v[row % n] = ["", "absent.png", "../escape.npy", "a\0b"][pick % 4].into()
+                }
+            }
+        }
+        table.push(&c.name, data);
+    }
+    files.index = Some(table);
 }
 
 fn compare(inputs: &Inputs) -> Result<(), String> {
@@ -138,9 +180,12 @@ fn the_untouched_inputs_compare_and_missing_files_are_named() {
         "{e}"
     );
     let mut gone = model();
-    gone.files.remove("maps.csv");
+    gone.index = None;
     let e = compare(&inputs(observed(), gone)).unwrap_err();
-    assert!(e.contains("model_maps.m") && e.contains("maps.csv"), "{e}");
+    assert!(
+        e.contains("model_maps.m") && e.contains("without an index"),
+        "{e}"
+    );
     let e = {
         let p = serde_json::from_str::<ContactCompareParams>(r#"{"register_with": "bem"}"#)
             .unwrap()
@@ -162,16 +207,23 @@ proptest! {
     #![proptest_config(config(48))]
 
     #[test]
-    fn edited_inputs_never_panic(which in 0usize..4, edits in byte_edits()) {
+    fn edited_inputs_never_panic(which in 0usize..2, edits in byte_edits()) {
         let (mut obs, mut m) = (observed(), model());
         let (files, name) = match which {
-            0 => (&mut obs, "maps.csv"),
-            1 => (&mut obs, "mask_a0.500.png"),
-            2 => (&mut m, "maps.csv"),
+            0 => (&mut obs, "mask_a0.500.png"),
             _ => (&mut m, "pressure_a0.500.npy"),
         };
         let bytes = files.files[name].clone();
         files.files.insert(name.into(), splice(bytes, &edits));
+        let _ = compare(&inputs(obs, m));
+    }
+
+    #[test]
+    fn absurd_index_cells_never_panic(
+        model_side in any::<bool>(), column in 0usize..8, row in 0usize..2, pick in 0usize..8,
+    ) {
+        let (mut obs, mut m) = (observed(), model());
+        edit_index(if model_side { &mut m } else { &mut obs }, column, row, pick);
         let _ = compare(&inputs(obs, m));
     }
 }

@@ -4,7 +4,7 @@
 //! The physics of the methods is in [`crate::otsu`], [`crate::multi_otsu`]
 //! and [`crate::calibrated`]; reading in [`hypercontact_core::sequence`].
 
-use hypercontact_core::contact::{area_fraction_label, check_map_fraction};
+use hypercontact_core::contact::{ObservedMapIndex, area_fraction_label, check_map_fraction};
 use hypercontact_core::sequence::{GrayFrame, Sequence};
 use hypercontact_core::{
     Arity, Checked, Choice, Context, FileSource, Files, InputPath, InputSpec, Inputs, OutputSpec,
@@ -153,9 +153,23 @@ pub struct SyncTable {
 /// The `contact-images` stage.
 pub struct ContactImages;
 
+/// The index of `contact_maps`: the observed maps' columns, then when the
+/// frame was taken and the force then.
+#[derive(Clone, Debug, Default, PartialEq, Schema)]
+pub struct ContactMapIndex {
+    #[column(flatten)]
+    pub maps: ObservedMapIndex,
+    /// the frame's time
+    #[column(unit = "s")]
+    pub time_s: Vec<f64>,
+    /// the force at that time
+    #[column(unit = "N")]
+    pub force_n: Vec<f64>,
+}
+
 static INFO: StageInfo = StageInfo {
     kind: "contact-images",
-    version: 3,
+    version: 4,
     summary: "Contact area and patches per frame from contact-interference images and a force log",
     doc: "Reads frames.csv (frame, time_s, file; time_s = exposure start on the camera's clock) \
           or, without it, every PNG/TIFF file whose name carries its time (a field such as \
@@ -203,8 +217,8 @@ static INFO: StageInfo = StageInfo {
           A/A0 = 0.1 and 4-5 % at 0.5; log the camera's trigger when the load matters at low \
           area). CONTACT_MAPS: for each \
           of map_fractions, the frame whose A/A0 is nearest, as mask_a<fraction>.png (8-bit, \
-          255 = contact) and maps.csv (requested_area_fraction, area_fraction, frame, time_s, \
-          force_n, file, pixel_m).",
+          255 = contact), indexed by the table contact_maps.parquet (requested and kept A/A0, \
+          frame, file, pixel_m, time_s, force_n).",
     inputs: &[InputSpec::files(
         "sequence",
         Arity::Optional,
@@ -213,9 +227,9 @@ static INFO: StageInfo = StageInfo {
     outputs: &[
         OutputSpec::table::<ContactTable>("contact", "one row per frame"),
         OutputSpec::table::<SyncTable>("sync", "the clock offset used, and how it was found"),
-        OutputSpec::files(
+        OutputSpec::files_indexed::<ContactMapIndex>(
             "contact_maps",
-            "binary contact maps (PNG) at map_fractions, with maps.csv",
+            "binary contact maps (PNG) at map_fractions, indexed",
         ),
     ],
 };
@@ -476,8 +490,7 @@ fn map_files(
     p: &ContactImagesParams,
 ) -> Result<Files, StageError> {
     let mut files = Files::new();
-    let mut csv =
-        String::from("requested_area_fraction,area_fraction,frame,time_s,force_n,file,pixel_m\n");
+    let mut index = ContactMapIndex::default();
     for (slot, &want) in maps.into_iter().zip(&p.map_fractions) {
         let Some((k, mask)) = slot else { continue };
         let name = format!("mask_{}.png", area_fraction_label(want));
@@ -492,12 +505,15 @@ fn map_files(
             hypercontact_core::png::Pixels::Gray8(pixels),
         )
         .map_err(StageError::invalid)?;
-        csv.push_str(&format!(
-            "{want},{},{},{},{},{name},{}\n",
-            table.area_fraction[k], table.frame[k], table.time_s[k], table.force_n[k], p.pixel_m
-        ));
+        let m = &mut index.maps;
+        m.requested_area_fraction.push(want);
+        m.area_fraction.push(table.area_fraction[k]);
+        m.frame.push(table.frame[k]);
+        m.file.push(name.clone());
+        m.pixel_m.push(p.pixel_m);
+        index.time_s.push(table.time_s[k]);
+        index.force_n.push(table.force_n[k]);
         files.files.insert(name, png);
     }
-    files.files.insert("maps.csv".to_owned(), csv.into_bytes());
-    Ok(files)
+    Ok(files.with_index(index))
 }

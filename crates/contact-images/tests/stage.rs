@@ -6,7 +6,7 @@
 //! resampled gap ≤ 0.
 
 use hypercontact_contact_images::stage::{
-    ContactImages, ContactImagesParams, ContactTable, SyncTable,
+    ContactImages, ContactImagesParams, ContactMapIndex, ContactTable, SyncTable,
 };
 use hypercontact_core::png::{Pixels, encode_png};
 use hypercontact_core::{Checked, Context, Files, Inputs, Params, Product, Schema, Stage, Table};
@@ -179,9 +179,9 @@ fn calibrated_recovers_the_true_area_and_otsu_counts_the_fringes() {
         calibrated.force_n[last]
     );
     assert!(calibrated.contact_area_m2[last] > 0.0);
-    // Contact maps at the nearest frames, as 8-bit PNGs, listed in maps.csv.
-    let csv = String::from_utf8(maps.files["maps.csv"].clone()).unwrap();
-    assert!(csv.lines().count() == 4, "{csv}");
+    // Contact maps at the nearest frames, as 8-bit PNGs, listed in the index.
+    let index = ContactMapIndex::from_table(maps.index.as_ref().unwrap()).unwrap();
+    assert_eq!(index.maps.file.len(), 3, "{index:?}");
     assert!(maps.files.contains_key("mask_a0.500.png"));
 }
 

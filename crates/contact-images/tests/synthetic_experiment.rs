@@ -9,6 +9,7 @@ use hypercontact_contact_images::label;
 use hypercontact_contact_images::stage::{
     ContactImages, ContactImagesParams, ContactTable, SyncTable,
 };
+use hypercontact_core::contact::ObservedMapIndex;
 use hypercontact_core::{
     Checked, Context, Field, Files, Inputs, Params, Product, Schema, Stage, Table,
 };
@@ -212,12 +213,11 @@ fn patches_equal_the_true_components_on_noise_free_frames() {
         r#"{"pixel_m": 5e-6, "exposure_s": 0.05, "min_patch_pixels": 1, "fraction": 0.2,
             "seed_fraction": 0.1}"#,
     );
-    let index = String::from_utf8(lab.maps.files["maps.csv"].clone()).unwrap();
+    let index = ObservedMapIndex::from_table(lab.maps.index.as_ref().unwrap()).unwrap();
     let mut compared = 0;
-    for line in index.lines().skip(1) {
-        let cells: Vec<&str> = line.split(',').collect();
-        let frame: usize = cells[2].parse().unwrap();
-        let png = image::load_from_memory(&lab.maps.files[cells[3]])
+    for (k, file) in index.file.iter().enumerate() {
+        let (frame, true_fraction) = (index.frame[k] as usize, index.area_fraction[k]);
+        let png = image::load_from_memory(&lab.maps.files[file])
             .unwrap()
             .into_luma8();
         let (w, h) = (png.width() as usize, png.height() as usize);
@@ -225,7 +225,7 @@ fn patches_equal_the_true_components_on_noise_free_frames() {
         let components = label(&mask).count() as i64;
         eprintln!(
             "frame {frame}: true A/A0 {}, {components} true patches, {} found",
-            cells[1], calibrated.patches[frame]
+            true_fraction, calibrated.patches[frame]
         );
         // The drawn contact holds every true contact pixel, so the image
         // can merge true patches (through near-contact gaps of a few nm
@@ -233,7 +233,6 @@ fn patches_equal_the_true_components_on_noise_free_frames() {
         // contacts) but never split one; sparse contact is exact.
         let found = calibrated.patches[frame];
         assert!(found <= components, "frame {frame}: {found} > {components}");
-        let true_fraction: f64 = cells[1].parse().unwrap();
         if true_fraction < 0.01 {
             assert_eq!(found, components, "frame {frame}");
         } else {

@@ -1,7 +1,10 @@
-//! The table every contact-model stage emits (`icm` today; boundary
-//! elements, Persson and Greenwood–Williamson next), declared here once so
-//! that one word in a pipeline swaps the model and every reader of the table
-//! (the report, the comparison with experiment) reads all of them alike.
+//! What every contact model shares, declared once: the `response` table
+//! each emits (icm, bem, persson, greenwood-williamson; a model's own
+//! columns follow by `#[column(flatten)]`), the function that derives its
+//! normalised columns, the bootstrap `bands`, and the indexes of the contact
+//! maps handed to the comparison with experiment. One word in a pipeline
+//! swaps the model, and every reader of these (the report, the comparison)
+//! reads all of them alike.
 
 use crate::{ParamError, Schema};
 
@@ -24,6 +27,111 @@ pub struct ResponseTable {
     pub mean_stress_pa: Vec<f64>,
     /// E_t*(S) / E0*; 1 for a linear model
     pub tangent_ratio: Vec<f64>,
+}
+
+impl ResponseTable {
+    /// The response from a model's curve: the load `load_n` [N] at contact
+    /// area `area_m2` [m²] (A/A0 `area_fraction`) and separation `z_m`, with
+    /// the tangent modulus `modulus_pa` [Pa] each row was integrated with
+    /// (E0* for a linear model), normalised by E0* `e0_star_pa` and the
+    /// nominal area `a0_m2`. The one place the derived columns are formed:
+    /// load_norm = F/(E0* A0), mean_stress_pa = F/A (0 without contact),
+    /// tangent_ratio = E_t*/E0*.
+    pub fn from_curve(curve: Curve, e0_star_pa: f64, a0_m2: f64) -> Self {
+        let Curve {
+            z_m,
+            area_fraction,
+            area_m2,
+            load_n,
+            modulus_pa,
+        } = curve;
+        ResponseTable {
+            load_norm: load_n.iter().map(|f| f / (e0_star_pa * a0_m2)).collect(),
+            mean_stress_pa: load_n
+                .iter()
+                .zip(&area_m2)
+                .map(|(f, a)| if *a > 0.0 { f / a } else { 0.0 })
+                .collect(),
+            tangent_ratio: modulus_pa.iter().map(|e| e / e0_star_pa).collect(),
+            z_m,
+            area_fraction,
+            load_n,
+        }
+    }
+
+    /// κ = (A/A0) / (p̄/(E0* h'rms)) per row, p̄ = F/A0, from the table's own
+    /// columns (= A/A0 · h'rms / load_norm): the dimensionless slope of the
+    /// area against the load that the theories predict (√(8/π) for
+    /// Persson's, about 2 for boundary elements at small load). NaN where
+    /// there is no load.
+    pub fn kappa(&self, rms_slope: f64) -> Vec<f64> {
+        self.area_fraction
+            .iter()
+            .zip(&self.load_norm)
+            .map(|(a, l)| {
+                if *l > 0.0 {
+                    a * rms_slope / l
+                } else {
+                    f64::NAN
+                }
+            })
+            .collect()
+    }
+}
+
+/// A contact model's curve before normalisation: what
+/// [`ResponseTable::from_curve`] is given.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Curve {
+    pub z_m: Vec<f64>,
+    pub area_fraction: Vec<f64>,
+    /// True contact area A, m².
+    pub area_m2: Vec<f64>,
+    /// Load F, N.
+    pub load_n: Vec<f64>,
+    /// The tangent modulus E_t* of each row (E0* for a linear law), Pa.
+    pub modulus_pa: Vec<f64>,
+}
+
+/// The index of a contact model's `contact_maps`: one row per kept map,
+/// the model's contact pressure on the height map's grid. The comparison
+/// reads any model's maps through it (contact where the pressure is
+/// positive).
+#[derive(Clone, Debug, Default, PartialEq, Schema)]
+pub struct ModelMapIndex {
+    /// the A/A0 asked for (the stage's map_fractions)
+    pub requested_area_fraction: Vec<f64>,
+    /// A/A0 of the step kept (the nearest)
+    pub area_fraction: Vec<f64>,
+    /// load of that step
+    #[column(unit = "N")]
+    pub load_n: Vec<f64>,
+    /// the pressure map (.npy, Pa, axis 0 = x as in the height map; NaN where not measured)
+    pub pressure_file: Vec<String>,
+    /// its spacing along x
+    #[column(unit = "m")]
+    pub dx_m: Vec<f64>,
+    /// its spacing along y
+    #[column(unit = "m")]
+    pub dy_m: Vec<f64>,
+}
+
+/// The index of observed contact maps on a camera's pixels (the contact
+/// experiment's, or the synthetic lab's true contact): one row per kept
+/// frame.
+#[derive(Clone, Debug, Default, PartialEq, Schema)]
+pub struct ObservedMapIndex {
+    /// the A/A0 asked for (the stage's map_fractions)
+    pub requested_area_fraction: Vec<f64>,
+    /// A/A0 of the frame kept (the nearest)
+    pub area_fraction: Vec<f64>,
+    /// the frame's number
+    pub frame: Vec<i64>,
+    /// the mask (8-bit PNG: 255 = contact, 0 = none)
+    pub file: Vec<String>,
+    /// the camera pixel on the sample
+    #[column(unit = "m")]
+    pub pixel_m: Vec<f64>,
 }
 
 /// The `bands` table: how far a response moves over a material's bootstrap

@@ -18,6 +18,8 @@ pub enum StageError {
     // a printed chain would say it twice.
     #[error("input `{input}`: {cause}")]
     InputTable { input: String, cause: TableError },
+    #[error("input `{0}` comes without an index of its files (wire an output that hands one on)")]
+    NoIndex(String),
     #[error(transparent)]
     Table(#[from] TableError),
     #[error("{}: {message}", path.display())]

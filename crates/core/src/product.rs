@@ -31,10 +31,16 @@ impl fmt::Display for ProductKind {
 }
 
 /// Files a stage writes verbatim, keyed by file name (`fig7.svg`,
-/// `index.html`); they land directly in the stage's output folder.
+/// `index.html`); they land directly in the stage's output folder. A stage
+/// handing files on to others (contact maps, figures) gives them an index:
+/// a table declared as a [`Schema`] saying which file holds what, so the
+/// reader gets typed rows instead of parsing a file of its own.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Files {
     pub files: BTreeMap<String, Vec<u8>>,
+    /// The index, for an output declared with
+    /// [`crate::OutputSpec::files_indexed`].
+    pub index: Option<Table>,
 }
 
 impl Files {
@@ -44,6 +50,12 @@ impl Files {
 
     pub fn with(mut self, name: &str, bytes: Vec<u8>) -> Self {
         self.files.insert(name.to_owned(), bytes);
+        self
+    }
+
+    /// The files with their index.
+    pub fn with_index<S: Schema>(mut self, index: S) -> Self {
+        self.index = Some(index.into_table());
         self
     }
 }
@@ -138,6 +150,35 @@ impl Inputs {
             Product::Files(f) => Ok(f),
             other => Err(wrong_kind(name, ProductKind::Files, other)),
         }
+    }
+
+    /// A files input with its index read into schema `S`; files without an
+    /// index, or an index without a column of `S`, are an error naming the
+    /// input.
+    pub fn indexed_files<S: Schema>(&self, name: &str) -> Result<(&Files, S), StageError> {
+        let files = self.files(name)?;
+        let index = files
+            .index
+            .as_ref()
+            .ok_or_else(|| StageError::NoIndex(name.to_owned()))?;
+        let rows = S::from_table(index).map_err(|cause| StageError::InputTable {
+            input: name.to_owned(),
+            cause,
+        })?;
+        Ok((files, rows))
+    }
+
+    /// The products of a doubly labelled input ([`crate::Arity::Nested`]) as
+    /// (sample, model, product), in label order:
+    /// `responses: { T1: { icm: a } }` gives `[("T1", "icm", a)]`.
+    pub fn nested(&self, name: &str) -> Vec<(&str, &str, &Product)> {
+        self.labelled(name)
+            .into_iter()
+            .filter_map(|(labels, p)| {
+                let (sample, model) = labels.split_once('.')?;
+                Some((sample, model, p))
+            })
+            .collect()
     }
 }
 

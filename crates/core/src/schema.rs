@@ -23,6 +23,25 @@ use crate::{ColumnData, ColumnSpec, DType, Table, TableError};
 /// let table = Curve { z_m: vec![1.0, 0.0], patches: vec![1, 3] }.into_table();
 /// assert_eq!(table.column_names(), ["z_m", "patches"]);
 /// assert_eq!(Curve::from_table(&table).unwrap().patches, [1, 3]);
+///
+/// /// A table that is a `Curve` plus a column of its own.
+/// #[derive(Schema)]
+/// struct LabelledCurve {
+///     #[column(flatten)]
+///     curve: Curve,
+///     /// where the curve came from
+///     source: Vec<String>,
+/// }
+///
+/// let names: Vec<&str> = LabelledCurve::COLUMNS.iter().map(|c| c.name).collect();
+/// assert_eq!(names, ["z_m", "patches", "source"]);
+/// let t = LabelledCurve {
+///     curve: Curve { z_m: vec![2.0], patches: vec![1] },
+///     source: vec!["a".into()],
+/// }
+/// .into_table();
+/// assert_eq!(t.column_names(), names);
+/// assert_eq!(LabelledCurve::from_table(&t).unwrap().curve.z_m, [2.0]);
 /// ```
 pub trait Schema: Sized {
     /// The columns, in order, with types, units and docs.
@@ -33,6 +52,36 @@ pub trait Schema: Sized {
     /// Reads the declared columns (others are ignored); integer columns are
     /// accepted where numbers are declared, as CSV files give them.
     fn from_table(table: &Table) -> Result<Self, TableError>;
+}
+
+/// How many columns the parts of a schema hold together (the derive's
+/// `#[column(flatten)]` splices another schema's columns in).
+#[doc(hidden)]
+pub const fn total_len(parts: &[&[ColumnSpec]]) -> usize {
+    let (mut n, mut i) = (0, 0);
+    while i < parts.len() {
+        n += parts[i].len();
+        i += 1;
+    }
+    n
+}
+
+/// The parts' columns in order, as one array of `N` = [`total_len`] columns:
+/// what a derived schema's `COLUMNS` points at.
+#[doc(hidden)]
+pub const fn concat<const N: usize>(parts: &[&[ColumnSpec]]) -> [ColumnSpec; N] {
+    let mut out = [ColumnSpec::str("", ""); N];
+    let (mut k, mut i) = (0, 0);
+    while i < parts.len() {
+        let mut j = 0;
+        while j < parts[i].len() {
+            out[k] = parts[i][j];
+            k += 1;
+            j += 1;
+        }
+        i += 1;
+    }
+    out
 }
 
 /// The Rust type of one column.

@@ -54,6 +54,25 @@ pub enum Arity {
     /// At least one: a single product (`tensile: csv`) or labelled ones as
     /// for [`Arity::Many`]; the plan refuses none.
     OneOrMore,
+    /// Any number, labelled twice, by sample and then by model:
+    /// `inputs: { responses: { T1: { icm: a, bem: b } } }`; the stage sees
+    /// them as `responses.T1.icm`, `responses.T1.bem` ([`crate::Inputs::nested`]).
+    /// How a consumer of a role (the report) takes every producer of it.
+    Nested,
+}
+
+impl Arity {
+    /// How many labels a product of this input carries: none, one (sample
+    /// or model) or two (sample, then model); `None` where both none and one
+    /// are accepted ([`Arity::OneOrMore`]).
+    pub fn depth(self) -> Option<usize> {
+        match self {
+            Arity::One | Arity::Optional => Some(0),
+            Arity::Many => Some(1),
+            Arity::OneOrMore => None,
+            Arity::Nested => Some(2),
+        }
+    }
 }
 
 /// A declared input.
@@ -100,6 +119,23 @@ impl InputSpec {
             doc,
         }
     }
+
+    /// A files input whose producer must hand on an index with (at least)
+    /// the columns of schema `S`: which file holds what. The plan refuses
+    /// wiring from an output without such an index.
+    pub const fn files_indexed<S: Schema>(
+        name: &'static str,
+        arity: Arity,
+        doc: &'static str,
+    ) -> Self {
+        Self {
+            name,
+            kind: ProductKind::Files,
+            arity,
+            columns: S::COLUMNS,
+            doc,
+        }
+    }
 }
 
 /// A declared output.
@@ -107,7 +143,8 @@ impl InputSpec {
 pub struct OutputSpec {
     pub name: &'static str,
     pub kind: ProductKind,
-    /// The columns a table output always has, in order.
+    /// The columns a table output always has, in order; for files, those
+    /// of their index (none: the files come without one).
     pub columns: &'static [ColumnSpec],
     pub doc: &'static str,
 }
@@ -137,6 +174,17 @@ impl OutputSpec {
             name,
             kind: ProductKind::Files,
             columns: &[],
+            doc,
+        }
+    }
+
+    /// Files with an index of schema `S` ([`crate::Files::with_index`]),
+    /// stored and exported beside them as the table `<name>.parquet`.
+    pub const fn files_indexed<S: Schema>(name: &'static str, doc: &'static str) -> Self {
+        Self {
+            name,
+            kind: ProductKind::Files,
+            columns: S::COLUMNS,
             doc,
         }
     }

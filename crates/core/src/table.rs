@@ -182,6 +182,12 @@ impl Table {
         });
     }
 
+    /// Appends every column of `other` after this table's (a flattened
+    /// schema's columns, built by its own `into_table`).
+    pub fn extend(&mut self, other: Table) {
+        self.columns.extend(other.columns);
+    }
+
     /// Checks that column names are unique and all columns are equally long.
     pub fn validate(&self) -> Result<(), TableError> {
         let expected = self.columns.first().map_or(0, |c| c.data.len());

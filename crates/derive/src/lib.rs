@@ -15,6 +15,7 @@
 
 mod choice;
 mod docs;
+mod flatten;
 mod params;
 mod schema;
 
@@ -24,7 +25,9 @@ use proc_macro::TokenStream;
 /// `#[param(...)]`: `default = EXPR`, `unit = "m"`, `range = LO..=HI` (any
 /// Rust range of numbers; floats must also be finite), `positive`,
 /// `check = path` (a `fn(&T) -> Result<(), String>` for this field),
-/// `rename = "UT"`. Struct option, in `#[params(check = path)]`: a
+/// `rename = "UT"`, `flatten` (the field is another `#[params]` struct
+/// whose keys stand at this level, checked at this level; it must have a
+/// default for each of its parameters). Struct option, in `#[params(check = path)]`: a
 /// `fn(&Self) -> Result<(), ParamError>` for checks across fields.
 /// A field without `default` that is not an `Option` is required.
 #[proc_macro_attribute]
@@ -45,7 +48,8 @@ pub fn derive_choice(item: TokenStream) -> TokenStream {
 
 /// A table schema: a struct of `Vec<f64>`, `Vec<i64>` or `Vec<String>`
 /// fields, one per column in order, each with `#[column(unit = "m")]` where
-/// it has a unit and a doc comment.
+/// it has a unit and a doc comment; `#[column(flatten)]` on a field of
+/// another schema's type splices its columns in at that place.
 #[proc_macro_derive(Schema, attributes(column))]
 pub fn derive_schema(item: TokenStream) -> TokenStream {
     schema::expand(item.into())

@@ -8,26 +8,29 @@ use syn::{
 };
 
 use crate::docs::doc_text;
+use crate::flatten;
 
 /// What `#[param(...)]` says about one field.
 #[derive(Default)]
-struct FieldOptions {
-    default: Option<Expr>,
+pub struct FieldOptions {
+    pub default: Option<Expr>,
     unit: Option<LitStr>,
     range: Option<ExprRange>,
     positive: bool,
     check: Option<Expr>,
     rename: Option<LitStr>,
+    /// The field is a parameter block whose keys stand at this level.
+    pub flatten: bool,
 }
 
-struct ParamField {
-    ident: Ident,
-    ty: Type,
+pub struct ParamField {
+    pub ident: Ident,
+    pub ty: Type,
     /// The name in YAML (after `rename`).
-    name: String,
+    pub name: String,
     doc: String,
-    is_option: bool,
-    options: FieldOptions,
+    pub is_option: bool,
+    pub options: FieldOptions,
 }
 
 pub fn expand(args: TokenStream, item: TokenStream) -> syn::Result<TokenStream> {
@@ -40,13 +43,50 @@ pub fn expand(args: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
         ));
     }
     let ident = item.ident.clone();
+    let fields = take_fields(&mut item)?;
+    let flattened = fields.iter().any(|f| f.options.flatten);
+    add_serde_attributes(&mut item, flattened);
+
+    let defaults = default_fns(&ident, &fields);
+    let default_impl = default_impl(&ident, &fields);
+    let value_impl = param_value_impl(&ident, &fields, struct_check);
+    let specs = fields.iter().map(|f| spec(&ident, f));
+    let flatten = flatten::flatten_impl(&ident, &item.vis, &fields);
+    let deserialize = flattened.then(|| flatten::deserialize_impl(&ident));
+
+    Ok(quote! {
+        #item
+
+        #defaults
+
+        #default_impl
+
+        #value_impl
+
+        #flatten
+
+        #deserialize
+
+        impl ::hypercontact_core::Params for #ident {
+            fn spec() -> ::std::vec::Vec<::hypercontact_core::ParamSpec> {
+                let mut specs = ::std::vec::Vec::new();
+                #(#specs)*
+                specs
+            }
+        }
+    })
+}
+
+/// The fields with their `#[param]` options taken off (and serde's
+/// attributes for defaults and renames put on).
+fn take_fields(item: &mut ItemStruct) -> syn::Result<Vec<ParamField>> {
+    let ident = item.ident.clone();
     let Fields::Named(named) = &mut item.fields else {
         return Err(syn::Error::new(
             item.span(),
             "#[params] needs a struct with named fields",
         ));
     };
-
     let mut fields = Vec::new();
     for field in named.named.iter_mut() {
         let options = take_field_options(&mut field.attrs)?;
@@ -56,7 +96,9 @@ pub fn expand(args: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
             .as_ref()
             .map_or_else(|| field_ident.to_string(), LitStr::value);
         let is_option = is_option(&field.ty);
-        if options.default.is_some() {
+        if options.flatten {
+            field.attrs.push(parse_quote!(#[serde(flatten)]));
+        } else if options.default.is_some() {
             let path = format!("{ident}::__default_{field_ident}");
             field.attrs.push(parse_quote!(#[serde(default = #path)]));
         } else if is_option {
@@ -74,33 +116,59 @@ pub fn expand(args: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
             options,
         });
     }
+    Ok(fields)
+}
 
-    item.attrs.push(parse_quote!(
-        #[derive(
-            ::core::clone::Clone,
-            ::core::fmt::Debug,
-            ::core::cmp::PartialEq,
-            ::hypercontact_core::__private::serde::Serialize,
-            ::hypercontact_core::__private::serde::Deserialize
-        )]
-    ));
-    item.attrs.push(parse_quote!(
-        #[serde(deny_unknown_fields, crate = "::hypercontact_core::__private::serde")]
-    ));
+/// serde's derives: both for a plain struct (unknown keys refused); only
+/// `Serialize` for one with flattened blocks, whose `Deserialize` is
+/// generated here ([`flatten::deserialize_impl`]).
+fn add_serde_attributes(item: &mut ItemStruct, flattened: bool) {
+    if flattened {
+        item.attrs.push(parse_quote!(
+            #[derive(
+                ::core::clone::Clone,
+                ::core::fmt::Debug,
+                ::core::cmp::PartialEq,
+                ::hypercontact_core::__private::serde::Serialize
+            )]
+        ));
+        item.attrs.push(parse_quote!(
+            #[serde(crate = "::hypercontact_core::__private::serde")]
+        ));
+    } else {
+        item.attrs.push(parse_quote!(
+            #[derive(
+                ::core::clone::Clone,
+                ::core::fmt::Debug,
+                ::core::cmp::PartialEq,
+                ::hypercontact_core::__private::serde::Serialize,
+                ::hypercontact_core::__private::serde::Deserialize
+            )]
+        ));
+        item.attrs.push(parse_quote!(
+            #[serde(deny_unknown_fields, crate = "::hypercontact_core::__private::serde")]
+        ));
+    }
+}
 
-    let defaults = default_fns(&ident, &fields);
-    let default_impl = default_impl(&ident, &fields);
-    let specs = fields.iter().map(|f| spec(&ident, f));
+/// `ParamValue`: the type's description, its checks and its input paths.
+/// A flattened block is checked and walked at this struct's own prefix.
+fn param_value_impl(
+    ident: &Ident,
+    fields: &[ParamField],
+    struct_check: Option<Expr>,
+) -> TokenStream {
     let checks = fields.iter().map(check);
     let visits = fields.iter().map(|f| {
         let field = &f.ident;
         let name = &f.name;
+        let path = if f.options.flatten {
+            quote!(prefix)
+        } else {
+            quote!(&::hypercontact_core::param::join(prefix, #name))
+        };
         quote! {
-            ::hypercontact_core::ParamValue::visit_paths(
-                &mut self.#field,
-                &::hypercontact_core::param::join(prefix, #name),
-                visit,
-            );
+            ::hypercontact_core::ParamValue::visit_paths(&mut self.#field, #path, visit);
         }
     });
     let struct_check = struct_check.map(|check| {
@@ -110,14 +178,7 @@ pub fn expand(args: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
             checked.map_err(|e| e.under(prefix))?;
         }
     });
-
-    Ok(quote! {
-        #item
-
-        #defaults
-
-        #default_impl
-
+    quote! {
         impl ::hypercontact_core::ParamValue for #ident {
             fn type_doc() -> ::hypercontact_core::param::TypeDoc {
                 ::hypercontact_core::param::TypeDoc::Struct(
@@ -142,13 +203,7 @@ pub fn expand(args: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
                 #(#visits)*
             }
         }
-
-        impl ::hypercontact_core::Params for #ident {
-            fn spec() -> ::std::vec::Vec<::hypercontact_core::ParamSpec> {
-                ::std::vec![#(#specs),*]
-            }
-        }
-    })
+    }
 }
 
 fn parse_struct_args(args: TokenStream) -> syn::Result<Option<Expr>> {
@@ -195,10 +250,11 @@ fn take_field_options(attrs: &mut Vec<syn::Attribute>) -> syn::Result<FieldOptio
                 "positive" => options.positive = true,
                 "check" => options.check = Some(meta.value()?.parse()?),
                 "rename" => options.rename = Some(meta.value()?.parse()?),
+                "flatten" => options.flatten = true,
                 _ => {
                     return Err(meta.error(
                         "unknown #[param] option (expected default, unit, range, positive, \
-                         check or rename)",
+                         check, rename or flatten)",
                     ));
                 }
             }
@@ -206,6 +262,18 @@ fn take_field_options(attrs: &mut Vec<syn::Attribute>) -> syn::Result<FieldOptio
         })?;
     }
     *attrs = kept;
+    let described = options.default.is_some()
+        || options.unit.is_some()
+        || options.range.is_some()
+        || options.positive
+        || options.check.is_some()
+        || options.rename.is_some();
+    if options.flatten && described {
+        return Err(syn::Error::new(
+            proc_macro2::Span::call_site(),
+            "a flattened parameter block declares its own defaults, units, ranges and names",
+        ));
+    }
     if options.positive && options.range.as_ref().is_some_and(|r| r.start.is_some()) {
         return Err(syn::Error::new(
             proc_macro2::Span::call_site(),
@@ -252,13 +320,15 @@ fn default_fns(ident: &Ident, fields: &[ParamField]) -> TokenStream {
 fn default_impl(ident: &Ident, fields: &[ParamField]) -> TokenStream {
     if fields
         .iter()
-        .any(|f| f.options.default.is_none() && !f.is_option)
+        .any(|f| f.options.default.is_none() && !f.is_option && !f.options.flatten)
     {
         return TokenStream::new();
     }
     let inits = fields.iter().map(|f| {
         let field = &f.ident;
-        if f.options.default.is_some() {
+        if f.options.flatten {
+            quote!(#field: ::core::default::Default::default())
+        } else if f.options.default.is_some() {
             let name = default_fn_ident(field);
             quote!(#field: #ident::#name())
         } else {
@@ -296,10 +366,17 @@ fn range_expr(options: &FieldOptions) -> Option<TokenStream> {
     Some(quote! { ::hypercontact_core::param::ParamRange { lo: #lo, hi: #hi } })
 }
 
+/// The statement adding the field's spec (a flattened block's specs, in
+/// their order) to `specs`.
 fn spec(ident: &Ident, f: &ParamField) -> TokenStream {
     let name = &f.name;
     let doc = &f.doc;
     let ty = &f.ty;
+    if f.options.flatten {
+        return quote! {
+            specs.extend(<#ty as ::hypercontact_core::Params>::spec());
+        };
+    }
     let unit = f
         .options
         .unit
@@ -324,7 +401,7 @@ fn spec(ident: &Ident, f: &ParamField) -> TokenStream {
     };
     let custom = f.options.check.is_some();
     quote! {
-        ::hypercontact_core::ParamSpec {
+        specs.push(::hypercontact_core::ParamSpec {
             name: #name,
             unit: #unit,
             doc: #doc,
@@ -333,13 +410,18 @@ fn spec(ident: &Ident, f: &ParamField) -> TokenStream {
             required: #required,
             range: #range,
             custom_check: #custom,
-        }
+        });
     }
 }
 
 fn check(f: &ParamField) -> TokenStream {
     let field = &f.ident;
     let name = &f.name;
+    if f.options.flatten {
+        return quote! {
+            ::hypercontact_core::ParamValue::validate_at(&self.#field, prefix)?;
+        };
+    }
     let range = range_expr(&f.options).map(|range| {
         quote! {
             ::hypercontact_core::param::check_range(&path, &self.#field, &#range)?;

@@ -6,14 +6,17 @@
 //! - [`tangent`]: the tangent-modulus load over the steps of any linear contact
 //!   model (boundary elements, Persson, Greenwood–Williamson);
 //! - [`tangent_table`]: E_t(S) tabulated once, so each plane costs nanoseconds;
+//! - [`law_params`]: the contact-law parameters every contact model takes;
 //! - [`stage`]: the `icm` stage.
 
+pub mod law_params;
 pub mod modulus;
 pub mod solver;
 pub mod stage;
 pub mod tangent;
 pub mod tangent_table;
 
+pub use law_params::LawParams;
 pub use modulus::{CompositeModulus, Model};
 pub use solver::{ProfileSlices, Scheme, Solution, SolveError, solve};
 

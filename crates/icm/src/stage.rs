@@ -6,32 +6,25 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use hypercontact_core::contact::{BandTable, ResponseTable};
+use hypercontact_core::contact::{BandTable, Curve, ResponseTable};
 use hypercontact_core::{
     Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, Schema, Stage, StageError,
     StageInfo, params,
 };
+use hypercontact_material::Hyperelastic;
 use hypercontact_material::bootstrap::{Replicate, ReplicatesTable, from_replicates_table};
 use hypercontact_material::table::MaterialTable;
-use hypercontact_material::{Hyperelastic, Poisson};
 use hypercontact_truncation::stage::ProfileTable;
 
-use crate::IcmError;
-use crate::modulus::{CompositeModulus, Model};
-use crate::solver::{ProfileSlices, Scheme, Solution, solve};
+use crate::modulus::CompositeModulus;
+use crate::solver::{ProfileSlices, Solution, solve};
+use crate::{IcmError, LawParams};
 
-/// Parameters of `icm`.
+/// Parameters of `icm`: the contact law.
 #[params]
 pub struct IcmParams {
-    /// contact law
-    #[param(default = Model::Hyperelastic)]
-    pub model: Model,
-    /// integration scheme
-    #[param(default = Scheme::Heun)]
-    pub scheme: Scheme,
-    /// Poisson's ratio ν of the composite moduli
-    #[param(default = Poisson::INCOMPRESSIBLE)]
-    pub poisson: Poisson,
+    #[param(flatten)]
+    pub law: LawParams,
 }
 
 /// The `icm` stage.
@@ -121,18 +114,14 @@ impl Stage for Icm {
             }
             None => BandTable::from_replicates(&[], &[], &[]),
         };
-        let response = ResponseTable {
-            load_norm: solution
-                .load_n
-                .iter()
-                .map(|f| f / (e0_star * nominal_area_m2))
-                .collect(),
-            tangent_ratio: solution.modulus_pa.iter().map(|e| e / e0_star).collect(),
+        let curve = Curve {
             z_m: profile.z_m,
             area_fraction: profile.area_fraction,
+            area_m2: profile.area_m2,
             load_n: solution.load_n,
-            mean_stress_pa: solution.mean_stress_pa,
+            modulus_pa: solution.modulus_pa,
         };
+        let response = ResponseTable::from_curve(curve, e0_star, nominal_area_m2);
         Ok(Outputs::new()
             .table("response", response.into_table())
             .table("bands", bands.into_table()))
@@ -144,9 +133,11 @@ type Solved = Result<(CompositeModulus, Solution), StageError>;
 
 /// One material's solve over the profile.
 fn respond(material: Arc<dyn Hyperelastic>, slices: ProfileSlices<'_>, p: &IcmParams) -> Solved {
-    let modulus = CompositeModulus::new(material, p.model, p.poisson.0)
+    let modulus = p
+        .law
+        .modulus(material)
         .map_err(|e| StageError::other(IcmError::Material(e)))?;
-    let solution = solve(slices, p.scheme, &mut |s| {
+    let solution = solve(slices, p.law.scheme, &mut |s| {
         modulus.at_stress_pa(s).map_err(|e| e.to_string())
     })
     .map_err(|e| StageError::other(IcmError::Solve(e)))?;
@@ -232,9 +223,9 @@ fn nominal_area(area_fraction: &[f64], area_m2: &[f64]) -> Result<f64, IcmError>
 mod tests {
     use super::*;
     use hypercontact_core::{Params, Product, Table};
-    use hypercontact_material::Hyperelastic;
     use hypercontact_material::presets::paper_epdm;
     use hypercontact_material::table::to_table;
+    use hypercontact_material::{Hyperelastic, Poisson};
 
     fn inputs(profile: Table) -> Inputs {
         Inputs::new()
@@ -331,8 +322,10 @@ mod tests {
     #[test]
     fn bad_inputs_and_params_are_named() {
         let p = IcmParams {
-            poisson: Poisson(0.6),
-            ..Default::default()
+            law: LawParams {
+                poisson: Poisson(0.6),
+                ..Default::default()
+            },
         };
         assert_eq!(p.check().unwrap_err().param, "poisson");
         let e = serde_json::from_str::<IcmParams>(r#"{"scheme": "rk4"}"#).unwrap_err();

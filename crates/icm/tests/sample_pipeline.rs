@@ -3,7 +3,7 @@
 
 use hypercontact_core::{Context, Inputs, Outputs, Params, Product, Stage, Table};
 use hypercontact_icm::stage::{Icm, IcmParams};
-use hypercontact_icm::{Model, Scheme};
+use hypercontact_icm::{LawParams, Model, Scheme};
 use hypercontact_material::presets::paper_epdm;
 use hypercontact_material::table::to_table;
 use hypercontact_truncation::stage::{Truncation, TruncationParams};
@@ -38,9 +38,11 @@ fn sample_map_runs_through_truncation_and_both_icm_models() {
     let mut responses = Vec::new();
     for model in [Model::Hyperelastic, Model::Linear] {
         let params = IcmParams {
-            model,
-            scheme: Scheme::Heun,
-            poisson: hypercontact_material::Poisson::INCOMPRESSIBLE,
+            law: LawParams {
+                model,
+                scheme: Scheme::Heun,
+                poisson: hypercontact_material::Poisson::INCOMPRESSIBLE,
+            },
         }
         .check()
         .unwrap();

@@ -7,8 +7,8 @@ mod common;
 
 use hypercontact_core::contact::ResponseTable;
 use hypercontact_core::{Context, Inputs, Params, Product, Schema, Stage, Table};
-use hypercontact_icm::Model;
 use hypercontact_icm::stage::{Icm, IcmParams};
+use hypercontact_icm::{LawParams, Model};
 use hypercontact_report::{Report, ReportParams};
 
 fn icm(model: Model, poisson: f64, profile: &Table) -> Table {
@@ -23,9 +23,11 @@ fn icm_outputs(
     replicates: Option<Table>,
 ) -> (Table, Table) {
     let params = IcmParams {
-        model,
-        poisson: hypercontact_material::Poisson(poisson),
-        ..Default::default()
+        law: LawParams {
+            model,
+            poisson: hypercontact_material::Poisson(poisson),
+            ..Default::default()
+        },
     };
     let mut inputs = Inputs::new()
         .with("profile", Product::Table(profile.clone()))

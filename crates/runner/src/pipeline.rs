@@ -27,6 +27,10 @@ pub struct InputBinding {
     pub from_stage: String,
     /// Upstream output name, if given as `stage.output`.
     pub from_output: Option<String>,
+    /// The labels the wiring gives it: none (`surface: surf`), one
+    /// (`responses: { T1: icm1 }`) or two (`responses: { T1: { icm: a } }`);
+    /// the plan holds them against the input's [`hypercontact_core::Arity`].
+    pub labels: Vec<String>,
 }
 
 /// A stage as declared in the pipeline.
@@ -139,6 +143,7 @@ struct RawStage {
 enum RawInput {
     One(String),
     Many(IndexMap<String, String>),
+    Nested(IndexMap<String, IndexMap<String, String>>),
 }
 
 #[derive(Deserialize)]
@@ -418,14 +423,26 @@ impl Pipeline {
 fn bindings(inputs: &IndexMap<String, RawInput>) -> Vec<InputBinding> {
     let mut out = Vec::new();
     for (input, binding) in inputs {
-        let refs: Vec<(String, &str)> = match binding {
-            RawInput::One(r) => vec![(input.clone(), r.as_str())],
+        let refs: Vec<(Vec<String>, &str)> = match binding {
+            RawInput::One(r) => vec![(Vec::new(), r.as_str())],
             RawInput::Many(m) => m
                 .iter()
-                .map(|(label, r)| (format!("{input}.{label}"), r.as_str()))
+                .map(|(label, r)| (vec![label.clone()], r.as_str()))
+                .collect(),
+            RawInput::Nested(m) => m
+                .iter()
+                .flat_map(|(sample, models)| {
+                    models
+                        .iter()
+                        .map(move |(model, r)| (vec![sample.clone(), model.clone()], r.as_str()))
+                })
                 .collect(),
         };
-        for (seen_as, reference) in refs {
+        for (labels, reference) in refs {
+            let seen_as = std::iter::once(input.as_str())
+                .chain(labels.iter().map(String::as_str))
+                .collect::<Vec<_>>()
+                .join(".");
             let (from_stage, from_output) = match reference.split_once('.') {
                 Some((s, o)) => (s.to_owned(), Some(o.to_owned())),
                 None => (reference.to_owned(), None),
@@ -435,6 +452,7 @@ fn bindings(inputs: &IndexMap<String, RawInput>) -> Vec<InputBinding> {
                 declared: input.clone(),
                 from_stage,
                 from_output,
+                labels,
             });
         }
     }

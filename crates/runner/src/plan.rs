@@ -11,11 +11,11 @@ use std::collections::{BTreeMap, HashMap};
 use std::fmt;
 
 use hypercontact_core::stage::Arity;
-use hypercontact_core::{ProductKind, StageInfo};
+use hypercontact_core::{InputSpec, OutputSpec, ProductKind, StageInfo};
 
 use crate::cache::{Cache, EntryState, Manifest};
 use crate::hash::{canonical_json, path_hash, text_hash};
-use crate::pipeline::{Pipeline, PipelineError, StageDecl};
+use crate::pipeline::{InputBinding, Pipeline, PipelineError, StageDecl};
 use crate::provenance::{InputRecord, Provenance, StageRecord};
 use crate::yaml::Location;
 
@@ -419,13 +419,11 @@ fn resolve_inputs(
     info: &StageInfo,
     keys: &HashMap<String, String>,
 ) -> Result<Vec<ResolvedInput>, PipelineError> {
-    let stage_at = pipeline.locate(&["stages", decl.name.as_str()]);
-    let err = |at: Option<Location>, message: String| {
-        PipelineError::new(&pipeline.file, message)
-            .located(at.or(stage_at))
-            .stage(&decl.name)
+    let wiring = Wiring {
+        pipeline,
+        decl,
+        stage_at: pipeline.locate(&["stages", decl.name.as_str()]),
     };
-    let declared: Vec<&str> = info.inputs.iter().map(|i| i.name).collect();
     let mut resolved = Vec::new();
     for binding in &decl.inputs {
         let line = pipeline.locate(&[
@@ -434,23 +432,10 @@ fn resolve_inputs(
             "inputs",
             binding.declared.as_str(),
         ]);
-        let spec = info.input(&binding.declared).ok_or_else(|| {
-            err(
-                line,
-                format!(
-                    "`{}` takes no input `{}` (its inputs: {})",
-                    decl.kind,
-                    binding.declared,
-                    if declared.is_empty() {
-                        "none".to_owned()
-                    } else {
-                        declared.join(", ")
-                    }
-                ),
-            )
-        })?;
+        let spec = wiring.spec(info, binding, line)?;
+        wiring.check_labels(spec, binding, line)?;
         let upstream = pipeline.stage(&binding.from_stage).ok_or_else(|| {
-            err(
+            wiring.err(
                 line,
                 format!(
                     "input `{}` refers to unknown stage `{}` (stages: {})",
@@ -460,10 +445,119 @@ fn resolve_inputs(
                 ),
             )
         })?;
+        let output = wiring.output(spec, binding, upstream, line)?;
+        wiring.check_columns(spec, binding, &upstream.name, output, line)?;
+        let upstream_key = keys
+            .get(&upstream.name)
+            .cloned()
+            .expect("upstream stages are planned first");
+        resolved.push(ResolvedInput {
+            input: binding.input.clone(),
+            from_stage: upstream.name.clone(),
+            from_output: output.name.to_owned(),
+            upstream_key,
+        });
+    }
+    wiring.check_counts(info)?;
+    Ok(resolved)
+}
+
+/// One stage's inputs being resolved: where its errors point.
+struct Wiring<'a> {
+    pipeline: &'a Pipeline,
+    decl: &'a StageDecl,
+    stage_at: Option<Location>,
+}
+
+impl Wiring<'_> {
+    fn err(&self, at: Option<Location>, message: String) -> PipelineError {
+        PipelineError::new(&self.pipeline.file, message)
+            .located(at.or(self.stage_at))
+            .stage(&self.decl.name)
+    }
+
+    /// The declared input a binding fills.
+    fn spec(
+        &self,
+        info: &StageInfo,
+        binding: &InputBinding,
+        line: Option<Location>,
+    ) -> Result<&'static InputSpec, PipelineError> {
+        info.input(&binding.declared).ok_or_else(|| {
+            let declared: Vec<&str> = info.inputs.iter().map(|i| i.name).collect();
+            self.err(
+                line,
+                format!(
+                    "`{}` takes no input `{}` (its inputs: {})",
+                    self.decl.kind,
+                    binding.declared,
+                    if declared.is_empty() {
+                        "none".to_owned()
+                    } else {
+                        declared.join(", ")
+                    }
+                ),
+            )
+        })
+    }
+
+    /// The binding is labelled as its input's arity asks: a many-input
+    /// wired without labels (`responses: icm`) would reach the stage as no
+    /// product at all, so it is refused here with the form to write.
+    fn check_labels(
+        &self,
+        spec: &InputSpec,
+        binding: &InputBinding,
+        line: Option<Location>,
+    ) -> Result<(), PipelineError> {
+        let name = spec.name;
+        if let Some(label) = binding
+            .labels
+            .iter()
+            .find(|l| l.is_empty() || l.contains('.'))
+        {
+            return Err(self.err(
+                line,
+                format!("input `{name}`: label `{label}` is empty or holds `.`"),
+            ));
+        }
+        let given = binding.labels.len();
+        let wanted = spec.arity.depth();
+        if wanted.is_none_or(|d| d == given) && (wanted.is_some() || given < 2) {
+            return Ok(());
+        }
+        let form = match spec.arity {
+            Arity::One | Arity::Optional => {
+                format!("takes one product, not labelled ones: write `{name}: <stage>`")
+            }
+            Arity::Many => format!(
+                "takes labelled products, one per sample (or mode): write `{name}: {{ T1: <stage>, \
+                 T2: <stage> }}`"
+            ),
+            Arity::OneOrMore => format!(
+                "takes one product or labelled ones: write `{name}: <stage>` or `{name}: {{ UT: \
+                 <stage>, PT: <stage> }}`"
+            ),
+            Arity::Nested => format!(
+                "takes products labelled by sample and then by model: write `{name}: {{ T1: {{ \
+                 icm: <stage>, bem: <stage> }} }}`"
+            ),
+        };
+        Err(self.err(line, format!("input `{name}` {form}")))
+    }
+
+    /// The upstream output a binding names (or the one of the input's kind).
+    fn output(
+        &self,
+        spec: &InputSpec,
+        binding: &InputBinding,
+        upstream: &StageDecl,
+        line: Option<Location>,
+    ) -> Result<&'static OutputSpec, PipelineError> {
         let up_info = upstream.stage.info();
         let output = match &binding.from_output {
             Some(o) => up_info.output(o).ok_or_else(|| {
-                err(
+                self.err(
                     line,
                     format!(
                         "input `{}`: stage `{}` ({}) has no output `{o}` (its outputs: {})",
@@ -483,7 +577,7 @@ fn resolve_inputs(
                 .output(&binding.declared)
                 .or_else(|| up_info.outputs.iter().find(|o| o.kind == spec.kind))
                 .ok_or_else(|| {
-                    err(
+                    self.err(
                         line,
                         format!(
                             "input `{}`: stage `{}` has no {} output",
@@ -493,7 +587,7 @@ fn resolve_inputs(
                 })?,
         };
         if output.kind != spec.kind {
-            return Err(err(
+            return Err(self.err(
                 line,
                 format!(
                     "input `{}` takes a {}, but `{}.{}` is a {}",
@@ -501,56 +595,87 @@ fn resolve_inputs(
                 ),
             ));
         }
-        if spec.kind == ProductKind::Table && !output.columns.is_empty() {
-            for column in spec.columns {
-                if !output.columns.iter().any(|c| c.name == column.name) {
-                    return Err(err(
-                        line,
+        Ok(output)
+    }
+
+    /// The upstream output declares every column the input needs: a
+    /// table's columns, or the columns of a files output's index. (A table
+    /// output declaring none, a loader's, is checked when read.)
+    fn check_columns(
+        &self,
+        spec: &InputSpec,
+        binding: &InputBinding,
+        upstream: &str,
+        output: &OutputSpec,
+        line: Option<Location>,
+    ) -> Result<(), PipelineError> {
+        if spec.columns.is_empty() {
+            return Ok(());
+        }
+        let what =
+            match spec.kind {
+                ProductKind::Files if output.columns.is_empty() => {
+                    return Err(self.err(
+                    line,
+                    format!(
+                        "input `{}` needs files with an index ({}), and `{upstream}.{}` hands on \
+                         none",
+                        binding.input,
+                        spec.columns.iter().map(|c| c.name).collect::<Vec<_>>().join(", "),
+                        output.name
+                    ),
+                ));
+                }
+                ProductKind::Files => "whose index",
+                ProductKind::Table if output.columns.is_empty() => return Ok(()),
+                _ => "which",
+            };
+        match spec
+            .columns
+            .iter()
+            .find(|c| !output.columns.iter().any(|o| o.name == c.name))
+        {
+            Some(column) => Err(self.err(
+                line,
+                format!(
+                    "input `{}` needs column `{}`, {what} `{upstream}.{}` does not declare",
+                    binding.input, column.name, output.name
+                ),
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// Every required input is given, and single inputs at most once.
+    fn check_counts(&self, info: &StageInfo) -> Result<(), PipelineError> {
+        for spec in info.inputs {
+            let given = self
+                .decl
+                .inputs
+                .iter()
+                .filter(|b| b.declared == spec.name)
+                .count();
+            match spec.arity {
+                Arity::One | Arity::OneOrMore if given == 0 => {
+                    return Err(self.err(
+                        None,
                         format!(
-                            "input `{}` needs column `{}`, which `{}.{}` does not declare",
-                            binding.input, column.name, upstream.name, output.name
+                            "missing input `{}` ({}: {}); add `inputs: {{ {}: <stage> }}`",
+                            spec.name, spec.kind, spec.doc, spec.name
                         ),
                     ));
                 }
+                Arity::One | Arity::Optional if given > 1 => {
+                    return Err(self.err(
+                        None,
+                        format!("input `{}` takes at most one product", spec.name),
+                    ));
+                }
+                _ => {}
             }
         }
-        let upstream_key = keys
-            .get(&upstream.name)
-            .cloned()
-            .expect("upstream stages are planned first");
-        resolved.push(ResolvedInput {
-            input: binding.input.clone(),
-            from_stage: upstream.name.clone(),
-            from_output: output.name.to_owned(),
-            upstream_key,
-        });
+        Ok(())
     }
-    for spec in info.inputs {
-        let given = decl
-            .inputs
-            .iter()
-            .filter(|b| b.declared == spec.name)
-            .count();
-        match spec.arity {
-            Arity::One | Arity::OneOrMore if given == 0 => {
-                return Err(err(
-                    None,
-                    format!(
-                        "missing input `{}` ({}: {}); add `inputs: {{ {}: <stage> }}`",
-                        spec.name, spec.kind, spec.doc, spec.name
-                    ),
-                ));
-            }
-            Arity::One | Arity::Optional if given > 1 => {
-                return Err(err(
-                    None,
-                    format!("input `{}` takes at most one product", spec.name),
-                ));
-            }
-            _ => {}
-        }
-    }
-    Ok(resolved)
 }
 
 /// Stage indices in dependency order (YAML order among independent stages),

@@ -120,6 +120,11 @@ pub fn write_product(
                     w.write_all(bytes).map_err(|e| e.to_string())
                 })?;
             }
+            if let Some(index) = &set.index {
+                put(index_name(name), &mut |w| {
+                    hypercontact_io::write_parquet(index, w).map_err(|e| e.to_string())
+                })?;
+            }
         }
     }
     Ok(OutputRecord {
@@ -131,15 +136,9 @@ pub fn write_product(
 /// Reads a product back from `dir`.
 pub fn read_product(dir: &Path, name: &str, record: &OutputRecord) -> Result<Product, StoreError> {
     match record.kind {
-        ProductKind::Table => {
-            let path = dir.join(format!("{name}.parquet"));
-            let file = fs::File::open(&path).map_err(io_err(&path))?;
-            let table = hypercontact_io::read_parquet(file).map_err(|e| StoreError::Format {
-                path: path.clone(),
-                message: e.to_string(),
-            })?;
-            Ok(Product::Table(table))
-        }
+        ProductKind::Table => Ok(Product::Table(read_table(
+            &dir.join(format!("{name}.parquet")),
+        )?)),
         ProductKind::Field => {
             let npy = dir.join(format!("{name}.npy"));
             let grid = dir.join(format!("{name}.grid.json"));
@@ -157,8 +156,13 @@ pub fn read_product(dir: &Path, name: &str, record: &OutputRecord) -> Result<Pro
         ProductKind::Files => {
             let mut set = Files::new();
             let prefix = format!("{name}/");
+            let index = index_name(name);
             for rel in record.files.keys() {
                 let path = dir.join(rel);
+                if *rel == index {
+                    set.index = Some(read_table(&path)?);
+                    continue;
+                }
                 let bytes = fs::read(&path).map_err(io_err(&path))?;
                 let file = rel.strip_prefix(&prefix).unwrap_or(rel);
                 set.files.insert(file.to_owned(), bytes);
@@ -166,6 +170,20 @@ pub fn read_product(dir: &Path, name: &str, record: &OutputRecord) -> Result<Pro
             Ok(Product::Files(set))
         }
     }
+}
+
+/// Where the index of files output `name` is stored (and exported, beside
+/// the files): the table `<name>.parquet`.
+fn index_name(name: &str) -> String {
+    format!("{name}.parquet")
+}
+
+fn read_table(path: &Path) -> Result<hypercontact_core::Table, StoreError> {
+    let file = fs::File::open(path).map_err(io_err(path))?;
+    hypercontact_io::read_parquet(file).map_err(|e| StoreError::Format {
+        path: path.to_owned(),
+        message: e.to_string(),
+    })
 }
 
 /// Where a stored file lands in a run's output folder: tables and fields
@@ -230,6 +248,47 @@ mod tests {
             next = cause.source();
         }
         text
+    }
+
+    #[test]
+    fn files_come_back_with_their_index_stored_as_a_table_beside_them() {
+        let t = tempfile::tempdir().unwrap();
+        let index = hypercontact_core::Table::new()
+            .with("file", vec!["a.png", "b.png"])
+            .with("area_fraction", vec![0.1, f64::NAN]);
+        let files = Files::new()
+            .with("a.png", vec![1, 2])
+            .with("b.png", vec![3]);
+        for product in [
+            Product::Files(files.clone()),
+            Product::Files(Files {
+                index: Some(index),
+                ..files
+            }),
+        ] {
+            let record = write_product(t.path(), "maps", &product, &mut |_| {}).unwrap();
+            let names: Vec<&str> = record.files.keys().map(String::as_str).collect();
+            let Product::Files(set) = &product else {
+                unreachable!()
+            };
+            if set.index.is_some() {
+                assert_eq!(names, ["maps.parquet", "maps/a.png", "maps/b.png"]);
+                assert_eq!(export_name("maps", &record, "maps.parquet"), "maps.parquet");
+            } else {
+                assert_eq!(names, ["maps/a.png", "maps/b.png"]);
+            }
+            let back = read_product(t.path(), "maps", &record).unwrap();
+            let (Product::Files(a), Product::Files(b)) = (&back, &product) else {
+                panic!("files come back as files")
+            };
+            assert_eq!(a.files, b.files);
+            assert_eq!(a.index.is_some(), b.index.is_some());
+            if let (Some(x), Some(y)) = (&a.index, &b.index) {
+                assert_eq!(x.str("file").unwrap(), y.str("file").unwrap());
+                assert_eq!(x.f64("area_fraction").unwrap()[0], 0.1);
+                assert!(x.f64("area_fraction").unwrap()[1].is_nan());
+            }
+        }
     }
 
     #[test]

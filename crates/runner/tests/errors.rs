@@ -247,6 +247,70 @@ fn pipeline_refusals() {
             "missing input",
             refusal(&TWO.replace("    inputs: { t: src }\n", ""), &[], &[], &[]),
         ),
+        // Issue 30: a many-input wired without labels reached the stage as
+        // no product at all (the report drew "not wired").
+        (
+            "many-input without labels",
+            refusal(
+                &format!("{TWO}  rows:\n    uses: gather\n    inputs: {{ parts: src }}\n"),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "many-input labelled twice",
+            refusal(
+                &format!(
+                    "{TWO}  rows:\n    uses: gather\n    inputs: {{ parts: {{ T1: {{ a: src }} }} }}\n"
+                ),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "nested input labelled once",
+            refusal(
+                &format!(
+                    "{TWO}  grid:\n    uses: collect-nested\n    inputs: {{ parts: {{ a: src }} }}\n"
+                ),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "single input labelled",
+            refusal(
+                &TWO.replace("inputs: { t: src }", "inputs: { t: { a: src } }"),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "label with a dot",
+            refusal(
+                &format!(
+                    "{TWO}  rows:\n    uses: gather\n    inputs: {{ parts: {{ a.b: src }} }}\n"
+                ),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
+        (
+            "files without the index an input needs",
+            refusal(
+                &format!(
+                    "{TWO}  idx:\n    uses: files-indexed\n    inputs: {{ maps: sink.figs }}\n"
+                ),
+                &[],
+                &[],
+                &[],
+            ),
+        ),
         (
             "cycle",
             refusal(

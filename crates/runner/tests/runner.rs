@@ -288,6 +288,20 @@ fn two_concurrent_runs_compute_each_entry_once() {
 }
 
 #[test]
+fn a_nested_input_reaches_the_stage_by_sample_and_model() {
+    let t = tempfile::tempdir().unwrap();
+    let text = format!(
+        "{BASIC}  other:\n    uses: source\n    with: {{ n: 3 }}\n  grid:\n    uses: collect-nested\n    inputs:\n      parts:\n        T2: {{ icm: other }}\n        T1: {{ icm: double.t, bem-linear: other }}\n"
+    );
+    let p = load(t.path(), "p.yaml", &text);
+    let o = options(t.path());
+    run(&p, &o).unwrap();
+    let rows = hypercontact_io::read_parquet_file(&o.out_dir.join("grid/rows.parquet")).unwrap();
+    assert_eq!(rows.str("sample").unwrap(), ["T1", "T1", "T2"]);
+    assert_eq!(rows.str("model").unwrap(), ["bem-linear", "icm", "icm"]);
+}
+
+#[test]
 fn force_only_and_many_inputs() {
     let t = tempfile::tempdir().unwrap();
     let text = format!(

@@ -1,5 +1,6 @@
 //! Stage `synth-contact`: the lab files it writes and their truth.
 
+use hypercontact_core::contact::ObservedMapIndex;
 use hypercontact_core::sequence::Sequence;
 use hypercontact_core::{
     Context, Field, FileSource, Files, Inputs, Params, Product, Schema, Stage, Table,
@@ -118,15 +119,12 @@ fn writes_the_lab_files_and_a_consistent_truth() {
     }
 
     // True maps: 8-bit masks whose contact fraction is the view's A/A0.
-    let index = String::from_utf8(maps.files["maps.csv"].clone()).unwrap();
-    assert_eq!(
-        index.lines().next(),
-        Some("requested_area_fraction,view_area_fraction,frame,file")
-    );
-    for line in index.lines().skip(1) {
-        let cells: Vec<&str> = line.split(',').collect();
-        let frame: usize = cells[2].parse().unwrap();
-        let mask = image::load_from_memory(&maps.files[cells[3]])
+    let index = ObservedMapIndex::from_table(maps.index.as_ref().unwrap()).unwrap();
+    assert_eq!(index.frame.len(), index.file.len());
+    for (k, file) in index.file.iter().enumerate() {
+        let frame = index.frame[k] as usize;
+        assert_eq!(index.area_fraction[k], truth.view_area_fraction[frame]);
+        let mask = image::load_from_memory(&maps.files[file])
             .unwrap()
             .into_luma8();
         let contact = mask.pixels().filter(|p| p.0[0] == 255).count();

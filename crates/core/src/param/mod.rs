@@ -8,6 +8,7 @@
 //! to one is [`Params::check`], in the spirit of linfa's `ParamGuard`.
 
 mod choice;
+pub mod flatten;
 mod path;
 mod range;
 mod value;
@@ -18,6 +19,7 @@ use std::ops::Deref;
 use serde::Serialize;
 
 pub use choice::{Choice, ChoiceDoc, UnknownChoice, deserialize_choice, parse_choice};
+pub use flatten::Flatten;
 pub use path::InputPath;
 pub use range::{ParamRange, RangeCheck, check_range};
 pub use value::{ParamValue, TypeDoc};

@@ -278,3 +278,170 @@ fn checked_parameters_come_only_from_check() {
     assert_eq!(*checked, d);
     assert_eq!(checked.into_inner(), d);
 }
+
+/// A block of parameters several stages share, declared once.
+#[crate::params]
+struct Shared {
+    /// The law.
+    #[param(default = Law::Hyperelastic)]
+    law: Law,
+    /// Poisson's ratio.
+    #[param(default = 0.5, range = 0.0..=0.5)]
+    poisson: f64,
+    /// A file the block reads.
+    table: Option<InputPath>,
+}
+
+/// A second block, itself holding the first.
+#[crate::params]
+struct Outer {
+    /// First of the outer block's own.
+    #[param(default = 3, range = 1..=9)]
+    steps: usize,
+    #[param(flatten)]
+    shared: Shared,
+}
+
+/// A stage's parameters with a flattened block between its own.
+#[crate::params(check = ordered)]
+struct WithBlock {
+    /// Required.
+    #[param(unit = "m", positive)]
+    pixel_m: f64,
+    #[param(flatten)]
+    outer: Outer,
+    /// Last.
+    #[param(default = 0.9, positive, range = ..=1.0, rename = "max")]
+    max_fraction: f64,
+}
+
+fn ordered(p: &WithBlock) -> Result<(), ParamError> {
+    if p.outer.steps as f64 > p.max_fraction * 10.0 {
+        Err(ParamError::new("steps", "too many for max"))
+    } else {
+        Ok(())
+    }
+}
+
+/// The error a stage's parameters give, as the runner reports it: the
+/// parameter path from serde_path_to_error and the message.
+fn read_error<P: serde::de::DeserializeOwned>(value: serde_json::Value) -> (String, String) {
+    let e = serde_path_to_error::deserialize::<_, P>(value)
+        .map(|_| ())
+        .unwrap_err();
+    (e.path().to_string(), e.inner().to_string())
+}
+
+#[test]
+fn a_flattened_block_reads_writes_checks_and_describes_its_keys_in_place() {
+    let p: WithBlock = serde_json::from_value(json!({
+        "pixel_m": 1e-5, "poisson": 0.3, "steps": 2, "max": 0.5, "table": "t.csv"
+    }))
+    .unwrap();
+    assert_eq!((p.outer.steps, p.outer.shared.poisson), (2, 0.3));
+    assert_eq!(p.outer.shared.law, Law::Hyperelastic);
+    let names: Vec<&str> = WithBlock::spec().iter().map(|s| s.name).collect();
+    assert_eq!(
+        names,
+        ["pixel_m", "steps", "law", "poisson", "table", "max"]
+    );
+    assert_eq!(
+        serde_json::to_value(&p).unwrap(),
+        json!({"pixel_m": 1e-5, "steps": 2, "law": "hyperelastic", "poisson": 0.3,
+               "table": "t.csv", "max": 0.5})
+    );
+    // Defaults of the blocks fill in; required keys stay required.
+    let d: WithBlock = serde_json::from_value(json!({"pixel_m": 1.0})).unwrap();
+    assert_eq!(
+        (d.outer.steps, d.outer.shared.poisson, d.max_fraction),
+        (3, 0.5, 0.9)
+    );
+    assert!(d.outer.shared.table.is_none());
+    let (_, e) = read_error::<WithBlock>(json!({"steps": 2}));
+    assert_eq!(e, "missing field `pixel_m`");
+    // Checks at the block's keys, at the stage's level.
+    let e = WithBlock {
+        outer: Outer {
+            shared: Shared {
+                poisson: 0.7,
+                ..Shared::default()
+            },
+            ..Outer::default()
+        },
+        ..d.clone()
+    }
+    .check()
+    .unwrap_err();
+    assert_eq!(
+        (e.param.as_str(), e.message.as_str()),
+        ("poisson", "must lie in [0, 0.5], got 0.7")
+    );
+    let e = WithBlock {
+        outer: Outer {
+            steps: 10,
+            ..Outer::default()
+        },
+        ..d.clone()
+    }
+    .check()
+    .unwrap_err();
+    assert_eq!(e.param, "steps");
+    let e = WithBlock {
+        max_fraction: 0.1,
+        ..d.clone()
+    }
+    .check()
+    .unwrap_err();
+    assert_eq!(
+        (e.param.as_str(), e.message.as_str()),
+        ("steps", "too many for max")
+    );
+    // Paths inside a block are visited at the stage's level.
+    let mut p = p;
+    let mut seen = Vec::new();
+    p.visit_paths("", &mut |param, _| seen.push(param.to_owned()));
+    assert_eq!(seen, ["table"]);
+}
+
+#[test]
+fn a_flattened_blocks_errors_read_as_a_plain_structs_do() {
+    // The same parameters declared without blocks: every error must read
+    // the same (the runner pins them in its snapshots).
+    #[crate::params]
+    struct Plain {
+        #[param(unit = "m", positive)]
+        pixel_m: f64,
+        #[param(default = 3, range = 1..=9)]
+        steps: usize,
+        #[param(default = Law::Hyperelastic)]
+        law: Law,
+        #[param(default = 0.5, range = 0.0..=0.5)]
+        poisson: f64,
+        table: Option<InputPath>,
+        #[param(default = 0.9, positive, range = ..=1.0, rename = "max")]
+        max_fraction: f64,
+    }
+    let cases = [
+        json!({"pixel_m": 1.0, "poison": 0.3}),
+        json!({"pixel_m": 1.0, "law": "plastic"}),
+        json!({"pixel_m": 1.0, "poisson": "half"}),
+        json!({"pixel_m": 1.0, "steps": -2}),
+        json!({"pixel_m": 1.0, "table": 3}),
+        json!({"pixel_m": "one"}),
+        json!({"steps": 1}),
+        json!("text"),
+    ];
+    for case in cases {
+        let flat = read_error::<WithBlock>(case.clone());
+        let plain = read_error::<Plain>(case.clone());
+        assert_eq!(
+            flat.0, plain.0,
+            "path for {case}: {flat:?} against {plain:?}"
+        );
+        let msg = |m: &str| m.replace("WithBlock", "Plain");
+        assert_eq!(msg(&flat.1), plain.1, "message for {case}");
+    }
+    // A list is not read positionally (serde's derive would).
+    let (_, e) = read_error::<WithBlock>(json!([1.0, 2]));
+    assert_eq!(e, "invalid type: sequence, expected struct WithBlock");
+}

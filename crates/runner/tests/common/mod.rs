@@ -190,9 +190,86 @@ impl Stage for Gather {
     }
 }
 
+/// Takes tables labelled by sample and then by model (a role's consumer):
+/// one row per product, its two labels.
+pub struct Nest;
+static NEST: StageInfo = StageInfo {
+    kind: "collect-nested",
+    version: 1,
+    summary: "test nested input",
+    doc: "",
+    inputs: &[InputSpec {
+        name: "parts",
+        kind: ProductKind::Table,
+        arity: Arity::Nested,
+        columns: &[],
+        doc: "",
+    }],
+    outputs: &[OutputSpec {
+        name: "rows",
+        kind: ProductKind::Table,
+        columns: &[ColumnSpec::str("sample", ""), ColumnSpec::str("model", "")],
+        doc: "",
+    }],
+};
+
+impl Stage for Nest {
+    type Params = NoParams;
+    fn info(&self) -> &'static StageInfo {
+        &NEST
+    }
+    fn run(
+        &self,
+        _: &Checked<NoParams>,
+        inputs: &Inputs,
+        _: &Context,
+    ) -> Result<Outputs, StageError> {
+        let (samples, models): (Vec<String>, Vec<String>) = inputs
+            .nested("parts")
+            .into_iter()
+            .map(|(s, m, _)| (s.to_owned(), m.to_owned()))
+            .unzip();
+        Ok(Outputs::new().table(
+            "rows",
+            Table::new().with("sample", samples).with("model", models),
+        ))
+    }
+}
+
+/// Reads files that must come with an index holding a `file` column.
+pub struct IndexReader;
+static INDEX_READER: StageInfo = StageInfo {
+    kind: "files-indexed",
+    version: 1,
+    summary: "test indexed files input",
+    doc: "",
+    inputs: &[InputSpec {
+        name: "maps",
+        kind: ProductKind::Files,
+        arity: Arity::One,
+        columns: &[ColumnSpec::str("file", "")],
+        doc: "",
+    }],
+    outputs: &[],
+};
+
+impl Stage for IndexReader {
+    type Params = NoParams;
+    fn info(&self) -> &'static StageInfo {
+        &INDEX_READER
+    }
+    fn run(&self, _: &Checked<NoParams>, _: &Inputs, _: &Context) -> Result<Outputs, StageError> {
+        Ok(Outputs::new())
+    }
+}
+
 pub fn registry() -> Registry {
     let mut r = Registry::new();
-    r.add(Source).add(Scale).add(Gather);
+    r.add(Source)
+        .add(Scale)
+        .add(Gather)
+        .add(Nest)
+        .add(IndexReader);
     r
 }
 

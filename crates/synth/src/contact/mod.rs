@@ -23,7 +23,7 @@ pub mod view;
 use std::sync::Arc;
 
 use hypercontact_bem::{Boundary, Influence, Problem, SolverOptions};
-use hypercontact_core::contact::{area_fraction_label, check_map_fraction};
+use hypercontact_core::contact::{ObservedMapIndex, area_fraction_label, check_map_fraction};
 use hypercontact_core::{
     Arity, Checked, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs, ParamError,
     Schema, Stage, StageError, StageInfo, params,
@@ -258,15 +258,12 @@ pub struct RigTruthTable {
     pub solve_ny: Vec<i64>,
 }
 
-/// The `truth_maps` index, `maps.csv`.
-const MAPS_COLUMNS: &str = "requested_area_fraction,view_area_fraction,frame,file";
-
 /// The `synth-contact` stage.
 pub struct SynthContact;
 
 static INFO: StageInfo = StageInfo {
     kind: "synth-contact",
-    version: 2,
+    version: 3,
     summary: "Synthetic contact experiment: interference frames, frame times and force log \
               of a rough sample pressed onto glass, with the ground truth",
     doc: "The paper's in-situ rig (Section 3, Fig. 3). SAMPLE: the height map (use the \
@@ -305,8 +302,9 @@ static INFO: StageInfo = StageInfo {
           read by the analysis): `truth` per frame (penetration, A/A0 of the whole map and of \
           the camera's view, force), `truth_rig` (transform, pixel size, clock offset, \
           timing, solve grid), `truth_maps` (the true contact on the camera's pixels as 8-bit \
-          PNG masks, 255 = contact, at the frames nearest map_fractions of view A/A0, and \
-          maps.csv).",
+          PNG masks, 255 = contact, at the frames nearest map_fractions of view A/A0, indexed \
+          by the table truth_maps.parquet as contact-images indexes its maps, area_fraction \
+          being the view's).",
     inputs: &[
         InputSpec::field(
             "surface",
@@ -326,9 +324,9 @@ static INFO: StageInfo = StageInfo {
         ),
         OutputSpec::table::<ContactTruthTable>("truth", "the true contact per frame"),
         OutputSpec::table::<RigTruthTable>("truth_rig", "the true transform, clock and timing"),
-        OutputSpec::files(
+        OutputSpec::files_indexed::<ObservedMapIndex>(
             "truth_maps",
-            "mask_aX.png (true contact on the camera's pixels) and maps.csv",
+            "mask_aX.png (true contact on the camera's pixels), indexed",
         ),
     ],
 };
@@ -588,7 +586,7 @@ fn truth_maps(
     grid: &CameraGrid,
 ) -> Result<Files, StageError> {
     let mut files = Files::new();
-    let mut index = format!("{MAPS_COLUMNS}\n");
+    let mut index = ObservedMapIndex::default();
     for &want in requested {
         let Some(k) = (0..fractions.len()).min_by(|&a, &b| {
             (fractions[a] - want)
@@ -604,7 +602,11 @@ fn truth_maps(
             .collect();
         let png = encode_png(grid.width_px, grid.height_px, 8, pixels)?;
         files = files.with(&name, png);
-        index.push_str(&format!("{want},{},{k},{name}\n", fractions[k]));
+        index.requested_area_fraction.push(want);
+        index.area_fraction.push(fractions[k]);
+        index.frame.push(k as i64);
+        index.file.push(name);
+        index.pixel_m.push(grid.pixel_m);
     }
-    Ok(files.with("maps.csv", index.into_bytes()))
+    Ok(files.with_index(index))
 }
