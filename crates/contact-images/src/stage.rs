@@ -3,7 +3,7 @@
 //! (the paper's Section 3 experiment), with binary contact maps for Fig. 6.
 //! The physics of the methods is in [`crate::otsu`], [`crate::multi_otsu`]
 //! and [`crate::calibrated`]; reading in [`hypercontact_core::sequence`];
-//! the analysis of the frames and the clock in [`crate::analysis`].
+//! the analysis of the frames and the clock in `analysis.rs`.
 
 use hypercontact_core::contact::{area_fraction_label, check_map_fraction};
 use hypercontact_core::sequence::Sequence;
