@@ -25,11 +25,13 @@
 //!   and background levels, hysteresis and a minimum patch size (the lab's);
 //! - [`mod@label`]: 8-connected components, ordered by first pixel;
 //! - [`sync`]: the camera-to-force-log clock offset from first contact;
-//! - [`stage`]: the `contact-images` stage.
+//! - [`stage`]: the `contact-images` stage, and `analysis`: its run over the
+//!   frames and the clock.
 //!
 //! The cores run on one thread, so results are identical bytes whatever the
 //! machine's thread count.
 
+mod analysis;
 pub mod calibrated;
 mod error;
 mod exact;

@@ -2,18 +2,18 @@
 //! force log in, the measured contact area and patch count per frame out
 //! (the paper's Section 3 experiment), with binary contact maps for Fig. 6.
 //! The physics of the methods is in [`crate::otsu`], [`crate::multi_otsu`]
-//! and [`crate::calibrated`]; reading in [`hypercontact_core::sequence`].
+//! and [`crate::calibrated`]; reading in [`hypercontact_core::sequence`];
+//! the analysis of the frames and the clock in `analysis.rs`.
 
 use hypercontact_core::contact::{ObservedMapIndex, area_fraction_label, check_map_fraction};
-use hypercontact_core::sequence::{GrayFrame, Sequence};
+use hypercontact_core::sequence::Sequence;
 use hypercontact_core::{
     Arity, Checked, Choice, Context, FileSource, Files, InputPath, InputSpec, Inputs, OutputSpec,
     Outputs, ParamError, Schema, Stage, StageError, StageInfo, params,
 };
 
-use crate::calibrated::{Calibrated, Level, segment_calibrated};
-use crate::sync::{contact_onset_s, force_onset_s, trigger_offset_s};
-use crate::{Frame, ImageError, Mask, MultiOtsu, label, multi_otsu, otsu};
+use crate::Mask;
+use crate::analysis::analyse;
 
 /// How contact is told from the rest of a frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Choice)]
@@ -28,7 +28,7 @@ pub enum Method {
 }
 
 impl Method {
-    fn label(self) -> &'static str {
+    pub(crate) fn label(self) -> &'static str {
         match self {
             Method::Calibrated => "calibrated",
             Method::Otsu => "otsu",
@@ -234,21 +234,6 @@ static INFO: StageInfo = StageInfo {
     ],
 };
 
-/// One frame's numbers in the `contact` table.
-struct Row {
-    fraction: f64,
-    patches: usize,
-    threshold: f64,
-    contact_pixels: usize,
-}
-
-/// One frame's segmentation.
-struct Segmented {
-    mask: Mask,
-    patches: usize,
-    threshold: f64,
-}
-
 impl Stage for ContactImages {
     type Params = ContactImagesParams;
 
@@ -264,224 +249,13 @@ impl Stage for ContactImages {
     ) -> Result<Outputs, StageError> {
         let source = FileSource::input_or_dir(inputs, "sequence", "dir", p.dir.as_ref())?;
         let sequence = Sequence::open(source)?;
-        let n = sequence.frames.len();
-        let frame = |k: usize| -> Result<Frame, StageError> {
-            let raw = sequence.frame(k)?;
-            camera_frame(raw, p.bits).map_err(|e| {
-                StageError::file(sequence.display(&sequence.frames[k].file), e.to_string())
-            })
-        };
-        // The reference frame: the calibrated method's flat field, and what
-        // the first contact is found against when the clock offset is
-        // estimated (a global threshold finds "contact" in every frame).
-        let estimate_offset = p.clock_offset_s.is_none() && sequence.trigger.is_none();
-        let reference = match (p.method, estimate_offset) {
-            (Method::Calibrated, _) | (_, true) => {
-                if p.reference_frame >= n {
-                    return Err(StageError::invalid(format!(
-                        "parameter `reference_frame` = {}: the sequence has {n} frames",
-                        p.reference_frame
-                    )));
-                }
-                Some(frame(p.reference_frame)?)
-            }
-            _ => None,
-        };
-        let method_reference = reference
-            .as_ref()
-            .filter(|_| p.method == Method::Calibrated);
-        let calibrated = Calibrated {
-            dark_level: p.dark_level,
-            contact_level: Level::Given(p.contact_level),
-            background_level: Level::Given(p.background_level),
-            fraction: p.fraction,
-            seed_fraction: p.seed_fraction,
-            min_patch_pixels: p.min_patch_pixels,
-            ..Calibrated::default()
-        };
-
-        let progress = ctx.progress(n as u64, "frames");
-        let mut rows: Vec<Row> = Vec::with_capacity(n);
-        let mut onset_fractions = Vec::with_capacity(n);
-        let mut maps: Vec<Option<(usize, Mask)>> = p.map_fractions.iter().map(|_| None).collect();
-        for k in 0..n {
-            let image = frame(k)?;
-            let at = |e: ImageError| {
-                StageError::file(sequence.display(&sequence.frames[k].file), e.to_string())
-            };
-            let s = segment(&image, method_reference, p.method, &calibrated).map_err(at)?;
-            let fraction = s.mask.area_fraction();
-            // Contact as the calibrated method sees it, for the clock offset.
-            let onset_fraction = match (&reference, p.method, estimate_offset) {
-                (Some(r), method, true) if method != Method::Calibrated => {
-                    segment_calibrated(&image, r, &calibrated)
-                        .map_err(at)?
-                        .mask
-                        .area_fraction()
-                }
-                _ => fraction,
-            };
-            for (slot, &want) in maps.iter_mut().zip(&p.map_fractions) {
-                let nearer = slot.as_ref().is_none_or(|(j, _)| {
-                    (fraction - want).abs() < (rows[*j].fraction - want).abs()
-                });
-                if nearer {
-                    *slot = Some((k, s.mask.clone()));
-                }
-            }
-            rows.push(Row {
-                fraction,
-                patches: s.patches,
-                threshold: s.threshold,
-                contact_pixels: s.mask.count(),
-            });
-            onset_fractions.push(onset_fraction);
-            progress.inc(1);
-        }
-        drop(progress);
-
-        let mid_s = |k: usize| sequence.frames[k].time_s + 0.5 * p.exposure_s;
-        let times_s: Vec<f64> = (0..n).map(mid_s).collect();
-        let fractions: Vec<f64> = rows.iter().map(|r| r.fraction).collect();
-        let sync = match (p.clock_offset_s, &sequence.trigger) {
-            (Some(offset), _) => SyncTable {
-                clock_offset_s: vec![offset],
-                estimated: vec![0],
-                source: vec!["given".into()],
-                force_onset_s: vec![f64::NAN],
-                contact_onset_s: vec![f64::NAN],
-            },
-            (None, Some(trigger)) => {
-                let log_s: Vec<f64> = sequence.force.iter().map(|(t, _)| *t).collect();
-                let offset = trigger_offset_s(&log_s, trigger, &times_s)
-                    .map_err(|e| StageError::file(sequence.display("force.csv"), e.to_string()))?;
-                SyncTable {
-                    clock_offset_s: vec![offset],
-                    estimated: vec![1],
-                    source: vec!["trigger".into()],
-                    force_onset_s: vec![f64::NAN],
-                    contact_onset_s: vec![f64::NAN],
-                }
-            }
-            (None, None) => {
-                let force = force_onset_s(&sequence.force, p.force_resolution_n)
-                    .map_err(|e| StageError::file(sequence.display("force.csv"), e.to_string()))?;
-                let contact = contact_onset_s(&times_s, &onset_fractions);
-                let (Some(force), Some(contact)) = (force, contact) else {
-                    return Err(StageError::invalid(format!(
-                        "cannot estimate the clock offset: {}; give `clock_offset_s`",
-                        match (force, contact) {
-                            (None, _) => "the force never leaves its baseline".to_owned(),
-                            _ => "no frame without contact precedes the first with contact"
-                                .to_owned(),
-                        }
-                    )));
-                };
-                SyncTable {
-                    clock_offset_s: vec![force - contact],
-                    estimated: vec![1],
-                    source: vec!["first-contact".into()],
-                    force_onset_s: vec![force],
-                    contact_onset_s: vec![contact],
-                }
-            }
-        };
-        let offset = sync.clock_offset_s[0];
-        let force_n = (0..n)
-            .map(|k| sequence.force_at(times_s[k] + offset, &sequence.frames[k]))
-            .collect::<Result<Vec<f64>, StageError>>()?;
-        let pixel_m2 = p.pixel_m * p.pixel_m;
-        let table = ContactTable {
-            frame: sequence.frames.iter().map(|f| f.frame).collect(),
-            time_s: times_s.clone(),
-            force_n: force_n.clone(),
-            area_fraction: fractions.clone(),
-            contact_area_m2: rows
-                .iter()
-                .map(|r| r.contact_pixels as f64 * pixel_m2)
-                .collect(),
-            patches: rows.iter().map(|r| r.patches as i64).collect(),
-            threshold: rows.iter().map(|r| r.threshold).collect(),
-            method: vec![p.method.label().to_owned(); n],
-        };
-        ctx.note(&format!(
-            "{n} frames, A/A0 up to {:.4}, clock offset {offset:.4} s ({})",
-            fractions.iter().copied().fold(0.0, f64::max),
-            sync.source[0]
-        ));
-        let files = map_files(maps, &table, p)?;
+        let analysis = analyse(&sequence, p, ctx)?;
+        let files = map_files(analysis.maps, &analysis.contact, p)?;
         Ok(Outputs::new()
-            .table("contact", table.into_table())
-            .table("sync", sync.into_table())
+            .table("contact", analysis.contact.into_table())
+            .table("sync", analysis.sync.into_table())
             .files("contact_maps", files))
     }
-}
-
-/// A decoded file as the camera's frame: its container depth, or `bits`.
-fn camera_frame(raw: GrayFrame, bits: Option<u8>) -> Result<Frame, ImageError> {
-    let bits = bits.unwrap_or(raw.bits).min(raw.bits);
-    Frame::new(raw.width, raw.height, bits, raw.data)
-}
-
-fn segment(
-    image: &Frame,
-    reference: Option<&Frame>,
-    method: Method,
-    calibrated: &Calibrated,
-) -> Result<Segmented, ImageError> {
-    match (method, reference) {
-        (Method::Calibrated, Some(reference)) => {
-            let s = segment_calibrated(image, reference, calibrated)?;
-            Ok(Segmented {
-                patches: s.patches.count(),
-                threshold: s.join_threshold,
-                mask: s.mask,
-            })
-        }
-        (Method::Otsu, _) => match otsu(&image.histogram()) {
-            Ok(t) => Ok(labelled(
-                image.dark_mask(t.threshold),
-                f64::from(t.threshold),
-            )),
-            // One level everywhere: nothing to separate, no contact.
-            Err(ImageError::SingleLevel { .. }) => empty(image),
-            Err(e) => Err(e),
-        },
-        (Method::MultiOtsu, _) | (Method::Calibrated, None) => {
-            match multi_otsu(&image.histogram(), &MultiOtsu::default()) {
-                Ok(t) => {
-                    let threshold = t.contact_threshold();
-                    Ok(labelled(image.dark_mask(threshold), f64::from(threshold)))
-                }
-                Err(ImageError::SingleLevel { .. } | ImageError::TooFewLevels { .. }) => {
-                    empty(image)
-                }
-                Err(e) => Err(e),
-            }
-        }
-    }
-}
-
-fn labelled(mask: Mask, threshold: f64) -> Segmented {
-    Segmented {
-        patches: label(&mask).count(),
-        mask,
-        threshold,
-    }
-}
-
-/// No contact: a frame of one level (or too few for three classes).
-fn empty(image: &Frame) -> Result<Segmented, ImageError> {
-    let mask = Mask::new(
-        image.width(),
-        image.height(),
-        vec![false; image.data().len()],
-    )?;
-    Ok(Segmented {
-        mask,
-        patches: 0,
-        threshold: f64::NAN,
-    })
 }
 
 fn map_files(

@@ -5,11 +5,12 @@
 //! 0.37 s ahead of the camera's. The true contact of each frame is the
 //! resampled gap ≤ 0.
 
-use hypercontact_contact_images::stage::{
-    ContactImages, ContactImagesParams, ContactMapIndex, ContactTable, SyncTable,
-};
+mod common;
+
+use common::{params, run};
+use hypercontact_contact_images::stage::{ContactImagesParams, ContactMapIndex};
 use hypercontact_core::png::{Pixels, encode_png};
-use hypercontact_core::{Checked, Context, Files, Inputs, Params, Product, Schema, Stage, Table};
+use hypercontact_core::{Files, Params, Schema};
 use hypercontact_interference::camera::{Camera, CameraParams};
 use hypercontact_interference::geometry::{CameraGrid, GapMap, Placement, resample};
 use hypercontact_interference::render::{OpticsParams, render_frame};
@@ -97,38 +98,6 @@ fn lab(bits: u32, scale: u16, seed: u64) -> (Files, Vec<f64>) {
         .with("frames.csv", frames_csv.into_bytes())
         .with("force.csv", force_csv.into_bytes());
     (files, truth)
-}
-
-fn params(json: &str) -> Checked<ContactImagesParams> {
-    serde_json::from_str::<ContactImagesParams>(json)
-        .unwrap()
-        .check()
-        .unwrap()
-}
-
-fn run(
-    p: &Checked<ContactImagesParams>,
-    files: Files,
-) -> Result<(ContactTable, SyncTable, Files), String> {
-    let inputs = Inputs::new().with("sequence", Product::Files(files));
-    let out = ContactImages
-        .run(p, &inputs, &Context::new("contact-images"))
-        .map_err(|e| e.to_string())?;
-    let table = |name: &str| -> Table {
-        match out.get(name) {
-            Some(Product::Table(t)) => t.clone(),
-            _ => panic!("no table {name}"),
-        }
-    };
-    let maps = match out.get("contact_maps") {
-        Some(Product::Files(f)) => f.clone(),
-        _ => panic!("no maps"),
-    };
-    Ok((
-        ContactTable::from_table(&table("contact")).unwrap(),
-        SyncTable::from_table(&table("sync")).unwrap(),
-        maps,
-    ))
 }
 
 #[test]
@@ -265,21 +234,10 @@ fn a_folder_of_tiffs_timed_by_their_names_reads_as_its_frames_csv() {
     std::fs::write(dir.join("force.csv"), &files.files["force.csv"]).unwrap();
     std::fs::write(dir.join("notes.txt"), b"rig 2, quartz flat").unwrap();
     let folder = format!(r#"{{"dir": "{}"}}"#, dir.display());
-    let p = serde_json::from_str::<ContactImagesParams>(&folder)
-        .unwrap()
-        .check()
-        .unwrap();
-    let inputs = Inputs::new();
-    let out = ContactImages.run(&p, &inputs, &Context::new("contact-images"));
+    let out = common::run_on(&params(&folder), hypercontact_core::Inputs::new());
     let (listed, listed_sync, _) = run(&params("{}"), files).unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
-    let out = out.unwrap();
-    let table = |name: &str| match out.get(name) {
-        Some(Product::Table(t)) => t.clone(),
-        _ => panic!("no table {name}"),
-    };
-    let named = ContactTable::from_table(&table("contact")).unwrap();
-    let named_sync = SyncTable::from_table(&table("sync")).unwrap();
+    let (named, named_sync, _) = out.unwrap();
     assert_eq!(named.frame, listed.frame);
     assert_eq!(named.time_s, listed.time_s);
     assert_eq!(named.area_fraction, listed.area_fraction);

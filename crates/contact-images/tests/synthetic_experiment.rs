@@ -4,15 +4,13 @@
 //! 16-bit camera, a 50 Hz force log on a clock 0.37 s off. The analysis sees
 //! only the lab files; the truth tables score it.
 
+mod common;
+
 use hypercontact_contact_images::Mask;
 use hypercontact_contact_images::label;
-use hypercontact_contact_images::stage::{
-    ContactImages, ContactImagesParams, ContactTable, SyncTable,
-};
+use hypercontact_contact_images::stage::{ContactTable, SyncTable};
 use hypercontact_core::contact::ObservedMapIndex;
-use hypercontact_core::{
-    Checked, Context, Field, Files, Inputs, Params, Product, Schema, Stage, Table,
-};
+use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Schema, Stage, Table};
 use hypercontact_synth::contact::{
     ContactTruthTable, RigTruthTable, SynthContact, SynthContactParams,
 };
@@ -75,24 +73,8 @@ const CAMERA: &str = r#""width_px": 320, "height_px": 320, "magnification": 1.5,
     "shift_x_m": 5e-5, "shift_y_m": -4e-5, "frames": 20"#;
 
 fn analyse(sequence: Files, json: &str) -> (ContactTable, SyncTable) {
-    let p: Checked<ContactImagesParams> = serde_json::from_str::<ContactImagesParams>(json)
-        .unwrap()
-        .check()
-        .unwrap();
-    let inputs = Inputs::new().with("sequence", Product::Files(sequence));
-    let out = ContactImages
-        .run(&p, &inputs, &Context::new("contact-images"))
-        .unwrap();
-    let table = |name: &str| -> Table {
-        match out.get(name) {
-            Some(Product::Table(t)) => t.clone(),
-            _ => panic!("no {name}"),
-        }
-    };
-    (
-        ContactTable::from_table(&table("contact")).unwrap(),
-        SyncTable::from_table(&table("sync")).unwrap(),
-    )
+    let (contact, sync, _) = common::run(&common::params(json), sequence).unwrap();
+    (contact, sync)
 }
 
 const ANALYSIS: &str = r#""pixel_m": 4.3333333333e-6, "exposure_s": 0.05"#;

@@ -204,35 +204,248 @@ pub struct ReferenceSubset<'a> {
 impl<'a> ReferenceSubset<'a> {
     fn new(frame: &'a ReferenceFrame, x0: usize, y0: usize, half: usize) -> Option<Self> {
         let image = &frame.image;
-        let width = image.width;
-        if x0 < half + 1 || y0 < half + 1 || x0 + half + 1 >= width || y0 + half + 1 >= image.height
+        if x0 < half + 1
+            || y0 < half + 1
+            || x0 + half + 1 >= image.width
+            || y0 + half + 1 >= image.height
         {
             return None;
         }
         let side = 2 * half + 1;
-        let h = half as f64;
-        let rows = |values: &'a [f64]| {
-            (y0 - half..=y0 + half).map(move |y| {
-                let start = y * width + x0 - half;
-                &values[start..start + side]
-            })
-        };
         let n = (side * side) as f64;
+        let rows = |values: &'a [f64]| subset_rows(values, image.width, x0, y0, half);
         let mean = rows(&image.pixels).flatten().sum::<f64>() / n;
+        let moments = SubsetMoments::sum(
+            rows(&image.pixels),
+            rows(&frame.gradient_x),
+            rows(&frame.gradient_y),
+            mean,
+            half,
+        );
+        let norm = moments.ss.sqrt();
+        if norm.is_nan() || norm <= 1e-9 {
+            return None;
+        }
+        let inv_norm = 1.0 / norm;
+        let inv_norm_sq = inv_norm * inv_norm;
+        // Cholesky reads the lower triangle only.
+        let hessian_chol = Cholesky::new(moments.hessian_lower(inv_norm_sq))?;
+        Some(Self {
+            x0,
+            y0,
+            half,
+            frame,
+            mean,
+            inv_norm,
+            sum_j_f: moments.sum_j_f.map(|s| s * inv_norm_sq),
+            sum_j: moments.sum_j.map(|s| s * inv_norm),
+            hessian_chol,
+        })
+    }
 
+    pub fn half(&self) -> usize {
+        self.half
+    }
+
+    /// Whether the warped subset's interpolation support stays in `target`,
+    /// with a margin of 1e-6 px for the rounding of the stepped positions
+    /// in `solve`.
+    fn fits(&self, target: &BSplineImage, warp: &Warp) -> bool {
+        const MARGIN_PX: f64 = 1e-6;
+        let h = self.half as f64;
+        let (mut x_min, mut x_max, mut y_min, mut y_max) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for (dx, dy) in [(-h, -h), (h, -h), (-h, h), (h, h)] {
+            let (x, y) = warp.apply(dx, dy);
+            x_min = x_min.min(x);
+            x_max = x_max.max(x);
+            y_min = y_min.min(y);
+            y_max = y_max.max(y);
+        }
+        let (cx, cy) = (self.x0 as f64, self.y0 as f64);
+        x_min.is_finite()
+            && y_min.is_finite()
+            && target.contains_box(
+                cx + x_min - MARGIN_PX,
+                cx + x_max + MARGIN_PX,
+                cy + y_min - MARGIN_PX,
+                cy + y_max + MARGIN_PX,
+            )
+    }
+
+    /// Refines `guess` by IC-GN against the deformed image `target`.
+    pub fn solve(&self, target: &BSplineImage, guess: Warp, settings: &IcgnSettings) -> Match {
+        let mut warp = guess;
+        let mut zncc = f64::NAN;
+        let h = self.half as f64;
+        let side = 2 * self.half + 1;
+        // The deformed image at the warped subset; allocated once per solve.
+        let mut g = vec![0.0; side * side];
+        for iteration in 1..=settings.max_iterations {
+            if !self.fits(target, &warp) {
+                return failed(warp, iteration);
+            }
+            let sums = self.target_sums(target, &warp, &mut g);
+            let Some((correlation, d)) = self.gauss_newton_step(&sums) else {
+                return failed(warp, iteration);
+            };
+            zncc = correlation;
+            let increment = Warp {
+                u: -d[0],
+                ux: -d[1],
+                uy: -d[2],
+                v: -d[3],
+                vx: -d[4],
+                vy: -d[5],
+            };
+            let Some(next) = warp.compose_inverse(&increment) else {
+                return failed(warp, iteration);
+            };
+            warp = next;
+            let size = (d[0] * d[0]
+                + d[3] * d[3]
+                + h * h * (d[1] * d[1] + d[2] * d[2] + d[4] * d[4] + d[5] * d[5]))
+                .sqrt();
+            if !size.is_finite() {
+                return failed(warp, iteration);
+            }
+            if size < settings.convergence_px {
+                return Match {
+                    warp,
+                    zncc,
+                    iterations: iteration,
+                    converged: true,
+                };
+            }
+        }
+        Match {
+            warp,
+            zncc,
+            iterations: settings.max_iterations,
+            converged: false,
+        }
+    }
+
+    /// Interpolates `target` at the subset warped by `warp` into `g`, then
+    /// one pass for Σg, Σg², Σfg and Σ J g.
+    fn target_sums(&self, target: &BSplineImage, warp: &Warp, g: &mut [f64]) -> TargetSums {
+        let h = self.half as f64;
+        let side = 2 * self.half + 1;
+        let width = self.frame.image.width;
+        let first = (self.y0 - self.half) * width + self.x0 - self.half;
+        let (ox, oy) = warp.apply(-h, -h);
+        target.values_on_grid(
+            (self.x0 as f64 + ox, self.y0 as f64 + oy),
+            (1.0 + warp.ux, warp.vx),
+            (warp.uy, 1.0 + warp.vy),
+            side,
+            g,
+        );
+        let (mut sum_g, mut sum_gg, mut sum_fg) = (0.0, 0.0, 0.0);
+        let mut sum_j_g = [0.0; 6];
+        for (row, g_row) in g.chunks_exact(side).enumerate() {
+            let dy = row as f64 - h;
+            let start = first + row * width;
+            let f_row = &self.frame.image.pixels[start..start + side];
+            let gx_row = &self.frame.gradient_x[start..start + side];
+            let gy_row = &self.frame.gradient_y[start..start + side];
+            // Σ gx·g, Σ gx·g·dx, Σ gy·g, Σ gy·g·dx along the row.
+            let mut r = [0.0; 4];
+            let mut dx = -h;
+            for (((&f, &gx), &gy), &g) in f_row.iter().zip(gx_row).zip(gy_row).zip(g_row) {
+                sum_g += g;
+                sum_gg += g * g;
+                sum_fg += f * g;
+                let gx_g = gx * g;
+                let gy_g = gy * g;
+                r[0] += gx_g;
+                r[1] += gx_g * dx;
+                r[2] += gy_g;
+                r[3] += gy_g * dx;
+                dx += 1.0;
+            }
+            sum_j_g[0] += r[0];
+            sum_j_g[1] += r[1];
+            sum_j_g[2] += dy * r[0];
+            sum_j_g[3] += r[2];
+            sum_j_g[4] += r[3];
+            sum_j_g[5] += dy * r[2];
+        }
+        TargetSums {
+            sum_g,
+            sum_gg,
+            sum_fg,
+            sum_j_g,
+        }
+    }
+
+    /// The ZNCC at the current warp and the Gauss–Newton solution d of
+    /// H d = b (the increment is Δp = −d); None where the deformed subset
+    /// holds no texture.
+    fn gauss_newton_step(&self, sums: &TargetSums) -> Option<(f64, Vector6<f64>)> {
+        let side = 2 * self.half + 1;
+        let n = (side * side) as f64;
+        let g_mean = sums.sum_g / n;
+        let g_ss = sums.sum_gg - n * g_mean * g_mean;
+        if g_ss.is_nan() || g_ss <= 1e-18 {
+            return None;
+        }
+        let g_norm = g_ss.sqrt();
+        // Σ f̃ g = (Σ f g − f̄ Σ g)/‖f − f̄‖.
+        let zncc = (sums.sum_fg - self.mean * sums.sum_g) * self.inv_norm / g_norm;
+        let b = Vector6::from_fn(|a, _| {
+            self.sum_j_f[a] - (sums.sum_j_g[a] * self.inv_norm - g_mean * self.sum_j[a]) / g_norm
+        });
+        Some((zncc, self.hessian_chol.solve(&b)))
+    }
+}
+
+/// The rows of the subset of side `2 half + 1` centred on pixel `(x0, y0)`
+/// of a row-major image `width` pixels wide.
+fn subset_rows(
+    values: &[f64],
+    width: usize,
+    x0: usize,
+    y0: usize,
+    half: usize,
+) -> impl Iterator<Item = &[f64]> {
+    let side = 2 * half + 1;
+    (y0 - half..=y0 + half).map(move |y| {
+        let start = y * width + x0 - half;
+        &values[start..start + side]
+    })
+}
+
+/// The sums over a reference subset that IC-GN's Hessian and right-hand
+/// side are made of, before scaling by 1/‖f − f̄‖.
+struct SubsetMoments {
+    /// Σ (f − f̄)².
+    ss: f64,
+    /// Moments (1, dx, dx², dy, dx·dy, dy²) of gx², gx·gy, gy².
+    m: [[f64; 6]; 3],
+    /// Σ J.
+    sum_j: [f64; 6],
+    /// Σ J (f − f̄).
+    sum_j_f: [f64; 6],
+}
+
+impl SubsetMoments {
+    /// One pass over the subset's pixels and gradients, row by row.
+    fn sum<'r>(
+        f_rows: impl Iterator<Item = &'r [f64]>,
+        gx_rows: impl Iterator<Item = &'r [f64]>,
+        gy_rows: impl Iterator<Item = &'r [f64]>,
+        mean: f64,
+        half: usize,
+    ) -> Self {
+        let h = half as f64;
         // J = (gx, gx·dx, gx·dy, gy, gy·dx, gy·dy) makes every entry of
         // Σ J Jᵀ a moment Σ p·dxⁱ·dyʲ (i + j ≤ 2) of p ∈ {gx², gx·gy, gy²}:
         // sum each row over dx first, then weight the row sums by dy.
         let mut ss = 0.0;
-        // Moments (1, dx, dx², dy, dx·dy, dy²) of gx², gx·gy, gy².
         let mut m = [[0.0; 6]; 3];
         let mut sum_j = [0.0; 6];
         let mut sum_j_f = [0.0; 6];
-        for (row, ((f_row, gx_row), gy_row)) in rows(&image.pixels)
-            .zip(rows(&frame.gradient_x))
-            .zip(rows(&frame.gradient_y))
-            .enumerate()
-        {
+        for (row, ((f_row, gx_row), gy_row)) in f_rows.zip(gx_rows).zip(gy_rows).enumerate() {
             let dy = row as f64 - h;
             let mut r = [[0.0; 3]; 3];
             // Σ gx, Σ gx·dx, Σ gy, Σ gy·dx and the same times (f − f̄).
@@ -274,15 +487,19 @@ impl<'a> ReferenceSubset<'a> {
                 total[5] += dy * s[2];
             }
         }
-        let norm = ss.sqrt();
-        if norm.is_nan() || norm <= 1e-9 {
-            return None;
+        Self {
+            ss,
+            m,
+            sum_j,
+            sum_j_f,
         }
-        let inv_norm = 1.0 / norm;
-        let inv_norm_sq = inv_norm * inv_norm;
-        // Lower triangle of Σ J Jᵀ from the moments: for the x-block rows
-        // a, b ∈ {1, dx, dy}, moment index of the product a·b.
+    }
+
+    /// The lower triangle of Σ J̃ J̃ᵀ = Σ J Jᵀ / ‖f − f̄‖² from the moments.
+    fn hessian_lower(&self, inv_norm_sq: f64) -> Matrix6<f64> {
+        // For the x-block rows a, b ∈ {1, dx, dy}: moment index of a·b.
         const PRODUCT: [[usize; 3]; 3] = [[0, 1, 3], [1, 2, 4], [3, 4, 5]];
+        let m = &self.m;
         let mut hessian = Matrix6::zeros();
         for a in 0..3 {
             for b in 0..3 {
@@ -294,152 +511,17 @@ impl<'a> ReferenceSubset<'a> {
                 hessian[(a + 3, b)] = m[1][k] * inv_norm_sq;
             }
         }
-        // Cholesky reads the lower triangle only.
-        let hessian_chol = Cholesky::new(hessian)?;
-        Some(Self {
-            x0,
-            y0,
-            half,
-            frame,
-            mean,
-            inv_norm,
-            sum_j_f: sum_j_f.map(|s| s * inv_norm_sq),
-            sum_j: sum_j.map(|s| s * inv_norm),
-            hessian_chol,
-        })
+        hessian
     }
+}
 
-    pub fn half(&self) -> usize {
-        self.half
-    }
-
-    /// Whether the warped subset's interpolation support stays in `target`,
-    /// with a margin of 1e-6 px for the rounding of the stepped positions
-    /// in `solve`.
-    fn fits(&self, target: &BSplineImage, warp: &Warp) -> bool {
-        const MARGIN_PX: f64 = 1e-6;
-        let h = self.half as f64;
-        let (mut x_min, mut x_max, mut y_min, mut y_max) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-        for (dx, dy) in [(-h, -h), (h, -h), (-h, h), (h, h)] {
-            let (x, y) = warp.apply(dx, dy);
-            x_min = x_min.min(x);
-            x_max = x_max.max(x);
-            y_min = y_min.min(y);
-            y_max = y_max.max(y);
-        }
-        let (cx, cy) = (self.x0 as f64, self.y0 as f64);
-        x_min.is_finite()
-            && y_min.is_finite()
-            && target.contains_box(
-                cx + x_min - MARGIN_PX,
-                cx + x_max + MARGIN_PX,
-                cy + y_min - MARGIN_PX,
-                cy + y_max + MARGIN_PX,
-            )
-    }
-
-    /// Refines `guess` by IC-GN against the deformed image `target`.
-    pub fn solve(&self, target: &BSplineImage, guess: Warp, settings: &IcgnSettings) -> Match {
-        let mut warp = guess;
-        let mut zncc = f64::NAN;
-        let h = self.half as f64;
-        let side = 2 * self.half + 1;
-        let n = (side * side) as f64;
-        let width = self.frame.image.width;
-        let first = (self.y0 - self.half) * width + self.x0 - self.half;
-        // The deformed image at the warped subset; allocated once per solve.
-        let mut g = vec![0.0; side * side];
-        for iteration in 1..=settings.max_iterations {
-            if !self.fits(target, &warp) {
-                return failed(warp, iteration);
-            }
-            // The deformed image at the warped subset, then one pass for
-            // Σg, Σg², Σfg and Σ J g (raw f and ∇f, scaled below).
-            let (ox, oy) = warp.apply(-h, -h);
-            target.values_on_grid(
-                (self.x0 as f64 + ox, self.y0 as f64 + oy),
-                (1.0 + warp.ux, warp.vx),
-                (warp.uy, 1.0 + warp.vy),
-                side,
-                &mut g,
-            );
-            let (mut sum_g, mut sum_gg, mut sum_fg) = (0.0, 0.0, 0.0);
-            let mut sum_j_g = [0.0; 6];
-            for (row, g_row) in g.chunks_exact(side).enumerate() {
-                let dy = row as f64 - h;
-                let start = first + row * width;
-                let f_row = &self.frame.image.pixels[start..start + side];
-                let gx_row = &self.frame.gradient_x[start..start + side];
-                let gy_row = &self.frame.gradient_y[start..start + side];
-                // Σ gx·g, Σ gx·g·dx, Σ gy·g, Σ gy·g·dx along the row.
-                let mut r = [0.0; 4];
-                let mut dx = -h;
-                for (((&f, &gx), &gy), &g) in f_row.iter().zip(gx_row).zip(gy_row).zip(g_row) {
-                    sum_g += g;
-                    sum_gg += g * g;
-                    sum_fg += f * g;
-                    let gx_g = gx * g;
-                    let gy_g = gy * g;
-                    r[0] += gx_g;
-                    r[1] += gx_g * dx;
-                    r[2] += gy_g;
-                    r[3] += gy_g * dx;
-                    dx += 1.0;
-                }
-                sum_j_g[0] += r[0];
-                sum_j_g[1] += r[1];
-                sum_j_g[2] += dy * r[0];
-                sum_j_g[3] += r[2];
-                sum_j_g[4] += r[3];
-                sum_j_g[5] += dy * r[2];
-            }
-            let g_mean = sum_g / n;
-            let g_ss = sum_gg - n * g_mean * g_mean;
-            if g_ss.is_nan() || g_ss <= 1e-18 {
-                return failed(warp, iteration);
-            }
-            let g_norm = g_ss.sqrt();
-            // Σ f̃ g = (Σ f g − f̄ Σ g)/‖f − f̄‖.
-            zncc = (sum_fg - self.mean * sum_g) * self.inv_norm / g_norm;
-            let b = Vector6::from_fn(|a, _| {
-                self.sum_j_f[a] - (sum_j_g[a] * self.inv_norm - g_mean * self.sum_j[a]) / g_norm
-            });
-            let d = self.hessian_chol.solve(&b);
-            let increment = Warp {
-                u: -d[0],
-                ux: -d[1],
-                uy: -d[2],
-                v: -d[3],
-                vx: -d[4],
-                vy: -d[5],
-            };
-            let Some(next) = warp.compose_inverse(&increment) else {
-                return failed(warp, iteration);
-            };
-            warp = next;
-            let size = (d[0] * d[0]
-                + d[3] * d[3]
-                + h * h * (d[1] * d[1] + d[2] * d[2] + d[4] * d[4] + d[5] * d[5]))
-                .sqrt();
-            if !size.is_finite() {
-                return failed(warp, iteration);
-            }
-            if size < settings.convergence_px {
-                return Match {
-                    warp,
-                    zncc,
-                    iterations: iteration,
-                    converged: true,
-                };
-            }
-        }
-        Match {
-            warp,
-            zncc,
-            iterations: settings.max_iterations,
-            converged: false,
-        }
-    }
+/// Sums over the deformed image at the warped subset: Σg, Σg², Σfg and
+/// Σ J g (raw f and ∇f, scaled by the caller).
+struct TargetSums {
+    sum_g: f64,
+    sum_gg: f64,
+    sum_fg: f64,
+    sum_j_g: [f64; 6],
 }
 
 fn failed(warp: Warp, iterations: usize) -> Match {

@@ -8,8 +8,10 @@
 //! - [`strain`]: deformation gradient, principal stretches, Green–Lagrange;
 //! - [`region`]: the analysed pixels (rectangle, polygon, mask);
 //! - [`gray`]: frames as fractions of the camera's full scale;
-//! - [`sequence`]: the raw files; [`stage`]: the stage.
+//! - [`sequence`]: the raw files; [`stage`]: the stage, computed by
+//!   [`analysis`].
 
+pub mod analysis;
 pub mod bspline;
 pub mod error;
 pub mod gray;

@@ -145,36 +145,11 @@ impl SubsetTracker {
             });
         }
         let spline = BSplineImage::new(&target);
-        let n = self.grid.len();
-        let first = self.frames_done == 0;
-
-        // Parallel pass from each POI's own extrapolated motion.
-        let mut results: Vec<Option<Match>> = if first {
-            vec![None; n]
+        let mut results = if self.frames_done == 0 {
+            vec![None; self.grid.len()]
         } else {
-            (0..n)
-                .into_par_iter()
-                .map(|i| {
-                    let s = self.state[i];
-                    if !s.valid {
-                        return None;
-                    }
-                    let (subset, ref_position, ref_gradient) = self.subset(i)?;
-                    let (position, gradient) = match s.previous {
-                        Some((p0, g0)) => (
-                            [2.0 * s.position[0] - p0[0], 2.0 * s.position[1] - p0[1]],
-                            extrapolate(&s.gradient, &g0),
-                        ),
-                        None => (s.position, s.gradient),
-                    };
-                    let guess =
-                        guess_warp(&subset, ref_position, &ref_gradient, position, &gradient)?;
-                    let m = subset.solve(&spline, guess, &self.settings.icgn);
-                    self.accept(&m).then_some(m)
-                })
-                .collect()
+            self.extrapolated_matches(&spline)
         };
-
         let mut attempted: Vec<bool> = results.iter().map(Option::is_some).collect();
         if results.iter().any(Option::is_some) {
             self.propagate(&spline, &mut results, &mut attempted);
@@ -193,8 +168,40 @@ impl SubsetTracker {
                 ),
             });
         }
+        let track = self.advance(&results);
+        self.update_reference(target, &spline, &track.positions, frame);
+        Ok(track)
+    }
 
-        // New states: x_k = q + A (x_r − p), F_k = A F_r.
+    /// Every valid POI solved in parallel from its own motion extrapolated
+    /// from the two previous frames; None where rejected.
+    fn extrapolated_matches(&self, spline: &BSplineImage) -> Vec<Option<Match>> {
+        (0..self.grid.len())
+            .into_par_iter()
+            .map(|i| {
+                let s = self.state[i];
+                if !s.valid {
+                    return None;
+                }
+                let (subset, ref_position, ref_gradient) = self.subset(i)?;
+                let (position, gradient) = match s.previous {
+                    Some((p0, g0)) => (
+                        [2.0 * s.position[0] - p0[0], 2.0 * s.position[1] - p0[1]],
+                        extrapolate(&s.gradient, &g0),
+                    ),
+                    None => (s.position, s.gradient),
+                };
+                let guess = guess_warp(&subset, ref_position, &ref_gradient, position, &gradient)?;
+                let m = subset.solve(spline, guess, &self.settings.icgn);
+                self.accept(&m).then_some(m)
+            })
+            .collect()
+    }
+
+    /// The POIs' new states from this frame's matches,
+    /// x_k = q + A (x_r − p), F_k = A F_r; unmatched POIs become invalid.
+    fn advance(&mut self, results: &[Option<Match>]) -> FrameTrack {
+        let n = self.grid.len();
         let mut positions = vec![None; n];
         let mut zncc = vec![f64::NAN; n];
         for i in 0..n {
@@ -226,9 +233,20 @@ impl SubsetTracker {
             self.state[i] = updated;
         }
         self.frames_done += 1;
+        FrameTrack { positions, zncc }
+    }
 
-        // Incremental reference updating.
-        let (from, to): (Vec<[f64; 2]>, Vec<[f64; 2]>) = (0..n)
+    /// Incremental reference updating: `target` (frame `frame`) becomes the
+    /// reference when a principal stretch of the affine fit since the
+    /// reference departs from 1 by more than `update_strain`.
+    fn update_reference(
+        &mut self,
+        target: GrayImage,
+        spline: &BSplineImage,
+        positions: &[Option<[f64; 2]>],
+        frame: usize,
+    ) {
+        let (from, to): (Vec<[f64; 2]>, Vec<[f64; 2]>) = (0..self.grid.len())
             .filter_map(|i| Some((self.reference_state[i]?.0, positions[i]?)))
             .unzip();
         if let Some((_, _, f)) = affine_fit(&from, &to) {
@@ -239,11 +257,10 @@ impl SubsetTracker {
                     .iter()
                     .map(|s| s.valid.then_some((s.position, s.gradient)))
                     .collect();
-                self.reference = ReferenceFrame::with_spline(target, &spline);
+                self.reference = ReferenceFrame::with_spline(target, spline);
                 self.reference_frame = frame;
             }
         }
-        Ok(FrameTrack { positions, zncc })
     }
 
     /// Reliability-guided propagation from the solved POIs to unsolved

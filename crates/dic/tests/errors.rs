@@ -5,20 +5,6 @@ mod common;
 use hypercontact_core::{Context, Files, Inputs, Params, Stage};
 use hypercontact_dic::{Dic, DicParams};
 use hypercontact_synth::encode_png;
-use hypercontact_synth::tensile::SynthTensileParams;
-
-fn small() -> Files {
-    common::synth(&SynthTensileParams {
-        frames: 3,
-        max_stretch: Some(1.1),
-        width_px: 160,
-        height_px: 160,
-        supersample: 1,
-        markers: false,
-        ..Default::default()
-    })
-    .0
-}
 
 fn error(files: &Files, params: &DicParams) -> String {
     common::dic(files, params).unwrap_err().to_string()
@@ -26,20 +12,20 @@ fn error(files: &Files, params: &DicParams) -> String {
 
 #[test]
 fn a_small_sequence_runs() {
-    let table = common::dic(&small(), &DicParams::default()).unwrap();
+    let table = common::dic(&common::small_sequence(), &DicParams::default()).unwrap();
     assert_eq!(table.n_rows(), 3);
     assert_eq!(table.str("mode").unwrap()[0], "UT");
 }
 
 #[test]
 fn mismatched_and_unreadable_images_name_the_file() {
-    let mut files = small();
+    let mut files = common::small_sequence();
     let png = encode_png(100, 90, 16, vec![7; 9000]).unwrap();
     files.files.insert("frame_002.png".into(), png);
     let e = error(&files, &DicParams::default());
     assert!(e.contains("frame_002.png") && e.contains("100 × 90"), "{e}");
 
-    let mut files = small();
+    let mut files = common::small_sequence();
     files
         .files
         .insert("frame_001.png".into(), b"not an image".to_vec());
@@ -49,7 +35,7 @@ fn mismatched_and_unreadable_images_name_the_file() {
         "{e}"
     );
 
-    let mut files = small();
+    let mut files = common::small_sequence();
     files.files.remove("frame_001.png");
     let e = error(&files, &DicParams::default());
     assert!(e.contains("frame_001.png") && e.contains("missing"), "{e}");
@@ -57,7 +43,7 @@ fn mismatched_and_unreadable_images_name_the_file() {
 
 #[test]
 fn empty_roi_and_oversized_subset_name_the_parameter() {
-    let files = small();
+    let files = common::small_sequence();
     let e = error(
         &files,
         &DicParams {
@@ -78,7 +64,7 @@ fn empty_roi_and_oversized_subset_name_the_parameter() {
 
 #[test]
 fn a_force_log_that_ends_early_names_the_frame() {
-    let mut files = small();
+    let mut files = common::small_sequence();
     let force = String::from_utf8(files.files["force.csv"].clone()).unwrap();
     let short: String = force.lines().take(10).map(|l| format!("{l}\n")).collect();
     files.files.insert("force.csv".into(), short.into_bytes());
@@ -104,7 +90,7 @@ fn exactly_one_source_of_images() {
 
 #[test]
 fn reads_a_folder_of_real_files() {
-    let files = small();
+    let files = common::small_sequence();
     let dir = std::env::temp_dir().join(format!("hc-dic-dir-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     for (name, bytes) in &files.files {

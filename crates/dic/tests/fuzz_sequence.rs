@@ -17,7 +17,6 @@ use hypercontact_core::Files;
 use hypercontact_dic::{DicParams, GrayImage};
 use hypercontact_fuzz::{byte_edits, config, splice};
 use hypercontact_synth::encode_png;
-use hypercontact_synth::tensile::SynthTensileParams;
 use image::{DynamicImage, ImageBuffer, ImageFormat, Luma, Rgb};
 use proptest::prelude::*;
 
@@ -145,21 +144,10 @@ fn decode(name: &str, bytes: &[u8]) -> Option<GrayImage> {
     }
 }
 
-/// A 3-frame 8-bit speckle sequence, made once.
+/// [`common::small_sequence`], made once.
 fn sequence() -> &'static Files {
     static FILES: OnceLock<Files> = OnceLock::new();
-    FILES.get_or_init(|| {
-        common::synth(&SynthTensileParams {
-            frames: 3,
-            max_stretch: Some(1.1),
-            width_px: 160,
-            height_px: 160,
-            supersample: 1,
-            markers: false,
-            ..Default::default()
-        })
-        .0
-    })
+    FILES.get_or_init(common::small_sequence)
 }
 
 proptest! {

@@ -200,80 +200,158 @@ pub fn fit(
     family: Family,
     options: &FitOptions,
 ) -> Result<FitResult, MaterialError> {
-    let name = family.name();
     let fail = |message: String| MaterialError::Fit {
-        model: name.clone(),
+        model: family.name(),
         message,
     };
-    let mut points = Vec::new();
-    let mut stress = Vec::new();
-    let mut gain = Vec::new();
-    for curve in &data.curves {
-        let weight = options.weights[curve.mode as usize];
-        if weight <= 0.0 {
-            continue;
-        }
-        let scales = curve.relative_scales_pa();
-        for ((&stretch, &stress_pa), scale) in
-            curve.stretch.iter().zip(&curve.stress_pa).zip(scales)
-        {
-            points.push((curve.mode, stretch));
-            stress.push(stress_pa);
-            gain.push(
-                weight.sqrt()
-                    / match options.residual {
-                        Residual::Relative => scale,
-                        Residual::Absolute => 1.0,
-                    },
-            );
-        }
-    }
-    let n = family.n_params();
-    if points.len() < n {
+    let problem = WeightedData::gather(data, family, options).map_err(fail)?;
+    let shapes = start_shapes(family, options);
+    let search = search_starts(
+        family,
+        options.constraint,
+        &problem,
+        &shapes,
+        options.patience,
+    );
+    let Some((cost, x)) = search.best else {
         return Err(fail(format!(
-            "{n} parameters need at least {n} points, the data has {} in the weighted modes \
-             ({})",
-            points.len(),
-            data.counts()
+            "Levenberg–Marquardt converged from none of {} starts ({})",
+            shapes.len(),
+            search.reasons.join("; ")
         )));
-    }
-    // Moduli are fitted in units of the largest measured stress, so every
-    // parameter is of order one for the trust region.
-    let scale_pa = stress.iter().fold(0.0_f64, |m, t| m.max(t.abs()));
-    if scale_pa <= 0.0 || scale_pa.is_nan() {
-        return Err(fail("every measured stress is zero".into()));
-    }
-    let target: Vec<f64> = stress.iter().map(|t| t / scale_pa).collect();
-    let gain: Vec<f64> = match options.residual {
-        Residual::Relative => gain.iter().map(|g| g * scale_pa).collect(),
-        Residual::Absolute => gain,
     };
+    let x = family.canonical_order(x);
+    let conditioning = conditioning(family, &x, &problem.points, &problem.gain);
+    let model = family.model(&x, problem.scale_pa)?;
+    Ok(FitResult {
+        family,
+        model,
+        cost,
+        shape: x[family.n_linear()..].to_vec(),
+        conditioning,
+        starts_run: shapes.len(),
+        starts_converged: search.converged,
+    })
+}
 
+/// The points of the weighted modes as the fit sees them: stresses in
+/// units of the largest measured one, and each residual's gain (its mode
+/// weight's root over its relative scale).
+struct WeightedData {
+    points: Vec<(Mode, f64)>,
+    /// Measured stress / `scale_pa`.
+    target: Vec<f64>,
+    gain: Vec<f64>,
+    /// The largest measured |stress|.
+    scale_pa: f64,
+}
+
+impl WeightedData {
+    /// The weighted points; an error message when they are fewer than
+    /// `family`'s parameters or all zero.
+    fn gather(data: &TensileData, family: Family, options: &FitOptions) -> Result<Self, String> {
+        let mut points = Vec::new();
+        let mut stress = Vec::new();
+        let mut gain = Vec::new();
+        for curve in &data.curves {
+            let weight = options.weights[curve.mode as usize];
+            if weight <= 0.0 {
+                continue;
+            }
+            let scales = curve.relative_scales_pa();
+            for ((&stretch, &stress_pa), scale) in
+                curve.stretch.iter().zip(&curve.stress_pa).zip(scales)
+            {
+                points.push((curve.mode, stretch));
+                stress.push(stress_pa);
+                gain.push(
+                    weight.sqrt()
+                        / match options.residual {
+                            Residual::Relative => scale,
+                            Residual::Absolute => 1.0,
+                        },
+                );
+            }
+        }
+        let n = family.n_params();
+        if points.len() < n {
+            return Err(format!(
+                "{n} parameters need at least {n} points, the data has {} in the weighted modes \
+                 ({})",
+                points.len(),
+                data.counts()
+            ));
+        }
+        // Moduli are fitted in units of the largest measured stress, so every
+        // parameter is of order one for the trust region.
+        let scale_pa = stress.iter().fold(0.0_f64, |m, t| m.max(t.abs()));
+        if scale_pa <= 0.0 || scale_pa.is_nan() {
+            return Err("every measured stress is zero".into());
+        }
+        let target: Vec<f64> = stress.iter().map(|t| t / scale_pa).collect();
+        let gain: Vec<f64> = match options.residual {
+            Residual::Relative => gain.iter().map(|g| g * scale_pa).collect(),
+            Residual::Absolute => gain,
+        };
+        Ok(Self {
+            points,
+            target,
+            gain,
+            scale_pa,
+        })
+    }
+}
+
+/// The shape parameters each start begins from: the warm starts of the
+/// right length, then the family's seeded starts.
+fn start_shapes(family: Family, options: &FitOptions) -> Vec<Vec<f64>> {
+    let n = family.n_params();
     let seed = options.seed.wrapping_mul(1000).wrapping_add(n as u64);
     let mut shapes = options.warm_starts.clone();
     shapes.retain(|s| s.len() == n - family.n_linear());
     shapes.extend(family.shape_starts(options.starts, seed));
+    shapes
+}
+
+/// What the starts found: the lowest cost and its parameters among the
+/// converged ones, how many converged, and why the others did not.
+struct StartsSearch {
+    best: Option<(f64, Vec<f64>)>,
+    converged: usize,
+    reasons: Vec<String>,
+}
+
+/// Runs Levenberg–Marquardt on the projected problem from every start.
+fn search_starts(
+    family: Family,
+    constraint: Constraint,
+    data: &WeightedData,
+    shapes: &[Vec<f64>],
+    patience: usize,
+) -> StartsSearch {
     let solver = LevenbergMarquardt::new()
         .with_ftol(1e-12)
         .with_xtol(1e-10)
         .with_gtol(1e-10)
-        .with_patience(options.patience.max(1));
-    let mut best: Option<(f64, Vec<f64>)> = None;
-    let mut converged = 0;
-    let mut reasons = Vec::new();
-    for shape in &shapes {
+        .with_patience(patience.max(1));
+    let mut search = StartsSearch {
+        best: None,
+        converged: 0,
+        reasons: Vec::new(),
+    };
+    for shape in shapes {
         let mut problem = Projected {
             family,
-            constraint: options.constraint,
-            points: &points,
-            gain: &gain,
-            target: &target,
+            constraint,
+            points: &data.points,
+            gain: &data.gain,
+            target: &data.target,
             theta: DVector::from_column_slice(shape),
             state: None,
         };
         problem.state = problem.solve(shape);
         if problem.state.is_none() {
-            reasons.push("no finite start".to_owned());
+            search.reasons.push("no finite start".to_owned());
             continue;
         }
         // A family without shape parameters is solved by the linear step.
@@ -287,34 +365,16 @@ pub fn fit(
             || matches!(termination, TerminationReason::NoImprovementPossible(_));
         match (&problem.state, ok) {
             (Some(state), true) => {
-                converged += 1;
+                search.converged += 1;
                 let cost = 0.5 * state.residuals.norm_squared();
-                if best.as_ref().is_none_or(|(c, _)| cost < *c) {
-                    best = Some((cost, state.x.clone()));
+                if search.best.as_ref().is_none_or(|(c, _)| cost < *c) {
+                    search.best = Some((cost, state.x.clone()));
                 }
             }
-            _ => reasons.push(format!("{termination:?}")),
+            _ => search.reasons.push(format!("{termination:?}")),
         }
     }
-    let Some((cost, x)) = best else {
-        return Err(fail(format!(
-            "Levenberg–Marquardt converged from none of {} starts ({})",
-            shapes.len(),
-            reasons.join("; ")
-        )));
-    };
-    let x = family.canonical_order(x);
-    let conditioning = conditioning(family, &x, &points, &gain);
-    let model = family.model(&x, scale_pa)?;
-    Ok(FitResult {
-        family,
-        model,
-        cost,
-        shape: x[family.n_linear()..].to_vec(),
-        conditioning,
-        starts_run: shapes.len(),
-        starts_converged: converged,
-    })
+    search
 }
 
 /// How well the data pin the parameters down at an optimum.

@@ -56,7 +56,7 @@ pub enum SurfaceError {
         "{map} is flat: its rms height after detrending is {sigma_m:e} m, rounding noise \
          against heights up to {largest_m:e} m (under {:e} of them); a constant or planar map \
          has no roughness to analyse (a fill value, or a failed export?)",
-        crate::surface_stage::FLAT_RELATIVE
+        crate::analysis::FLAT_RELATIVE
     )]
     Flat {
         /// Where the map came from (an input, a folder).

@@ -65,7 +65,195 @@ struct System {
     weights: [f64; 4],
 }
 
+/// Replaces every NaN of `h` (spacing dx, dy) by the harmonic in-fill of
+/// the measured points. A map without NaN is left as it is.
+pub fn fill_harmonic(
+    h: &mut Array2<f64>,
+    dx_m: f64,
+    dy_m: f64,
+    periodic: bool,
+) -> Result<Infill, InfillError> {
+    let missing = h.iter().filter(|v| v.is_nan()).count();
+    if missing == 0 {
+        return Ok(Infill {
+            filled: 0,
+            iterations: 0,
+            relative_residual: 0.0,
+        });
+    }
+    if missing == h.len() {
+        return Err(InfillError::NothingMeasured);
+    }
+    if let Some(((i, j), &value)) = h.indexed_iter().find(|(_, v)| v.is_infinite()) {
+        return Err(InfillError::NotFinite { value, i, j });
+    }
+    let problem = Problem::assemble(h, dx_m, dy_m, periodic, missing);
+    let solution = problem.system.solve(&problem.b)?;
+    for (&(i, j), v) in problem.position.iter().zip(&solution.u) {
+        h[[i, j]] = v + problem.offset;
+    }
+    Ok(Infill {
+        filled: missing,
+        iterations: solution.iterations,
+        relative_residual: solution.relative_residual,
+    })
+}
+
+/// The Laplace problem on the missing points of a map.
+struct Problem {
+    system: System,
+    /// Map index of each unknown, in row-major order.
+    position: Vec<(usize, usize)>,
+    /// Right-hand side: the measured neighbours' pull, about `offset`.
+    b: Vec<f64>,
+    /// Weighted mean of the measured neighbours' heights.
+    offset: f64,
+}
+
+impl Problem {
+    /// The rows of the system for the `missing` NaN points of `h`; the
+    /// measured neighbours go to the right-hand side, taken about their
+    /// mean so that the tolerance is relative to the roughness, not to an
+    /// offset (and a constant fills exactly).
+    fn assemble(h: &Array2<f64>, dx_m: f64, dy_m: f64, periodic: bool, missing: usize) -> Self {
+        let (nx, ny) = h.dim();
+        // Unknowns numbered in row-major order.
+        let mut index = vec![NONE; nx * ny];
+        let mut position = Vec::with_capacity(missing);
+        for ((i, j), v) in h.indexed_iter() {
+            if v.is_nan() {
+                index[i * ny + j] = position.len() as u32;
+                position.push((i, j));
+            }
+        }
+        let (wx, wy) = (1.0 / (dx_m * dx_m), 1.0 / (dy_m * dy_m));
+        let step = |k: usize, n: usize, forward: bool| -> Option<usize> {
+            match (forward, periodic) {
+                (true, _) if k + 1 < n => Some(k + 1),
+                (false, _) if k > 0 => Some(k - 1),
+                (true, true) => Some(0),
+                (false, true) => Some(n - 1),
+                _ => None,
+            }
+        };
+        let mut diagonal = vec![0.0; missing];
+        let mut neighbours = vec![[NONE; 4]; missing];
+        // (unknown, weight, measured height) per leg onto a measured point.
+        let mut known: Vec<(usize, f64, f64)> = Vec::new();
+        for (p, &(i, j)) in position.iter().enumerate() {
+            let legs = [
+                step(i, nx, false).map(|a| (a, j)),
+                step(i, nx, true).map(|a| (a, j)),
+                step(j, ny, false).map(|b| (i, b)),
+                step(j, ny, true).map(|b| (i, b)),
+            ];
+            for (slot, leg) in legs.into_iter().enumerate() {
+                // A periodic axis of length 1 wraps onto the point itself.
+                let Some((a, b)) = leg.filter(|&n| n != (i, j)) else {
+                    continue;
+                };
+                let w = if slot < 2 { wx } else { wy };
+                diagonal[p] += w;
+                match index[a * ny + b] {
+                    NONE => known.push((p, w, h[[a, b]])),
+                    n => neighbours[p][slot] = n,
+                }
+            }
+        }
+        let boundary_weight: f64 = known.iter().map(|k| k.1).sum();
+        let offset = known.iter().map(|k| k.1 * k.2).sum::<f64>() / boundary_weight;
+        let mut b = vec![0.0; missing];
+        for (p, w, value) in known {
+            b[p] += w * (value - offset);
+        }
+        Self {
+            system: System {
+                diagonal,
+                neighbours,
+                weights: [wx, wx, wy, wy],
+            },
+            position,
+            b,
+            offset,
+        }
+    }
+}
+
+/// The in-fill heights (about the offset) and how the solve went.
+struct Solution {
+    u: Vec<f64>,
+    iterations: usize,
+    relative_residual: f64,
+}
+
 impl System {
+    /// Solves A u = b by SSOR-preconditioned conjugate gradients to
+    /// [`TOLERANCE`]; an error when the true residual stays above it.
+    fn solve(&self, b: &[f64]) -> Result<Solution, InfillError> {
+        let missing = b.len();
+        let mut u = vec![0.0; missing];
+        let b_norm = dot(b, b).sqrt();
+        let mut iterations = 0;
+        let mut relative_residual = 0.0;
+        if b_norm > 0.0 {
+            // SSOR's best ω for a Laplacian over a region m points wide is
+            // 2 / (1 + π/m); m from the number of unknowns (a square hole).
+            let width = (missing as f64).sqrt().max(1.0);
+            let omega = 2.0 / (1.0 + std::f64::consts::PI / width);
+            let mut r = b.to_vec();
+            let mut z = vec![0.0; missing];
+            let mut ap = vec![0.0; missing];
+            self.precondition(omega, &r, &mut z);
+            let mut d = z.clone();
+            let mut rz = dot(&r, &z);
+            // CG ends in at most `missing` steps in exact arithmetic; the slack
+            // is for rounding.
+            let limit = missing + 1000;
+            loop {
+                relative_residual = dot(&r, &r).sqrt() / b_norm;
+                if relative_residual <= TOLERANCE || iterations == limit {
+                    break;
+                }
+                iterations += 1;
+                self.apply(&d, &mut ap);
+                let alpha = rz / dot(&d, &ap);
+                for k in 0..missing {
+                    u[k] += alpha * d[k];
+                    r[k] -= alpha * ap[k];
+                }
+                self.precondition(omega, &r, &mut z);
+                let rz_next = dot(&r, &z);
+                let beta = rz_next / rz;
+                rz = rz_next;
+                for k in 0..missing {
+                    d[k] = z[k] + beta * d[k];
+                }
+            }
+            // The recursion's residual drifts from the true one by rounding:
+            // judge convergence on b − A u itself.
+            self.apply(&u, &mut ap);
+            let true_residual = b
+                .iter()
+                .zip(&ap)
+                .map(|(b, a)| (b - a).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            relative_residual = relative_residual.max(true_residual / b_norm);
+            if relative_residual > 10.0 * TOLERANCE || !relative_residual.is_finite() {
+                return Err(InfillError::NotConverged {
+                    unknowns: missing,
+                    iterations,
+                    relative_residual,
+                });
+            }
+        }
+        Ok(Solution {
+            u,
+            iterations,
+            relative_residual,
+        })
+    }
+
     /// y = A u.
     fn apply(&self, u: &[f64], y: &mut [f64]) {
         for (p, (out, nbrs)) in y.iter_mut().zip(&self.neighbours).enumerate() {
@@ -109,155 +297,6 @@ impl System {
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-/// Replaces every NaN of `h` (spacing dx, dy) by the harmonic in-fill of
-/// the measured points. A map without NaN is left as it is.
-pub fn fill_harmonic(
-    h: &mut Array2<f64>,
-    dx_m: f64,
-    dy_m: f64,
-    periodic: bool,
-) -> Result<Infill, InfillError> {
-    let (nx, ny) = h.dim();
-    let missing = h.iter().filter(|v| v.is_nan()).count();
-    if missing == 0 {
-        return Ok(Infill {
-            filled: 0,
-            iterations: 0,
-            relative_residual: 0.0,
-        });
-    }
-    if missing == h.len() {
-        return Err(InfillError::NothingMeasured);
-    }
-    if let Some(((i, j), &value)) = h.indexed_iter().find(|(_, v)| v.is_infinite()) {
-        return Err(InfillError::NotFinite { value, i, j });
-    }
-
-    // Unknowns numbered in row-major order.
-    let mut index = vec![NONE; nx * ny];
-    let mut position = Vec::with_capacity(missing);
-    for ((i, j), v) in h.indexed_iter() {
-        if v.is_nan() {
-            index[i * ny + j] = position.len() as u32;
-            position.push((i, j));
-        }
-    }
-    let (wx, wy) = (1.0 / (dx_m * dx_m), 1.0 / (dy_m * dy_m));
-    let step = |k: usize, n: usize, forward: bool| -> Option<usize> {
-        match (forward, periodic) {
-            (true, _) if k + 1 < n => Some(k + 1),
-            (false, _) if k > 0 => Some(k - 1),
-            (true, true) => Some(0),
-            (false, true) => Some(n - 1),
-            _ => None,
-        }
-    };
-
-    // Rows of the system; the measured neighbours go to the right-hand
-    // side, taken about their mean so that the tolerance is relative to
-    // the roughness, not to an offset (and a constant fills exactly).
-    let mut diagonal = vec![0.0; missing];
-    let mut neighbours = vec![[NONE; 4]; missing];
-    // (unknown, weight, measured height) per leg onto a measured point.
-    let mut known: Vec<(usize, f64, f64)> = Vec::new();
-    for (p, &(i, j)) in position.iter().enumerate() {
-        let legs = [
-            step(i, nx, false).map(|a| (a, j)),
-            step(i, nx, true).map(|a| (a, j)),
-            step(j, ny, false).map(|b| (i, b)),
-            step(j, ny, true).map(|b| (i, b)),
-        ];
-        for (slot, leg) in legs.into_iter().enumerate() {
-            // A periodic axis of length 1 wraps onto the point itself.
-            let Some((a, b)) = leg.filter(|&n| n != (i, j)) else {
-                continue;
-            };
-            let w = if slot < 2 { wx } else { wy };
-            diagonal[p] += w;
-            match index[a * ny + b] {
-                NONE => known.push((p, w, h[[a, b]])),
-                n => neighbours[p][slot] = n,
-            }
-        }
-    }
-    let boundary_weight: f64 = known.iter().map(|k| k.1).sum();
-    let offset = known.iter().map(|k| k.1 * k.2).sum::<f64>() / boundary_weight;
-    let mut b = vec![0.0; missing];
-    for (p, w, value) in known {
-        b[p] += w * (value - offset);
-    }
-    let system = System {
-        diagonal,
-        neighbours,
-        weights: [wx, wx, wy, wy],
-    };
-
-    let mut u = vec![0.0; missing];
-    let b_norm = dot(&b, &b).sqrt();
-    let mut iterations = 0;
-    let mut relative_residual = 0.0;
-    if b_norm > 0.0 {
-        // SSOR's best ω for a Laplacian over a region m points wide is
-        // 2 / (1 + π/m); m from the number of unknowns (a square hole).
-        let width = (missing as f64).sqrt().max(1.0);
-        let omega = 2.0 / (1.0 + std::f64::consts::PI / width);
-        let mut r = b.clone();
-        let mut z = vec![0.0; missing];
-        let mut ap = vec![0.0; missing];
-        system.precondition(omega, &r, &mut z);
-        let mut d = z.clone();
-        let mut rz = dot(&r, &z);
-        // CG ends in at most `missing` steps in exact arithmetic; the slack
-        // is for rounding.
-        let limit = missing + 1000;
-        loop {
-            relative_residual = dot(&r, &r).sqrt() / b_norm;
-            if relative_residual <= TOLERANCE || iterations == limit {
-                break;
-            }
-            iterations += 1;
-            system.apply(&d, &mut ap);
-            let alpha = rz / dot(&d, &ap);
-            for k in 0..missing {
-                u[k] += alpha * d[k];
-                r[k] -= alpha * ap[k];
-            }
-            system.precondition(omega, &r, &mut z);
-            let rz_next = dot(&r, &z);
-            let beta = rz_next / rz;
-            rz = rz_next;
-            for k in 0..missing {
-                d[k] = z[k] + beta * d[k];
-            }
-        }
-        // The recursion's residual drifts from the true one by rounding:
-        // judge convergence on b − A u itself.
-        system.apply(&u, &mut ap);
-        let true_residual = b
-            .iter()
-            .zip(&ap)
-            .map(|(b, a)| (b - a).powi(2))
-            .sum::<f64>()
-            .sqrt();
-        relative_residual = relative_residual.max(true_residual / b_norm);
-        if relative_residual > 10.0 * TOLERANCE || !relative_residual.is_finite() {
-            return Err(InfillError::NotConverged {
-                unknowns: missing,
-                iterations,
-                relative_residual,
-            });
-        }
-    }
-    for (&(i, j), v) in position.iter().zip(&u) {
-        h[[i, j]] = v + offset;
-    }
-    Ok(Infill {
-        filled: missing,
-        iterations,
-        relative_residual,
-    })
 }
 
 /// Replaces every NaN of `h` by zero (the mean of a detrended map): the

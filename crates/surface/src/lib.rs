@@ -1,6 +1,7 @@
 //! Surface stages: load a height map, or stitch, filter and characterise
 //! interferometer tiles (PSD, σ, Hurst exponent).
 
+pub mod analysis;
 pub mod error;
 pub mod filter;
 pub mod height_map;

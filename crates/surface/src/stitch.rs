@@ -351,25 +351,14 @@ fn level(set: &TileSet, fits: &[PairFit], positions: &[[i64; 2]]) -> Option<Vec<
 /// Stitches a tile set. A single tile is returned as it is.
 pub fn stitch(set: &TileSet, min_overlap_px: usize) -> Result<Mosaic, SurfaceError> {
     let n = set.heights.len();
-    let (sx, sy) = set.heights[0].dim();
-    let candidates: Vec<(usize, usize)> = (0..n)
-        .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
-        .filter(|&(i, j)| {
-            let d = [
-                (set.nominal_px[j][0] - set.nominal_px[i][0]).round() as i64,
-                (set.nominal_px[j][1] - set.nominal_px[i][1]).round() as i64,
-            ];
-            overlap((sx, sy), d, min_overlap_px).is_some()
-        })
-        .collect();
+    let candidates = overlapping_pairs(set, min_overlap_px);
     if n > 1 {
         check_graph(set, &candidates, min_overlap_px)?;
     }
-    let fits: Vec<PairFit> = candidates
+    let mut fits: Vec<PairFit> = candidates
         .par_iter()
         .filter_map(|&(i, j)| register_pair(set, i, j, min_overlap_px))
         .collect();
-    let mut fits = fits;
     let (found, rejected) = if n > 1 {
         let pairs: Vec<(usize, usize)> = fits.iter().map(|f| (f.i, f.j)).collect();
         check_graph(set, &pairs, min_overlap_px)?;
@@ -390,7 +379,36 @@ pub fn stitch(set: &TileSet, min_overlap_px: usize) -> Result<Mosaic, SurfaceErr
     } else {
         vec![[0.0; 3]]
     };
+    let (heights, covered) = blend(set, &rounded, &planes);
+    let tiles = tile_fits(set, &fits, &found, &planes, &rejected);
+    Ok(Mosaic {
+        heights,
+        covered,
+        tiles,
+    })
+}
 
+/// The pairs (i < j) whose nominal footprints overlap by `min_px` both ways.
+fn overlapping_pairs(set: &TileSet, min_px: usize) -> Vec<(usize, usize)> {
+    let n = set.heights.len();
+    let (sx, sy) = set.heights[0].dim();
+    (0..n)
+        .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
+        .filter(|&(i, j)| {
+            let d = [
+                (set.nominal_px[j][0] - set.nominal_px[i][0]).round() as i64,
+                (set.nominal_px[j][1] - set.nominal_px[i][1]).round() as i64,
+            ];
+            overlap((sx, sy), d, min_px).is_some()
+        })
+        .collect()
+}
+
+/// The mosaic of the levelled tiles at their whole-pixel positions,
+/// feathered where they overlap (NaN where none measured), and where some
+/// tile's footprint covers it.
+fn blend(set: &TileSet, rounded: &[[i64; 2]], planes: &[[f64; 3]]) -> (Array2<f64>, Array2<bool>) {
+    let (sx, sy) = set.heights[0].dim();
     let origin = [0, 1].map(|a| rounded.iter().map(|p| p[a]).min().unwrap_or(0));
     let end = [0, 1].map(|a| {
         rounded
@@ -443,16 +461,28 @@ pub fn stitch(set: &TileSet, min_overlap_px: usize) -> Result<Mosaic, SurfaceErr
                 *o = if d > 0.0 { n / d } else { f64::NAN };
             }
         });
+    (heights, covered)
+}
 
+/// What was found per tile: position, plane, mean overlap correlation and
+/// pairs dropped.
+fn tile_fits(
+    set: &TileSet,
+    fits: &[PairFit],
+    found: &[[f64; 2]],
+    planes: &[[f64; 3]],
+    rejected: &[usize],
+) -> Vec<TileFit> {
+    let n = set.heights.len();
     let mut correlation_sum = vec![(0.0, 0usize); n];
-    for f in &fits {
+    for f in fits {
         for t in [f.i, f.j] {
             correlation_sum[t].0 += f.correlation;
             correlation_sum[t].1 += 1;
         }
     }
     let pixel_m = set.pixel_m;
-    let tiles = (0..n)
+    (0..n)
         .map(|t| TileFit {
             nominal_px: set.nominal_px[t],
             found_px: found[t],
@@ -464,12 +494,7 @@ pub fn stitch(set: &TileSet, min_overlap_px: usize) -> Result<Mosaic, SurfaceErr
             },
             pairs_rejected: rejected[t],
         })
-        .collect();
-    Ok(Mosaic {
-        heights,
-        covered,
-        tiles,
-    })
+        .collect()
 }
 
 /// The largest region, found by peeling border lines, every pixel of which

@@ -228,42 +228,13 @@ pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
     let positions = if listed {
         parse_positions(&source.read_csv_with_lines(POSITIONS)?, &positions_name)?
     } else {
-        let mut names = tile_names.clone();
-        if names.is_empty() {
-            return Err(SurfaceError::Input(format!(
-                "{positions_name} is missing and there are no tile files ({}) beside it",
-                TILE_EXTENSIONS.join(", ")
-            )));
-        }
-        alphanumeric_sort::sort_str_slice(&mut names);
-        names
-            .into_iter()
-            .enumerate()
-            .map(|(k, file)| Position {
-                tile: k as i64,
-                file,
-                x_m: f64::NAN,
-                y_m: f64::NAN,
-                pixel_m: None,
-            })
-            .collect()
+        unlisted_positions(tile_names.clone(), &positions_name)?
     };
     let mismatch = |message: String| SurfaceError::PositionsMismatch {
         file: positions_name.clone(),
         message,
     };
-    let mut seen = BTreeMap::new();
-    for p in &positions {
-        if let Some(first) = seen.insert(p.file.clone(), p.tile) {
-            return Err(mismatch(format!(
-                "{} is listed twice (tiles {first} and {})",
-                p.file, p.tile
-            )));
-        }
-    }
-    if let Some(name) = tile_names.iter().find(|name| !seen.contains_key(*name)) {
-        return Err(mismatch(format!("tile file {name} is not listed")));
-    }
+    check_listing(&positions, &tile_names).map_err(mismatch)?;
     let first_shown = source.display(&positions[0].file);
     let mut set = TileSet {
         ids: Vec::new(),
@@ -282,47 +253,115 @@ pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
             .read(&p.file)
             .map_err(|_| mismatch(format!("{} is listed but not in the tile set", p.file)))?;
         let tile = decode_tile(&p.file, &bytes).map_err(&tile_err)?;
-        let (x_m, y_m) = if listed {
+        let position_m = if listed {
             (p.x_m, p.y_m)
         } else {
-            tile.position_m.ok_or_else(|| {
-                let columns = match tile.spacing_m {
-                    Some(_) => "tile, file, x_m, y_m",
-                    None => "tile, file, x_m, y_m, pixel_m",
-                };
-                tile_err(format!(
-                    "records no stage position ({} files do not), and there is no {POSITIONS}: \
-                     write one with columns {columns} (e.g. `0,{},0.0,0.0{}`)",
-                    tile.format.name(),
-                    p.file,
-                    if tile.spacing_m.is_some() {
-                        ""
-                    } else {
-                        ",1.0e-6"
-                    }
-                ))
-            })?
+            recorded_position(&p.file, &tile).map_err(&tile_err)?
         };
         let pixel_m = tile_spacing(p, &tile).map_err(&tile_err)?;
-        if set.names.is_empty() {
-            set.pixel_m = pixel_m;
-        } else if (pixel_m - set.pixel_m).abs() > 1e-9 * set.pixel_m {
+        set.push(p, tile.heights, position_m, pixel_m, (&shown, &first_shown))?;
+    }
+    Ok(set)
+}
+
+/// Without positions.csv: the tile files in natural order of their names,
+/// numbered from 0, positions to be read from the files.
+fn unlisted_positions(
+    mut names: Vec<String>,
+    positions_name: &str,
+) -> Result<Vec<Position>, SurfaceError> {
+    if names.is_empty() {
+        return Err(SurfaceError::Input(format!(
+            "{positions_name} is missing and there are no tile files ({}) beside it",
+            TILE_EXTENSIONS.join(", ")
+        )));
+    }
+    alphanumeric_sort::sort_str_slice(&mut names);
+    Ok(names
+        .into_iter()
+        .enumerate()
+        .map(|(k, file)| Position {
+            tile: k as i64,
+            file,
+            x_m: f64::NAN,
+            y_m: f64::NAN,
+            pixel_m: None,
+        })
+        .collect())
+}
+
+/// No file listed twice, and every tile file listed.
+fn check_listing(positions: &[Position], tile_names: &[String]) -> Result<(), String> {
+    let mut seen = BTreeMap::new();
+    for p in positions {
+        if let Some(first) = seen.insert(p.file.clone(), p.tile) {
+            return Err(format!(
+                "{} is listed twice (tiles {first} and {})",
+                p.file, p.tile
+            ));
+        }
+    }
+    if let Some(name) = tile_names.iter().find(|name| !seen.contains_key(*name)) {
+        return Err(format!("tile file {name} is not listed"));
+    }
+    Ok(())
+}
+
+/// The stage position a tile file records, or what to write instead.
+fn recorded_position(file: &str, tile: &DecodedTile) -> Result<(f64, f64), String> {
+    tile.position_m.ok_or_else(|| {
+        let columns = match tile.spacing_m {
+            Some(_) => "tile, file, x_m, y_m",
+            None => "tile, file, x_m, y_m, pixel_m",
+        };
+        format!(
+            "records no stage position ({} files do not), and there is no {POSITIONS}: \
+             write one with columns {columns} (e.g. `0,{},0.0,0.0{}`)",
+            tile.format.name(),
+            file,
+            if tile.spacing_m.is_some() {
+                ""
+            } else {
+                ",1.0e-6"
+            }
+        )
+    })
+}
+
+impl TileSet {
+    /// Adds a tile after checking it against the set: the first tile's
+    /// spacing and shape, a position within reach, heights neither all NaN
+    /// nor infinite. `shown` names it in errors, `first_shown` the first.
+    fn push(
+        &mut self,
+        p: &Position,
+        heights: Array2<f64>,
+        (x_m, y_m): (f64, f64),
+        pixel_m: f64,
+        (shown, first_shown): (&str, &str),
+    ) -> Result<(), SurfaceError> {
+        let tile_err = |message: String| SurfaceError::Tile {
+            file: shown.to_owned(),
+            message,
+        };
+        if self.names.is_empty() {
+            self.pixel_m = pixel_m;
+        } else if (pixel_m - self.pixel_m).abs() > 1e-9 * self.pixel_m {
             return Err(SurfaceError::Spacing {
-                file: shown,
+                file: shown.to_owned(),
                 found: pixel_m,
-                first: first_shown.clone(),
-                expected: set.pixel_m,
+                first: first_shown.to_owned(),
+                expected: self.pixel_m,
             });
         }
-        check_in_reach(x_m, y_m, pixel_m).map_err(&tile_err)?;
-        let heights = tile.heights;
-        if let Some(h0) = set.heights.first()
+        check_in_reach(x_m, y_m, pixel_m).map_err(tile_err)?;
+        if let Some(h0) = self.heights.first()
             && h0.dim() != heights.dim()
         {
             return Err(SurfaceError::Shape {
-                file: shown,
+                file: shown.to_owned(),
                 found: heights.dim(),
-                first: first_shown.clone(),
+                first: first_shown.to_owned(),
                 expected: h0.dim(),
             });
         }
@@ -332,12 +371,12 @@ pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
         if heights.iter().any(|h| h.is_infinite()) {
             return Err(tile_err("holds an infinite height".into()));
         }
-        set.ids.push(p.tile);
-        set.names.push(p.file.clone());
-        set.heights.push(heights);
-        set.nominal_px.push([x_m / pixel_m, y_m / pixel_m]);
+        self.ids.push(p.tile);
+        self.names.push(p.file.clone());
+        self.heights.push(heights);
+        self.nominal_px.push([x_m / pixel_m, y_m / pixel_m]);
+        Ok(())
     }
-    Ok(set)
 }
 
 /// A tile's square grid spacing: positions.csv's `pixel_m` and the file's

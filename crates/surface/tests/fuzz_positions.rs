@@ -6,9 +6,12 @@
 //! Bounded for CI: a fixed seed and a few hundred cases per property;
 //! `PROPTEST_CASES` and `PROPTEST_RNG_SEED` widen or move the search.
 
-use hypercontact_core::{Context, Field, FileSource, Files, Inputs, Params, Product, Stage};
-use hypercontact_fuzz::config;
-use hypercontact_surface::surface_stage::{Surface, SurfaceParams};
+mod common;
+
+use common::npy;
+use hypercontact_core::{FileSource, Files, Inputs, Outputs, Product, StageError};
+use hypercontact_fuzz::{config, splice};
+use hypercontact_surface::surface_stage::SurfaceParams;
 use hypercontact_surface::tiles::{POSITIONS, read_tiles};
 use ndarray::Array2;
 use proptest::prelude::*;
@@ -17,15 +20,6 @@ const SIDE: usize = 40;
 const PIXEL_M: f64 = 1e-6;
 /// Tile pitch: 24 px, so neighbours overlap by 16 px.
 const PITCH: usize = 24;
-
-fn npy(values: &Array2<f64>) -> Vec<u8> {
-    let mut bytes = Vec::new();
-    Field::new(values.clone(), 1.0, 1.0)
-        .unwrap()
-        .write_npy(&mut bytes)
-        .unwrap();
-    bytes
-}
 
 /// positions.csv rows as cells, and the tile files by name.
 type TileSet = (Vec<[String; 5]>, Vec<(String, Vec<u8>)>);
@@ -142,10 +136,8 @@ fn edited(edits: &[Edit]) -> Files {
                 rows.push(row);
             }
             Edit::Tile(t, at, remove, insert) => {
-                let bytes = &mut tiles[*t].1;
-                let at = at % (bytes.len() + 1);
-                let end = (at + remove).min(bytes.len());
-                bytes.splice(at..end, insert.iter().copied());
+                let bytes = std::mem::take(&mut tiles[*t].1);
+                tiles[*t].1 = splice(bytes, &[(*at, *remove, insert.clone())]);
             }
             Edit::DropTile(t) => tiles[*t].1.clear(),
             _ => {}
@@ -158,6 +150,15 @@ fn edited(edits: &[Edit]) -> Files {
         }
     }
     files
+}
+
+/// The stage on the set at its measured grid.
+fn stage(files: Files) -> Result<Outputs, StageError> {
+    let p = SurfaceParams {
+        resolution_m: 0.0,
+        ..Default::default()
+    };
+    common::run(&p, Inputs::new().with("tiles", Product::Files(files)))
 }
 
 /// An error of the tile set must name `positions.csv`, a tile file or the
@@ -184,30 +185,15 @@ proptest! {
 
     #[test]
     fn edited_tile_sets_never_panic_in_the_stage(edits in edits()) {
-        let files = edited(&edits);
-        let p = SurfaceParams {
-            resolution_m: 0.0,
-            ..Default::default()
-        }
-        .check()
-        .unwrap();
-        let inputs = Inputs::new().with("tiles", Product::Files(files));
         // Errors past reading (a mosaic that falls apart, a singular
         // system) concern the set as a whole; reading errors name a file.
-        let _ = Surface.run(&p, &inputs, &Context::new("surface"));
+        let _ = stage(edited(&edits));
     }
 }
 
 #[test]
 fn the_valid_set_runs_through_the_stage() {
-    let p = SurfaceParams {
-        resolution_m: 0.0,
-        ..Default::default()
-    }
-    .check()
-    .unwrap();
-    let inputs = Inputs::new().with("tiles", Product::Files(edited(&[])));
-    let out = Surface.run(&p, &inputs, &Context::new("surface")).unwrap();
+    let out = stage(edited(&[])).unwrap();
     let Some(Product::Field(height)) = out.get("height") else {
         panic!("no height")
     };
@@ -218,16 +204,7 @@ fn the_valid_set_runs_through_the_stage() {
 /// arithmetic wrap around i64 and index a tile out of bounds.
 #[test]
 fn a_position_far_beyond_the_scan_is_an_error_not_a_panic() {
-    let files = edited(&[Edit::Cell(0, 2, "-1e300".into())]);
-    let p = SurfaceParams {
-        resolution_m: 0.0,
-        ..Default::default()
-    }
-    .check()
-    .unwrap();
-    let inputs = Inputs::new().with("tiles", Product::Files(files));
-    let message = Surface
-        .run(&p, &inputs, &Context::new("surface"))
+    let message = stage(edited(&[Edit::Cell(0, 2, "-1e300".into())]))
         .unwrap_err()
         .to_string();
     assert!(
@@ -241,13 +218,10 @@ fn a_position_far_beyond_the_scan_is_an_error_not_a_panic() {
 /// a NaN shift, whose interpolation stencil indexed out of bounds.
 #[test]
 fn a_huge_height_in_a_tile_is_no_panic() {
-    let files = edited(&[Edit::Tile(0, 8_330_844_503_619_979_490, 3, vec![0, 97, 0])]);
-    let p = SurfaceParams {
-        resolution_m: 0.0,
-        ..Default::default()
-    }
-    .check()
-    .unwrap();
-    let inputs = Inputs::new().with("tiles", Product::Files(files));
-    let _ = Surface.run(&p, &inputs, &Context::new("surface"));
+    let _ = stage(edited(&[Edit::Tile(
+        0,
+        8_330_844_503_619_979_490,
+        3,
+        vec![0, 97, 0],
+    )]));
 }

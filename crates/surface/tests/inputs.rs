@@ -3,18 +3,12 @@
 
 use std::path::PathBuf;
 
-use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Stage, StageError};
-use hypercontact_surface::surface_stage::{ReferenceKind, Surface, SurfaceParams};
-use ndarray::Array2;
+mod common;
 
-fn npy(values: Array2<f64>) -> Vec<u8> {
-    let mut bytes = Vec::new();
-    Field::new(values, 1.0, 1.0)
-        .unwrap()
-        .write_npy(&mut bytes)
-        .unwrap();
-    bytes
-}
+use common::{npy, run};
+use hypercontact_core::{Field, Files, Inputs, Product};
+use hypercontact_surface::surface_stage::{ReferenceKind, SurfaceParams};
+use ndarray::Array2;
 
 fn rough(n: usize, seed: f64) -> Array2<f64> {
     Array2::from_shape_fn((n, n), |(i, j)| {
@@ -23,18 +17,10 @@ fn rough(n: usize, seed: f64) -> Array2<f64> {
     })
 }
 
-fn run(params: &SurfaceParams, inputs: Inputs) -> Result<hypercontact_core::Outputs, StageError> {
-    let params = params
-        .clone()
-        .check()
-        .expect("the tests' parameters pass their checks");
-    Surface.run(&params, &inputs, &Context::new("surface"))
-}
-
 fn tiles(csv: &str, tiles: Vec<(&str, Array2<f64>)>) -> Inputs {
     let mut files = Files::new().with("positions.csv", csv.as_bytes().to_vec());
     for (name, values) in tiles {
-        files = files.with(name, npy(values));
+        files = files.with(name, npy(&values));
     }
     Inputs::new().with("tiles", Product::Files(files))
 }

@@ -2,8 +2,10 @@
 //! old fill with the mean height, on a synthetic surface of known spectrum
 //! and on a real instrument map with dropouts.
 
-use hypercontact_core::{Context, Field, Inputs, Params, Product, Stage};
-use hypercontact_surface::surface_stage::{Fill, StatsTable, Surface, SurfaceParams, analyse};
+mod common;
+
+use hypercontact_core::{Context, Field, Inputs, Params, Product};
+use hypercontact_surface::surface_stage::{Fill, StatsTable, SurfaceParams, analyse};
 use hypercontact_synth::surface::SelfAffine;
 use ndarray::Array2;
 
@@ -125,10 +127,8 @@ fn maps_missing_more_than_the_limit_are_refused_naming_the_fraction() {
             resolution_m: 0.0,
             max_missing_fraction,
             ..Default::default()
-        }
-        .check()
-        .unwrap();
-        Surface.run(&p, &inputs, &Context::new("surface"))
+        };
+        common::run(&p, inputs.clone())
     };
     let e = run(0.1).unwrap_err().to_string();
     assert!(

@@ -1,6 +1,8 @@
 //! Stitching synthetic interferometer tiles against their ground truth,
 //! and the stage end to end: synth-surface → surface.
 
+mod common;
+
 use hypercontact_core::{Context, FileSource, Inputs, Params, Product, Stage};
 use hypercontact_surface::stitch::stitch;
 use hypercontact_surface::surface_stage::{Surface, SurfaceParams};
@@ -139,16 +141,12 @@ fn synth_then_surface_stage_gives_report_tables() {
     let params = SurfaceParams {
         resolution_m: 5e-6,
         ..Default::default()
-    }
-    .check()
+    };
+    let out = common::run(
+        &params,
+        Inputs::new().with("tiles", Product::Files(tiles.clone())),
+    )
     .unwrap();
-    let out = Surface
-        .run(
-            &params,
-            &Inputs::new().with("tiles", Product::Files(tiles.clone())),
-            &Context::new("surface"),
-        )
-        .unwrap();
     let info = Surface.info();
     for name in ["psd", "stats", "stitch"] {
         let Some(Product::Table(t)) = out.get(name) else {
@@ -235,11 +233,8 @@ fn x3p_tiles_placed_by_their_own_offsets_stitch_like_npy_with_positions() {
     let listed = x3p_files.clone().with("positions.csv", csv.into_bytes());
 
     let run = |files: &Files| -> (Table, Vec<f64>) {
-        let params = SurfaceParams::default().check().unwrap();
         let inputs = Inputs::new().with("tiles", Product::Files(files.clone()));
-        let out = Surface
-            .run(&params, &inputs, &Context::new("surface"))
-            .unwrap();
+        let out = common::run(&SurfaceParams::default(), inputs).unwrap();
         let (Some(Product::Table(stats)), Some(Product::Field(height))) =
             (out.get("stats"), out.get("height"))
         else {
@@ -274,12 +269,8 @@ fn x3p_tiles_placed_by_their_own_offsets_stitch_like_npy_with_positions() {
             tile_files: tile_files.clone(),
             positions,
             ..Default::default()
-        }
-        .check()
-        .unwrap();
-        let out = Surface
-            .run(&params, &Inputs::new(), &Context::new("surface"))
-            .unwrap();
+        };
+        let out = common::run(&params, Inputs::new()).unwrap();
         let Some(Product::Field(height)) = out.get("height") else {
             panic!("no height")
         };
@@ -299,10 +290,8 @@ fn x3p_tiles_placed_by_their_own_offsets_stitch_like_npy_with_positions() {
         .iter()
         .filter(|(name, _)| name.ends_with(".npy"))
         .fold(Files::new(), |f, (name, bytes)| f.with(name, bytes.clone()));
-    let params = SurfaceParams::default().check().unwrap();
     let inputs = Inputs::new().with("tiles", Product::Files(bare));
-    let e = Surface
-        .run(&params, &inputs, &Context::new("surface"))
+    let e = common::run(&SurfaceParams::default(), inputs)
         .unwrap_err()
         .to_string();
     assert!(

@@ -94,6 +94,64 @@ pub fn truncate(
     let flat = heights
         .as_slice()
         .expect("a standard-layout array is contiguous");
+    let order = top_down(flat, ny, stride)?;
+    let measured = order.len();
+    let z_max_m = order[0].0;
+    if z_max_m <= 0.0 {
+        return Err(TruncationError::Flat);
+    }
+    let pixel_area_m2 = dx_m * dy_m;
+    let planes = options
+        .levels
+        .planes_m(order.iter().map(|&(h, _)| h), z_max_m);
+    let mut targets: Vec<f64> = options.patch_fractions.clone();
+    targets.sort_by(f64::total_cmp);
+    let mut targets = targets.into_iter().peekable();
+
+    let mut sweep = Sweep::new(&order, options.connectivity, nx, stride);
+    let mut profile = Profile {
+        z_m: Vec::with_capacity(planes.len()),
+        area_m2: Vec::with_capacity(planes.len()),
+        area_fraction: Vec::with_capacity(planes.len()),
+        patches: Vec::with_capacity(planes.len()),
+        radius_m: Vec::with_capacity(planes.len()),
+        sigma_m: rms_about_mean(flat),
+        nominal_area_m2: measured as f64 * pixel_area_m2,
+        measured_points: measured,
+        snapshots: Vec::new(),
+    };
+    for (level, &z_m) in planes.iter().enumerate() {
+        progress(sweep.add_down_to(z_m));
+        let area_m2 = sweep.added as f64 * pixel_area_m2;
+        let area_fraction = sweep.added as f64 / measured as f64;
+        profile.z_m.push(z_m);
+        profile.area_m2.push(area_m2);
+        profile.area_fraction.push(area_fraction);
+        profile.patches.push(sweep.patches);
+        profile.radius_m.push(if sweep.patches == 0 {
+            0.0
+        } else {
+            (area_m2 / (std::f64::consts::PI * sweep.patches as f64)).sqrt()
+        });
+        while let Some(&target) = targets.peek() {
+            if area_fraction < target {
+                break;
+            }
+            profile.snapshots.push(PatchSnapshot {
+                target_area_fraction: target,
+                level,
+                patch_areas_m2: sweep.patch_areas_m2(pixel_area_m2),
+            });
+            targets.next();
+        }
+    }
+    Ok(profile)
+}
+
+/// The measured pixels as (height above the lowest point, index in the
+/// framed map), highest first; an error for an infinite height or a map
+/// with nothing measured.
+fn top_down(flat: &[f64], ny: usize, stride: usize) -> Result<Vec<(f64, u32)>, TruncationError> {
     if let Some(i) = flat.iter().position(|h| h.is_infinite()) {
         return Err(TruncationError::NonFinite {
             ix: i / ny,
@@ -101,8 +159,6 @@ pub fn truncate(
             value: flat[i],
         });
     }
-
-    // Measured pixels as (height above the lowest point, index), top first.
     let h_min = flat
         .iter()
         .copied()
@@ -118,94 +174,73 @@ pub fn truncate(
         .map(|(i, &h)| (h - h_min, ((i / ny + 1) * stride + i % ny + 1) as u32))
         .collect();
     order.par_sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
-    let measured = order.len();
-    let z_max_m = order[0].0;
-    if z_max_m <= 0.0 {
-        return Err(TruncationError::Flat);
+    Ok(order)
+}
+
+/// The plane's descent through the sorted pixels: the touched pixels
+/// joined into patches, and how many of each there are so far.
+struct Sweep<'a> {
+    order: &'a [(f64, u32)],
+    sets: PixelSets,
+    /// Index steps to the neighbours of a pixel in the framed map.
+    offsets: Vec<isize>,
+    /// Pixels touched so far (a prefix of `order`).
+    added: usize,
+    /// Connected touched patches N.
+    patches: u64,
+}
+
+impl<'a> Sweep<'a> {
+    fn new(order: &'a [(f64, u32)], connectivity: Connectivity, nx: usize, stride: usize) -> Self {
+        let offsets = connectivity
+            .offsets()
+            .iter()
+            .map(|&(ox, oy)| ox * stride as isize + oy)
+            .collect();
+        Self {
+            order,
+            sets: PixelSets::new((nx + 2) * stride),
+            offsets,
+            added: 0,
+            patches: 0,
+        }
     }
-    let sigma_m = rms_about_mean(flat);
-    let pixel_area_m2 = dx_m * dy_m;
-    let nominal_area_m2 = measured as f64 * pixel_area_m2;
 
-    let planes = options
-        .levels
-        .planes_m(order.iter().map(|&(h, _)| h), z_max_m);
-    let mut targets: Vec<f64> = options.patch_fractions.clone();
-    targets.sort_by(f64::total_cmp);
-    let mut targets = targets.into_iter().peekable();
-
-    let offsets: Vec<isize> = options
-        .connectivity
-        .offsets()
-        .iter()
-        .map(|&(ox, oy)| ox * stride as isize + oy)
-        .collect();
-    let mut sets = PixelSets::new((nx + 2) * stride);
-    let mut profile = Profile {
-        z_m: Vec::with_capacity(planes.len()),
-        area_m2: Vec::with_capacity(planes.len()),
-        area_fraction: Vec::with_capacity(planes.len()),
-        patches: Vec::with_capacity(planes.len()),
-        radius_m: Vec::with_capacity(planes.len()),
-        sigma_m,
-        nominal_area_m2,
-        measured_points: measured,
-        snapshots: Vec::new(),
-    };
-    let mut added = 0_usize;
-    let mut patches = 0_u64;
-    for (level, &z_m) in planes.iter().enumerate() {
-        let before = added;
-        while added < measured && order[added].0 >= z_m {
-            let pixel = order[added].1;
-            sets.touch(pixel);
-            patches += 1;
+    /// Touches every pixel at or above `z_m`, each a new patch joined to
+    /// its touched neighbours' (N: +1 per pixel, −1 per union); returns
+    /// how many pixels were added.
+    fn add_down_to(&mut self, z_m: f64) -> u64 {
+        let before = self.added;
+        while self.added < self.order.len() && self.order[self.added].0 >= z_m {
+            let pixel = self.order[self.added].1;
+            self.sets.touch(pixel);
+            self.patches += 1;
             // The new pixel's root, kept current so it is found only once.
             let mut root = pixel;
-            for &offset in &offsets {
+            for &offset in &self.offsets {
                 let neighbour = pixel.wrapping_add_signed(offset as i32);
-                if sets.is_touched(neighbour) {
-                    let other = sets.find(neighbour);
+                if self.sets.is_touched(neighbour) {
+                    let other = self.sets.find(neighbour);
                     if other != root {
-                        root = sets.link(root, other);
-                        patches -= 1;
+                        root = self.sets.link(root, other);
+                        self.patches -= 1;
                     }
                 }
             }
-            added += 1;
+            self.added += 1;
         }
-        progress((added - before) as u64);
-
-        let area_m2 = added as f64 * pixel_area_m2;
-        let area_fraction = added as f64 / measured as f64;
-        profile.z_m.push(z_m);
-        profile.area_m2.push(area_m2);
-        profile.area_fraction.push(area_fraction);
-        profile.patches.push(patches);
-        profile.radius_m.push(if patches == 0 {
-            0.0
-        } else {
-            (area_m2 / (std::f64::consts::PI * patches as f64)).sqrt()
-        });
-
-        while let Some(&target) = targets.peek() {
-            if area_fraction < target {
-                break;
-            }
-            let mut sizes = sets.set_sizes();
-            sizes.sort_unstable_by(|a, b| b.cmp(a));
-            profile.snapshots.push(PatchSnapshot {
-                target_area_fraction: target,
-                level,
-                patch_areas_m2: sizes
-                    .into_iter()
-                    .map(|s| f64::from(s) * pixel_area_m2)
-                    .collect(),
-            });
-            targets.next();
-        }
+        (self.added - before) as u64
     }
-    Ok(profile)
+
+    /// Every patch's area, largest first.
+    fn patch_areas_m2(&self, pixel_area_m2: f64) -> Vec<f64> {
+        let mut sizes = self.sets.set_sizes();
+        sizes.sort_unstable_by(|a, b| b.cmp(a));
+        sizes
+            .into_iter()
+            .map(|s| f64::from(s) * pixel_area_m2)
+            .collect()
+    }
 }
 
 /// RMS about the mean of the non-NaN values.

@@ -22,6 +22,21 @@ pub fn synth(params: &SynthTensileParams) -> (Files, Table) {
     (files.clone(), truth.clone())
 }
 
+/// A small sequence, quick to correlate: 3 frames of 160 × 160 px to a
+/// stretch of 1.1, speckles only.
+pub fn small_sequence() -> Files {
+    synth(&SynthTensileParams {
+        frames: 3,
+        max_stretch: Some(1.1),
+        width_px: 160,
+        height_px: 160,
+        supersample: 1,
+        markers: false,
+        ..Default::default()
+    })
+    .0
+}
+
 /// Runs `dic` on a sequence.
 pub fn dic(files: &Files, params: &DicParams) -> Result<Table, hypercontact_core::StageError> {
     use hypercontact_core::Params;

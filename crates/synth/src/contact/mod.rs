@@ -7,7 +7,8 @@
 //!   physics);
 //! - [`rig`]: servo ramp, camera timing, force sensor;
 //! - [`view`]: the solved gap drawn onto the camera and the true contact
-//!   map on its pixels.
+//!   map on its pixels;
+//! - [`record`]: the frames exposed, frames.csv and the force log.
 //!
 //! Files of the `sequence` product (the layout `contact-images` reads, also
 //! from a folder of real data): `frame_NNN.png` (16-bit grey; a camera of
@@ -16,6 +17,7 @@
 //! clock), `force.csv` (`time_s, force_n`, sensor clock; with `trigger`,
 //! also `camera_trigger`: 1 at the samples taken while the shutter was open).
 
+pub mod record;
 pub mod rig;
 pub mod solve;
 pub mod view;
@@ -29,17 +31,13 @@ use hypercontact_core::{
     Schema, Stage, StageError, StageInfo, params,
 };
 use hypercontact_icm::{CompositeModulus, Model, Scheme};
-use hypercontact_interference::{
-    Camera, CameraGrid, CameraParams, GapMap, OpticsParams, Placement, expose, resample,
-};
+use hypercontact_interference::{CameraGrid, CameraParams, Placement};
 use hypercontact_material::Poisson;
 use hypercontact_material::table::MaterialTable;
-use ndarray::ArrayView2;
-use rayon::prelude::*;
 
 use crate::encode_png;
-use rig::{ForceSensor, Ramp, interpolate_force};
-use solve::{ContactError, contact_sequence, penetration_at_m};
+use rig::{ForceSensor, Ramp};
+use solve::{ContactError, FrameContact, contact_sequence, penetration_at_m};
 
 /// Parameters of `synth-contact`.
 #[params(check = consistent)]
@@ -349,159 +347,36 @@ impl Stage for SynthContact {
             .map_err(|e| StageError::invalid(format!("material: {e}")))?;
         let modulus = CompositeModulus::new(Arc::from(material), p.model, p.poisson.0)
             .map_err(|e| StageError::invalid(format!("material: {e}")))?;
-        let solver = SolverOptions {
-            tolerance: p.tolerance,
-            max_iterations: p.max_iterations,
-            ..SolverOptions::default()
-        };
-        let (nx, ny) = (surface.nx(), surface.ny());
-        let placement = p.placement();
-        let grid = p.grid();
-        check_view_inside(&surface, &placement, &grid)?;
-
-        // One operator for the search of the last penetration and the frames.
-        let heights_m: Vec<f64> = surface.values.iter().copied().collect();
-        let influence = Influence::new(nx, ny, surface.dx_m, surface.dy_m, p.boundary);
-        let problem = Problem::new(&influence, &heights_m)
-            .map_err(|e| StageError::other(ContactError::Problem(e.to_string())))?;
-        let max_m =
-            penetration_at_m(&problem, solver, p.max_area_fraction).map_err(StageError::other)?;
-        let ramp = Ramp::new(
-            p.frames,
-            p.frames_before_contact,
-            p.contact_phase,
-            max_m,
-            p.speed_m_per_s,
-            p.exposure_s,
-        )
-        .map_err(StageError::invalid)?;
-        let progress = ctx.progress(p.frames as u64, "contact solves");
-        let contacts = contact_sequence(
-            &problem,
-            surface.dx_m * surface.dy_m,
-            &modulus,
-            p.scheme,
-            solver,
-            &ramp.penetrations_m(),
-            &mut |_| progress.inc(1),
-        )
-        .map_err(StageError::other)?;
-        drop(progress);
-
-        // Images, in parallel over frames (each frame's noise from its own seed).
-        let table = OpticsParams::default()
-            .build()
-            .map_err(|e| StageError::invalid(e.to_string()))?;
-        let camera = Camera::new(p.camera(), table.max_reflectance())
-            .map_err(|e| StageError::invalid(e.to_string()))?;
-        let measured: Vec<bool> = surface.values.iter().map(|h| !h.is_nan()).collect();
-        let digits = (p.frames - 1).to_string().len().max(3);
+        check_view_inside(&surface, &p.placement(), &p.grid())?;
+        let (ramp, contacts) = solve_frames(&surface, &modulus, p, ctx)?;
         let progress = ctx.progress(p.frames as u64, "rendering frames");
-        let rendered: Vec<(Vec<u8>, Vec<Option<bool>>)> = contacts
-            .par_iter()
-            .enumerate()
-            .map(|(k, c)| {
-                let drawn = view::drawing_gap(&c.gap_m, &c.in_contact, nx, ny);
-                let drawn = ArrayView2::from_shape((nx, ny), &drawn)
-                    .map_err(|e| StageError::invalid(e.to_string()))?;
-                let gap = GapMap {
-                    gap_m: drawn,
-                    dx_m: surface.dx_m,
-                    dy_m: surface.dy_m,
-                };
-                let truth = view::true_view(
-                    &c.in_contact,
-                    &measured,
-                    (nx, ny),
-                    (surface.dx_m, surface.dy_m),
-                    &placement,
-                    &grid,
-                )
-                .map_err(|e| StageError::invalid(e.to_string()))?;
-                let mut gap_m = resample(&gap, &placement, &grid)
-                    .map_err(|e| StageError::invalid(e.to_string()))?;
-                for (g, t) in gap_m.iter_mut().zip(&truth) {
-                    // a pixel on a contact cell touches; NaN stays NaN (background)
-                    *g = if *t == Some(true) { 0.0 } else { g.max(0.0) };
-                }
-                let frame = expose(gap_m, &grid, &table, &camera, frame_seed(p.seed, k))
-                    .map_err(|e| StageError::invalid(e.to_string()))?;
-                let png = encode_png(grid.width_px, grid.height_px, p.bits, frame.counts)?;
-                progress.inc(1);
-                Ok((png, truth))
-            })
-            .collect::<Result<_, StageError>>()?;
+        let rendered = record::render_frames(&contacts, &surface, p, &|| progress.inc(1))?;
         drop(progress);
 
+        let (frames_csv, names) = record::frames_csv(&ramp, p.frames);
         let mut files = Files::new();
-        let mut frames_csv = String::from("frame,time_s,file\n");
         let mut views = Vec::with_capacity(p.frames);
-        for (k, (png, truth)) in rendered.into_iter().enumerate() {
-            let name = format!("frame_{k:0digits$}.png");
-            frames_csv.push_str(&format!("{k},{},{name}\n", ramp.start_s(k)));
-            files = files.with(&name, png);
+        for (name, (png, truth)) in names.iter().zip(rendered) {
+            files = files.with(name, png);
             views.push(truth);
         }
-
-        // The force log from the solved (penetration, force) points.
-        let mut points = vec![(0.0, 0.0)];
-        points.extend(
-            contacts
-                .iter()
-                .filter(|c| c.penetration_m > 0.0)
-                .map(|c| (c.penetration_m, c.force_n)),
+        files = files.with("frames.csv", frames_csv.into_bytes()).with(
+            "force.csv",
+            record::force_csv(&contacts, &ramp, p).into_bytes(),
         );
-        let sensor = p.sensor();
-        let decimals = sensor.decimals();
-        let mut force_csv = String::from(if p.trigger {
-            "time_s,force_n,camera_trigger\n"
-        } else {
-            "time_s,force_n\n"
-        });
-        for (t, f) in sensor.log(&ramp, |d| interpolate_force(&points, d), p.seed) {
-            force_csv.push_str(&format!("{t:.6},{f:.decimals$}"));
-            if p.trigger {
-                let open = ramp.exposing(t - sensor.clock_offset_s);
-                force_csv.push_str(if open { ",1" } else { ",0" });
-            }
-            force_csv.push('\n');
-        }
-        files = files
-            .with("frames.csv", frames_csv.into_bytes())
-            .with("force.csv", force_csv.into_bytes());
-
         let view_fractions: Vec<f64> = views.iter().map(|v| view::view_fraction(v)).collect();
-        let maps = truth_maps(&p.map_fractions, &view_fractions, &views, &grid)?;
-        let truth = ContactTruthTable {
-            frame: (0..p.frames as i64).collect(),
-            time_s: (0..p.frames).map(|k| ramp.start_s(k)).collect(),
-            mid_time_s: (0..p.frames).map(|k| ramp.mid_s(k)).collect(),
-            penetration_m: contacts.iter().map(|c| c.penetration_m).collect(),
-            area_fraction: contacts.iter().map(|c| c.area_fraction).collect(),
-            view_area_fraction: view_fractions,
-            force_n: contacts.iter().map(|c| c.force_n).collect(),
-        };
-        let rig = RigTruthTable {
-            angle_rad: vec![placement.angle_rad],
-            shift_x_m: vec![placement.shift_x_m],
-            shift_y_m: vec![placement.shift_y_m],
-            pixel_m: vec![grid.pixel_m],
-            clock_offset_s: vec![p.clock_offset_s],
-            frame_interval_s: vec![ramp.frame_interval_s],
-            contact_time_s: vec![ramp.contact_time_s],
-            solve_dx_m: vec![surface.dx_m],
-            solve_nx: vec![nx as i64],
-            solve_ny: vec![ny as i64],
-        };
+        let maps = truth_maps(&p.map_fractions, &view_fractions, &views, &p.grid())?;
         ctx.note(&format!(
             "{} frames every {:.3} s, penetration to {:.3} µm, A/A0 up to {:.3} ({}×{} solve grid)",
             p.frames,
             ramp.frame_interval_s,
-            max_m * 1e6,
+            ramp.max_penetration_m * 1e6,
             contacts.last().map_or(0.0, |c| c.area_fraction),
-            nx,
-            ny
+            surface.nx(),
+            surface.ny()
         ));
+        let truth = truth_table(&contacts, &ramp, view_fractions);
+        let rig = rig_table(&surface, &ramp, p);
         Ok(Outputs::new()
             .files("sequence", files)
             .table("truth", truth.into_table())
@@ -510,9 +385,90 @@ impl Stage for SynthContact {
     }
 }
 
-/// Frame k's noise seed.
-fn frame_seed(seed: u64, k: usize) -> u64 {
-    seed.wrapping_mul(1_000_003).wrapping_add(k as u64)
+/// The ramp to the penetration where the solve first reaches
+/// `max_area_fraction`, and the contact solved at each of its frames.
+fn solve_frames(
+    surface: &Field,
+    modulus: &CompositeModulus,
+    p: &SynthContactParams,
+    ctx: &Context,
+) -> Result<(Ramp, Vec<FrameContact>), StageError> {
+    let solver = SolverOptions {
+        tolerance: p.tolerance,
+        max_iterations: p.max_iterations,
+        ..SolverOptions::default()
+    };
+    // One operator for the search of the last penetration and the frames.
+    let heights_m: Vec<f64> = surface.values.iter().copied().collect();
+    let influence = Influence::new(
+        surface.nx(),
+        surface.ny(),
+        surface.dx_m,
+        surface.dy_m,
+        p.boundary,
+    );
+    let problem = Problem::new(&influence, &heights_m)
+        .map_err(|e| StageError::other(ContactError::Problem(e.to_string())))?;
+    let max_m =
+        penetration_at_m(&problem, solver, p.max_area_fraction).map_err(StageError::other)?;
+    let ramp = Ramp::new(
+        p.frames,
+        p.frames_before_contact,
+        p.contact_phase,
+        max_m,
+        p.speed_m_per_s,
+        p.exposure_s,
+    )
+    .map_err(StageError::invalid)?;
+    let progress = ctx.progress(p.frames as u64, "contact solves");
+    let contacts = contact_sequence(
+        &problem,
+        surface.dx_m * surface.dy_m,
+        modulus,
+        p.scheme,
+        solver,
+        &ramp.penetrations_m(),
+        &mut |_| progress.inc(1),
+    )
+    .map_err(StageError::other)?;
+    Ok((ramp, contacts))
+}
+
+/// The `truth` table: per frame its times, penetration, true A/A0 of the
+/// whole map and of the camera's view, and true force.
+fn truth_table(
+    contacts: &[FrameContact],
+    ramp: &Ramp,
+    view_fractions: Vec<f64>,
+) -> ContactTruthTable {
+    let frames = ramp.frames;
+    ContactTruthTable {
+        frame: (0..frames as i64).collect(),
+        time_s: (0..frames).map(|k| ramp.start_s(k)).collect(),
+        mid_time_s: (0..frames).map(|k| ramp.mid_s(k)).collect(),
+        penetration_m: contacts.iter().map(|c| c.penetration_m).collect(),
+        area_fraction: contacts.iter().map(|c| c.area_fraction).collect(),
+        view_area_fraction: view_fractions,
+        force_n: contacts.iter().map(|c| c.force_n).collect(),
+    }
+}
+
+/// The `truth_rig` table: the camera's placement and pixel, the clocks and
+/// the solve grid.
+fn rig_table(surface: &Field, ramp: &Ramp, p: &SynthContactParams) -> RigTruthTable {
+    let placement = p.placement();
+    RigTruthTable {
+        angle_rad: vec![placement.angle_rad],
+        shift_x_m: vec![placement.shift_x_m],
+        shift_y_m: vec![placement.shift_y_m],
+        pixel_m: vec![p.grid().pixel_m],
+        clock_offset_s: vec![p.clock_offset_s],
+        frame_interval_s: vec![ramp.frame_interval_s],
+        contact_time_s: vec![ramp.contact_time_s],
+        solve_dx_m: vec![surface.dx_m],
+        solve_nx: vec![surface.nx() as i64],
+        solve_ny: vec![surface.ny() as i64],
+    }
 }
 
 /// The map filtered to the solve spacing (as `surface` filters a scan), or

@@ -1,0 +1,465 @@
+//! The `surface` stage's analysis of a stitched map: the ISO 16610-61
+//! Gaussian filter to the lateral resolution, detrending, the checks that
+//! the map holds roughness, the in-fill of missing points before the FFT,
+//! the PSDs along x, y and radially (SurfaceTopography's conventions), the
+//! Hurst exponents fitted to them (C ∝ q^(−1−2H) along a profile,
+//! q^(−2−2H) radially) and the statistics table.
+
+use std::f64::consts::TAU;
+
+use hypercontact_core::{Checked, Context, Field, StageError};
+use ndarray::Array2;
+
+use crate::error::SurfaceError;
+use crate::filter::{self, Grid};
+use crate::hurst::{Dimension, Flag, PowerLaw, R2_MIN, fit_power_law};
+use crate::infill::{fill_harmonic, fill_zero};
+use crate::plane;
+use crate::psd::{Spectrum, Window, psd_radial, psd_x, psd_y};
+use crate::stats::{Reference, reference_height, rms_slope, sigma};
+use crate::surface_stage::{Detrend, Fill, ReferenceKind, SurfaceParams};
+use crate::surface_tables::{PsdTable, StatsTable};
+
+/// Everything the stage computes from a stitched map at its measured grid.
+pub struct Analysis {
+    pub height: Field,
+    pub psd: PsdTable,
+    pub stats: StatsTable,
+}
+
+/// An rms height after detrending below this fraction of the largest
+/// |height| is the detrending's rounding noise, not roughness: a flat map.
+/// Real maps sit orders of magnitude above it (1 nm of roughness on a 1 m
+/// offset still passes).
+pub const FLAT_RELATIVE: f64 = 1e-9;
+
+/// Filter, detrend, reference, PSDs, statistics and Hurst exponents.
+pub fn analyse(
+    map: Field,
+    p: &Checked<SurfaceParams>,
+    ctx: &Context,
+) -> Result<Analysis, StageError> {
+    analyse_named(map, "the height map", p, ctx)
+}
+
+/// [`analyse`], with `source` (where the map came from) naming the map in
+/// errors about it.
+pub fn analyse_named(
+    map: Field,
+    source: &str,
+    p: &Checked<SurfaceParams>,
+    ctx: &Context,
+) -> Result<Analysis, StageError> {
+    let progress = ctx.progress(3, "filter, PSD");
+    let measured = grid_of(&map);
+    let filtered = filtered(map, &measured, p, ctx)?;
+    progress.inc(1);
+    let grid = grid_of(&filtered);
+    let (nan_count, nan_fraction) = missing_share(&filtered.values, p.resolution_m)?;
+    let mut h = filtered.values;
+    let (dx_m, dy_m) = (grid.dx_m, grid.dy_m);
+    let largest_m = h
+        .iter()
+        .filter(|v| !v.is_nan())
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
+    // A plane fitted to a periodic map removes a sawtooth that is not part
+    // of it: power leaks into every q along the tilt's direction and the
+    // fitted Hurst exponent falls (0.70 → 0.66 on a 1024² map). Periodic
+    // maps only lose their mean.
+    detrend(&mut h, if p.periodic { Detrend::Mean } else { p.detrend })?;
+    let (sigma_m, slope) = roughness(&h, (dx_m, dy_m), largest_m, source)?;
+    if nan_fraction > p.max_missing_fraction {
+        return Err(SurfaceError::TooMuchMissing {
+            map: source.to_owned(),
+            fraction: nan_fraction,
+            missing: nan_count,
+            points: h.len(),
+            max: p.max_missing_fraction,
+        }
+        .into());
+    }
+    let spectra = spectra(&h, (dx_m, dy_m), (nan_count, nan_fraction), source, p, ctx)?;
+    // Inf in a spectrum would be dropped by the Hurst fit, which would
+    // then blame its wavelength range.
+    if spectra.iter().any(|s| s.c.iter().any(|c| !c.is_finite())) {
+        return Err(overflow(source, largest_m, "its power spectrum").into());
+    }
+    progress.inc(1);
+    let fits = hurst_fits(&spectra, &grid, p, ctx)?;
+
+    let reference = match p.reference {
+        ReferenceKind::Lowest => Reference::Lowest,
+        ReferenceKind::Percentile => Reference::Percentile(p.reference_percent),
+    };
+    let z0 = reference_height(&h, reference);
+    h.mapv_inplace(|v| v - z0);
+
+    let mut psd = PsdTable::default();
+    for (direction, spectrum) in DIRECTIONS.iter().zip(&spectra) {
+        psd.push(direction.0, spectrum);
+    }
+    let stats = stats_table(
+        (sigma_m, slope),
+        &fits,
+        (&grid, &measured),
+        (nan_count, nan_fraction),
+        p.fill,
+    );
+    progress.inc(1);
+    Ok(Analysis {
+        height: Field::new(h, dx_m, dy_m).map_err(StageError::other)?,
+        psd,
+        stats,
+    })
+}
+
+/// The PSD directions, in the order of the tables, with the dimension of
+/// their Hurst fit.
+const DIRECTIONS: [(&str, Dimension); 3] = [
+    ("x", Dimension::Profile),
+    ("y", Dimension::Profile),
+    ("radial", Dimension::Areal),
+];
+
+fn grid_of(map: &Field) -> Grid {
+    Grid {
+        nx: map.nx(),
+        ny: map.ny(),
+        dx_m: map.dx_m,
+        dy_m: map.dy_m,
+    }
+}
+
+/// The map low-pass filtered and resampled to `resolution_m` (with notes on
+/// the grids), or as it is when that is not coarser than its grid.
+fn filtered(
+    map: Field,
+    measured: &Grid,
+    p: &SurfaceParams,
+    ctx: &Context,
+) -> Result<Field, StageError> {
+    if p.resolution_m > map.dx_m.max(map.dy_m) * (1.0 + 1e-9) {
+        let values = filter::gaussian_resample(&map.values, map.dx_m, map.dy_m, p.resolution_m);
+        let filtered =
+            Field::new(values, p.resolution_m, p.resolution_m).map_err(StageError::other)?;
+        for note in filter::filter_notes(measured, &grid_of(&filtered), p.resolution_m) {
+            ctx.note(&note);
+        }
+        Ok(filtered)
+    } else {
+        if p.resolution_m > 0.0 {
+            ctx.note(&format!(
+                "resolution_m = {} m is not coarser than the grid ({} m): map kept as measured",
+                p.resolution_m, map.dx_m
+            ));
+        }
+        Ok(map)
+    }
+}
+
+/// The number and share of missing (NaN) points of the filtered map; an
+/// error when it is too small for PSDs or has no point at all.
+fn missing_share(h: &Array2<f64>, resolution_m: f64) -> Result<(usize, f64), SurfaceError> {
+    let (nx, ny) = h.dim();
+    if nx < 8 || ny < 8 {
+        return Err(SurfaceError::Input(format!(
+            "the filtered map has only {nx} × {ny} points: lower resolution_m ({resolution_m} m) or measure a larger area"
+        )));
+    }
+    let nan_count = h.iter().filter(|v| v.is_nan()).count();
+    if nan_count == h.len() {
+        return Err(SurfaceError::Input("every point of the map is NaN".into()));
+    }
+    Ok((nan_count, nan_count as f64 / h.len() as f64))
+}
+
+/// σ and the rms slope of the detrended map; an error when either
+/// overflows or when σ is rounding noise against the largest |height|.
+fn roughness(
+    h: &Array2<f64>,
+    (dx_m, dy_m): (f64, f64),
+    largest_m: f64,
+    source: &str,
+) -> Result<(f64, f64), SurfaceError> {
+    let sigma_m = sigma(h);
+    let slope = rms_slope(h, dx_m, dy_m);
+    if !(largest_m.is_finite() && sigma_m.is_finite()) {
+        return Err(overflow(source, largest_m, "its mean square (σ²)"));
+    }
+    if !slope.is_finite() {
+        return Err(overflow(source, largest_m, "its mean square slope"));
+    }
+    if sigma_m.is_nan() || sigma_m <= FLAT_RELATIVE * largest_m {
+        return Err(SurfaceError::Flat {
+            map: source.to_owned(),
+            sigma_m,
+            largest_m,
+        });
+    }
+    Ok((sigma_m, slope))
+}
+
+/// The map named `source`, heights up to `largest_m`, overflows f64 in
+/// `quantity`.
+fn overflow(source: &str, largest_m: f64, quantity: &'static str) -> SurfaceError {
+    SurfaceError::Overflow {
+        map: source.to_owned(),
+        largest_m,
+        quantity,
+    }
+}
+
+/// Removes a least-squares plane or the mean of the measured points.
+fn detrend(h: &mut Array2<f64>, detrend: Detrend) -> Result<(), SurfaceError> {
+    match detrend {
+        Detrend::Plane => {
+            let fit = plane::fit_plane(h).ok_or_else(|| {
+                SurfaceError::Input("too few measured points to fit a plane".into())
+            })?;
+            plane::subtract(h, &fit);
+        }
+        Detrend::Mean => {
+            let valid = h.iter().filter(|v| !v.is_nan());
+            let mean = valid.clone().sum::<f64>() / valid.count() as f64;
+            h.mapv_inplace(|v| v - mean);
+        }
+    }
+    Ok(())
+}
+
+/// The x, y and radial PSDs of the detrended map, its `nan_count` missing
+/// points filled as `fill` says (with a note when there were any).
+fn spectra(
+    h: &Array2<f64>,
+    (dx_m, dy_m): (f64, f64),
+    (nan_count, nan_fraction): (usize, f64),
+    source: &str,
+    p: &SurfaceParams,
+    ctx: &Context,
+) -> Result<[Spectrum; 3], StageError> {
+    let mut filled = h.clone();
+    match p.fill {
+        Fill::Harmonic => {
+            fill_harmonic(&mut filled, dx_m, dy_m, p.periodic).map_err(|error| {
+                SurfaceError::Infill {
+                    map: source.to_owned(),
+                    error,
+                }
+            })?;
+        }
+        Fill::Zero => {
+            fill_zero(&mut filled);
+        }
+    }
+    if nan_count > 0 {
+        let (nx, ny) = h.dim();
+        ctx.note(&format!(
+            "{nan_count} missing points ({:.3} % of {nx} × {ny}) filled {} before the PSDs",
+            100.0 * nan_fraction,
+            match p.fill {
+                Fill::Harmonic => "harmonically (Laplace)",
+                Fill::Zero => "with the mean height",
+            }
+        ));
+    }
+    let window = if p.periodic {
+        Window::None
+    } else {
+        Window::Hann
+    };
+    let per_decade = p.bins_per_decade;
+    Ok([
+        psd_x(&filled, dx_m, window, per_decade),
+        psd_y(&filled, dy_m, window, per_decade),
+        psd_radial(&filled, dx_m, dy_m, window, per_decade),
+    ])
+}
+
+/// The Hurst fit of each spectrum, with the notes on their ranges first
+/// and the warnings on flagged fits after.
+fn hurst_fits(
+    spectra: &[Spectrum; 3],
+    grid: &Grid,
+    p: &SurfaceParams,
+    ctx: &Context,
+) -> Result<[PowerLaw; 3], SurfaceError> {
+    let (dx_m, dy_m) = (grid.dx_m, grid.dy_m);
+    let (lx, ly) = (grid.nx as f64 * dx_m, grid.ny as f64 * dy_m);
+    let [sx, sy, sr] = spectra;
+    let fits = [
+        hurst(sx, "x", (dx_m, lx), p)?,
+        hurst(sy, "y", (dy_m, ly), p)?,
+        hurst(sr, "radial", (dx_m.max(dy_m), lx.min(ly)), p)?,
+    ];
+    for note in fits.iter().filter_map(|f| f.1.as_deref()) {
+        ctx.note(note);
+    }
+    let fits = fits.map(|f| f.0);
+    for ((direction, dimension), fit) in DIRECTIONS.iter().zip(&fits) {
+        if let Some(warning) = hurst_warning(direction, fit, *dimension) {
+            ctx.note(&warning);
+        }
+    }
+    Ok(fits)
+}
+
+/// The `stats` row: σ and slope, the three Hurst fits, the filtered and
+/// measured grids, and what was filled.
+fn stats_table(
+    (sigma_m, slope): (f64, f64),
+    fits: &[PowerLaw; 3],
+    (filtered, measured): (&Grid, &Grid),
+    (nan_count, nan_fraction): (usize, f64),
+    fill: Fill,
+) -> StatsTable {
+    let [hurst_x, hurst_y, hurst_radial] = [0, 1, 2].map(|k| fits[k].hurst(DIRECTIONS[k].1));
+    let column = |f: fn(&PowerLaw) -> f64| [0, 1, 2].map(|k| vec![f(&fits[k])]);
+    let [r2_x, r2_y, r2_radial] = column(|f| f.r_squared);
+    let [q_min_x, q_min_y, q_min_radial] = column(|f| f.q_min_per_m);
+    let [q_max_x, q_max_y, q_max_radial] = column(|f| f.q_max_per_m);
+    let [flag_x, flag_y, flag_radial] =
+        [0, 1, 2].map(|k| vec![fits[k].flag(DIRECTIONS[k].1).text().to_owned()]);
+    StatsTable {
+        sigma_m: vec![sigma_m],
+        rms_slope: vec![slope],
+        hurst_x: vec![hurst_x],
+        hurst_y: vec![hurst_y],
+        hurst_radial: vec![hurst_radial],
+        hurst_x_r2: r2_x,
+        hurst_x_q_min_per_m: q_min_x,
+        hurst_x_q_max_per_m: q_max_x,
+        hurst_x_flag: flag_x,
+        hurst_y_r2: r2_y,
+        hurst_y_q_min_per_m: q_min_y,
+        hurst_y_q_max_per_m: q_max_y,
+        hurst_y_flag: flag_y,
+        hurst_radial_r2: r2_radial,
+        hurst_radial_q_min_per_m: q_min_radial,
+        hurst_radial_q_max_per_m: q_max_radial,
+        hurst_radial_flag: flag_radial,
+        nx: vec![filtered.nx as i64],
+        ny: vec![filtered.ny as i64],
+        dx_m: vec![filtered.dx_m],
+        dy_m: vec![filtered.dy_m],
+        nx_measured: vec![measured.nx as i64],
+        ny_measured: vec![measured.ny as i64],
+        dx_measured_m: vec![measured.dx_m],
+        dy_measured_m: vec![measured.dy_m],
+        nan_fraction: vec![nan_fraction],
+        fill: vec![fill.to_string()],
+        filled_points: vec![nan_count as i64],
+        filled_fraction: vec![nan_fraction],
+    }
+}
+
+/// Least PSD points a default Hurst range must hold before it gives up the
+/// filter-safe short end.
+const HURST_MIN_POINTS: usize = 5;
+
+/// Fits H for one PSD over the wavelength range of the parameters, with a
+/// note when the default range had to reach into the filter's roll-off.
+fn hurst(
+    spectrum: &Spectrum,
+    direction: &'static str,
+    (spacing_m, length_m): (f64, f64),
+    p: &SurfaceParams,
+) -> Result<(PowerLaw, Option<String>), SurfaceError> {
+    let lambda_max_m = p.hurst_lambda_max_m.unwrap_or(length_m / 4.0);
+    let count = |lambda_min_m: f64| {
+        spectrum
+            .q_per_m
+            .iter()
+            .filter(|&&q| q >= TAU / lambda_max_m && q <= TAU / lambda_min_m)
+            .count()
+    };
+    let mut note = None;
+    let lambda_min_m = p.hurst_lambda_min_m.unwrap_or_else(|| {
+        let grid = 4.0 * spacing_m;
+        // Where the stage filtered, stop where the Gaussian still passes
+        // 90 % of the power: its roll-off would steepen the fitted slope
+        // (+0.05…0.1 in H on maps of a few hundred points).
+        let filtered =
+            p.resolution_m > 0.0 && (spacing_m - p.resolution_m).abs() < 1e-9 * spacing_m;
+        if !filtered {
+            return grid;
+        }
+        let safe = grid.max(crate::filter::wavelength_passing_m(
+            2.0 * p.resolution_m,
+            0.9,
+        ));
+        if count(safe) >= HURST_MIN_POINTS {
+            safe
+        } else {
+            note = Some(format!(
+                "Hurst fit along {direction}: the map is too small for a fit range clear of the \
+                 filter's roll-off ({safe:.3e} m … {lambda_max_m:.3e} m); fitted from 4·dx, \
+                 where the filter steepens the PSD (H reads high)"
+            ));
+            grid
+        }
+    });
+    let fit = fit_power_law(spectrum, TAU / lambda_max_m, TAU / lambda_min_m).ok_or_else(|| {
+        SurfaceError::HurstRange {
+            direction,
+            found: count(lambda_min_m),
+            lambda_min_m,
+            lambda_max_m,
+        }
+    })?;
+    Ok((fit, note))
+}
+
+/// The warning for a flagged Hurst fit, None when it is fine.
+fn hurst_warning(direction: &str, fit: &PowerLaw, dimension: Dimension) -> Option<String> {
+    let h = fit.hurst(dimension);
+    let over = format!(
+        "R² = {:.3} over q = {:.3e} … {:.3e} rad/m, {} bins",
+        fit.r_squared, fit.q_min_per_m, fit.q_max_per_m, fit.points
+    );
+    match fit.flag(dimension) {
+        Flag::Ok => None,
+        Flag::OutsideUnitRange => Some(format!(
+            "warning: Hurst exponent along {direction} = {h:.3} is outside 0…1 ({over}): not \
+             the exponent of a self-affine surface; check the fit range \
+             (hurst_lambda_min_m, hurst_lambda_max_m) against the PSD"
+        )),
+        Flag::PoorPowerLaw => Some(format!(
+            "warning: the PSD along {direction} is a poor power law ({over}, under {R2_MIN}): \
+             its Hurst exponent {h:.3} does not describe it; look at the PSD, or narrow the fit \
+             range (hurst_lambda_min_m, hurst_lambda_max_m)"
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flagged_fits_get_a_warning_naming_r2_and_range() {
+        let fit = |slope: f64, r_squared: f64| PowerLaw {
+            slope,
+            prefactor: 1.0,
+            points: 12,
+            r_squared,
+            q_min_per_m: 1e4,
+            q_max_per_m: 1e6,
+        };
+        assert_eq!(
+            hurst_warning("x", &fit(-2.4, 0.99), Dimension::Profile),
+            None
+        );
+        let outside = hurst_warning("y", &fit(-3.6, 0.99), Dimension::Profile).unwrap();
+        assert!(
+            outside.starts_with("warning: Hurst exponent along y = 1.300 is outside 0…1")
+                && outside.contains("R² = 0.990 over q = 1.000e4 … 1.000e6 rad/m, 12 bins"),
+            "{outside}"
+        );
+        let poor = hurst_warning("radial", &fit(-3.4, 0.5), Dimension::Areal).unwrap();
+        assert!(
+            poor.starts_with("warning: the PSD along radial is a poor power law (R² = 0.500")
+                && poor.contains("its Hurst exponent 0.700 does not describe it"),
+            "{poor}"
+        );
+    }
+}
