@@ -1,0 +1,8 @@
+//! stub
+use crate::{Format, FormatError, Topography};
+pub(crate) fn matches(_bytes: &[u8]) -> bool {
+    false
+}
+pub(crate) fn read(_data: &[u8]) -> Result<Topography, FormatError> {
+    Err(Format::NetCdf.unsupported("not yet"))
+}

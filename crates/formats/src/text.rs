@@ -1,0 +1,58 @@
+//! What the text formats share (ASCII matrices, Dektak's CSV, the headers
+//! of Nanoscope, Nanosurf and Molecular Imaging files): bytes as text, a
+//! number as Python's `float` reads it, and the bound on lines read.
+
+/// Most lines a text format reads (a 2^28-point map written one row a line
+/// has 2^14 lines; a line scan one point a line): more is refused.
+pub(crate) const MAX_LINES: usize = 1 << 28;
+
+/// The text of `bytes`: UTF-8 where it is, else Latin-1 (which never fails).
+pub(crate) fn decode(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
+    match std::str::from_utf8(bytes) {
+        Ok(text) => std::borrow::Cow::Borrowed(text),
+        Err(_) => std::borrow::Cow::Owned(bytes.iter().map(|&b| char::from(b)).collect()),
+    }
+}
+
+/// A number as Python's `float` parses it: decimal or exponent notation,
+/// `nan` and `inf` in any case; `None` for anything else. Rust's parser is
+/// correctly rounded, as CPython's is, so the same text gives the same bits.
+pub(crate) fn number(word: &str) -> Option<f64> {
+    let word = word.trim();
+    // Rust would also take "infinity" and "+nan"; Python takes those too
+    word.parse::<f64>().ok()
+}
+
+/// Whether `bytes` look like text: no NUL and no control bytes but tab,
+/// line feed, carriage return and form feed in the first `window` bytes.
+pub(crate) fn looks_like_text(bytes: &[u8], window: usize) -> bool {
+    bytes
+        .iter()
+        .take(window)
+        .all(|&b| b >= 0x20 || matches!(b, b'\t' | b'\n' | b'\r' | 0x0c))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_parse_as_python_floats() {
+        assert_eq!(number("3.69862e-007"), Some(3.69862e-7));
+        assert_eq!(number(" -2 "), Some(-2.0));
+        assert_eq!(number(".5"), Some(0.5));
+        assert!(number("NaN").unwrap().is_nan());
+        assert_eq!(number("-inf"), Some(f64::NEG_INFINITY));
+        assert_eq!(number("1,5"), None);
+        assert_eq!(number(""), None);
+    }
+
+    #[test]
+    fn text_is_utf8_or_latin1() {
+        assert_eq!(decode("µm".as_bytes()), "µm");
+        assert_eq!(decode(&[0xb5, b'm']), "µm");
+        assert!(looks_like_text(b"1 2\r\n3\t4\n", 100));
+        assert!(!looks_like_text(b"1 2\0", 100));
+        assert!(looks_like_text(b"1 2\0", 3));
+    }
+}
