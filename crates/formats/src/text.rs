@@ -2,16 +2,37 @@
 //! of Nanoscope, Nanosurf and Molecular Imaging files): bytes as text, a
 //! number as Python's `float` reads it, and the bound on lines read.
 
-/// Most lines a text format reads (a 2^28-point map written one row a line
-/// has 2^14 lines; a line scan one point a line): more is refused.
-pub(crate) const MAX_LINES: usize = 1 << 28;
-
 /// The text of `bytes`: UTF-8 where it is, else Latin-1 (which never fails).
 pub(crate) fn decode(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
     match std::str::from_utf8(bytes) {
         Ok(text) => std::borrow::Cow::Borrowed(text),
         Err(_) => std::borrow::Cow::Owned(bytes.iter().map(|&b| char::from(b)).collect()),
     }
+}
+
+/// The lines of `text` as Python's universal newlines split them: at
+/// `\r\n`, `\n` or a lone `\r` (Dektak ends some lines in `\r\r\n`, which
+/// is a line and an empty one).
+pub(crate) fn lines(text: &str) -> impl Iterator<Item = &str> {
+    let mut rest = Some(text);
+    std::iter::from_fn(move || {
+        let current = rest?;
+        match current.find(['\r', '\n']) {
+            Some(end) => {
+                let skip = if current[end..].starts_with("\r\n") {
+                    2
+                } else {
+                    1
+                };
+                rest = Some(&current[end + skip..]);
+                Some(&current[..end])
+            }
+            None => {
+                rest = None;
+                (!current.is_empty()).then_some(current)
+            }
+        }
+    })
 }
 
 /// A number as Python's `float` parses it: decimal or exponent notation,
@@ -45,6 +66,14 @@ mod tests {
         assert_eq!(number("-inf"), Some(f64::NEG_INFINITY));
         assert_eq!(number("1,5"), None);
         assert_eq!(number(""), None);
+    }
+
+    #[test]
+    fn lines_split_as_python_splits_them() {
+        let split: Vec<&str> = lines("a\r\r\nb\nc\rd\r\n").collect();
+        assert_eq!(split, ["a", "", "b", "c", "d"]);
+        assert_eq!(lines("").count(), 0);
+        assert_eq!(lines("x").collect::<Vec<_>>(), ["x"]);
     }
 
     #[test]
