@@ -51,10 +51,10 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
         if line.starts_with("Scan Data") {
             break;
         }
-        if let Some((key, value)) = line.trim().split_once(',') {
-            if ["Stylus", "Length", "Resolution", "Force", "Scan Type"].contains(&key) {
-                metadata.push((key.to_ascii_lowercase(), value.trim().to_string()));
-            }
+        if let Some((key, value)) = line.trim().split_once(',')
+            && ["Stylus", "Length", "Resolution", "Force", "Scan Type"].contains(&key)
+        {
+            metadata.push((key.to_ascii_lowercase(), value.trim().to_string()));
         }
     }
     let mut titles = lines.by_ref().skip_while(|(_, l)| l.trim().is_empty());

@@ -172,8 +172,11 @@ fn value(bytes: &Bytes, kind: u32, at: usize) -> f64 {
     value.unwrap_or(f64::NAN)
 }
 
-/// The dimensions (name, length) and variables of the header.
-fn parse(bytes: Bytes) -> Result<(Vec<(String, usize)>, Vec<Variable>), FormatError> {
+/// The dimensions of a file: name and length.
+type Dimensions = Vec<(String, usize)>;
+
+/// The dimensions and variables of the header.
+fn parse(bytes: Bytes) -> Result<(Dimensions, Vec<Variable>), FormatError> {
     let version = bytes.read::<u8>(3, "the version")?;
     let mut h = Header {
         c: bytes.cursor(4),
@@ -257,12 +260,12 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
         .to_string();
     let unit_m = metres_per(&unit)
         .ok_or_else(|| FORMAT.unsupported(format!("the unit \"{unit}\" is not a length unit")))?;
-    if let Some(height_unit) = heights.attribute("unit").and_then(Value::text) {
-        if metres_per(height_unit) != Some(unit_m) {
-            return Err(FORMAT.invalid(format!(
-                "\"heights\" is in \"{height_unit}\" but \"x\" in \"{unit}\""
-            )));
-        }
+    if let Some(height_unit) = heights.attribute("unit").and_then(Value::text)
+        && metres_per(height_unit) != Some(unit_m)
+    {
+        return Err(FORMAT.invalid(format!(
+            "\"heights\" is in \"{height_unit}\" but \"x\" in \"{unit}\""
+        )));
     }
     let length = |k: usize, n: usize| -> Result<f64, FormatError> {
         let size = axis(k)
@@ -373,7 +376,7 @@ mod tests {
         f.extend(3u32.to_be_bytes());
         let mut begins = Vec::new();
         for (n, dims, length) in [
-            ("x", vec![0u32], 4),
+            ("x", vec![0u32], 4i32),
             ("y", vec![1], 3),
             ("heights", vec![0, 1], 0),
         ] {
@@ -388,7 +391,7 @@ mod tests {
                 let mut a = name("length");
                 a.extend(4u32.to_be_bytes());
                 a.extend(1u32.to_be_bytes());
-                a.extend((length as i32).to_be_bytes());
+                a.extend(length.to_be_bytes());
                 attributes.push(a);
             }
             if let (Some(fill), "heights") = (fill, n) {
