@@ -129,23 +129,28 @@ fn axis(data: &[u8], letter: char) -> Option<Axis> {
         })
 }
 
-/// The zlib blocks of counts in `blocks`: (offset of the first count, counts).
-fn count_blocks(blocks: &[u8]) -> Vec<(usize, Vec<u8>)> {
+/// The zlib blocks of counts in `blocks` that lie within a map of `n`
+/// counts: (offset of the first count, counts). At most four maps' worth
+/// of counts are inflated, whatever the blocks claim.
+fn count_blocks(blocks: &[u8], n: usize) -> Vec<(usize, Vec<u8>)> {
     let bytes = Bytes::new(blocks, FORMAT.name(), ByteOrder::Little);
     let mut found = Vec::new();
+    let mut inflated_bytes = 0usize;
     let mut at = 0;
-    while at + BLOCK_PREFIX + 2 <= blocks.len() {
+    while at + BLOCK_PREFIX + 2 <= blocks.len() && inflated_bytes <= 16 * n {
         let zlib = &blocks[at + BLOCK_PREFIX..];
         let header = zlib[0] == 0x78 && [0x01, 0x5e, 0x9c, 0xda].contains(&zlib[1]);
         let first = bytes.read::<u64>(at, "a block offset").unwrap_or(u64::MAX);
         let counts = bytes.read::<u32>(at + 8, "a block's counts").unwrap_or(0) as usize;
         let zipped = bytes.read::<u32>(at + 12, "a block's size").unwrap_or(0) as usize;
-        if header && counts > 0 && counts <= MAX_POINTS && zipped <= zlib.len() {
+        let inside = usize::try_from(first).is_ok_and(|f| f < n && counts <= n - f);
+        if header && counts > 0 && inside && zipped <= zlib.len() {
             let mut out = Vec::new();
             let inflated = ZlibDecoder::new(&zlib[..zipped])
                 .take(counts as u64 * 4 + 1)
                 .read_to_end(&mut out);
-            if inflated.is_ok() && out.len() == counts * 4 && first < MAX_POINTS as u64 {
+            if inflated.is_ok() && out.len() == counts * 4 {
+                inflated_bytes += out.len();
                 found.push((first as usize, out));
                 at += BLOCK_PREFIX + zipped;
                 continue;
@@ -206,7 +211,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
     );
     let n = grid_points(FORMAT.name(), nx, ny, "the X and Y axis records")?;
     let counts =
-        layer(count_blocks(&contents[blocks..blocks + blocks_len]), n).ok_or_else(|| {
+        layer(count_blocks(&contents[blocks..blocks + blocks_len], n), n).ok_or_else(|| {
             FORMAT.invalid(format!(
                 "no layer of zlib blocks holds the {nx} × {ny} counts"
             ))
@@ -276,9 +281,10 @@ mod tests {
         blocks.extend(block(0, &[1, 2]));
         // a second layer that repeats offset 0
         blocks.extend(block(0, &[9, 9, 9, 9]));
-        let counts = layer(count_blocks(&blocks), 4).unwrap();
+        let counts = layer(count_blocks(&blocks, 4), 4).unwrap();
         assert_eq!(counts, [1, 2, 3, 4]);
-        assert!(layer(count_blocks(&blocks), 5).is_none());
+        // blocks reaching past a map of 3 are not taken
+        assert!(layer(count_blocks(&blocks, 3), 3).is_none());
     }
 
     #[test]

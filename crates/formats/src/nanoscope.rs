@@ -18,6 +18,8 @@
 //! map), as SurfaceTopography and Gwyddion show it. A channel not in a
 //! length unit (phase, amplitude) is listed but not read as heights.
 
+use std::sync::OnceLock;
+
 use ndarray::Array2;
 use regex::Regex;
 
@@ -117,8 +119,10 @@ fn parse<T: std::str::FromStr>(value: Option<&str>, key: &str) -> Result<T, Form
 
 fn image(section: &Section, scanner: &[(String, String)]) -> Result<Image, FormatError> {
     let data_key = section.get("@2:image data").unwrap_or_default();
-    let name = Regex::new(r"^S \[(.*?)\] ")
-        .ok()
+    static NAME: OnceLock<Option<Regex>> = OnceLock::new();
+    let name = NAME
+        .get_or_init(|| Regex::new(r"^S \[(.*?)\] ").ok())
+        .as_ref()
         .and_then(|r| r.captures(data_key).map(|c| c[1].to_string()))
         .ok_or_else(|| FORMAT.invalid(format!("\"@2:Image Data: {data_key}\" names no image")))?;
     let nx: usize = parse(section.get("samps/line"), "Samps/line")?;
@@ -158,8 +162,10 @@ fn z_scale(
     bytes_per_count: usize,
 ) -> Result<f64, String> {
     let z_scale = section.get("@2:z scale").unwrap_or_default();
-    let pattern = Regex::new(r"^V (?:\[(.*?)\]|)\s*\(([0-9\.]+) (.*)/LSB\) (.*) (.*)").ok();
-    let Some(found) = pattern.and_then(|p| p.captures(z_scale)) else {
+    static SCALE: OnceLock<Option<Regex>> = OnceLock::new();
+    let pattern = SCALE
+        .get_or_init(|| Regex::new(r"^V (?:\[(.*?)\]|)\s*\(([0-9\.]+) (.*)/LSB\) (.*) (.*)").ok());
+    let Some(found) = pattern.as_ref().and_then(|p| p.captures(z_scale)) else {
         return Err(format!("its \"@2:Z scale: {z_scale}\" is not read"));
     };
     let hard: f64 = found[4]
