@@ -46,14 +46,17 @@ pub(crate) fn matches(bytes: &[u8]) -> bool {
     bytes.starts_with(cfb::MAGIC)
 }
 
-/// The TLV entries of `data` from `at` to its end: (tag, contents offset, size).
-fn entries(data: &[u8], mut at: usize) -> Vec<(u16, usize, usize)> {
+/// At most `most` TLV entries of `data` from `at` on: (tag, contents
+/// offset, size); the walk stops at the first entry that overruns `data`.
+fn entries(data: &[u8], mut at: usize, most: usize) -> Vec<(u16, usize, usize)> {
     let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Little);
     let mut out = Vec::new();
-    while let (Ok(tag), Ok(size)) = (
-        bytes.read::<u16>(at, "a tag"),
-        bytes.read::<u64>(at + 2, "a size"),
-    ) {
+    while out.len() < most
+        && let (Ok(tag), Ok(size)) = (
+            bytes.read::<u16>(at, "a tag"),
+            bytes.read::<u64>(at + 2, "a size"),
+        )
+    {
         let start = at + 10;
         let Some(size) = usize::try_from(size)
             .ok()
@@ -69,7 +72,7 @@ fn entries(data: &[u8], mut at: usize) -> Vec<(u16, usize, usize)> {
 
 /// The contents of the first entry tagged `tag` in `data[range]`.
 fn child(data: &[u8], start: usize, end: usize, tag: u16) -> Option<(usize, usize)> {
-    entries(&data[..end], start)
+    entries(&data[..end], start, usize::MAX)
         .into_iter()
         .find(|(t, _, _)| *t == tag)
         .map(|(_, at, size)| (at, size))
@@ -100,10 +103,7 @@ fn axis(data: &[u8], letter: char) -> Option<Axis> {
         .enumerate()
         .filter(|(_, w)| *w == name.as_slice())
         .find_map(|(at, _)| {
-            let fields = entries(data, at + name.len())
-                .into_iter()
-                .take(7)
-                .collect::<Vec<_>>();
+            let fields = entries(data, at + name.len(), 7);
             let [
                 (1, step, 8),
                 (2, su, sn),
