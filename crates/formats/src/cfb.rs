@@ -197,3 +197,91 @@ impl<'a> Compound<'a> {
         Ok(content)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A version-3 compound file: sector 0 the FAT, 1 the directory (root
+    /// and a stream "A" of 4600 bytes, over the mini-stream cutoff), 2–10
+    /// the stream, chained 2 → 3 → … → 10.
+    fn file() -> (Vec<u8>, Vec<u8>) {
+        let mut f = vec![0u8; 512 * 12];
+        f[..8].copy_from_slice(MAGIC);
+        f[26..28].copy_from_slice(&3u16.to_le_bytes());
+        f[28..30].copy_from_slice(&0xFFFEu16.to_le_bytes());
+        f[30..32].copy_from_slice(&9u16.to_le_bytes());
+        f[32..34].copy_from_slice(&6u16.to_le_bytes());
+        let put =
+            |f: &mut Vec<u8>, at: usize, v: u32| f[at..at + 4].copy_from_slice(&v.to_le_bytes());
+        put(&mut f, 44, 1);
+        put(&mut f, 48, 1);
+        put(&mut f, 56, 4096);
+        put(&mut f, 60, END_OF_CHAIN);
+        put(&mut f, 68, END_OF_CHAIN);
+        put(&mut f, 76, 0);
+        for k in 1..HEADER_DIFAT {
+            put(&mut f, 76 + 4 * k, FREE);
+        }
+        let fat = 512;
+        for k in 0..128 {
+            let next = match k {
+                0 => 0xFFFF_FFFD,
+                1 | 10 => END_OF_CHAIN,
+                2..=9 => k as u32 + 1,
+                _ => FREE,
+            };
+            put(&mut f, fat + 4 * k, next);
+        }
+        let entry = |f: &mut Vec<u8>, index: usize, name: &str, kind: u8, start: u32, size: u64| {
+            let at = 1024 + index * ENTRY_LEN;
+            let units: Vec<u8> = name
+                .encode_utf16()
+                .chain([0])
+                .flat_map(u16::to_le_bytes)
+                .collect();
+            f[at..at + units.len()].copy_from_slice(&units);
+            f[at + 64..at + 66].copy_from_slice(&(units.len() as u16).to_le_bytes());
+            f[at + 66] = kind;
+            f[at + 116..at + 120].copy_from_slice(&start.to_le_bytes());
+            f[at + 120..at + 128].copy_from_slice(&size.to_le_bytes());
+        };
+        entry(&mut f, 0, "Root Entry", ROOT, END_OF_CHAIN, 0);
+        entry(&mut f, 1, "A", STREAM, 2, 4600);
+        let content: Vec<u8> = (0..4600u32).map(|k| (k % 251) as u8).collect();
+        f[1536..1536 + 4600].copy_from_slice(&content);
+        (f, content)
+    }
+
+    #[test]
+    fn a_stream_is_read_along_its_chain() {
+        let (f, content) = file();
+        let compound = Compound::open(&f, Format::Mnt).unwrap();
+        assert_eq!(compound.stream("A").unwrap(), content);
+        let err = compound.stream("B").unwrap_err().to_string();
+        assert!(err.contains("no stream \"B\""), "{err}");
+    }
+
+    #[test]
+    fn loops_and_sectors_outside_the_file_are_errors() {
+        let (mut f, _) = file();
+        // sector 10 points back to 2: the chain never ends
+        f[512 + 40..512 + 44].copy_from_slice(&2u32.to_le_bytes());
+        let err = Compound::open(&f, Format::Mnt)
+            .unwrap()
+            .stream("A")
+            .unwrap_err();
+        assert!(err.to_string().contains("loops"), "{err}");
+        let (mut f, _) = file();
+        f[512 + 12..512 + 16].copy_from_slice(&4000u32.to_le_bytes());
+        let err = Compound::open(&f, Format::Mnt)
+            .unwrap()
+            .stream("A")
+            .unwrap_err();
+        assert!(err.to_string().contains("sector 4000"), "{err}");
+        let (mut f, _) = file();
+        f[44..48].copy_from_slice(&u32::MAX.to_le_bytes());
+        assert!(Compound::open(&f, Format::Mnt).is_err());
+        assert!(Compound::open(&f[..100], Format::Mnt).is_err());
+    }
+}
