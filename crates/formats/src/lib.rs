@@ -175,6 +175,25 @@ pub struct Topography {
     pub metadata: Vec<(String, String)>,
 }
 
+impl Topography {
+    /// Whether the map is a line scan (a profile: n × 1, metadata `line_scan`).
+    pub fn is_line_scan(&self) -> bool {
+        self.heights_m.ncols() == 1
+            && self
+                .metadata
+                .iter()
+                .any(|(k, v)| k == "line_scan" && v == "true")
+    }
+
+    /// The value of a metadata key (the first, if the file gives it twice).
+    pub fn meta(&self, key: &str) -> Option<&str> {
+        self.metadata
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.as_str())
+    }
+}
+
 /// Why a file could not be read. Messages say what was expected and where
 /// (byte offset, line, XML element or header key), never only "invalid".
 #[derive(Debug, thiserror::Error, PartialEq)]

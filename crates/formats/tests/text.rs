@@ -56,7 +56,8 @@ fn dektak_1_heights_equal_surface_topography_and_the_spacing_is_the_fit() {
     let map = read_as("dektak-1.csv", Format::DektakCsv);
     let expected = expected_more("dektak-1");
     assert_eq!(map.heights_m.dim(), (9600, 1));
-    assert_eq!(meta(&map, "line_scan"), Some("true"));
+    assert!(map.is_line_scan());
+    assert_eq!(map.meta("line_scan"), Some("true"));
     // Raw Micrometer × 1e-6: the same single multiplication, bit for bit
     common::assert_identical(&map.heights_m, &expected.heights_m);
     // the spacing: 1500 µm over 9600 points (the header's Length) to 3e-8;
@@ -75,6 +76,7 @@ fn dektak_1_heights_equal_surface_topography_and_the_spacing_is_the_fit() {
 #[test]
 fn nc_1_equals_surface_topography() {
     let map = read_as("nc-1.nc", Format::NetCdf);
+    assert!(!map.is_line_scan());
     assert_same_map(&map, &expected_more("nc-1"), 0.0);
     assert_eq!(meta(&map, "unit"), Some("nm"));
 }
