@@ -3,10 +3,10 @@
 //! offsets of the map along x and y (`f32`, mm), then the heights as `f32`
 //! in rows of constant y, little-endian (SurfaceTopography's `IO/TMD.py`).
 //!
-//! Lengths and heights are in millimetres, as GelSight documents its TMD
-//! export. SurfaceTopography 1.21 labels them µm; the reference map
-//! (`tmd-1_m.npy`, 300 points over 18.96 → 63.2 µm spacing) was read in mm,
-//! as here.
+//! Lengths and heights are read in millimetres, as the reference map of
+//! `tmd-1.tmd` was (300 points over 18.96 mm, a 63.2 µm spacing, heights
+//! up to 0.35 mm); SurfaceTopography 1.21's `TMD.py` labels the same
+//! numbers µm, which would make the file's 300-point map 19 µm wide.
 
 use crate::bytes::{ByteOrder, Bytes, grid_points, x_major};
 use crate::{Format, FormatError, Topography};
