@@ -226,6 +226,40 @@ fn surface_path(
     })
 }
 
+/// `/MetaData`'s rows of (source, link, destination) strings, `None`
+/// where it is not such a table (or has more than MAX_METADATA_ROWS rows).
+fn metadata_rows(metadata: &hdf5_reader::Dataset, vlen_size: usize) -> Option<Vec<[String; 3]>> {
+    if metadata.num_elements().ok()? > MAX_METADATA_ROWS {
+        return None;
+    }
+    let resolve = |reference: &[u8]| metadata.resolve_vlen_reference_bytes(reference, 1);
+    let decoder = Decoder {
+        vlen_size,
+        resolve: &resolve,
+    };
+    let Datatype::Compound { fields, .. } = metadata.dtype() else {
+        return None;
+    };
+    let row_len = metadata.raw_element_size().ok()?;
+    let raw = metadata.read_raw_bytes().ok()?;
+    if fields.len() < 3 || row_len == 0 {
+        return None;
+    }
+    raw.chunks_exact(row_len)
+        .map(|row| {
+            let text = |i: usize| {
+                let field: &hdf5_reader::CompoundField = &fields[i];
+                let at = field.byte_offset as usize;
+                decoder.text(
+                    &field.datatype,
+                    row.get(at..at + decoder.size(&field.datatype)?)?,
+                )
+            };
+            Some([text(0)?, text(1)?, text(2)?])
+        })
+        .collect()
+}
+
 /// Reads the surface dataset as heights in metres, axis 0 = x, NaN where
 /// the file has no data.
 pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
@@ -240,37 +274,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
     let root = file.root_group().map_err(hdf5("the root group"))?;
     let vlen_size = 4 + usize::from(root.offset_size()) + 4;
 
-    let path = surface_path(&file, |metadata| {
-        if metadata.num_elements().ok()? > MAX_METADATA_ROWS {
-            return None;
-        }
-        let resolve = |reference: &[u8]| metadata.resolve_vlen_reference_bytes(reference, 1);
-        let decoder = Decoder {
-            vlen_size,
-            resolve: &resolve,
-        };
-        let Datatype::Compound { fields, .. } = metadata.dtype() else {
-            return None;
-        };
-        let row_len = metadata.raw_element_size().ok()?;
-        let raw = metadata.read_raw_bytes().ok()?;
-        if fields.len() < 3 || row_len == 0 {
-            return None;
-        }
-        raw.chunks_exact(row_len)
-            .map(|row| {
-                let text = |i: usize| {
-                    let field: &hdf5_reader::CompoundField = &fields[i];
-                    let at = field.byte_offset as usize;
-                    decoder.text(
-                        &field.datatype,
-                        row.get(at..at + decoder.size(&field.datatype)?)?,
-                    )
-                };
-                Some([text(0)?, text(1)?, text(2)?])
-            })
-            .collect()
-    })?;
+    let path = surface_path(&file, |metadata| metadata_rows(metadata, vlen_size))?;
     let surface = file.dataset(&path).map_err(|e| {
         FORMAT.invalid(format!("the height dataset {path} named in /MetaData: {e}"))
     })?;
@@ -285,95 +289,13 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
             .map_err(|_| FORMAT.invalid(format!("{path} has no \"{name}\" attribute")))
     };
 
-    let unit = decoder
-        .attribute_text(&attribute("Unit")?)
-        .ok_or_else(|| FORMAT.invalid(format!("{path}: \"Unit\" is not a string")))?;
-    let Some(unit_m) = metres_per_unit(&unit) else {
-        return Err(FORMAT.unsupported(format!(
-            "{path}: heights in \"{unit}\", not a length unit: {EXPORT_ADVICE}"
-        )));
-    };
-    let z = converter(&decoder, &attribute("Z Converter")?, &path, "Z Converter")?;
-    if z.category != "HeightCat" {
-        return Err(FORMAT.unsupported(format!(
-            "{path}: Z Converter category \"{}\", expected HeightCat: {EXPORT_ADVICE}",
-            z.category
-        )));
-    }
-    if metres_per_unit(&z.base_unit) != Some(unit_m) {
-        return Err(FORMAT.invalid(format!(
-            "{path}: the Z Converter's unit \"{}\" contradicts \"Unit\" = \"{unit}\"",
-            z.base_unit
-        )));
-    }
-    let mut pixel_m = [0.0; 2];
-    for (pixel, name) in pixel_m.iter_mut().zip(["X Converter", "Y Converter"]) {
-        let lateral = converter(&decoder, &attribute(name)?, &path, name)?;
-        let metres = lateral.parameters.get(1).copied().unwrap_or(f64::NAN);
-        if lateral.category != "LateralCat" || lateral.base_unit != "Pixels" {
-            return Err(FORMAT.unsupported(format!(
-                "{path}: {name} is {} in {}, expected LateralCat in Pixels: {EXPORT_ADVICE}",
-                lateral.category, lateral.base_unit
-            )));
-        }
-        if !(metres.is_finite() && metres > 0.0) {
-            return Err(FORMAT.invalid(format!(
-                "{path}: {name}'s pixel size (Parameters[1]) is {metres} m, expected a positive number"
-            )));
-        }
-        *pixel = metres;
-    }
+    let (unit, unit_m, pixel_m) = calibration(&decoder, &attribute, &path)?;
     let no_data = surface
         .attribute("No Data")
         .ok()
         .and_then(|a| number(&a.datatype, &a.raw_data));
 
-    let &[ny, nx] = surface.shape() else {
-        return Err(FORMAT.invalid(format!(
-            "{path} has shape {:?}, expected rows × columns",
-            surface.shape()
-        )));
-    };
-    let (nx, ny) = (
-        usize::try_from(nx).unwrap_or(usize::MAX),
-        usize::try_from(ny).unwrap_or(usize::MAX),
-    );
-    let points = grid_points(FORMAT.name(), nx, ny, &path)?;
-    let dtype = surface.dtype().clone();
-    let size = match dtype {
-        Datatype::FloatingPoint {
-            size: size @ (4 | 8),
-            ..
-        }
-        | Datatype::FixedPoint {
-            size: size @ (1 | 2 | 4 | 8),
-            ..
-        } => usize::from(size),
-        _ => {
-            return Err(FORMAT.unsupported(format!(
-                "{path}: heights of type {dtype:?}, expected numbers"
-            )));
-        }
-    };
-    let raw = surface.read_raw_bytes().map_err(hdf5(&path))?;
-    if raw.len() != points * size {
-        return Err(FORMAT.invalid(format!(
-            "{path}: {} bytes of heights for {nx} × {ny} values of {size} bytes",
-            raw.len()
-        )));
-    }
-    let values: Vec<f64> = raw
-        .chunks_exact(size)
-        .map(|value| number(&dtype, value).unwrap_or(f64::NAN))
-        .collect();
-    // stored as rows of constant y
-    let heights_m = x_major(nx, ny, &values, |h| {
-        if !h.is_finite() || Some(h) == no_data {
-            f64::NAN
-        } else {
-            h * unit_m
-        }
-    });
+    let heights_m = heights(&surface, &path, unit_m, no_data)?;
 
     let mut metadata = vec![
         ("vendor".to_string(), "Zygo".to_string()),
@@ -397,6 +319,111 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
         position_m: None,
         metadata,
     })
+}
+
+/// The dataset's height unit (its name and metres per unit) and its pixel
+/// sizes along x and y in metres, from `Unit` and the three converters.
+fn calibration(
+    decoder: &Decoder,
+    attribute: &dyn Fn(&str) -> Result<Attribute, FormatError>,
+    path: &str,
+) -> Result<(String, f64, [f64; 2]), FormatError> {
+    let unit = decoder
+        .attribute_text(&attribute("Unit")?)
+        .ok_or_else(|| FORMAT.invalid(format!("{path}: \"Unit\" is not a string")))?;
+    let Some(unit_m) = metres_per_unit(&unit) else {
+        return Err(FORMAT.unsupported(format!(
+            "{path}: heights in \"{unit}\", not a length unit: {EXPORT_ADVICE}"
+        )));
+    };
+    let z = converter(decoder, &attribute("Z Converter")?, path, "Z Converter")?;
+    if z.category != "HeightCat" {
+        return Err(FORMAT.unsupported(format!(
+            "{path}: Z Converter category \"{}\", expected HeightCat: {EXPORT_ADVICE}",
+            z.category
+        )));
+    }
+    if metres_per_unit(&z.base_unit) != Some(unit_m) {
+        return Err(FORMAT.invalid(format!(
+            "{path}: the Z Converter's unit \"{}\" contradicts \"Unit\" = \"{unit}\"",
+            z.base_unit
+        )));
+    }
+    let mut pixel_m = [0.0; 2];
+    for (pixel, name) in pixel_m.iter_mut().zip(["X Converter", "Y Converter"]) {
+        let lateral = converter(decoder, &attribute(name)?, path, name)?;
+        let metres = lateral.parameters.get(1).copied().unwrap_or(f64::NAN);
+        if lateral.category != "LateralCat" || lateral.base_unit != "Pixels" {
+            return Err(FORMAT.unsupported(format!(
+                "{path}: {name} is {} in {}, expected LateralCat in Pixels: {EXPORT_ADVICE}",
+                lateral.category, lateral.base_unit
+            )));
+        }
+        if !(metres.is_finite() && metres > 0.0) {
+            return Err(FORMAT.invalid(format!(
+                "{path}: {name}'s pixel size (Parameters[1]) is {metres} m, expected a positive number"
+            )));
+        }
+        *pixel = metres;
+    }
+    Ok((unit, unit_m, pixel_m))
+}
+
+/// The dataset's values (rows of constant y) as heights in metres, axis 0
+/// = x, NaN where not finite or equal to `no_data`.
+fn heights(
+    surface: &hdf5_reader::Dataset,
+    path: &str,
+    unit_m: f64,
+    no_data: Option<f64>,
+) -> Result<ndarray::Array2<f64>, FormatError> {
+    let &[ny, nx] = surface.shape() else {
+        return Err(FORMAT.invalid(format!(
+            "{path} has shape {:?}, expected rows × columns",
+            surface.shape()
+        )));
+    };
+    let (nx, ny) = (
+        usize::try_from(nx).unwrap_or(usize::MAX),
+        usize::try_from(ny).unwrap_or(usize::MAX),
+    );
+    let points = grid_points(FORMAT.name(), nx, ny, path)?;
+    let dtype = surface.dtype().clone();
+    let size = match dtype {
+        Datatype::FloatingPoint {
+            size: size @ (4 | 8),
+            ..
+        }
+        | Datatype::FixedPoint {
+            size: size @ (1 | 2 | 4 | 8),
+            ..
+        } => usize::from(size),
+        _ => {
+            return Err(FORMAT.unsupported(format!(
+                "{path}: heights of type {dtype:?}, expected numbers"
+            )));
+        }
+    };
+    let raw = surface.read_raw_bytes().map_err(hdf5(path))?;
+    if raw.len() != points * size {
+        return Err(FORMAT.invalid(format!(
+            "{path}: {} bytes of heights for {nx} × {ny} values of {size} bytes",
+            raw.len()
+        )));
+    }
+    let values: Vec<f64> = raw
+        .chunks_exact(size)
+        .map(|value| number(&dtype, value).unwrap_or(f64::NAN))
+        .collect();
+    // stored as rows of constant y
+    let heights_m = x_major(nx, ny, &values, |h| {
+        if !h.is_finite() || Some(h) == no_data {
+            f64::NAN
+        } else {
+            h * unit_m
+        }
+    });
+    Ok(heights_m)
 }
 
 /// A converter attribute's category, unit and parameters.

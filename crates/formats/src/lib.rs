@@ -7,19 +7,43 @@
 //! wrong extension is still read by the right reader. [`write_x3p`] writes
 //! any map as X3P, the open exchange format (e.g. to build tile sets, the
 //! tile positions as the axes' offsets).
+//!
+//! Files that hold several channels (AFM trace and retrace, height and
+//! phase) are read one channel at a time: [`read_bytes_channel`] takes a
+//! [`Channel`] by name or index, [`read_bytes`] the default one (the height
+//! channel SurfaceTopography reads by default); the metadata keys `channel`
+//! and `channels` name the channel read and list every channel found. A
+//! line scan (a stylus profile) is a map of one point along y: shape
+//! (n, 1), `dy_m` equal to `dx_m`, and the metadata key `line_scan`.
 
 use std::path::Path;
 
 use ndarray::Array2;
 
+mod al3d;
+mod ascii;
 mod bytes;
+mod cfb;
+mod channel;
 mod datx;
+mod dektak;
+mod frt;
+mod ibw;
 mod metropro;
+mod mi;
+mod mnt;
+mod nanoscope;
+mod netcdf;
+mod nid;
 mod opd;
 mod plu;
 mod sur;
+mod text;
+mod tmd;
+mod units;
 mod x3p;
 
+pub use channel::Channel;
 pub use x3p::write_x3p;
 
 /// The formats read here.
@@ -39,6 +63,29 @@ pub enum Format {
     Datx,
     /// Wyko / Veeco Vision `.opd`
     Opd,
+    /// Alicona Imaging `.al3d`
+    Al3d,
+    /// Bruker / Veeco / Digital Instruments Nanoscope (`.di`, `.spm`, `.001`)
+    Nanoscope,
+    /// FRT MicroProf `.frt`
+    Frt,
+    /// Digital Surf MountainsMap document `.mnt`
+    Mnt,
+    /// Nanosurf easyScan `.nid` / `.ezd`
+    Nid,
+    /// Igor binary wave `.ibw` (Asylum Research AFMs)
+    Ibw,
+    /// Molecular Imaging / Agilent PicoView `.mi`
+    Mi,
+    /// TrueMap / GelSight `.tmd`
+    Tmd,
+    /// NetCDF classic `.nc` (SurfaceTopography's layout)
+    NetCdf,
+    /// Plain-text height matrix (`.txt`, `.asc`), with or without a header
+    /// (Gwyddion's ASCII export among them)
+    AsciiMatrix,
+    /// Bruker Dektak stylus profile exported as `.csv`
+    DektakCsv,
 }
 
 impl Format {
@@ -52,7 +99,46 @@ impl Format {
             Format::MetroPro => "Zygo MetroPro .dat",
             Format::Datx => "Zygo .datx",
             Format::Opd => "Wyko .opd",
+            Format::Al3d => "Alicona .al3d",
+            Format::Nanoscope => "Bruker Nanoscope .di",
+            Format::Frt => "FRT .frt",
+            Format::Mnt => "Digital Surf .mnt",
+            Format::Nid => "Nanosurf .nid",
+            Format::Ibw => "Igor .ibw",
+            Format::Mi => "Molecular Imaging .mi",
+            Format::Tmd => "TrueMap .tmd",
+            Format::NetCdf => "NetCDF .nc",
+            Format::AsciiMatrix => "ASCII matrix",
+            Format::DektakCsv => "Dektak .csv",
         }
+    }
+
+    /// Every format read here, in the order `detect` tries them.
+    pub const ALL: [Format; 18] = [
+        Format::Npy,
+        Format::X3p,
+        Format::Sur,
+        Format::Plu,
+        Format::MetroPro,
+        Format::Datx,
+        Format::Opd,
+        Format::Al3d,
+        Format::Nanoscope,
+        Format::Frt,
+        Format::Mnt,
+        Format::Nid,
+        Format::Ibw,
+        Format::Mi,
+        Format::Tmd,
+        Format::NetCdf,
+        Format::DektakCsv,
+        Format::AsciiMatrix,
+    ];
+
+    /// The names of every format read, for messages.
+    pub fn all_names() -> String {
+        let names: Vec<&str> = Format::ALL.iter().map(|f| f.name()).collect();
+        names.join(", ")
     }
 
     /// An error: the file breaks this format's layout.
@@ -89,11 +175,33 @@ pub struct Topography {
     pub metadata: Vec<(String, String)>,
 }
 
+impl Topography {
+    /// Whether the map is a line scan (a profile: n × 1, metadata `line_scan`).
+    pub fn is_line_scan(&self) -> bool {
+        self.heights_m.ncols() == 1
+            && self
+                .metadata
+                .iter()
+                .any(|(k, v)| k == "line_scan" && v == "true")
+    }
+
+    /// The value of a metadata key (the first, if the file gives it twice).
+    pub fn meta(&self, key: &str) -> Option<&str> {
+        self.metadata
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.as_str())
+    }
+}
+
 /// Why a file could not be read. Messages say what was expected and where
-/// (byte offset or XML element), never only "invalid".
+/// (byte offset, line, XML element or header key), never only "invalid".
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum FormatError {
-    #[error("not a height-map format hypercontact reads (first bytes {0})")]
+    #[error(
+        "not a height-map format hypercontact reads (found {0}); the formats read are {formats}",
+        formats = Format::all_names()
+    )]
     Unknown(String),
     #[error("{format}: {message}")]
     Invalid {
@@ -105,18 +213,26 @@ pub enum FormatError {
         format: &'static str,
         message: String,
     },
+    /// The channel asked for is not in the file; the message lists those that are.
+    #[error("{format}: {message}")]
+    NoSuchChannel {
+        format: &'static str,
+        message: String,
+    },
 }
 
 /// The format of a file from its bytes; the extension decides only where
 /// the bytes alone cannot.
 ///
-/// Every format with a magic number is told by its first 18 bytes (the
-/// name of a Wyko `.opd` directory ends at byte 18; the other magics take at
-/// most 12). Sensofar `.plu` (and `.apx`, the same layout: SurfaceTopography
+/// Every format with a magic number is told by its first 384 bytes (an Igor
+/// wave's headers, whose checksum is its magic; the other magics take at
+/// most 32). Sensofar `.plu` (and `.apx`, the same layout: SurfaceTopography
 /// 1.27's PLU reader takes both) has none: it is recognised only by its
 /// extension together with a header that agrees with the whole file (grid
 /// sizes, pixel size, measurement type, a first layer that fits in the
-/// file), so pass the whole file, not only its first bytes.
+/// file), so pass the whole file, not only its first bytes. A plain-text
+/// matrix has none either: a `.txt`, `.asc` or `.dat` file whose first lines
+/// are text with a row of numbers.
 pub fn detect(bytes: &[u8], path: Option<&Path>) -> Option<Format> {
     if bytes.starts_with(b"\x93NUMPY") {
         return Some(Format::Npy);
@@ -128,6 +244,17 @@ pub fn detect(bytes: &[u8], path: Option<&Path>) -> Option<Format> {
         (Format::Datx, datx::matches),
         (Format::Opd, opd::matches),
         (Format::Plu, plu::matches),
+        (Format::Al3d, al3d::matches),
+        (Format::Nanoscope, nanoscope::matches),
+        (Format::Frt, frt::matches),
+        (Format::Mnt, mnt::matches),
+        (Format::Nid, nid::matches),
+        (Format::Ibw, ibw::matches),
+        (Format::Mi, mi::matches),
+        (Format::Tmd, tmd::matches),
+        (Format::NetCdf, netcdf::matches),
+        (Format::DektakCsv, dektak::matches),
+        (Format::AsciiMatrix, ascii::matches),
     ];
     if let Some((format, _)) = by_bytes.iter().find(|(_, m)| m(bytes)) {
         return Some(*format);
@@ -135,27 +262,54 @@ pub fn detect(bytes: &[u8], path: Option<&Path>) -> Option<Format> {
     let extension = path?.extension()?.to_str()?.to_ascii_lowercase();
     match extension.as_str() {
         "plu" | "apx" if plu::plausible(bytes) => Some(Format::Plu),
+        "txt" | "asc" | "dat" if ascii::plausible(bytes) => Some(Format::AsciiMatrix),
         _ => None,
     }
 }
 
-/// Reads a height map from a file's bytes; `path` only helps [`detect`].
-/// Never panics, whatever the bytes.
+/// Reads a height map from a file's bytes, the default channel of a
+/// multi-channel file; `path` only helps [`detect`]. Never panics, whatever
+/// the bytes.
 pub fn read_bytes(bytes: &[u8], path: Option<&Path>) -> Result<Topography, FormatError> {
+    read_bytes_channel(bytes, path, &Channel::Default)
+}
+
+/// Reads one channel of a file's bytes (by name or index; see [`Channel`]);
+/// a single-channel file takes [`Channel::Default`], index 0 or its one
+/// channel's name. Never panics, whatever the bytes.
+pub fn read_bytes_channel(
+    bytes: &[u8],
+    path: Option<&Path>,
+    channel: &Channel,
+) -> Result<Topography, FormatError> {
     let Some(format) = detect(bytes, path) else {
-        let shown: Vec<String> = bytes.iter().take(8).map(|b| format!("{b:02x}")).collect();
-        return Err(FormatError::Unknown(shown.join(" ")));
+        return Err(FormatError::Unknown(channel::describe_start(bytes)));
+    };
+    let single = |name: &str, read: fn(&[u8]) -> Result<Topography, FormatError>| {
+        channel::single(format, name, channel)?;
+        read(bytes).map(|map| channel::named(map, name))
     };
     match format {
         Format::Npy => Err(FormatError::Unsupported {
             format: format.name(),
             message: "holds no grid spacing: read it as a field with pixel_m".into(),
         }),
-        Format::X3p => x3p::read(bytes),
-        Format::Sur => sur::read(bytes),
-        Format::Plu => plu::read(bytes),
-        Format::MetroPro => metropro::read(bytes),
-        Format::Datx => datx::read(bytes),
-        Format::Opd => opd::read(bytes),
+        Format::X3p => single("heights", x3p::read),
+        Format::Sur => single("heights", sur::read),
+        Format::Plu => single("heights", plu::read),
+        Format::MetroPro => single("phase", metropro::read),
+        Format::Datx => single("surface", datx::read),
+        Format::Opd => single("heights", opd::read),
+        Format::Al3d => single("Default", al3d::read),
+        Format::Frt => single("default", frt::read),
+        Format::Mnt => single("Default", mnt::read),
+        Format::Tmd => single("Default", tmd::read),
+        Format::NetCdf => single("heights", netcdf::read),
+        Format::DektakCsv => single("default", dektak::read),
+        Format::Nanoscope => nanoscope::read(bytes, channel),
+        Format::Nid => nid::read(bytes, channel),
+        Format::Ibw => ibw::read(bytes, channel),
+        Format::Mi => mi::read(bytes, channel),
+        Format::AsciiMatrix => ascii::read(bytes, channel),
     }
 }

@@ -136,39 +136,11 @@ impl Values {
     }
 }
 
-/// Reads the first height array as heights in metres, axis 0 = x, NaN at bad points.
-pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
-    let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Little);
-    let blocks = directory(&bytes)?;
-    let scalar = |name: &str| -> Result<Option<f64>, FormatError> {
-        match blocks.iter().find(|b| b.name == name) {
-            Some(block) => number(&bytes, block),
-            None => Ok(None),
-        }
-    };
-    let wavelength_nm = scalar("Wavelength")?
-        .ok_or_else(|| FORMAT.invalid("no \"Wavelength\" block: the height scale is unknown"))?;
-    let mult = scalar("Mult")?.unwrap_or(1.0);
-    let aspect = scalar("Aspect")?.unwrap_or(1.0);
-    let pixel_mm = scalar("Pixel_size")?.ok_or_else(|| {
-        FORMAT.unsupported("no \"Pixel_size\" block: the file has no lateral calibration")
-    })?;
-    // nm / Mult · 1e-6 is mm, · 1e-3 is m: SurfaceTopography's order, so
-    // the metres agree with its reader to the last bit
-    let mm_per_value = wavelength_nm / mult * 1e-6;
-    if !(mm_per_value.is_finite() && mm_per_value != 0.0) {
-        return Err(FORMAT.invalid(format!(
-            "wavelength {wavelength_nm} nm / Mult {mult} gives no height scale"
-        )));
-    }
-    let dx_m = pixel_mm * 1e-3;
-    let dy_m = dx_m * aspect;
-    if !(dx_m.is_finite() && dx_m > 0.0 && dy_m.is_finite() && dy_m > 0.0) {
-        return Err(FORMAT.invalid(format!(
-            "pixel size {pixel_mm} mm with aspect {aspect} is not a positive spacing"
-        )));
-    }
-
+/// The first height array: its block, grid size and stored values.
+fn height_array<'b>(
+    bytes: &Bytes,
+    blocks: &'b [Block],
+) -> Result<(&'b Block, usize, usize, Values), FormatError> {
     let Some(array) = blocks
         .iter()
         .find(|b| b.kind == TYPE_ARRAY && HEIGHT_ARRAYS.contains(&b.name.as_str()))
@@ -202,14 +174,22 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
         2 => Values::I16(bytes.values::<i16>(at, points, &what)?),
         _ => Values::F32(bytes.values::<f32>(at, points, &what)?),
     };
-    // stored x-major with y downwards: flip y (as Gwyddion and SurfaceTopography do)
-    let heights_m = ndarray::Array2::from_shape_fn((nx, ny), |(i, j)| {
-        values.get(i * ny + (ny - 1 - j)) * mm_per_value * 1e-3
-    });
+    Ok((array, nx, ny, values))
+}
 
+/// What the file says beyond the heights: the array read, the wavelength
+/// and Mult, the date and the magnification.
+fn metadata(
+    bytes: &Bytes,
+    blocks: &[Block],
+    array: &str,
+    wavelength_nm: f64,
+    mult: f64,
+    scalar: &dyn Fn(&str) -> Result<Option<f64>, FormatError>,
+) -> Result<Vec<(String, String)>, FormatError> {
     let mut metadata = vec![
         ("vendor".to_string(), "Wyko".to_string()),
-        ("array".into(), array.name.clone()),
+        ("array".into(), array.to_string()),
         ("wavelength_nm".into(), wavelength_nm.to_string()),
     ];
     if mult != 1.0 {
@@ -235,6 +215,49 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
     if let Some(magnification) = scalar("Magnification")? {
         metadata.push(("magnification".into(), magnification.to_string()));
     }
+    Ok(metadata)
+}
+
+/// Reads the first height array as heights in metres, axis 0 = x, NaN at bad points.
+pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
+    let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Little);
+    let blocks = directory(&bytes)?;
+    let scalar = |name: &str| -> Result<Option<f64>, FormatError> {
+        match blocks.iter().find(|b| b.name == name) {
+            Some(block) => number(&bytes, block),
+            None => Ok(None),
+        }
+    };
+    let wavelength_nm = scalar("Wavelength")?
+        .ok_or_else(|| FORMAT.invalid("no \"Wavelength\" block: the height scale is unknown"))?;
+    let mult = scalar("Mult")?.unwrap_or(1.0);
+    let aspect = scalar("Aspect")?.unwrap_or(1.0);
+    let pixel_mm = scalar("Pixel_size")?.ok_or_else(|| {
+        FORMAT.unsupported("no \"Pixel_size\" block: the file has no lateral calibration")
+    })?;
+    // nm / Mult · 1e-6 is mm, · 1e-3 is m: SurfaceTopography's order, so
+    // the metres agree with its reader to the last bit
+    let mm_per_value = wavelength_nm / mult * 1e-6;
+    if !(mm_per_value.is_finite() && mm_per_value != 0.0) {
+        return Err(FORMAT.invalid(format!(
+            "wavelength {wavelength_nm} nm / Mult {mult} gives no height scale"
+        )));
+    }
+    let dx_m = pixel_mm * 1e-3;
+    let dy_m = dx_m * aspect;
+    if !(dx_m.is_finite() && dx_m > 0.0 && dy_m.is_finite() && dy_m > 0.0) {
+        return Err(FORMAT.invalid(format!(
+            "pixel size {pixel_mm} mm with aspect {aspect} is not a positive spacing"
+        )));
+    }
+
+    let (array, nx, ny, values) = height_array(&bytes, &blocks)?;
+    // stored x-major with y downwards: flip y (as Gwyddion and SurfaceTopography do)
+    let heights_m = ndarray::Array2::from_shape_fn((nx, ny), |(i, j)| {
+        values.get(i * ny + (ny - 1 - j)) * mm_per_value * 1e-3
+    });
+
+    let metadata = metadata(&bytes, &blocks, &array.name, wavelength_nm, mult, &scalar)?;
     Ok(Topography {
         heights_m,
         dx_m,

@@ -171,14 +171,38 @@ struct Header {
     metadata: Vec<(String, String)>,
 }
 
-impl Header {
-    fn parse(bytes: Bytes) -> Result<Self, FormatError> {
-        if bytes.len() < HEADER_BYTES {
-            return Err(FORMAT.invalid(format!(
-                "the file ends at byte {}, inside the {HEADER_BYTES}-byte header",
-                bytes.len()
-            )));
-        }
+/// The fixed header's fields as stored, before units and checks.
+struct Fields {
+    compressed: bool,
+    objects: u16,
+    object_name: String,
+    operator_name: String,
+    acquisition: u16,
+    special_points: u16,
+    point_bits: usize,
+    zmin: i32,
+    nx: usize,
+    ny: usize,
+    dx: f64,
+    dy: f64,
+    dz: f64,
+    axis_names: [String; 3],
+    step_units: [String; 3],
+    inversion: Inversion,
+    leveling: u16,
+    /// s, min, h, day, month, year, weekday
+    clock: [u16; 7],
+    duration_s: f32,
+    comment_size: usize,
+    private_size: usize,
+    x_offset: f64,
+    y_offset: f64,
+    z_offset: f64,
+}
+
+impl Fields {
+    /// Reads the 512 bytes field by field (offsets in Gwyddion's surffile.c).
+    fn read(bytes: Bytes) -> Result<Self, FormatError> {
         let mut c = bytes.cursor(0);
         let magic = c.take(12, "the magic")?;
         let compressed = magic == MAGIC_COMPRESSED;
@@ -239,7 +263,7 @@ impl Header {
         let inversion = Inversion::parse(c.read::<u16>("the inversion flag")?)?;
         let leveling = c.read::<u16>("the levelling flag")?;
         c.skip(12);
-        let mut clock = [0u16; 7]; // s, min, h, day, month, year, weekday
+        let mut clock = [0u16; 7];
         for field in &mut clock {
             *field = c.read::<u16>("the date")?;
         }
@@ -248,84 +272,130 @@ impl Header {
         let comment_size = usize::from(c.read::<u16>("the comment size")?);
         let private_size = usize::from(c.read::<u16>("the private zone size")?);
         c.skip(128); // client zone
-        let x_offset = f64::from(c.read::<f32>("the x offset")?);
-        let y_offset = f64::from(c.read::<f32>("the y offset")?);
-        let z_offset = f64::from(c.read::<f32>("the z offset")?);
+        Ok(Fields {
+            compressed,
+            objects,
+            object_name,
+            operator_name,
+            acquisition,
+            special_points,
+            point_bits,
+            zmin,
+            nx,
+            ny,
+            dx,
+            dy,
+            dz,
+            axis_names,
+            step_units,
+            inversion,
+            leveling,
+            clock,
+            duration_s,
+            comment_size,
+            private_size,
+            x_offset: f64::from(c.read::<f32>("the x offset")?),
+            y_offset: f64::from(c.read::<f32>("the y offset")?),
+            z_offset: f64::from(c.read::<f32>("the z offset")?),
+        })
+    }
 
-        let x_unit_m = unit_m(&step_units[0], 180, "x step unit")?;
-        let y_unit_m = unit_m(&step_units[1], 196, "y step unit")?;
-        let z_unit_m = unit_m(&step_units[2], 212, "z step unit")?;
-        let (dx_m, dy_m) = (dx.abs() * x_unit_m, dy.abs() * y_unit_m);
-        if !(dx_m.is_finite() && dx_m > 0.0 && dy_m.is_finite() && dy_m > 0.0) {
-            return Err(FORMAT.invalid(format!(
-                "bytes 120–127: expected positive grid spacings, found {dx} and {dy}"
-            )));
-        }
-        if !(dz.is_finite() && z_offset.is_finite()) {
-            return Err(FORMAT.invalid(format!(
-                "bytes 128 and 474: the z spacing {dz} and offset {z_offset} must be finite"
-            )));
-        }
-
-        let mut c = bytes.cursor(HEADER_BYTES);
-        let comment = latin1(c.take(comment_size, "the comment")?);
-        c.skip(private_size);
-        let points_start = c.offset();
-
+    /// What the header says beyond the grid and scales, as key–value text.
+    fn metadata(&self, comment: String) -> Vec<(String, String)> {
         let mut metadata = Vec::new();
         let mut put = |key: &str, value: String| {
             if !value.is_empty() {
                 metadata.push((key.to_string(), value));
             }
         };
-        put("object_name", object_name);
-        put("operator_name", operator_name);
-        put("acquisition", acquisition_name(acquisition).to_string());
-        put("date", date(clock));
-        if duration_s.is_finite() && duration_s > 0.0 {
-            put("measurement_duration_s", duration_s.to_string());
+        put("object_name", self.object_name.clone());
+        put("operator_name", self.operator_name.clone());
+        put(
+            "acquisition",
+            acquisition_name(self.acquisition).to_string(),
+        );
+        put("date", date(self.clock));
+        if self.duration_s.is_finite() && self.duration_s > 0.0 {
+            put("measurement_duration_s", self.duration_s.to_string());
         }
         put(
             "levelling",
-            match leveling {
+            match self.leveling {
                 1 => "least squares plane".into(),
                 2 => "minimum zone".into(),
                 _ => String::new(),
             },
         );
         put("comment", comment);
-        put("axis_names", axis_names.join(", "));
-        put("step_units", step_units.join(", "));
-        put("point_bits", point_bits.to_string());
+        put("axis_names", self.axis_names.join(", "));
+        put("step_units", self.step_units.join(", "));
+        put("point_bits", self.point_bits.to_string());
         put(
             "layout",
-            if compressed {
+            if self.compressed {
                 "zlib-compressed"
             } else {
                 "plain"
             }
             .into(),
         );
-        if objects > 1 {
-            put("objects_in_file", format!("{objects} (the first is read)"));
+        if self.objects > 1 {
+            put(
+                "objects_in_file",
+                format!("{} (the first is read)", self.objects),
+            );
+        }
+        metadata
+    }
+}
+
+impl Header {
+    fn parse(bytes: Bytes) -> Result<Self, FormatError> {
+        if bytes.len() < HEADER_BYTES {
+            return Err(FORMAT.invalid(format!(
+                "the file ends at byte {}, inside the {HEADER_BYTES}-byte header",
+                bytes.len()
+            )));
+        }
+        let f = Fields::read(bytes)?;
+        let x_unit_m = unit_m(&f.step_units[0], 180, "x step unit")?;
+        let y_unit_m = unit_m(&f.step_units[1], 196, "y step unit")?;
+        let z_unit_m = unit_m(&f.step_units[2], 212, "z step unit")?;
+        let (dx_m, dy_m) = (f.dx.abs() * x_unit_m, f.dy.abs() * y_unit_m);
+        if !(dx_m.is_finite() && dx_m > 0.0 && dy_m.is_finite() && dy_m > 0.0) {
+            return Err(FORMAT.invalid(format!(
+                "bytes 120–127: expected positive grid spacings, found {} and {}",
+                f.dx, f.dy
+            )));
+        }
+        if !(f.dz.is_finite() && f.z_offset.is_finite()) {
+            return Err(FORMAT.invalid(format!(
+                "bytes 128 and 474: the z spacing {} and offset {} must be finite",
+                f.dz, f.z_offset
+            )));
         }
 
+        let mut c = bytes.cursor(HEADER_BYTES);
+        let comment = latin1(c.take(f.comment_size, "the comment")?);
+        c.skip(f.private_size);
+        let points_start = c.offset();
+
         Ok(Header {
-            compressed,
-            special_points,
-            point_bits,
-            zmin,
-            nx,
-            ny,
+            compressed: f.compressed,
+            special_points: f.special_points,
+            point_bits: f.point_bits,
+            zmin: f.zmin,
+            nx: f.nx,
+            ny: f.ny,
             dx_m,
             dy_m,
-            dz,
-            z_offset,
+            dz: f.dz,
+            z_offset: f.z_offset,
             z_unit_m,
-            inversion,
-            position_m: (x_offset * x_unit_m, y_offset * y_unit_m),
+            inversion: f.inversion,
+            position_m: (f.x_offset * x_unit_m, f.y_offset * y_unit_m),
             points_start,
-            metadata,
+            metadata: f.metadata(comment),
         })
     }
 }

@@ -20,6 +20,12 @@ const REFERENCE_DIR: &str = concat!(
     "/../../../shared/reference/topography/"
 );
 
+/// The second set of reference files (issue 36's instruments), `index.json` beside them.
+const MORE_DIR: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../../shared/reference/topography/more/"
+);
+
 const DATA_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/");
 
 fn read_file(dir: &str, file: &str) -> Vec<u8> {
@@ -32,6 +38,18 @@ fn read_file(dir: &str, file: &str) -> Vec<u8> {
 /// The bytes of a reference file; panics (fails the test) when it is missing.
 pub fn bytes(file: &str) -> Vec<u8> {
     read_file(REFERENCE_DIR, file)
+}
+
+/// The bytes of a reference file of `more/`.
+pub fn more(file: &str) -> Vec<u8> {
+    read_file(MORE_DIR, file)
+}
+
+/// `more/index.json`'s entry for `<stem>_m.npy` and the heights in it; a
+/// line scan's 1-D heights as an n × 1 map (and `dy_m` = `dx_m`).
+pub fn expected_more(stem: &str) -> Expected {
+    let npy = format!("{stem}_m.npy");
+    expected_in(MORE_DIR, "index.json", &npy, &npy)
 }
 
 /// The bytes of a file of `tests/data/`.
@@ -74,12 +92,19 @@ fn expected_in(dir: &str, index: &str, key: &str, npy: &str) -> Expected {
             .unwrap_or_else(|| panic!("{key}.shape[{axis}] is not a size")) as usize
     };
     let path = format!("{dir}{npy}");
-    let heights_m: Array2<f64> = ndarray_npy::read_npy(&path)
-        .unwrap_or_else(|e| panic!("reference heights {path} unreadable: {e}"));
+    let line = entry["shape"].as_array().is_some_and(|s| s.len() == 1);
+    let heights_m: Array2<f64> = if line {
+        let line: ndarray::Array1<f64> = ndarray_npy::read_npy(&path)
+            .unwrap_or_else(|e| panic!("reference heights {path} unreadable: {e}"));
+        line.insert_axis(ndarray::Axis(1))
+    } else {
+        ndarray_npy::read_npy(&path)
+            .unwrap_or_else(|e| panic!("reference heights {path} unreadable: {e}"))
+    };
     Expected {
-        shape: (size(0), size(1)),
+        shape: (size(0), if line { 1 } else { size(1) }),
         dx_m: number("dx_m"),
-        dy_m: number("dy_m"),
+        dy_m: if line { number("dx_m") } else { number("dy_m") },
         nan_count: number("nan_count") as usize,
         heights_m,
     }

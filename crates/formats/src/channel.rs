@@ -1,0 +1,168 @@
+//! Which channel of a multi-channel file is read, and how the channels
+//! found are reported.
+//!
+//! AFM files hold several images of one scan (trace and retrace, height,
+//! deflection, phase); the default is the channel SurfaceTopography reads
+//! by default (its channel index 0 among the channels it lists), so a map
+//! read without a choice equals its reference. The metadata of every map
+//! says which channel was read (`channel`) and lists the channels found
+//! (`channels`, `index: name` joined by `; `).
+
+use crate::{Format, FormatError, Topography};
+
+/// A channel of a file, chosen by position or by name.
+#[derive(Clone, Debug, PartialEq, Eq, Default)]
+pub enum Channel {
+    /// the format's default: the height channel SurfaceTopography reads first
+    #[default]
+    Default,
+    /// the channel at this position in the list the metadata key `channels` shows
+    Index(usize),
+    /// the first channel of this name (compared without regard to case)
+    Name(String),
+}
+
+impl std::fmt::Display for Channel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Channel::Default => write!(f, "the default channel"),
+            Channel::Index(index) => write!(f, "channel {index}"),
+            Channel::Name(name) => write!(f, "channel {name:?}"),
+        }
+    }
+}
+
+/// The channels of a file as the metadata shows them: `0: Height; 1: Phase`.
+pub(crate) fn list(names: &[String]) -> String {
+    let entries: Vec<String> = names
+        .iter()
+        .enumerate()
+        .map(|(index, name)| format!("{index}: {name}"))
+        .collect();
+    entries.join("; ")
+}
+
+/// The index of the channel `asked` names among `names`, `default` for
+/// [`Channel::Default`]; an error listing the channels when there is none.
+pub(crate) fn pick(
+    format: Format,
+    names: &[String],
+    default: usize,
+    asked: &Channel,
+) -> Result<usize, FormatError> {
+    let found = match asked {
+        Channel::Default => (default < names.len()).then_some(default),
+        Channel::Index(index) => (*index < names.len()).then_some(*index),
+        Channel::Name(name) => names
+            .iter()
+            .position(|candidate| candidate.eq_ignore_ascii_case(name.trim())),
+    };
+    found.ok_or_else(|| FormatError::NoSuchChannel {
+        format: format.name(),
+        message: if names.is_empty() {
+            format!("{asked} was asked for, but the file holds no channel read here")
+        } else {
+            format!(
+                "{asked} was asked for, but the file holds {} channel{}: {}",
+                names.len(),
+                if names.len() == 1 { "" } else { "s" },
+                list(names)
+            )
+        },
+    })
+}
+
+/// Checks the choice for a single-channel format whose one channel is `name`.
+pub(crate) fn single(format: Format, name: &str, asked: &Channel) -> Result<(), FormatError> {
+    pick(format, &[name.to_string()], 0, asked).map(|_| ())
+}
+
+/// `map` with the metadata of a single-channel file: its channel `name`.
+pub(crate) fn named(map: Topography, name: &str) -> Topography {
+    with_channels(map, &[name.to_string()], 0)
+}
+
+/// `map` with the metadata `channel` (the one read, `index` of `names`)
+/// and `channels` (all of them) put first.
+pub(crate) fn with_channels(mut map: Topography, names: &[String], index: usize) -> Topography {
+    let mut metadata = vec![
+        (
+            "channel".to_string(),
+            names.get(index).cloned().unwrap_or_default(),
+        ),
+        ("channels".to_string(), list(names)),
+    ];
+    metadata.append(&mut map.metadata);
+    map.metadata = metadata;
+    map
+}
+
+/// What an unknown file starts with, for the error: its first bytes in hex
+/// and, where they are text, as text.
+pub(crate) fn describe_start(bytes: &[u8]) -> String {
+    if bytes.is_empty() {
+        return "an empty file".into();
+    }
+    let shown: Vec<String> = bytes.iter().take(8).map(|b| format!("{b:02x}")).collect();
+    let head = &bytes[..bytes.len().min(24)];
+    let printable = head
+        .iter()
+        .all(|&b| b == b'\t' || b == b'\r' || b == b'\n' || (0x20..0x7f).contains(&b));
+    if printable {
+        let text = String::from_utf8_lossy(head);
+        let line = text.lines().next().unwrap_or_default();
+        format!("first bytes {}, text {line:?}", shown.join(" "))
+    } else {
+        format!("first bytes {}", shown.join(" "))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names() -> Vec<String> {
+        ["Height", "Height", "Phase"].map(String::from).to_vec()
+    }
+
+    #[test]
+    fn channels_are_picked_by_index_or_name() {
+        let names = names();
+        let f = Format::Nanoscope;
+        assert_eq!(pick(f, &names, 0, &Channel::Default).unwrap(), 0);
+        assert_eq!(pick(f, &names, 0, &Channel::Index(1)).unwrap(), 1);
+        assert_eq!(
+            pick(f, &names, 0, &Channel::Name("phase".into())).unwrap(),
+            2
+        );
+        // a repeated name is its first channel
+        assert_eq!(
+            pick(f, &names, 0, &Channel::Name("Height".into())).unwrap(),
+            0
+        );
+    }
+
+    #[test]
+    fn a_missing_channel_lists_those_found() {
+        let err = pick(Format::Nanoscope, &names(), 0, &Channel::Index(3)).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "Bruker Nanoscope .di: channel 3 was asked for, but the file holds 3 channels: \
+             0: Height; 1: Height; 2: Phase"
+        );
+        let err = pick(Format::Tmd, &[], 0, &Channel::Default).unwrap_err();
+        assert!(err.to_string().contains("no channel read here"), "{err}");
+        assert!(single(Format::Tmd, "Default", &Channel::Name("x".into())).is_err());
+        assert!(single(Format::Tmd, "Default", &Channel::Index(0)).is_ok());
+    }
+
+    #[test]
+    fn unknown_files_are_described_by_their_start() {
+        assert_eq!(describe_start(b""), "an empty file");
+        assert_eq!(
+            describe_start(b"hello world\nmore"),
+            "first bytes 68 65 6c 6c 6f 20 77 6f, text \"hello world\""
+        );
+        assert_eq!(describe_start(&[0, 1, 2]), "first bytes 00 01 02");
+    }
+}
