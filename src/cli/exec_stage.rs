@@ -5,6 +5,7 @@ use std::path::Path;
 
 use anyhow::Result;
 use hypercontact_core::Registry;
+use hypercontact_runner::cache::short_key;
 use hypercontact_runner::exec::JobOutcome;
 use hypercontact_runner::slurm::JobSpec;
 
@@ -20,7 +21,7 @@ pub fn exec_stage(job_file: &Path, registry: &Registry) -> Result<()> {
             &format!("study value {path} = {value}"),
         )?;
     }
-    let short = &spec.job.key[..spec.job.key.len().min(12)];
+    let short = short_key(&spec.job.key);
     say!(
         "stage `{}` of {}, entry {short}, cache {}",
         spec.job.stage,

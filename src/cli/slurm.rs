@@ -7,6 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::{Context as _, Result, bail};
 use hypercontact_runner::RunOptions;
+use hypercontact_runner::cache::short_key;
 use hypercontact_runner::slurm::{PipelineRun, SiteProfile, SlurmRun, Submission};
 
 use super::args::RunArgs;
@@ -72,7 +73,7 @@ fn say_would_submit(submission: &Submission) {
             j.cpus,
             j.mem_mb,
             j.time_min,
-            &j.key[..12]
+            short_key(&j.key)
         );
     }
 }

@@ -12,7 +12,7 @@ use std::time::Instant;
 use hypercontact_core::{Context, Inputs, Outputs, Product, ProductKind};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use crate::cache::{Cache, EntryState, MANIFEST_FORMAT, Manifest, unix_now};
+use crate::cache::{Cache, EntryState, MANIFEST_FORMAT, Manifest, short_key, unix_now};
 use crate::pipeline::{Pipeline, PipelineError};
 use crate::plan::{Plan, PlanOptions, PlannedStage, Reason};
 use crate::provenance::{CacheUse, Provenance, StageRecord};
@@ -610,8 +610,8 @@ pub fn exec_stage(
             "stage `{}`: its key is now {} but the job was submitted for {}: the pipeline, a file \
              it reads or the hypercontact binary changed since submission; submit again",
             job.stage,
-            &planned.key[..12],
-            &job.key[..job.key.len().min(12)]
+            short_key(&planned.key),
+            short_key(&job.key)
         )));
     }
     if planned.reason == Reason::Cached {
@@ -630,7 +630,7 @@ pub fn exec_stage(
                     "stage `{}` reads `{}`, whose entry {} is not in the cache {} ({})",
                     job.stage,
                     upstream.name,
-                    &upstream.key[..12],
+                    short_key(&upstream.key),
                     cache_dir.display(),
                     upstream.reason
                 )));
