@@ -585,6 +585,11 @@ cases! {
     exec_stage_job_format: Case::new(&["exec-stage", "<dir>/job.json"])
         .file("job.json", "{\"format\": 9, \"pipeline\": \"p.yaml\", \"sets\": [], \"values\": [], \"cache\": \"c\", \"job\": {\"stage\": \"a\", \"key\": \"k\"}}")
         .mentions(&["<dir>/job.json", "format 9"]);
+    // A key cut at byte 12 split the seventh `é` and panicked.
+    exec_stage_job_multibyte_key: Case::new(&["exec-stage", "<dir>/job.json"])
+        .file("p.yaml", TENSILE).file("t.csv", CSV)
+        .file("job.json", "{\"format\": 1, \"pipeline\": \"p.yaml\", \"sets\": [], \"values\": [], \"cache\": \"c\", \"job\": {\"stage\": \"fit\", \"key\": \"aééééééééééééé\"}}")
+        .mentions(&["`fit`", "aééééééééééé", "submit again"]);
     cycle: Case::run("name: c\nstages:\n  a:\n    uses: truncation\n    inputs: { surface: b }\n  b:\n    uses: surface\n    inputs: { height: a.profile }\n", &[]);
     input_names_missing_stage: Case::run(&TENSILE.replace("{ tensile: tensile }", "{ tensile: tensil }"), &[]).file("t.csv", CSV);
     input_names_missing_output: Case::run(&TENSILE.replace("{ tensile: tensile }", "{ tensile: tensile.table }"), &[]).file("t.csv", CSV);

@@ -1,10 +1,18 @@
 //! `#[derive(Choice)]`: a fieldless enum read and written by name.
 
-use proc_macro2::TokenStream;
+use proc_macro2::{Ident, TokenStream};
 use quote::quote;
-use syn::{Data, DeriveInput, Fields, LitStr, spanned::Spanned};
+use syn::{Data, DeriveInput, Fields, LitStr, Variant, spanned::Spanned};
 
 use crate::docs::{doc_text, kebab_case};
+
+/// One variant as a choice: its identifier, the name it is read and
+/// written as, and its doc comment.
+struct Named {
+    ident: Ident,
+    name: String,
+    doc: String,
+}
 
 pub fn expand(item: TokenStream) -> syn::Result<TokenStream> {
     let input: DeriveInput = syn::parse2(item)?;
@@ -15,38 +23,55 @@ pub fn expand(item: TokenStream) -> syn::Result<TokenStream> {
             "Choice is derived for fieldless enums",
         ));
     };
-    let mut variants = Vec::new();
-    for variant in &data.variants {
-        if !matches!(variant.fields, Fields::Unit) {
-            return Err(syn::Error::new(
-                variant.span(),
-                "Choice variants carry no data",
-            ));
-        }
-        let mut name = kebab_case(&variant.ident.to_string());
-        for attr in variant.attrs.iter().filter(|a| a.path().is_ident("choice")) {
-            attr.parse_nested_meta(|meta| {
-                if meta.path.is_ident("name") {
-                    name = meta.value()?.parse::<LitStr>()?.value();
-                    Ok(())
-                } else {
-                    Err(meta.error("unknown #[choice] option (expected `name = \"...\"`)"))
-                }
-            })?;
-        }
-        variants.push((variant.ident.clone(), name, doc_text(&variant.attrs)));
+    let variants = data
+        .variants
+        .iter()
+        .map(named)
+        .collect::<syn::Result<Vec<_>>>()?;
+    let choice = choice_impls(ident, &variants);
+    let serde = serde_impls(ident);
+    let param_value = param_value_impl(ident);
+    Ok(quote! { #choice #serde #param_value })
+}
+
+/// A unit variant with its name: kebab case, or `#[choice(name = "...")]`.
+fn named(variant: &Variant) -> syn::Result<Named> {
+    if !matches!(variant.fields, Fields::Unit) {
+        return Err(syn::Error::new(
+            variant.span(),
+            "Choice variants carry no data",
+        ));
     }
-    let docs = variants.iter().map(|(_, name, doc)| {
+    let mut name = kebab_case(&variant.ident.to_string());
+    for attr in variant.attrs.iter().filter(|a| a.path().is_ident("choice")) {
+        attr.parse_nested_meta(|meta| {
+            if meta.path.is_ident("name") {
+                name = meta.value()?.parse::<LitStr>()?.value();
+                Ok(())
+            } else {
+                Err(meta.error("unknown #[choice] option (expected `name = \"...\"`)"))
+            }
+        })?;
+    }
+    Ok(Named {
+        ident: variant.ident.clone(),
+        name,
+        doc: doc_text(&variant.attrs),
+    })
+}
+
+/// `Choice` (the variants' names and docs), and `Display`/`FromStr` by name.
+fn choice_impls(ident: &Ident, variants: &[Named]) -> TokenStream {
+    let docs = variants.iter().map(|Named { name, doc, .. }| {
         quote! { ::hypercontact_core::param::ChoiceDoc { name: #name, doc: #doc } }
     });
     let to_name = variants
         .iter()
-        .map(|(v, name, _)| quote! { #ident::#v => #name });
-    let from_name = variants
-        .iter()
-        .map(|(v, name, _)| quote! { #name => ::core::option::Option::Some(#ident::#v) });
-
-    Ok(quote! {
+        .map(|Named { ident: v, name, .. }| quote! { #ident::#v => #name });
+    let from_name = variants.iter().map(|Named { ident: v, name, .. }| {
+        quote! { #name => ::core::option::Option::Some(#ident::#v) }
+    });
+    quote! {
         impl ::hypercontact_core::param::Choice for #ident {
             const VARIANTS: &'static [::hypercontact_core::param::ChoiceDoc] = &[#(#docs),*];
 
@@ -75,7 +100,12 @@ pub fn expand(item: TokenStream) -> syn::Result<TokenStream> {
                 ::hypercontact_core::param::parse_choice(s)
             }
         }
+    }
+}
 
+/// Serde as the name: what a pipeline's YAML holds.
+fn serde_impls(ident: &Ident) -> TokenStream {
+    quote! {
         impl ::hypercontact_core::__private::serde::Serialize for #ident {
             fn serialize<S: ::hypercontact_core::__private::serde::Serializer>(
                 &self,
@@ -92,7 +122,13 @@ pub fn expand(item: TokenStream) -> syn::Result<TokenStream> {
                 ::hypercontact_core::param::deserialize_choice(deserializer)
             }
         }
+    }
+}
 
+/// A choice as a parameter: documented by its variants, always valid (the
+/// name was checked when read), holding no input file.
+fn param_value_impl(ident: &Ident) -> TokenStream {
+    quote! {
         impl ::hypercontact_core::ParamValue for #ident {
             fn type_doc() -> ::hypercontact_core::param::TypeDoc {
                 ::hypercontact_core::param::TypeDoc::Choice(
@@ -114,5 +150,5 @@ pub fn expand(item: TokenStream) -> syn::Result<TokenStream> {
             ) {
             }
         }
-    })
+    }
 }

@@ -424,6 +424,13 @@ fn entry_key(name: &str) -> &str {
     name.split('.').next().unwrap_or(name)
 }
 
+/// The first 12 characters of an entry key, as messages show it: the whole
+/// text when shorter, and whole characters always (the key in a job file is
+/// whatever the file says).
+pub fn short_key(key: &str) -> &str {
+    key.char_indices().nth(12).map_or(key, |(at, _)| &key[..at])
+}
+
 /// An entry as listed by `cache ls`.
 #[derive(Debug)]
 pub struct EntryInfo {
@@ -478,4 +485,19 @@ fn tree_size(path: &Path) -> u64 {
 
 pub(crate) fn unix_now() -> u64 {
     now_unix_s()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_short_key_is_its_first_twelve_characters() {
+        let key = blake3::hash(b"entry").to_hex();
+        assert_eq!(short_key(&key), &key[..12]);
+        assert_eq!(short_key("0123"), "0123");
+        assert_eq!(short_key(""), "");
+        // Byte 12 falls inside the seventh `é`: slicing bytes panicked there.
+        assert_eq!(short_key("aééééééééééééé"), "aééééééééééé");
+    }
 }

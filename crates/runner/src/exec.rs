@@ -12,7 +12,7 @@ use std::time::Instant;
 use hypercontact_core::{Context, Inputs, Outputs, Product, ProductKind};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use crate::cache::{Cache, EntryState, MANIFEST_FORMAT, Manifest, unix_now};
+use crate::cache::{Cache, EntryState, MANIFEST_FORMAT, Manifest, short_key, unix_now};
 use crate::pipeline::{Pipeline, PipelineError};
 use crate::plan::{Plan, PlanOptions, PlannedStage, Reason};
 use crate::provenance::{CacheUse, Provenance, StageRecord};
@@ -207,142 +207,32 @@ fn run_once(
 ) -> Result<RunReport, RunError> {
     let started = Instant::now();
     let started_unix_s = unix_now();
-    let cache = Cache::open(&options.cache_dir).map_err(|cause| RunError::Cache {
-        path: options.cache_dir.clone(),
-        cause,
-    })?;
+    let cache = open_cache(&options.cache_dir)?;
     let provenance_path = options.out_dir.join("provenance.json");
     let previous = Provenance::read(&provenance_path);
     let plan = Plan::build(pipeline, &cache, &options.plan, previous.as_ref())?;
-    let mut provenance = Provenance {
-        pipeline: pipeline.name.clone(),
-        pipeline_file: pipeline.file.display().to_string(),
-        pipeline_blake3: crate::hash::text_hash(pipeline.source()),
-        hypercontact_version: env!("CARGO_PKG_VERSION").to_owned(),
-        overrides: options.overrides.clone(),
-        started_unix_s,
-        wall_s: 0.0,
-        stages: BTreeMap::new(),
-    };
+    let mut provenance = new_provenance(pipeline, options, started_unix_s);
     if options.dry_run {
         return Ok(RunReport { plan, provenance });
     }
 
-    let multi = (!options.quiet).then(MultiProgress::new);
-    let overall = match &multi {
-        Some(m) => {
-            let bar = m.add(ProgressBar::new(plan.stages.len() as u64));
-            bar.set_style(
-                ProgressStyle::with_template("{prefix:>14.bold} [{bar:30}] {pos}/{len} {msg}")
-                    .expect("valid template")
-                    .progress_chars("=> "),
-            );
-            bar.set_prefix("stages");
-            bar
-        }
-        None => ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden()),
+    let (multi, overall) = progress_bars(options.quiet, plan.stages.len());
+    let scope = RunScope {
+        pipeline,
+        plan: &plan,
+        cache: &cache,
+        options,
     };
-
-    let mut products: HashMap<(String, String), Arc<Product>> = HashMap::new();
-    // How many later stages still read each product: at zero it leaves
-    // memory (a paper-scale run would otherwise hold every sample's tiles
-    // and truth at once).
-    let mut readers: HashMap<(String, String), usize> = HashMap::new();
-    for s in &plan.stages {
-        for input in &s.inputs {
-            *readers
-                .entry((input.from_stage.clone(), input.from_output.clone()))
-                .or_default() += 1;
-        }
-    }
-    let mut manifests: HashMap<String, Manifest> = HashMap::new();
-    let mut dropped: Vec<String> = Vec::new();
-
+    let mut state = RunState {
+        memory: Memory::for_plan(&plan),
+        manifests: HashMap::new(),
+        dropped: Vec::new(),
+    };
     for planned in &plan.stages {
         overall.set_message(planned.name.clone());
-        let t0 = Instant::now();
-        if matches!(planned.reason, Reason::NotSelected | Reason::TempNotNeeded) {
-            overall.inc(1);
-            continue;
-        }
-        let Obtained {
-            manifest,
-            mut use_,
-            outputs,
-        } = obtain_entry(
-            pipeline,
-            &plan,
-            planned,
-            &cache,
-            &manifests,
-            &mut products,
-            multi.as_ref(),
-            after_file,
-        )?;
-        for (name, product) in outputs.map(Outputs::into_inner).into_iter().flatten() {
-            let id = (planned.name.clone(), name);
-            if readers.get(&id).is_some_and(|&n| n > 0) {
-                products.insert(id, Arc::new(product));
-            }
-        }
-        // Computed by a cluster job of this run: a hit here, but this run's
-        // work.
-        let job = options.remote.get(&planned.key).cloned();
-        if use_ == CacheUse::Hit && job.is_some() {
-            use_ = CacheUse::Miss;
-        }
-        if use_ == CacheUse::Hit {
-            cache.touch(&planned.key);
-        }
-
-        let mut exported = BTreeMap::new();
-        if options.export && !planned.temp {
-            let stage_dir = options.out_dir.join(&planned.name);
-            let entry = cache.entry_dir(&planned.key);
-            for (output, record) in &manifest.outputs {
-                for (rel, file) in &record.files {
-                    let name = store::export_name(output, record, rel);
-                    store::place(&entry.join(rel), &stage_dir.join(&name)).map_err(|cause| {
-                        RunError::Export {
-                            stage: planned.name.clone(),
-                            cause,
-                        }
-                    })?;
-                    exported.insert(format!("{}/{name}", planned.name), file.blake3.clone());
-                }
-            }
-        }
-        provenance.stages.insert(
-            planned.name.clone(),
-            StageRecord {
-                kind: planned.kind.clone(),
-                version: planned.version,
-                key: planned.key.clone(),
-                params: planned.params.clone(),
-                files: planned.files.clone(),
-                inputs: planned.input_records(),
-                outputs: exported,
-                cache: use_,
-                wall_s: t0.elapsed().as_secs_f64(),
-                compute_s: manifest.compute_s,
-                temp: planned.temp,
-                notes: manifest.notes.clone(),
-                job,
-            },
-        );
-        cache.restamp(&planned.key, &manifest);
-        manifests.insert(planned.name.clone(), manifest);
-        if !options.keep_temps {
-            drop_finished_temps(&plan, &cache, &manifests, &mut dropped)?;
-        }
-        for input in &planned.inputs {
-            let id = (input.from_stage.clone(), input.from_output.clone());
-            if let Some(n) = readers.get_mut(&id) {
-                *n = n.saturating_sub(1);
-                if *n == 0 {
-                    products.remove(&id);
-                }
-            }
+        if !matches!(planned.reason, Reason::NotSelected | Reason::TempNotNeeded) {
+            let record = run_stage(&scope, planned, &mut state, multi.as_ref(), after_file)?;
+            provenance.stages.insert(planned.name.clone(), record);
         }
         overall.inc(1);
     }
@@ -350,17 +240,7 @@ fn run_once(
 
     provenance.wall_s = started.elapsed().as_secs_f64();
     if options.export {
-        // Stages that were not part of this run keep their earlier record.
-        if let Some(previous) = previous {
-            for (name, record) in previous.stages {
-                if pipeline.stage(&name).is_some() {
-                    provenance.stages.entry(name).or_insert(StageRecord {
-                        cache: CacheUse::Skipped,
-                        ..record
-                    });
-                }
-            }
-        }
+        keep_earlier_records(&mut provenance, previous, pipeline);
         provenance
             .write(&provenance_path)
             .map_err(|cause| RunError::Output {
@@ -371,12 +251,254 @@ fn run_once(
     Ok(RunReport { plan, provenance })
 }
 
+/// The cache in `dir`, created if there is none.
+pub(crate) fn open_cache(dir: &Path) -> Result<Cache, RunError> {
+    Cache::open(dir).map_err(cache_error(dir))
+}
+
+/// An I/O error of the cache at `path`, as a [`RunError`].
+fn cache_error(path: &Path) -> impl Fn(std::io::Error) -> RunError + '_ {
+    move |cause| RunError::Cache {
+        path: path.to_owned(),
+        cause,
+    }
+}
+
+/// The record of a run before any stage has run.
+fn new_provenance(pipeline: &Pipeline, options: &RunOptions, started_unix_s: u64) -> Provenance {
+    Provenance {
+        pipeline: pipeline.name.clone(),
+        pipeline_file: pipeline.file.display().to_string(),
+        pipeline_blake3: crate::hash::text_hash(pipeline.source()),
+        hypercontact_version: env!("CARGO_PKG_VERSION").to_owned(),
+        overrides: options.overrides.clone(),
+        started_unix_s,
+        wall_s: 0.0,
+        stages: BTreeMap::new(),
+    }
+}
+
+/// The bar of the whole run, and the group each stage adds its own bars to
+/// (none, and a hidden bar, when quiet).
+fn progress_bars(quiet: bool, stages: usize) -> (Option<MultiProgress>, ProgressBar) {
+    let multi = (!quiet).then(MultiProgress::new);
+    let overall = match &multi {
+        Some(m) => {
+            let bar = m.add(ProgressBar::new(stages as u64));
+            bar.set_style(
+                ProgressStyle::with_template("{prefix:>14.bold} [{bar:30}] {pos}/{len} {msg}")
+                    .expect("valid template")
+                    .progress_chars("=> "),
+            );
+            bar.set_prefix("stages");
+            bar
+        }
+        None => ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden()),
+    };
+    (multi, overall)
+}
+
+/// What every stage of one run reads.
+struct RunScope<'a> {
+    pipeline: &'a Pipeline,
+    plan: &'a Plan,
+    cache: &'a Cache,
+    options: &'a RunOptions,
+}
+
+/// What the stages of a run have left for the stages after them.
+struct RunState {
+    memory: Memory,
+    /// The entry of every stage run so far, by stage name.
+    manifests: HashMap<String, Manifest>,
+    /// Temporary stages whose entries this run has removed.
+    dropped: Vec<String>,
+}
+
+/// A product of a stage: (stage, output).
+type ProductId = (String, String);
+
+/// Products held in memory for the stages of this run still to read them,
+/// each with how many of those there are: at zero it leaves memory (a
+/// paper-scale run would otherwise hold every sample's tiles and truth at
+/// once).
+struct Memory {
+    products: HashMap<ProductId, Arc<Product>>,
+    readers: HashMap<ProductId, usize>,
+}
+
+impl Memory {
+    fn for_plan(plan: &Plan) -> Self {
+        let mut readers: HashMap<ProductId, usize> = HashMap::new();
+        for s in &plan.stages {
+            for input in &s.inputs {
+                *readers
+                    .entry((input.from_stage.clone(), input.from_output.clone()))
+                    .or_default() += 1;
+            }
+        }
+        Self {
+            products: HashMap::new(),
+            readers,
+        }
+    }
+
+    /// Keeps the products a stage computed now that a later stage reads.
+    fn keep(&mut self, stage: &str, outputs: Option<Outputs>) {
+        for (name, product) in outputs.map(Outputs::into_inner).into_iter().flatten() {
+            let id = (stage.to_owned(), name);
+            if self.readers.get(&id).is_some_and(|&n| n > 0) {
+                self.products.insert(id, Arc::new(product));
+            }
+        }
+    }
+
+    /// Counts the reads of a stage that has run, dropping each product
+    /// no stage reads any more.
+    fn release(&mut self, planned: &PlannedStage) {
+        for input in &planned.inputs {
+            let id = (input.from_stage.clone(), input.from_output.clone());
+            if let Some(n) = self.readers.get_mut(&id) {
+                *n = n.saturating_sub(1);
+                if *n == 0 {
+                    self.products.remove(&id);
+                }
+            }
+        }
+    }
+}
+
+/// One stage of a run: its entry found or computed, exported, and its
+/// provenance record.
+fn run_stage(
+    scope: &RunScope,
+    planned: &PlannedStage,
+    state: &mut RunState,
+    multi: Option<&MultiProgress>,
+    after_file: AfterFile,
+) -> Result<StageRecord, RunError> {
+    let t0 = Instant::now();
+    let Obtained {
+        manifest,
+        mut use_,
+        outputs,
+    } = obtain_entry(
+        scope.pipeline,
+        scope.plan,
+        planned,
+        scope.cache,
+        &state.manifests,
+        &mut state.memory.products,
+        multi,
+        after_file,
+    )?;
+    state.memory.keep(&planned.name, outputs);
+    // Computed by a cluster job of this run: a hit here, but this run's
+    // work.
+    let job = scope.options.remote.get(&planned.key).cloned();
+    if use_ == CacheUse::Hit && job.is_some() {
+        use_ = CacheUse::Miss;
+    }
+    if use_ == CacheUse::Hit {
+        scope.cache.touch(&planned.key);
+    }
+    let exported = if scope.options.export && !planned.temp {
+        export_entry(&scope.options.out_dir, scope.cache, planned, &manifest)?
+    } else {
+        BTreeMap::new()
+    };
+    let record = StageRecord {
+        kind: planned.kind.clone(),
+        version: planned.version,
+        key: planned.key.clone(),
+        params: planned.params.clone(),
+        files: planned.files.clone(),
+        inputs: planned.input_records(),
+        outputs: exported,
+        cache: use_,
+        wall_s: t0.elapsed().as_secs_f64(),
+        compute_s: manifest.compute_s,
+        temp: planned.temp,
+        notes: manifest.notes.clone(),
+        job,
+    };
+    scope.cache.restamp(&planned.key, &manifest);
+    state.manifests.insert(planned.name.clone(), manifest);
+    if !scope.options.keep_temps {
+        drop_finished_temps(
+            scope.plan,
+            scope.cache,
+            &state.manifests,
+            &mut state.dropped,
+        )?;
+    }
+    state.memory.release(planned);
+    Ok(record)
+}
+
+/// Places the files of a stage's entry in `<out>/<stage>/`; returns each
+/// exported file (`stage/name`) with its BLAKE3.
+fn export_entry(
+    out_dir: &Path,
+    cache: &Cache,
+    planned: &PlannedStage,
+    manifest: &Manifest,
+) -> Result<BTreeMap<String, String>, RunError> {
+    let stage_dir = out_dir.join(&planned.name);
+    let entry = cache.entry_dir(&planned.key);
+    let mut exported = BTreeMap::new();
+    for (output, record) in &manifest.outputs {
+        for (rel, file) in &record.files {
+            let name = store::export_name(output, record, rel);
+            store::place(&entry.join(rel), &stage_dir.join(&name)).map_err(|cause| {
+                RunError::Export {
+                    stage: planned.name.clone(),
+                    cause,
+                }
+            })?;
+            exported.insert(format!("{}/{name}", planned.name), file.blake3.clone());
+        }
+    }
+    Ok(exported)
+}
+
+/// Stages of the pipeline that were not part of this run keep their
+/// earlier record, marked skipped.
+fn keep_earlier_records(
+    provenance: &mut Provenance,
+    previous: Option<Provenance>,
+    pipeline: &Pipeline,
+) {
+    let Some(previous) = previous else {
+        return;
+    };
+    for (name, record) in previous.stages {
+        if pipeline.stage(&name).is_some() {
+            provenance.stages.entry(name).or_insert(StageRecord {
+                cache: CacheUse::Skipped,
+                ..record
+            });
+        }
+    }
+}
+
 /// A stage's entry as [`obtain_entry`] found or made it.
 struct Obtained {
     manifest: Manifest,
     use_: CacheUse,
     /// The products, when computed now (kept in memory for later stages).
     outputs: Option<Outputs>,
+}
+
+impl Obtained {
+    /// An entry found whole in the cache.
+    fn hit(manifest: Manifest) -> Self {
+        Self {
+            manifest,
+            use_: CacheUse::Hit,
+            outputs: None,
+        }
+    }
 }
 
 /// The entry of a planned stage: the one the plan verified, or computed
@@ -399,26 +521,16 @@ fn obtain_entry(
     if planned.reason == Reason::Cached
         && let Some(manifest) = &planned.manifest
     {
-        return Ok(Obtained {
-            manifest: manifest.clone(),
-            use_: CacheUse::Hit,
-            outputs: None,
-        });
+        return Ok(Obtained::hit(manifest.clone()));
     }
-    let cache_err = |cause| RunError::Cache {
-        path: cache.root().to_owned(),
-        cause,
-    };
-    let _lock = cache.lock(&planned.key).map_err(cache_err)?;
+    let _lock = cache
+        .lock(&planned.key)
+        .map_err(cache_error(cache.root()))?;
     // Staging folders of this entry are debris of killed runs now.
     cache.clear_staging(&planned.key);
     // Another run may have finished this entry while we waited.
     if !forced && let EntryState::Valid(m) = cache.check(&planned.key) {
-        return Ok(Obtained {
-            manifest: *m,
-            use_: CacheUse::Hit,
-            outputs: None,
-        });
+        return Ok(Obtained::hit(*m));
     }
     let decl = pipeline
         .stage(&planned.name)
@@ -481,10 +593,7 @@ pub fn exec_stage(
     cache_dir: &Path,
     job: &StageJob,
 ) -> Result<JobOutcome, RunError> {
-    let cache = Cache::open(cache_dir).map_err(|cause| RunError::Cache {
-        path: cache_dir.to_owned(),
-        cause,
-    })?;
+    let cache = open_cache(cache_dir)?;
     let options = PlanOptions {
         force: if job.force {
             vec![job.stage.clone()]
@@ -501,8 +610,8 @@ pub fn exec_stage(
             "stage `{}`: its key is now {} but the job was submitted for {}: the pipeline, a file \
              it reads or the hypercontact binary changed since submission; submit again",
             job.stage,
-            &planned.key[..12],
-            &job.key[..job.key.len().min(12)]
+            short_key(&planned.key),
+            short_key(&job.key)
         )));
     }
     if planned.reason == Reason::Cached {
@@ -521,7 +630,7 @@ pub fn exec_stage(
                     "stage `{}` reads `{}`, whose entry {} is not in the cache {} ({})",
                     job.stage,
                     upstream.name,
-                    &upstream.key[..12],
+                    short_key(&upstream.key),
                     cache_dir.display(),
                     upstream.reason
                 )));
@@ -564,10 +673,7 @@ fn drop_finished_temps(
             .consumers(&temp.name)
             .all(|c| manifests.contains_key(&c.name) || c.reason == Reason::TempNotNeeded)
         {
-            cache.remove(&temp.key).map_err(|cause| RunError::Cache {
-                path: cache.entry_dir(&temp.key),
-                cause,
-            })?;
+            remove_entry(cache, &temp.key)?;
             dropped.push(temp.name.clone());
         }
     }
@@ -578,13 +684,17 @@ fn drop_finished_temps(
 pub fn drop_temps(plan: &Plan, cache: &Cache) -> Result<(), RunError> {
     for temp in plan.stages.iter().filter(|s| s.temp) {
         if cache.entry_dir(&temp.key).exists() {
-            cache.remove(&temp.key).map_err(|cause| RunError::Cache {
-                path: cache.entry_dir(&temp.key),
-                cause,
-            })?;
+            remove_entry(cache, &temp.key)?;
         }
     }
     Ok(())
+}
+
+/// Removes one entry of the cache.
+fn remove_entry(cache: &Cache, key: &str) -> Result<(), RunError> {
+    cache
+        .remove(key)
+        .map_err(cache_error(&cache.entry_dir(key)))
 }
 
 /// Loads the products a stage needs, from this run's memory or the cache.
@@ -683,11 +793,8 @@ fn write_entry(
     notes: Vec<String>,
     after_file: AfterFile,
 ) -> Result<Manifest, RunError> {
-    let cache_err = |cause| RunError::Cache {
-        path: cache.root().to_owned(),
-        cause,
-    };
-    let staging = cache.staging_dir(&planned.key).map_err(cache_err)?;
+    let cache_err = cache_error(cache.root());
+    let staging = cache.staging_dir(&planned.key).map_err(&cache_err)?;
     let mut records: BTreeMap<String, OutputRecord> = BTreeMap::new();
     for (name, product) in outputs.iter() {
         let record = store::write_product(&staging, name, product, after_file)?;

@@ -203,22 +203,7 @@ impl Pipeline {
 
     /// Parses pipeline text; `file` names it in errors and anchors paths.
     pub fn parse(file: &Path, source: &str, registry: &Registry) -> Result<Self, PipelineError> {
-        let doc = Located::parse(source)
-            .map_err(|e| PipelineError::new(file, e.message).located(e.at))?;
-        let found = match &doc.value {
-            serde_json::Value::Object(_) => None,
-            serde_json::Value::Null => Some("nothing"),
-            serde_json::Value::Array(_) => Some("a list"),
-            serde_json::Value::String(_) => Some("text"),
-            serde_json::Value::Number(_) => Some("a number"),
-            serde_json::Value::Bool(_) => Some("a boolean"),
-        };
-        if let Some(found) = found {
-            return Err(PipelineError::new(
-                file,
-                format!("a pipeline is a map with `name:` and `stages:`; the file holds {found}"),
-            ));
-        }
+        let doc = parse_document(file, source)?;
         let raw: RawPipeline = located_deserialize(file, &doc, doc.value.clone())?;
         // The name becomes the default output folder `runs/<name>`: a name
         // that is a path (`../../x`) would write elsewhere.
@@ -236,93 +221,20 @@ impl Pipeline {
             Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
             _ => PathBuf::from("."),
         };
-
-        let mut stages = Vec::new();
-        for (name, rs) in &raw.stages {
-            let at = |key: &[&str]| {
-                let mut path = vec!["stages", name.as_str()];
-                path.extend_from_slice(key);
-                doc.locate(&path)
-            };
-            let locate = |message: String, at: Option<Location>| {
-                PipelineError::new(file, message).located(at).stage(name)
-            };
-            if let Err(why) = check_name(name) {
-                return Err(locate(format!("the stage name {why}"), at(&[])));
-            }
-            let stage = registry
-                .get(&rs.uses)
-                .ok_or_else(|| locate(unknown_kind(&rs.uses, registry), at(&["uses"])))?
-                .clone();
-            let with = doc.sub(&["stages", name, "with"]);
-            if rs
-                .with
-                .as_ref()
-                .is_some_and(|w| !w.is_object() && !w.is_null())
-            {
-                return Err(locate(
-                    "`with:` must be a map of parameters".into(),
-                    at(&["with"]),
-                ));
-            }
-            let file_params = match &rs.with_file {
-                None => None,
-                Some(with_file) => {
-                    let path = dir.join(with_file);
-                    let text = std::fs::metadata(&path)
-                        .and_then(|m| match m.is_file() {
-                            true => std::fs::read_to_string(&path),
-                            false => Err(crate::hash::not_regular()),
-                        })
-                        .map_err(|e| {
-                            locate(
-                                format!("with_file: cannot read {}: {e}", path.display()),
-                                at(&["with_file"]),
-                            )
-                        })?;
-                    let recipe = Located::parse(&text).map_err(|e| {
-                        PipelineError::new(&path, e.message)
-                            .located(e.at)
-                            .stage(name)
-                    })?;
-                    if !recipe.value.is_object() && !recipe.value.is_null() {
-                        return Err(
-                            PipelineError::new(&path, "expected a map of parameters").stage(name)
-                        );
-                    }
-                    Some((path, recipe))
-                }
-            };
-            let sources = ParamSources::new(file, with, at(&["with"]).or(at(&[])), file_params);
-            let (raw_params, params) = sources.parse(stage.as_ref(), &dir, name)?;
-            stages.push(StageDecl {
-                name: name.clone(),
-                kind: rs.uses.clone(),
-                stage,
-                raw_params,
-                params,
-                inputs: bindings(&rs.inputs),
-                line: at(&[]).map(|l| l.line),
-                temp: rs.temp,
-                slurm: rs.slurm.clone(),
-                sources,
-            });
-        }
-
-        if let Some(study) = &raw.study
-            && let Some((param, _)) = study.grid.iter().find(|(_, values)| values.is_empty())
-        {
-            return Err(PipelineError::new(
-                file,
-                format!("study.grid `{param}` lists no values (a grid needs at least one)"),
-            )
-            .located(doc.locate(&["study", "grid", param.as_str()])));
-        }
-        let study = raw.study.map(|s| StudySpec {
-            grid: s.grid,
-            cases: s.cases,
-            collect: s.collect,
-        });
+        let stages = raw
+            .stages
+            .iter()
+            .map(|(name, rs)| {
+                let site = StageSite {
+                    file,
+                    dir: &dir,
+                    doc: &doc,
+                    name,
+                };
+                site.declare(rs, registry)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let study = study_spec(file, &doc, raw.study)?;
         Ok(Pipeline {
             name: raw.name,
             description: raw.description,
@@ -418,6 +330,143 @@ impl Pipeline {
         decl.params = params;
         Ok(())
     }
+}
+
+/// The YAML of a pipeline file with the location of every key; a map.
+fn parse_document(file: &Path, source: &str) -> Result<Located, PipelineError> {
+    let doc =
+        Located::parse(source).map_err(|e| PipelineError::new(file, e.message).located(e.at))?;
+    let found = match &doc.value {
+        serde_json::Value::Object(_) => None,
+        serde_json::Value::Null => Some("nothing"),
+        serde_json::Value::Array(_) => Some("a list"),
+        serde_json::Value::String(_) => Some("text"),
+        serde_json::Value::Number(_) => Some("a number"),
+        serde_json::Value::Bool(_) => Some("a boolean"),
+    };
+    match found {
+        Some(found) => Err(PipelineError::new(
+            file,
+            format!("a pipeline is a map with `name:` and `stages:`; the file holds {found}"),
+        )),
+        None => Ok(doc),
+    }
+}
+
+/// Where a stage is declared: in which file, under which name; every
+/// message about the stage is placed by it.
+struct StageSite<'a> {
+    file: &'a Path,
+    /// The pipeline's folder: `with_file:` and paths resolve against it.
+    dir: &'a Path,
+    doc: &'a Located,
+    name: &'a str,
+}
+
+impl StageSite<'_> {
+    /// The location of a key of the stage (`["with"]`; `[]`: its name).
+    fn at(&self, key: &[&str]) -> Option<Location> {
+        let mut path = vec!["stages", self.name];
+        path.extend_from_slice(key);
+        self.doc.locate(&path)
+    }
+
+    fn error(&self, message: String, at: Option<Location>) -> PipelineError {
+        PipelineError::new(self.file, message)
+            .located(at)
+            .stage(self.name)
+    }
+
+    /// The stage as declared: its kind from the registry, its parameters
+    /// (`with_file:`, then `with:` over it) typed and checked, its inputs.
+    fn declare(&self, rs: &RawStage, registry: &Registry) -> Result<StageDecl, PipelineError> {
+        let name = self.name;
+        if let Err(why) = check_name(name) {
+            return Err(self.error(format!("the stage name {why}"), self.at(&[])));
+        }
+        let stage = registry
+            .get(&rs.uses)
+            .ok_or_else(|| self.error(unknown_kind(&rs.uses, registry), self.at(&["uses"])))?
+            .clone();
+        let with = self.doc.sub(&["stages", name, "with"]);
+        if rs
+            .with
+            .as_ref()
+            .is_some_and(|w| !w.is_object() && !w.is_null())
+        {
+            return Err(self.error(
+                "`with:` must be a map of parameters".into(),
+                self.at(&["with"]),
+            ));
+        }
+        let file_params = match &rs.with_file {
+            None => None,
+            Some(with_file) => Some(self.read_with_file(with_file)?),
+        };
+        let with_at = self.at(&["with"]).or(self.at(&[]));
+        let sources = ParamSources::new(self.file, with, with_at, file_params);
+        let (raw_params, params) = sources.parse(stage.as_ref(), self.dir, name)?;
+        Ok(StageDecl {
+            name: name.to_owned(),
+            kind: rs.uses.clone(),
+            stage,
+            raw_params,
+            params,
+            inputs: bindings(&rs.inputs),
+            line: self.at(&[]).map(|l| l.line),
+            temp: rs.temp,
+            slurm: rs.slurm.clone(),
+            sources,
+        })
+    }
+
+    /// The `with_file:` recipe, a YAML map of parameters, with its path.
+    fn read_with_file(&self, with_file: &Path) -> Result<(PathBuf, Located), PipelineError> {
+        let path = self.dir.join(with_file);
+        let text = std::fs::metadata(&path)
+            .and_then(|m| match m.is_file() {
+                true => std::fs::read_to_string(&path),
+                false => Err(crate::hash::not_regular()),
+            })
+            .map_err(|e| {
+                self.error(
+                    format!("with_file: cannot read {}: {e}", path.display()),
+                    self.at(&["with_file"]),
+                )
+            })?;
+        let recipe = Located::parse(&text).map_err(|e| {
+            PipelineError::new(&path, e.message)
+                .located(e.at)
+                .stage(self.name)
+        })?;
+        if !recipe.value.is_object() && !recipe.value.is_null() {
+            return Err(PipelineError::new(&path, "expected a map of parameters").stage(self.name));
+        }
+        Ok((path, recipe))
+    }
+}
+
+/// The `study:` section, once every grid parameter lists a value.
+fn study_spec(
+    file: &Path,
+    doc: &Located,
+    raw: Option<RawStudy>,
+) -> Result<Option<StudySpec>, PipelineError> {
+    let Some(study) = raw else {
+        return Ok(None);
+    };
+    if let Some((param, _)) = study.grid.iter().find(|(_, values)| values.is_empty()) {
+        return Err(PipelineError::new(
+            file,
+            format!("study.grid `{param}` lists no values (a grid needs at least one)"),
+        )
+        .located(doc.locate(&["study", "grid", param.as_str()])));
+    }
+    Ok(Some(StudySpec {
+        grid: study.grid,
+        cases: study.cases,
+        collect: study.collect,
+    }))
 }
 
 fn bindings(inputs: &IndexMap<String, RawInput>) -> Vec<InputBinding> {

@@ -87,10 +87,7 @@ pub fn run_study(pipeline: &Pipeline, options: &RunOptions) -> Result<StudyRepor
         });
     }
 
-    let cache = crate::cache::Cache::open(&options.cache_dir).map_err(|cause| RunError::Cache {
-        path: options.cache_dir.clone(),
-        cause,
-    })?;
+    let cache = crate::exec::open_cache(&options.cache_dir)?;
     let mut tables = Vec::new();
     for target in &spec.collect {
         let (stage, output) = target.split_once('.').expect("checked above");

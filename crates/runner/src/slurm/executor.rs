@@ -26,7 +26,7 @@ use serde::{Deserialize, Serialize};
 
 use super::settings::{JobResources, SiteProfile};
 use crate::cache::{Cache, EntryState, unix_now};
-use crate::exec::{RunError, StageJob};
+use crate::exec::{RunError, StageJob, open_cache};
 use crate::pipeline::Pipeline;
 use crate::plan::{Plan, PlanOptions};
 
@@ -170,16 +170,47 @@ struct Pending {
 pub fn submit(variants: &[PipelineRun], run: &SlurmRun) -> Result<Submission, RunError> {
     let cache_dir = absolute(&run.cache_dir)?;
     let log_dir = absolute(&run.log_dir)?;
-    let cache = Cache::open(&cache_dir).map_err(|cause| RunError::Cache {
-        path: cache_dir.clone(),
-        cause,
-    })?;
+    let cache = open_cache(&cache_dir)?;
+    let pending = pending_jobs(variants, run, &cache, &cache_dir)?;
+    let name = variants
+        .first()
+        .map(|v| v.pipeline.name.clone())
+        .unwrap_or_default();
+    let mut submission = Submission {
+        format: JOB_FORMAT,
+        pipeline: name,
+        cache: cache_dir.clone(),
+        submitted_unix_s: unix_now(),
+        jobs: Vec::new(),
+    };
+    if run.dry_run {
+        for p in pending {
+            submission
+                .jobs
+                .push(submitted(p, String::new(), PathBuf::new(), Vec::new()));
+        }
+        return Ok(submission);
+    }
+    let queued = still_queued(&log_dir, &cache_dir)?;
+    submission.jobs = send(pending, queued, &run.command()?, &log_dir, &run.profile)?;
+    let bytes = serde_json::to_vec_pretty(&submission).expect("a submission serialises");
+    let path = Submission::path(&log_dir);
+    crate::write_atomic(&path, &bytes).map_err(|cause| RunError::Output { path, cause })?;
+    Ok(submission)
+}
 
-    // The jobs, in an order where each comes after those it waits for.
+/// The jobs the variants' plans need, one per entry, in an order where
+/// each comes after those it waits for.
+fn pending_jobs(
+    variants: &[PipelineRun],
+    run: &SlurmRun,
+    cache: &Cache,
+    cache_dir: &Path,
+) -> Result<Vec<Pending>, RunError> {
     let mut pending: Vec<Pending> = Vec::new();
     let mut seen: HashSet<String> = HashSet::new();
     for (index, v) in variants.iter().enumerate() {
-        let plan = Plan::build(v.pipeline, &cache, &v.plan, None)?;
+        let plan = Plan::build(v.pipeline, cache, &v.plan, None)?;
         let running: HashSet<&str> = plan
             .stages
             .iter()
@@ -213,7 +244,7 @@ pub fn submit(variants: &[PipelineRun], run: &SlurmRun) -> Result<Submission, Ru
                     pipeline: absolute(&v.pipeline.file)?,
                     sets: v.sets.clone(),
                     values: v.values.clone(),
-                    cache: cache_dir.clone(),
+                    cache: cache_dir.to_owned(),
                     job: StageJob {
                         stage: s.name.clone(),
                         key: s.key.clone(),
@@ -223,36 +254,21 @@ pub fn submit(variants: &[PipelineRun], run: &SlurmRun) -> Result<Submission, Ru
             });
         }
     }
+    Ok(pending)
+}
 
-    let name = variants
-        .first()
-        .map(|v| v.pipeline.name.clone())
-        .unwrap_or_default();
-    let mut submission = Submission {
-        format: JOB_FORMAT,
-        pipeline: name,
-        cache: cache_dir.clone(),
-        submitted_unix_s: unix_now(),
-        jobs: Vec::new(),
-    };
-    if run.dry_run {
-        for p in pending {
-            submission
-                .jobs
-                .push(submitted(p, String::new(), PathBuf::new(), Vec::new()));
-        }
-        return Ok(submission);
-    }
-
-    // Jobs of an earlier submission still queued for an entry: wait for
-    // them rather than computing the entry twice. (An unreadable record
-    // only costs that: the entry's lock still lets one job compute it.)
+/// Jobs of an earlier submission to the same cache still queued, by entry
+/// key: waiting for them beats computing the entry twice. (An unreadable
+/// record only costs that: the entry's lock still lets one job compute it.)
+fn still_queued(
+    log_dir: &Path,
+    cache_dir: &Path,
+) -> Result<HashMap<String, SubmittedJob>, RunError> {
     let mut queued: HashMap<String, SubmittedJob> = HashMap::new();
-    if let Ok(Some(previous)) = Submission::read(&log_dir)
+    if let Ok(Some(previous)) = Submission::read(log_dir)
         && previous.cache == cache_dir
     {
-        let ids: Vec<String> = previous.jobs.iter().map(|j| j.job_id.clone()).collect();
-        let states = squeue(&ids)?;
+        let states = squeue(&job_ids(&previous.jobs))?;
         for job in previous.jobs {
             if states
                 .get(&job.job_id)
@@ -262,13 +278,25 @@ pub fn submit(variants: &[PipelineRun], run: &SlurmRun) -> Result<Submission, Ru
             }
         }
     }
+    Ok(queued)
+}
 
-    let command = run.command()?;
+/// Submits each pending job, chained to the jobs of the entries it reads,
+/// or takes the queued job already making its entry. On a refusal, cancels
+/// what it submitted: no half-submitted plan stays behind.
+fn send(
+    pending: Vec<Pending>,
+    mut queued: HashMap<String, SubmittedJob>,
+    command: &Path,
+    log_dir: &Path,
+    profile: &SiteProfile,
+) -> Result<Vec<SubmittedJob>, RunError> {
+    let mut jobs: Vec<SubmittedJob> = Vec::new();
     let mut ids: HashMap<String, String> = HashMap::new();
     for p in pending {
         if let Some(job) = queued.remove(&p.key) {
             ids.insert(p.key.clone(), job.job_id.clone());
-            submission.jobs.push(job);
+            jobs.push(job);
             continue;
         }
         let after: Vec<String> = p
@@ -276,23 +304,22 @@ pub fn submit(variants: &[PipelineRun], run: &SlurmRun) -> Result<Submission, Ru
             .iter()
             .filter_map(|k| ids.get(k).cloned())
             .collect();
-        match sbatch(&p, &after, &command, &log_dir, &run.profile) {
+        match sbatch(&p, &after, command, log_dir, profile) {
             Ok((id, log)) => {
                 ids.insert(p.key.clone(), id.clone());
-                submission.jobs.push(submitted(p, id, log, after));
+                jobs.push(submitted(p, id, log, after));
             }
             Err(e) => {
-                // No half-submitted plan stays behind.
-                let sent: Vec<String> = submission.jobs.iter().map(|j| j.job_id.clone()).collect();
-                let _ = scancel(&sent);
+                let _ = scancel(&job_ids(&jobs));
                 return Err(e);
             }
         }
     }
-    let bytes = serde_json::to_vec_pretty(&submission).expect("a submission serialises");
-    let path = Submission::path(&log_dir);
-    crate::write_atomic(&path, &bytes).map_err(|cause| RunError::Output { path, cause })?;
-    Ok(submission)
+    Ok(jobs)
+}
+
+fn job_ids<'a>(jobs: impl IntoIterator<Item = &'a SubmittedJob>) -> Vec<String> {
+    jobs.into_iter().map(|j| j.job_id.clone()).collect()
 }
 
 fn submitted(p: Pending, job_id: String, log: PathBuf, after: Vec<String>) -> SubmittedJob {
@@ -502,12 +529,8 @@ impl JobStatus {
 
 /// The state of every job of a submission.
 pub fn status(submission: &Submission) -> Result<Vec<JobStatus>, RunError> {
-    let cache = Cache::open(&submission.cache).map_err(|cause| RunError::Cache {
-        path: submission.cache.clone(),
-        cause,
-    })?;
-    let ids: Vec<String> = submission.jobs.iter().map(|j| j.job_id.clone()).collect();
-    let states = squeue(&ids)?;
+    let cache = open_cache(&submission.cache)?;
+    let states = squeue(&job_ids(&submission.jobs))?;
     Ok(submission
         .jobs
         .iter()
@@ -526,46 +549,35 @@ pub fn status(submission: &Submission) -> Result<Vec<JobStatus>, RunError> {
         .collect())
 }
 
+/// Job id → (state, reason), as [`squeue`] answers.
+type States = HashMap<String, (String, String)>;
+
+/// How the finished jobs of a submission ended, as [`wait`] gathers it.
+#[derive(Default)]
+struct Outcome<'a> {
+    /// A line (and the log's last lines) per job that made no entry.
+    failed: Vec<String>,
+    /// Stages whose jobs left the queue because a job they wait for failed.
+    skipped: Vec<&'a str>,
+}
+
 /// Waits until every job of the submission has finished, with a progress
 /// bar unless `quiet`; `cancel` (set by Ctrl-C) cancels the jobs still
 /// queued or running. Fails naming each failed stage, its job and its log.
 pub fn wait(submission: &Submission, run: &SlurmRun, cancel: &AtomicBool) -> Result<(), RunError> {
-    let cache = Cache::open(&submission.cache).map_err(|cause| RunError::Cache {
-        path: submission.cache.clone(),
-        cause,
-    })?;
-    let bar = if run.quiet {
-        ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden())
-    } else {
-        let bar = ProgressBar::new(submission.jobs.len() as u64);
-        bar.set_style(
-            ProgressStyle::with_template("{prefix:>14.bold} [{bar:30}] {pos}/{len} {msg}")
-                .expect("valid template")
-                .progress_chars("=> "),
-        );
-        bar.set_prefix("slurm jobs");
-        bar
-    };
+    let cache = open_cache(&submission.cache)?;
+    let bar = jobs_bar(run.quiet, submission.jobs.len());
     let mut open: Vec<&SubmittedJob> = submission.jobs.iter().collect();
-    let mut failed: Vec<String> = Vec::new();
-    let mut skipped: Vec<&str> = Vec::new();
+    let mut outcome = Outcome::default();
     let mut squeue_errors = 0;
     let mut warned: HashSet<String> = HashSet::new();
     let poll = run.poll();
     while !open.is_empty() {
         if cancel.load(Ordering::SeqCst) {
-            let ids: Vec<String> = open.iter().map(|j| j.job_id.clone()).collect();
             bar.finish_and_clear();
-            scancel(&ids)?;
-            return Err(RunError::Job(format!(
-                "cancelled: scancel sent to {} jobs ({}); entries already computed stay in the \
-                 cache, a rerun submits the rest",
-                ids.len(),
-                ids.join(" ")
-            )));
+            return Err(cancel_jobs(&open));
         }
-        let ids: Vec<String> = open.iter().map(|j| j.job_id.clone()).collect();
-        let states = match squeue(&ids) {
+        let states = match squeue(&job_ids(open.iter().copied())) {
             Ok(s) => {
                 squeue_errors = 0;
                 s
@@ -580,78 +592,140 @@ pub fn wait(submission: &Submission, run: &SlurmRun, cancel: &AtomicBool) -> Res
             }
             Err(e) => return Err(e),
         };
-        let mut still = Vec::new();
-        for job in &open {
-            // A job the cluster will not start as asked: say so once (the
-            // user may lower its `slurm:` resources or the site's limits).
-            if let Some((state, reason)) = states.get(&job.job_id)
-                && state == "PENDING"
-                && never_starts(reason)
-                && warned.insert(job.job_id.clone())
-            {
-                bar.suspend(|| {
-                    eprintln!(
-                        "warning: stage `{}` (Slurm job {}) waits: {reason}; it asks {} CPUs, {} \
-                         MiB, {} min (lower them with `slurm:` in the pipeline or `limits:` in \
-                         the site profile, or Ctrl-C)",
-                        job.stage, job.job_id, job.cpus, job.mem_mb, job.time_min
-                    )
-                });
-            }
-        }
-        for job in open {
-            let (state, reason) = states
-                .get(&job.job_id)
-                .map(|(s, r)| (s.as_str(), r.as_str()))
-                .unwrap_or(("gone", ""));
-            if state != "gone" && !is_final(state) {
-                still.push(job);
-                continue;
-            }
-            bar.inc(1);
-            if matches!(cache.check(&job.key), EntryState::Valid(_)) {
-                continue;
-            }
-            if reason == "DependencyNeverSatisfied" {
-                skipped.push(&job.stage);
-                continue;
-            }
-            failed.push(failure(job, state));
-        }
-        open = still;
-        let running: Vec<&str> = open
-            .iter()
-            .filter(|j| states.get(&j.job_id).is_some_and(|(s, _)| s == "RUNNING"))
-            .map(|j| j.stage.as_str())
-            .collect();
-        bar.set_message(match running.len() {
-            0 => format!("{} queued", open.len()),
-            _ => format!(
-                "running {} · {} queued",
-                running.join(" "),
-                open.len() - running.len()
-            ),
-        });
+        warn_never_starting(&open, &states, &mut warned, &bar);
+        open = settle_finished(open, &states, &cache, &bar, &mut outcome);
+        bar.set_message(queue_message(&open, &states));
         if !open.is_empty() {
             sleep_unless(cancel, poll);
         }
     }
     bar.finish_and_clear();
-    if failed.is_empty() {
-        return Ok(());
+    outcome.into_result()
+}
+
+/// The bar of the jobs done (hidden when quiet).
+fn jobs_bar(quiet: bool, jobs: usize) -> ProgressBar {
+    if quiet {
+        return ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
     }
-    let mut message = failed.join("\n");
-    if !skipped.is_empty() {
-        message.push_str(&format!(
-            "\nnot run, as a stage they read failed: {}",
-            skipped.join(", ")
-        ));
-    }
-    message.push_str(
-        "\nentries that were computed stay in the cache; fix the cause and rerun: only what is \
-         missing is submitted",
+    let bar = ProgressBar::new(jobs as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{prefix:>14.bold} [{bar:30}] {pos}/{len} {msg}")
+            .expect("valid template")
+            .progress_chars("=> "),
     );
-    Err(RunError::Job(message))
+    bar.set_prefix("slurm jobs");
+    bar
+}
+
+/// Cancels the jobs still open; the error that says so.
+fn cancel_jobs(open: &[&SubmittedJob]) -> RunError {
+    let ids = job_ids(open.iter().copied());
+    if let Err(e) = scancel(&ids) {
+        return e;
+    }
+    RunError::Job(format!(
+        "cancelled: scancel sent to {} jobs ({}); entries already computed stay in the cache, a \
+         rerun submits the rest",
+        ids.len(),
+        ids.join(" ")
+    ))
+}
+
+/// A job the cluster will not start as asked: say so once (the user may
+/// lower its `slurm:` resources or the site's limits).
+fn warn_never_starting(
+    open: &[&SubmittedJob],
+    states: &States,
+    warned: &mut HashSet<String>,
+    bar: &ProgressBar,
+) {
+    for job in open {
+        if let Some((state, reason)) = states.get(&job.job_id)
+            && state == "PENDING"
+            && never_starts(reason)
+            && warned.insert(job.job_id.clone())
+        {
+            bar.suspend(|| {
+                eprintln!(
+                    "warning: stage `{}` (Slurm job {}) waits: {reason}; it asks {} CPUs, {} MiB, \
+                     {} min (lower them with `slurm:` in the pipeline or `limits:` in the site \
+                     profile, or Ctrl-C)",
+                    job.stage, job.job_id, job.cpus, job.mem_mb, job.time_min
+                )
+            });
+        }
+    }
+}
+
+/// Judges each job that has left the queue (or reached a final state) by
+/// its entry; returns the jobs still open.
+fn settle_finished<'a>(
+    open: Vec<&'a SubmittedJob>,
+    states: &States,
+    cache: &Cache,
+    bar: &ProgressBar,
+    outcome: &mut Outcome<'a>,
+) -> Vec<&'a SubmittedJob> {
+    let mut still = Vec::new();
+    for job in open {
+        let (state, reason) = states
+            .get(&job.job_id)
+            .map(|(s, r)| (s.as_str(), r.as_str()))
+            .unwrap_or(("gone", ""));
+        if state != "gone" && !is_final(state) {
+            still.push(job);
+            continue;
+        }
+        bar.inc(1);
+        if matches!(cache.check(&job.key), EntryState::Valid(_)) {
+            continue;
+        }
+        if reason == "DependencyNeverSatisfied" {
+            outcome.skipped.push(&job.stage);
+            continue;
+        }
+        outcome.failed.push(failure(job, state));
+    }
+    still
+}
+
+/// "running a b · 3 queued", or "3 queued" while none runs.
+fn queue_message(open: &[&SubmittedJob], states: &States) -> String {
+    let running: Vec<&str> = open
+        .iter()
+        .filter(|j| states.get(&j.job_id).is_some_and(|(s, _)| s == "RUNNING"))
+        .map(|j| j.stage.as_str())
+        .collect();
+    match running.len() {
+        0 => format!("{} queued", open.len()),
+        _ => format!(
+            "running {} · {} queued",
+            running.join(" "),
+            open.len() - running.len()
+        ),
+    }
+}
+
+impl Outcome<'_> {
+    /// Ok when no job failed; else one error naming every failure.
+    fn into_result(self) -> Result<(), RunError> {
+        if self.failed.is_empty() {
+            return Ok(());
+        }
+        let mut message = self.failed.join("\n");
+        if !self.skipped.is_empty() {
+            message.push_str(&format!(
+                "\nnot run, as a stage they read failed: {}",
+                self.skipped.join(", ")
+            ));
+        }
+        message.push_str(
+            "\nentries that were computed stay in the cache; fix the cause and rerun: only what \
+             is missing is submitted",
+        );
+        Err(RunError::Job(message))
+    }
 }
 
 /// "stage `x` (kind) failed in Slurm job N (STATE); log: PATH" and the

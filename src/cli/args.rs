@@ -1,0 +1,186 @@
+//! The command line as clap reads it: every subcommand with its options.
+//! The doc comments here are the `--help` text.
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "hypercontact",
+    version,
+    about = "Reruns a rough-surface contact study of hyperelastic rubber end to end",
+    long_about = "Reruns a rough-surface contact study of hyperelastic rubber end to end: \
+                  tensile tests → hyperelastic fit, interferometer tiles → height map → PSD → \
+                  truncation → incremental contact model → report, as a cached YAML pipeline."
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(clap::Args, Clone)]
+pub struct RunArgs {
+    /// The pipeline file (YAML).
+    pub pipeline: PathBuf,
+    /// Output folder [default: runs/<pipeline name>/].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Cache folder [default: .hypercontact/cache next to the pipeline file].
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
+    /// Override a parameter: STAGE.PARAM=VALUE (VALUE is YAML). Repeatable.
+    #[arg(long = "set", value_name = "STAGE.PARAM=VALUE")]
+    pub set: Vec<String>,
+    /// Print what would run and why, then stop.
+    #[arg(long)]
+    pub dry_run: bool,
+    /// No progress bars and no summary.
+    #[arg(long, short)]
+    pub quiet: bool,
+    /// Where stages run: here, or as Slurm batch jobs on a cluster sharing
+    /// the cache folder (see README, "Running on a Slurm cluster").
+    #[arg(long, value_enum, default_value_t = Executor::Local)]
+    pub executor: Executor,
+    /// With `--executor slurm`: submit, print the job ids and return;
+    /// `hypercontact status` follows them, the same command again collects
+    /// the outputs once they are done.
+    #[arg(long)]
+    pub detach: bool,
+    /// The site's Slurm profile (partition, account, module loads)
+    /// [default: $HYPERCONTACT_SLURM_PROFILE, else
+    /// ~/.config/hypercontact/slurm.yaml if present].
+    #[arg(long, value_name = "FILE")]
+    pub slurm_profile: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Executor {
+    /// Every stage in this process.
+    Local,
+    /// Every stage a Slurm job (`sbatch`), chained by dependencies.
+    Slurm,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Run a pipeline, reusing every cached stage whose inputs are unchanged.
+    Run {
+        #[command(flatten)]
+        args: RunArgs,
+        /// Recompute this stage even if cached. Repeatable.
+        #[arg(long, value_name = "STAGE")]
+        force: Vec<String>,
+        /// Run only this stage and the stages it needs.
+        #[arg(long, value_name = "STAGE")]
+        only: Option<String>,
+    },
+    /// Run the pipeline's `study:` sweep and gather the chosen tables.
+    Study {
+        #[command(flatten)]
+        args: RunArgs,
+    },
+    /// Describe the stage kinds: parameters (defaults, units), inputs, outputs.
+    Stages {
+        /// Only this kind, with its full documentation.
+        kind: Option<String>,
+        /// Machine-readable output.
+        #[arg(long)]
+        json: bool,
+    },
+    /// The Slurm jobs of a pipeline's last submission (`--executor slurm`):
+    /// state, entry, log.
+    Status {
+        /// The pipeline file (YAML).
+        pipeline: PathBuf,
+        /// Output folder of the run or study [default: runs/<pipeline name>/].
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Compute one stage of a submitted plan into the cache: what each
+    /// Slurm job runs (`<out>/slurm/jobs/<key>.json`).
+    ExecStage {
+        /// The job file written at submission.
+        job: PathBuf,
+    },
+    /// Inspect or prune the cache.
+    Cache {
+        #[command(subcommand)]
+        action: CacheAction,
+    },
+}
+
+#[derive(clap::Args)]
+pub struct CacheWhere {
+    /// A pipeline whose cache to use (its .hypercontact/cache).
+    #[arg(long, conflicts_with = "cache")]
+    pub pipeline: Option<PathBuf>,
+    /// The cache folder [default: pipelines/.hypercontact/cache].
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
+}
+
+#[derive(Subcommand)]
+pub enum CacheAction {
+    /// List entries: key, kind, stage, size, last use.
+    Ls {
+        #[command(flatten)]
+        at: CacheWhere,
+    },
+    /// Remove entries no longer needed, and debris of interrupted runs.
+    Gc {
+        #[command(flatten)]
+        at: CacheWhere,
+        /// Keep every entry these pipelines use now; remove the rest.
+        #[arg(long, value_name = "PIPELINE")]
+        keep: Vec<PathBuf>,
+        /// Remove entries unused for this many days (default 30 without --keep).
+        #[arg(long, value_parser = parse_days)]
+        older_than_days: Option<f64>,
+    },
+    /// Hash every file of every entry against its manifest; list corrupt
+    /// entries (exit 1 if any; `gc` removes unreadable ones, a run
+    /// recomputes the others).
+    Verify {
+        #[command(flatten)]
+        at: CacheWhere,
+    },
+    /// Remove the whole cache.
+    Clean {
+        #[command(flatten)]
+        at: CacheWhere,
+    },
+}
+
+/// A number of days for `--older-than-days`: finite, 0 … 100 years.
+fn parse_days(text: &str) -> Result<f64, String> {
+    let days: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a number of days"))?;
+    if (0.0..=36_525.0).contains(&days) {
+        Ok(days)
+    } else {
+        Err(format!("{text} days: give a number from 0 to 36525"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::Duration;
+
+    use super::*;
+
+    #[test]
+    fn days_are_finite_and_in_range() {
+        // Issue 12: NaN, inf, -1 and 1e300 reached `Duration::from_secs_f64`
+        // and panicked.
+        for bad in ["NaN", "inf", "-inf", "-1", "1e300", "36526", "x", ""] {
+            assert!(parse_days(bad).is_err(), "{bad}");
+        }
+        for (good, days) in [("0", 0.0), ("0.5", 0.5), ("30", 30.0), ("36525", 36525.0)] {
+            assert_eq!(parse_days(good), Ok(days));
+            let _ = Duration::from_secs_f64(days * 86_400.0);
+        }
+    }
+}

@@ -1,0 +1,31 @@
+//! The subcommands of `hypercontact`, one file each: this module hands the
+//! parsed command line to the one it names.
+
+#[macro_use]
+mod say;
+mod args;
+mod cache;
+mod exec_stage;
+mod prepare;
+mod run;
+mod slurm;
+mod status;
+mod study;
+
+use anyhow::Result;
+
+pub use args::Cli;
+use args::Command;
+
+/// Runs the command the user gave.
+pub fn dispatch(cli: Cli) -> Result<()> {
+    let registry = hypercontact::registry();
+    match cli.command {
+        Command::Run { args, force, only } => run::run(&args, force, only, &registry),
+        Command::Study { args } => study::study(&args, &registry),
+        Command::Stages { kind, json } => crate::stages::print(&registry, kind.as_deref(), json),
+        Command::Status { pipeline, out } => status::status(&pipeline, out, &registry),
+        Command::ExecStage { job } => exec_stage::exec_stage(&job, &registry),
+        Command::Cache { action } => cache::cache_command(action, &registry),
+    }
+}

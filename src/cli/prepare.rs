@@ -1,0 +1,39 @@
+//! From the command line to a checked pipeline and the options to run it
+//! with: the part `run`, `study` and a Slurm job's `exec-stage` share.
+
+use std::path::Path;
+
+use anyhow::{Result, bail};
+use hypercontact_core::Registry;
+use hypercontact_runner::{Pipeline, RunOptions};
+
+use super::args::{Executor, RunArgs};
+
+/// The pipeline of `args` with its `--set` overrides, and the run options
+/// its flags give.
+pub fn prepare(args: &RunArgs, registry: &Registry) -> Result<(Pipeline, RunOptions)> {
+    if args.detach && args.executor != Executor::Slurm {
+        bail!("--detach returns while Slurm jobs run: give it with `--executor slurm`");
+    }
+    let pipeline = load_with_sets(&args.pipeline, &args.set, registry)?;
+    let mut options = RunOptions::for_pipeline(&pipeline);
+    if let Some(out) = &args.out {
+        options.out_dir = out.clone();
+    }
+    if let Some(cache) = &args.cache {
+        options.cache_dir = cache.clone();
+    }
+    options.dry_run = args.dry_run;
+    options.quiet = args.quiet;
+    options.overrides = args.set.clone();
+    Ok((pipeline, options))
+}
+
+/// A pipeline file with `STAGE.PARAM=VALUE` assignments applied in order.
+pub fn load_with_sets(file: &Path, sets: &[String], registry: &Registry) -> Result<Pipeline> {
+    let mut pipeline = Pipeline::load(file, registry)?;
+    for assignment in sets {
+        pipeline.set(assignment)?;
+    }
+    Ok(pipeline)
+}

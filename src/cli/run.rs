@@ -1,0 +1,71 @@
+//! `hypercontact run`: one pipeline, here or as Slurm jobs, then the
+//! summary of what ran and what was cached.
+
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::Result;
+use hypercontact_core::Registry;
+use hypercontact_runner::slurm::PipelineRun;
+use hypercontact_runner::{PlanOptions, RunReport};
+
+use super::args::{Executor, RunArgs};
+use super::prepare::prepare;
+use super::say::say_text;
+use super::slurm::on_slurm;
+
+pub fn run(
+    args: &RunArgs,
+    force: Vec<String>,
+    only: Option<String>,
+    registry: &Registry,
+) -> Result<()> {
+    let started = Instant::now();
+    let (pipeline, mut options) = prepare(args, registry)?;
+    options.plan = PlanOptions {
+        force,
+        only,
+        prune: false,
+    };
+    if args.executor == Executor::Slurm {
+        let runs = [PipelineRun {
+            pipeline: &pipeline,
+            sets: args.set.clone(),
+            values: Vec::new(),
+            plan: options.plan.clone(),
+        }];
+        let Some(remote) = on_slurm(args, &options, &runs)? else {
+            return Ok(());
+        };
+        // The jobs computed every entry: what follows exports them.
+        options.plan.force.clear();
+        options.remote = remote;
+    }
+    let report = hypercontact_runner::run(&pipeline, &options)?;
+    if args.dry_run {
+        say_text(report.plan.describe());
+    } else if !args.quiet {
+        say_summary(&report, started, &options.out_dir);
+    }
+    Ok(())
+}
+
+/// One line per stage, then the counts, the time and where the outputs are.
+fn say_summary(report: &RunReport, started: Instant, out_dir: &Path) {
+    say_text(report.summary());
+    let temps = match report.temps_not_needed() {
+        0 => String::new(),
+        n => format!(", {n} temporary not needed"),
+    };
+    say!(
+        "{} ran, {} cached{temps} in {:.2} s; outputs in {}",
+        report.computed(),
+        report.hits(),
+        // On Slurm, the whole wait, not only the export.
+        started
+            .elapsed()
+            .as_secs_f64()
+            .max(report.provenance.wall_s),
+        out_dir.display()
+    );
+}
