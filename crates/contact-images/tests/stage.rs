@@ -8,11 +8,11 @@
 use hypercontact_contact_images::stage::{
     ContactImages, ContactImagesParams, ContactTable, SyncTable,
 };
-use hypercontact_core::png::{Pixels, encode_png};
 use hypercontact_core::{Checked, Context, Files, Inputs, Params, Product, Schema, Stage, Table};
 use hypercontact_interference::camera::{Camera, CameraParams};
 use hypercontact_interference::geometry::{CameraGrid, GapMap, Placement, resample};
 use hypercontact_interference::render::{OpticsParams, render_frame};
+use hypercontact_labfiles::png::{Pixels, encode_png};
 use ndarray::Array2;
 
 const RADIUS_M: f64 = 5e-3;

@@ -6,44 +6,46 @@ use std::time::Duration;
 
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use crate::csv_table::RowLines;
+use crate::row_lines::RowLines;
 use crate::{Field, StageError, Table};
 
-/// Reads the files a loader stage is pointed at. The runner's I/O edge
-/// supplies one that also reads Parquet; the default reads CSV and `.npy`.
+/// Reads the files a loader stage is pointed at. The runner lends one that
+/// reads Parquet, CSV and `.npy` (hypercontact-io's, composing
+/// hypercontact-labfiles' `LabReader`); [`Context::new`] lends the
+/// [`FieldReader`], which reads `.npy` fields only.
 pub trait ProductReader: Send + Sync {
     fn read_table(&self, path: &Path) -> Result<Table, StageError>;
     fn read_field(&self, path: &Path, dx_m: f64, dy_m: f64) -> Result<Field, StageError>;
 
     /// The table with the file line of each row, so a stage checking the
-    /// values can name the line of a bad one: CSV by the one CSV reader;
-    /// other formats (no lines) by [`ProductReader::read_table`], their
-    /// rows numbered.
+    /// values can name the line of a bad one. The default numbers the rows
+    /// of [`ProductReader::read_table`]; a reader of a text format (CSV)
+    /// overrides it with the lines.
     fn read_table_with_lines(&self, path: &Path) -> Result<(Table, RowLines), StageError> {
-        match extension(path).as_str() {
-            "csv" => crate::csv_table::read_csv_with_lines(path).map(|csv| (csv.table, csv.lines)),
-            _ => Ok((self.read_table(path)?, RowLines::default())),
-        }
+        Ok((self.read_table(path)?, RowLines::default()))
     }
 }
 
-/// Reads CSV tables and `.npy` fields; Parquet needs the runner's reader.
+/// Reads `.npy` fields, the field type's own format; refuses tables, whose
+/// readers (CSV, Parquet) live outside core so that no stage crate builds
+/// them.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct BasicReader;
+pub struct FieldReader;
 
-impl ProductReader for BasicReader {
+impl ProductReader for FieldReader {
     fn read_table(&self, path: &Path) -> Result<Table, StageError> {
-        match extension(path).as_str() {
-            "csv" => crate::csv_table::read_csv(path),
-            other => Err(StageError::file(
-                path,
-                format!("cannot read tables from `.{other}` files here (CSV only)"),
-            )),
-        }
+        Err(StageError::file(
+            path,
+            format!(
+                "cannot read tables from `.{}` files here (no table reader: \
+                 hypercontact-labfiles' LabReader reads CSV)",
+                extension(path)
+            ),
+        ))
     }
 
     fn read_field(&self, path: &Path, dx_m: f64, dy_m: f64) -> Result<Field, StageError> {
-        let bytes = crate::source::read_regular_file(path)?;
+        let bytes = crate::regular_file::read_regular_file(path)?;
         Field::read_npy(bytes.as_slice(), dx_m, dy_m)
             .map_err(|e| StageError::file(path, e.to_string()))
     }
@@ -69,13 +71,13 @@ pub struct Context<'a> {
 }
 
 impl<'a> Context<'a> {
-    /// A context with hidden progress and the basic reader: for tests and
-    /// library use.
+    /// A context with hidden progress and the [`FieldReader`]: for tests
+    /// and library use.
     pub fn new(stage: &str) -> Context<'static> {
         Context {
             stage: stage.to_owned(),
             multi: None,
-            reader: &BasicReader,
+            reader: &FieldReader,
             upstream: None,
             notes: Mutex::new(Vec::new()),
         }
@@ -210,27 +212,36 @@ impl Drop for Progress {
 mod tests {
     use super::*;
 
-    /// `/dev/zero` given as a table or a field was read without end (and
-    /// without memory bound); it is refused before reading.
+    /// `/dev/zero` given as a field was read without end (and without
+    /// memory bound); it is refused before reading.
     #[cfg(unix)]
     #[test]
     fn devices_are_refused_not_read_forever() {
         let (tx, rx) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
-            let zero = Path::new("/dev/zero");
-            let field = BasicReader.read_field(zero, 1.0, 1.0).map(|_| ());
-            let table = crate::csv_table::read_csv(zero).map(|_| ());
-            let _ = tx.send((field, table));
+            let field = FieldReader.read_field(Path::new("/dev/zero"), 1.0, 1.0);
+            let _ = tx.send(field.map(|_| ()));
         });
-        let (field, table) = rx
+        let e = rx
             .recv_timeout(Duration::from_secs(10))
-            .expect("reading /dev/zero did not end");
-        for e in [field.unwrap_err(), table.unwrap_err()] {
-            let e = e.to_string();
-            assert!(
-                e.contains("/dev/zero") && e.contains("not a regular file"),
-                "{e}"
-            );
-        }
+            .expect("reading /dev/zero did not end")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("/dev/zero") && e.contains("not a regular file"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn the_field_reader_refuses_tables_and_names_the_file() {
+        let e = FieldReader
+            .read_table_with_lines(Path::new("data/t.csv"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("data/t.csv: cannot read tables from `.csv`"),
+            "{e}"
+        );
     }
 }

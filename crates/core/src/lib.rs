@@ -15,23 +15,21 @@ extern crate self as hypercontact_core;
 
 pub mod contact;
 pub mod context;
-pub mod csv_table;
 pub mod error;
 pub mod fft;
 pub mod field;
 pub mod mode;
 pub mod param;
-pub mod png;
 pub mod product;
 pub mod registry;
+pub mod regular_file;
 pub mod robust;
+pub mod row_lines;
 pub mod schema;
-pub mod sequence;
-pub mod source;
 pub mod stage;
 pub mod table;
 
-pub use context::{Context, ProductReader, Progress};
+pub use context::{Context, FieldReader, ProductReader, Progress};
 pub use error::StageError;
 pub use field::Field;
 pub use hypercontact_derive::{Choice, Schema, params};
@@ -39,8 +37,8 @@ pub use mode::Mode;
 pub use param::{Checked, InputPath, ParamError, ParamSpec, ParamValue, Params, check_range, join};
 pub use product::{Files, Inputs, Outputs, Product, ProductKind};
 pub use registry::{AnyParams, DynStage, ParamsError, Registry};
+pub use row_lines::{RowLines, RowPlace};
 pub use schema::Schema;
-pub use source::FileSource;
 pub use stage::{Arity, ColumnSpec, InputSpec, OutputSpec, Resources, Stage, StageInfo};
 pub use table::{ColumnData, DType, NotANumber, Table, TableError};
 

@@ -11,9 +11,10 @@
 //! thickness), as the paper's section 2 tests report it.
 
 use hypercontact_core::{
-    Arity, Checked, Choice, Context, Field, FileSource, InputPath, InputSpec, Inputs, Mode,
-    OutputSpec, Outputs, Schema, Stage, StageError, StageInfo, params,
+    Arity, Checked, Choice, Context, Field, InputPath, InputSpec, Inputs, Mode, OutputSpec,
+    Outputs, Schema, Stage, StageError, StageInfo, params,
 };
+use hypercontact_labfiles::FileSource;
 use ndarray::Array2;
 
 use crate::DicError;

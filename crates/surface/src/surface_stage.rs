@@ -4,9 +4,10 @@
 use std::f64::consts::TAU;
 
 use hypercontact_core::{
-    Arity, Checked, Choice, Context, Field, FileSource, InputPath, InputSpec, Inputs, OutputSpec,
-    Outputs, ParamError, Schema, Stage, StageError, StageInfo, params,
+    Arity, Checked, Choice, Context, Field, InputPath, InputSpec, Inputs, OutputSpec, Outputs,
+    ParamError, Schema, Stage, StageError, StageInfo, params,
 };
+use hypercontact_labfiles::FileSource;
 use ndarray::Array2;
 
 use crate::error::SurfaceError;
@@ -626,11 +627,11 @@ fn listed_tiles(
                 ),
             ));
         }
-        let bytes = hypercontact_core::source::read_regular_file(path.path())?;
+        let bytes = hypercontact_core::regular_file::read_regular_file(path.path())?;
         files = files.with(&name, bytes);
     }
     if let Some(positions) = positions {
-        let bytes = hypercontact_core::source::read_regular_file(positions.path())?;
+        let bytes = hypercontact_core::regular_file::read_regular_file(positions.path())?;
         files = files.with(crate::tiles::POSITIONS, bytes);
     }
     Ok(files)

@@ -6,8 +6,9 @@
 //! Bounded for CI: a fixed seed and a few hundred cases per property;
 //! `PROPTEST_CASES` and `PROPTEST_RNG_SEED` widen or move the search.
 
-use hypercontact_core::{Context, Field, FileSource, Files, Inputs, Params, Product, Stage};
+use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Stage};
 use hypercontact_fuzz::config;
+use hypercontact_labfiles::FileSource;
 use hypercontact_surface::surface_stage::{Surface, SurfaceParams};
 use hypercontact_surface::tiles::{POSITIONS, read_tiles};
 use ndarray::Array2;

@@ -1,7 +1,8 @@
 //! Stitching synthetic interferometer tiles against their ground truth,
 //! and the stage end to end: synth-surface → surface.
 
-use hypercontact_core::{Context, FileSource, Inputs, Params, Product, Stage};
+use hypercontact_core::{Context, Inputs, Params, Product, Stage};
+use hypercontact_labfiles::FileSource;
 use hypercontact_surface::stitch::stitch;
 use hypercontact_surface::surface_stage::{Surface, SurfaceParams};
 use hypercontact_surface::tiles::read_tiles;

@@ -8,10 +8,14 @@
 //! errors here and in the stages that check the values name the file and
 //! that line.
 
-use std::fmt;
 use std::path::Path;
 
-use crate::{ColumnData, StageError, Table};
+use hypercontact_core::regular_file::read_regular_file;
+use hypercontact_core::{ColumnData, StageError, Table};
+
+// Part of a CSV table's API; they live in core, where `ProductReader`
+// returns them.
+pub use hypercontact_core::row_lines::{RowLines, RowPlace};
 
 /// A CSV file read as a table, with where its rows stand in the file.
 #[derive(Clone, Debug, PartialEq)]
@@ -23,52 +27,13 @@ pub struct CsvTable {
     pub lines: RowLines,
 }
 
-/// Where the rows of a table stand in the file they were read from: file
-/// lines for a text file, 1-based row numbers for a table that has no lines
-/// (Parquet, another stage's output).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct RowLines(Option<Vec<u64>>);
-
-impl RowLines {
-    /// The 1-based file line of every row.
-    pub fn from_lines(lines: Vec<u64>) -> Self {
-        RowLines(Some(lines))
-    }
-
-    /// Where row `row` (0-based) stands, as messages name it.
-    pub fn place(&self, row: usize) -> RowPlace {
-        match self.0.as_ref().and_then(|lines| lines.get(row)) {
-            Some(&line) => RowPlace::Line(line),
-            None => RowPlace::Row(row + 1),
-        }
-    }
-}
-
-/// One row's place: `line 7` of a file, or `row 3` of a table.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum RowPlace {
-    /// 1-based file line.
-    Line(u64),
-    /// 1-based data row.
-    Row(usize),
-}
-
-impl fmt::Display for RowPlace {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            RowPlace::Line(line) => write!(f, "line {line}"),
-            RowPlace::Row(row) => write!(f, "row {row}"),
-        }
-    }
-}
-
 pub fn read_csv(path: &Path) -> Result<Table, StageError> {
     read_csv_with_lines(path).map(|csv| csv.table)
 }
 
 /// [`read_csv`] with the line of every row.
 pub fn read_csv_with_lines(path: &Path) -> Result<CsvTable, StageError> {
-    let bytes = crate::source::read_regular_file(path)?;
+    let bytes = read_regular_file(path)?;
     read_csv_bytes_with_lines(&bytes, &path.display().to_string())
 }
 
