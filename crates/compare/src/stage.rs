@@ -8,16 +8,17 @@ use hypercontact_contact_images::stage::ContactTable;
 use hypercontact_core::contact::{
     ModelMapIndex, ObservedMapIndex, ResponseTable, area_fraction_label,
 };
-use hypercontact_core::png::{Pixels, encode_png};
 use hypercontact_core::robust::median_and_sigma;
-use hypercontact_core::sequence::GrayFrame;
+use hypercontact_labfiles::png::{Pixels, encode_png};
+use hypercontact_labfiles::sequence::GrayFrame;
 use std::collections::BTreeMap;
 
 use hypercontact_core::{
-    Arity, Checked, Choice, Context, Field, FileSource, Files, InputSpec, Inputs, OutputSpec,
-    Outputs, ParamError, Product, Schema, Stage, StageError, StageInfo, params,
+    Arity, Checked, Choice, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs,
+    ParamError, Product, Schema, Stage, StageError, StageInfo, params,
 };
 use hypercontact_interference::CameraGrid;
+use hypercontact_labfiles::FileSource;
 use ndarray::Array2;
 
 use crate::agreement::{Curve, LogCurve, Range, agreement};

@@ -7,12 +7,12 @@
 use hypercontact_compare::stage::{ContactCompare, ContactCompareParams};
 use hypercontact_contact_images::stage::ContactTable;
 use hypercontact_core::contact::{ModelMapIndex, ObservedMapIndex};
-use hypercontact_core::png::{Pixels, encode_png};
 use hypercontact_core::{
     ColumnData, Context, Field, Files, Inputs, Params, Product, Schema, Stage, Table,
 };
 use hypercontact_fuzz::{byte_edits, config, splice};
 use hypercontact_interference::{CameraGrid, GapMap, Placement, resample};
+use hypercontact_labfiles::png::{Pixels, encode_png};
 use proptest::prelude::*;
 
 const N: usize = 120;

@@ -6,7 +6,7 @@
 //! from the trigger, or from first contact) and the force at each frame's
 //! mid-exposure.
 
-use hypercontact_core::sequence::{GrayFrame, Sequence};
+use hypercontact_labfiles::sequence::{GrayFrame, Sequence};
 use hypercontact_core::{Context, StageError};
 
 use crate::calibrated::{Calibrated, Level, segment_calibrated};

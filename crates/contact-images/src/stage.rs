@@ -2,15 +2,16 @@
 //! force log in, the measured contact area and patch count per frame out
 //! (the paper's Section 3 experiment), with binary contact maps for Fig. 6.
 //! The physics of the methods is in [`crate::otsu`], [`crate::multi_otsu`]
-//! and [`crate::calibrated`]; reading in [`hypercontact_core::sequence`];
+//! and [`crate::calibrated`]; reading in [`hypercontact_labfiles::sequence`];
 //! the analysis of the frames and the clock in `analysis.rs`.
 
 use hypercontact_core::contact::{ObservedMapIndex, area_fraction_label, check_map_fraction};
-use hypercontact_core::sequence::Sequence;
 use hypercontact_core::{
-    Arity, Checked, Choice, Context, FileSource, Files, InputPath, InputSpec, Inputs, OutputSpec,
-    Outputs, ParamError, Schema, Stage, StageError, StageInfo, params,
+    Arity, Checked, Choice, Context, Files, InputPath, InputSpec, Inputs, OutputSpec, Outputs,
+    ParamError, Schema, Stage, StageError, StageInfo, params,
 };
+use hypercontact_labfiles::FileSource;
+use hypercontact_labfiles::sequence::{GrayFrame, Sequence};
 
 use crate::Mask;
 use crate::analysis::analyse;
@@ -273,10 +274,10 @@ fn map_files(
             .iter()
             .map(|&c| if c { 255 } else { 0 })
             .collect();
-        let png = hypercontact_core::png::encode_png(
+        let png = hypercontact_labfiles::png::encode_png(
             mask.width() as u32,
             mask.height() as u32,
-            hypercontact_core::png::Pixels::Gray8(pixels),
+            hypercontact_labfiles::png::Pixels::Gray8(pixels),
         )
         .map_err(StageError::invalid)?;
         let m = &mut index.maps;

@@ -9,11 +9,11 @@ mod common;
 
 use common::{params, run};
 use hypercontact_contact_images::stage::{ContactImagesParams, ContactMapIndex};
-use hypercontact_core::png::{Pixels, encode_png};
 use hypercontact_core::{Files, Params, Schema};
 use hypercontact_interference::camera::{Camera, CameraParams};
 use hypercontact_interference::geometry::{CameraGrid, GapMap, Placement, resample};
 use hypercontact_interference::render::{OpticsParams, render_frame};
+use hypercontact_labfiles::png::{Pixels, encode_png};
 use ndarray::Array2;
 
 const RADIUS_M: f64 = 5e-3;

@@ -1,49 +1,50 @@
-//! What the runner lends a running stage: progress bars and file readers.
+//! What the runner lends a running stage: progress bars, notes and file
+//! readers.
 
 use std::path::Path;
 use std::sync::Mutex;
-use std::time::Duration;
 
-use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
-
-use crate::csv_table::RowLines;
+use crate::progress::{Progress, ProgressSink};
+use crate::row_lines::RowLines;
 use crate::{Field, StageError, Table};
 
-/// Reads the files a loader stage is pointed at. The runner's I/O edge
-/// supplies one that also reads Parquet; the default reads CSV and `.npy`.
+/// Reads the files a loader stage is pointed at. The runner lends one that
+/// reads Parquet, CSV and `.npy` (hypercontact-io's, composing
+/// hypercontact-labfiles' `LabReader`); [`Context::new`] lends the
+/// [`FieldReader`], which reads `.npy` fields only.
 pub trait ProductReader: Send + Sync {
     fn read_table(&self, path: &Path) -> Result<Table, StageError>;
     fn read_field(&self, path: &Path, dx_m: f64, dy_m: f64) -> Result<Field, StageError>;
 
     /// The table with the file line of each row, so a stage checking the
-    /// values can name the line of a bad one: CSV by the one CSV reader;
-    /// other formats (no lines) by [`ProductReader::read_table`], their
-    /// rows numbered.
+    /// values can name the line of a bad one. The default numbers the rows
+    /// of [`ProductReader::read_table`]; a reader of a text format (CSV)
+    /// overrides it with the lines.
     fn read_table_with_lines(&self, path: &Path) -> Result<(Table, RowLines), StageError> {
-        match extension(path).as_str() {
-            "csv" => crate::csv_table::read_csv_with_lines(path).map(|csv| (csv.table, csv.lines)),
-            _ => Ok((self.read_table(path)?, RowLines::default())),
-        }
+        Ok((self.read_table(path)?, RowLines::default()))
     }
 }
 
-/// Reads CSV tables and `.npy` fields; Parquet needs the runner's reader.
+/// Reads `.npy` fields, the field type's own format; refuses tables, whose
+/// readers (CSV, Parquet) live outside core so that no stage crate builds
+/// them.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct BasicReader;
+pub struct FieldReader;
 
-impl ProductReader for BasicReader {
+impl ProductReader for FieldReader {
     fn read_table(&self, path: &Path) -> Result<Table, StageError> {
-        match extension(path).as_str() {
-            "csv" => crate::csv_table::read_csv(path),
-            other => Err(StageError::file(
-                path,
-                format!("cannot read tables from `.{other}` files here (CSV only)"),
-            )),
-        }
+        Err(StageError::file(
+            path,
+            format!(
+                "cannot read tables from `.{}` files here (no table reader: \
+                 hypercontact-labfiles' LabReader reads CSV)",
+                extension(path)
+            ),
+        ))
     }
 
     fn read_field(&self, path: &Path, dx_m: f64, dy_m: f64) -> Result<Field, StageError> {
-        let bytes = crate::source::read_regular_file(path)?;
+        let bytes = crate::regular_file::read_regular_file(path)?;
         Field::read_npy(bytes.as_slice(), dx_m, dy_m)
             .map_err(|e| StageError::file(path, e.to_string()))
     }
@@ -60,7 +61,7 @@ pub fn extension(path: &Path) -> String {
 /// The running stage's view of the runner.
 pub struct Context<'a> {
     stage: String,
-    multi: Option<&'a MultiProgress>,
+    sink: Option<&'a dyn ProgressSink>,
     reader: &'a dyn ProductReader,
     upstream: Option<serde_json::Value>,
     /// Every note of the run, in order: the runner keeps them with the
@@ -69,27 +70,28 @@ pub struct Context<'a> {
 }
 
 impl<'a> Context<'a> {
-    /// A context with hidden progress and the basic reader: for tests and
-    /// library use.
+    /// A context with hidden progress and the [`FieldReader`]: for tests
+    /// and library use.
     pub fn new(stage: &str) -> Context<'static> {
         Context {
             stage: stage.to_owned(),
-            multi: None,
-            reader: &BasicReader,
+            sink: None,
+            reader: &FieldReader,
             upstream: None,
             notes: Mutex::new(Vec::new()),
         }
     }
 
-    /// The runner's context: bars drawn under `multi` (None = quiet).
+    /// The runner's context: bars and notes shown by `sink` (None =
+    /// quiet), files read by `reader`.
     pub fn with(
         stage: &str,
-        multi: Option<&'a MultiProgress>,
+        sink: Option<&'a dyn ProgressSink>,
         reader: &'a dyn ProductReader,
     ) -> Self {
         Context {
             stage: stage.to_owned(),
-            multi,
+            sink,
             reader,
             upstream: None,
             notes: Mutex::new(Vec::new()),
@@ -118,41 +120,21 @@ impl<'a> Context<'a> {
 
     /// A progress bar over `len` steps, labelled with the stage name.
     pub fn progress(&self, len: u64, what: &str) -> Progress {
-        let bar = match self.multi {
-            Some(multi) => {
-                let bar = multi.add(ProgressBar::new(len));
-                bar.set_style(
-                    ProgressStyle::with_template(
-                        "{prefix:>14.bold} {msg:<24} [{bar:30}] {human_pos}/{human_len} ({eta})",
-                    )
-                    .expect("valid template")
-                    .progress_chars("=> "),
-                );
-                bar.enable_steady_tick(Duration::from_millis(200));
-                bar
-            }
-            None => ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::hidden()),
-        };
-        bar.set_prefix(self.stage.clone());
-        bar.set_message(what.to_owned());
-        Progress(bar)
+        match self.sink {
+            Some(sink) => Progress::shown(sink.bar(&self.stage, len, what)),
+            None => Progress::hidden(),
+        }
     }
 
     /// Says something the user should know (a choice made for them, a
-    /// warning: start it with `warning:`). It is printed above the progress
-    /// bars on a terminal, as a plain line on stderr when there is none
-    /// (piped or CI runs, where the bars are hidden), nothing when quiet;
-    /// and it is kept: the runner stores a stage's notes with its cache
-    /// entry and writes them into provenance.json, so a cached result still
-    /// carries them.
+    /// warning: start it with `warning:`). The sink shows it (the
+    /// runner's: above the progress bars on a terminal, a plain line on
+    /// stderr when there is none; nothing when quiet); and it is kept: the
+    /// runner stores a stage's notes with its cache entry and writes them
+    /// into provenance.json, so a cached result still carries them.
     pub fn note(&self, message: &str) {
-        let line = format!("{:>14} {message}", self.stage);
-        if let Some(multi) = self.multi {
-            if multi.is_hidden() {
-                eprintln!("{}", line.trim_start());
-            } else {
-                let _ = multi.println(line);
-            }
+        if let Some(sink) = self.sink {
+            sink.note(&self.stage, message);
         }
         self.notes
             .lock()
@@ -182,55 +164,119 @@ impl<'a> Context<'a> {
     }
 }
 
-/// A progress bar; share it by reference across worker threads (it is
-/// `Sync`). It disappears when dropped.
-pub struct Progress(ProgressBar);
-
-impl Progress {
-    pub fn inc(&self, n: u64) {
-        self.0.inc(n);
-    }
-
-    pub fn set_position(&self, pos: u64) {
-        self.0.set_position(pos);
-    }
-
-    pub fn set_message(&self, what: &str) {
-        self.0.set_message(what.to_owned());
-    }
-}
-
-impl Drop for Progress {
-    fn drop(&mut self) {
-        self.0.finish_and_clear();
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::progress::Bar;
+    use std::sync::Arc;
+    use std::time::Duration;
 
-    /// `/dev/zero` given as a table or a field was read without end (and
-    /// without memory bound); it is refused before reading.
+    /// `/dev/zero` given as a field was read without end (and without
+    /// memory bound); it is refused before reading.
     #[cfg(unix)]
     #[test]
     fn devices_are_refused_not_read_forever() {
         let (tx, rx) = std::sync::mpsc::channel();
         std::thread::spawn(move || {
-            let zero = Path::new("/dev/zero");
-            let field = BasicReader.read_field(zero, 1.0, 1.0).map(|_| ());
-            let table = crate::csv_table::read_csv(zero).map(|_| ());
-            let _ = tx.send((field, table));
+            let field = FieldReader.read_field(Path::new("/dev/zero"), 1.0, 1.0);
+            let _ = tx.send(field.map(|_| ()));
         });
-        let (field, table) = rx
+        let e = rx
             .recv_timeout(Duration::from_secs(10))
-            .expect("reading /dev/zero did not end");
-        for e in [field.unwrap_err(), table.unwrap_err()] {
-            let e = e.to_string();
-            assert!(
-                e.contains("/dev/zero") && e.contains("not a regular file"),
-                "{e}"
-            );
+            .expect("reading /dev/zero did not end")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("/dev/zero") && e.contains("not a regular file"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn the_field_reader_refuses_tables_and_names_the_file() {
+        let e = FieldReader
+            .read_table_with_lines(Path::new("data/t.csv"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("data/t.csv: cannot read tables from `.csv`"),
+            "{e}"
+        );
+    }
+
+    /// A sink that logs what it is asked to show.
+    #[derive(Default)]
+    struct Recorder(Arc<Mutex<Vec<String>>>);
+
+    impl Recorder {
+        fn log(&self) -> Vec<String> {
+            self.0.lock().unwrap().clone()
         }
+    }
+
+    impl ProgressSink for Recorder {
+        fn bar(&self, stage: &str, len: u64, what: &str) -> Box<dyn Bar> {
+            self.0
+                .lock()
+                .unwrap()
+                .push(format!("bar {stage} {len} {what}"));
+            Box::new(Recorder(Arc::clone(&self.0)))
+        }
+
+        fn note(&self, stage: &str, message: &str) {
+            self.0
+                .lock()
+                .unwrap()
+                .push(format!("note {stage} {message}"));
+        }
+    }
+
+    impl Bar for Recorder {
+        fn inc(&self, n: u64) {
+            self.0.lock().unwrap().push(format!("inc {n}"));
+        }
+
+        fn set_position(&self, pos: u64) {
+            self.0.lock().unwrap().push(format!("position {pos}"));
+        }
+
+        fn set_message(&self, what: &str) {
+            self.0.lock().unwrap().push(format!("message {what}"));
+        }
+
+        fn finish(&self) {
+            self.0.lock().unwrap().push("finish".into());
+        }
+    }
+
+    #[test]
+    fn the_sink_sees_every_bar_step_and_note_and_the_context_keeps_the_notes() {
+        let sink = Recorder::default();
+        let ctx = Context::with("fit", Some(&sink), &FieldReader);
+        {
+            let bar = ctx.progress(3, "refits");
+            bar.inc(2);
+            bar.set_position(3);
+            bar.set_message("done");
+            ctx.note("warning: few points");
+        }
+        assert_eq!(
+            sink.log(),
+            [
+                "bar fit 3 refits",
+                "inc 2",
+                "position 3",
+                "message done",
+                "note fit warning: few points",
+                "finish"
+            ]
+        );
+        assert_eq!(ctx.notes(), ["warning: few points"]);
+        // Without a sink nothing is shown, and the notes are still kept.
+        let quiet = Context::new("fit");
+        quiet.progress(2, "refits").inc(1);
+        quiet.note("a");
+        quiet.note("b");
+        assert_eq!(quiet.notes(), ["a", "b"]);
     }
 }

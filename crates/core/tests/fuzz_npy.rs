@@ -8,7 +8,7 @@
 
 use std::path::PathBuf;
 
-use hypercontact_core::context::BasicReader;
+use hypercontact_core::FieldReader;
 use hypercontact_core::{Field, ProductReader};
 use hypercontact_fuzz::{config, splice};
 use ndarray::Array2;
@@ -26,7 +26,7 @@ fn scratch(name: &str) -> PathBuf {
 /// must name the file; a field must match the shape its header gave.
 fn read_named(path: &PathBuf, bytes: &[u8]) -> Result<Field, String> {
     std::fs::write(path, bytes).unwrap();
-    let result = BasicReader.read_field(path, 1e-6, 1e-6);
+    let result = FieldReader.read_field(path, 1e-6, 1e-6);
     // The same bytes without the file around them.
     let direct = Field::read_npy(bytes, 1e-6, 1e-6);
     assert_eq!(result.is_ok(), direct.is_ok());

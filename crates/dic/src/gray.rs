@@ -10,7 +10,7 @@
 //! thresholds, fractions of full scale, do. Float TIFFs hold fractions
 //! already (0 … 1), or counts of a `bit_depth`-bit camera when one is given.
 
-use hypercontact_core::sequence::{DecodedImage, GrayFrame, Samples};
+use hypercontact_labfiles::sequence::{DecodedImage, GrayFrame, Samples};
 
 use crate::DicError;
 
@@ -44,10 +44,10 @@ impl GrayImage {
 
     /// Decodes a PNG or TIFF file's bytes; `name` only labels errors.
     /// Colour images are converted to grey by
-    /// [`hypercontact_core::sequence::LUMA_RULE`].
+    /// [`hypercontact_labfiles::sequence::LUMA_RULE`].
     pub fn decode(name: &str, bytes: &[u8]) -> Result<Self, DicError> {
-        let decoded =
-            hypercontact_core::sequence::decode_image(name, bytes).map_err(DicError::from_stage)?;
+        let decoded = hypercontact_labfiles::sequence::decode_image(name, bytes)
+            .map_err(DicError::from_stage)?;
         Self::from_decoded(&decoded, None).map_err(|e| DicError::file(name, e.to_string()))
     }
 

@@ -4,7 +4,7 @@
 //! cut out by the polygon or the mask; a POI is tracked only if its whole
 //! subset lies inside ([`Region::holds_square`]).
 
-use hypercontact_core::sequence::{DecodedImage, Samples};
+use hypercontact_labfiles::sequence::{DecodedImage, Samples};
 
 use crate::DicError;
 

@@ -1,12 +1,12 @@
 //! The tensile test's raw files: the lab sequence of
-//! [`hypercontact_core::sequence`] (`frames.csv` or the images' names or a
+//! [`hypercontact_labfiles::sequence`] (`frames.csv` or the images' names or a
 //! frame rate, the images, an optional `force.csv`) and, optionally,
 //! `specimen.json` (`mode`, `gauge_width_m`, `thickness_m`, `pixel_m`,
 //! `roi_px`, `bit_depth`), in the layout `synth-tensile` writes.
 
-use hypercontact_core::FileSource;
-pub use hypercontact_core::sequence::FrameEntry;
-use hypercontact_core::sequence::{
+use hypercontact_labfiles::FileSource;
+pub use hypercontact_labfiles::sequence::FrameEntry;
+use hypercontact_labfiles::sequence::{
     DecodedImage, FrameRate, Layout, Sequence as LabSequence, decode_image,
 };
 use serde::Deserialize;

@@ -12,9 +12,10 @@
 //! the stage; [`crate::analysis`] computes it.
 
 use hypercontact_core::{
-    Arity, Checked, Choice, Context, FileSource, InputPath, InputSpec, Inputs, Mode, OutputSpec,
-    Outputs, Schema, Stage, StageError, StageInfo, params,
+    Arity, Checked, Choice, Context, InputPath, InputSpec, Inputs, Mode, OutputSpec, Outputs,
+    Schema, Stage, StageError, StageInfo, params,
 };
+use hypercontact_labfiles::FileSource;
 
 pub use crate::analysis::{Analysis, analyse};
 use crate::icgn::IcgnSettings;

@@ -58,7 +58,7 @@ fn run(p: &DicParams) -> (Table, Table, Vec<String>) {
         panic!("no tables")
     };
     // The notes, from the analysis itself.
-    let source = hypercontact_core::FileSource::Dir(p.dir.as_ref().unwrap().path().to_owned());
+    let source = hypercontact_labfiles::FileSource::Dir(p.dir.as_ref().unwrap().path().to_owned());
     let sequence = Sequence::open(source, p.frame_rate_hz, p.mask.as_deref()).unwrap();
     let notes = analyse(&sequence, &checked, &Context::new("dic"))
         .unwrap()

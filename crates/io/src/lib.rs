@@ -1,13 +1,15 @@
 //! The I/O edge: the only crate that touches polars.
 //!
 //! Tables go to and from Parquet; the [`RunnerReader`] gives loader stages
-//! Parquet as well as the CSV and `.npy` that core reads itself.
+//! Parquet as well as the CSV and `.npy` that hypercontact-labfiles reads.
 
 use std::io::{Read, Seek, Write};
 use std::path::Path;
 
-use hypercontact_core::context::{BasicReader, extension};
-use hypercontact_core::{ColumnData, Field, ProductReader, StageError, Table};
+use hypercontact_core::context::extension;
+use hypercontact_core::regular_file::check_regular_file;
+use hypercontact_core::{ColumnData, Field, ProductReader, RowLines, StageError, Table};
+use hypercontact_labfiles::LabReader;
 use polars::prelude::*;
 
 #[derive(Debug, thiserror::Error)]
@@ -103,15 +105,15 @@ where
 
 /// Reads a Parquet file from disk.
 /// Anything but a regular file (a folder, a device, a pipe) is refused
-/// before reading, as core's readers do.
+/// before reading, as every reader does.
 pub fn read_parquet_file(path: &Path) -> Result<Table, StageError> {
-    hypercontact_core::source::check_regular_file(path)?;
+    check_regular_file(path)?;
     let file = std::fs::File::open(path).map_err(|e| StageError::file(path, e.to_string()))?;
     read_parquet(file).map_err(|e| StageError::file(path, e.to_string()))
 }
 
-/// The reader the runner lends to stages: Parquet here, CSV and `.npy` from
-/// core.
+/// The reader the runner lends to stages: Parquet here, CSV (with its
+/// lines) and `.npy` by the lab's [`LabReader`].
 #[derive(Clone, Copy, Debug, Default)]
 pub struct RunnerReader;
 
@@ -119,12 +121,19 @@ impl ProductReader for RunnerReader {
     fn read_table(&self, path: &Path) -> Result<Table, StageError> {
         match extension(path).as_str() {
             "parquet" | "pq" => read_parquet_file(path),
-            _ => BasicReader.read_table(path),
+            _ => LabReader.read_table(path),
+        }
+    }
+
+    fn read_table_with_lines(&self, path: &Path) -> Result<(Table, RowLines), StageError> {
+        match extension(path).as_str() {
+            "parquet" | "pq" => Ok((read_parquet_file(path)?, RowLines::default())),
+            _ => LabReader.read_table_with_lines(path),
         }
     }
 
     fn read_field(&self, path: &Path, dx_m: f64, dy_m: f64) -> Result<Field, StageError> {
-        BasicReader.read_field(path, dx_m, dy_m)
+        LabReader.read_field(path, dx_m, dy_m)
     }
 }
 
@@ -160,6 +169,34 @@ mod tests {
     fn ragged_table_is_refused() {
         let t = Table::new().with("a", vec![1.0]).with("b", vec![1.0, 2.0]);
         assert!(write_parquet(&t, Vec::new()).is_err());
+    }
+
+    /// A CSV table read through the runner keeps its file lines (stages
+    /// name a bad row by them); a Parquet table numbers its rows.
+    #[test]
+    fn csv_keeps_its_lines_and_parquet_numbers_its_rows() {
+        use hypercontact_core::RowPlace;
+        let dir = std::env::temp_dir().join(format!("hc-io-lines-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let csv = dir.join("t.csv");
+        std::fs::write(&csv, "# made by hand\nx\n\n1.5\n").unwrap();
+        let (table, lines) = RunnerReader.read_table_with_lines(&csv).unwrap();
+        assert_eq!(table.f64("x").unwrap(), [1.5]);
+        assert_eq!(lines.place(0), RowPlace::Line(4));
+        let parquet = dir.join("t.parquet");
+        write_parquet(&table, std::fs::File::create(&parquet).unwrap()).unwrap();
+        let (back, lines) = RunnerReader.read_table_with_lines(&parquet).unwrap();
+        assert_eq!(back, table);
+        assert_eq!(lines.place(0), RowPlace::Row(1));
+        let e = RunnerReader
+            .read_table(&dir.join("t.txt"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.ends_with("t.txt: cannot read tables from `.txt` files here (CSV only)"),
+            "{e}"
+        );
+        std::fs::remove_dir_all(dir).unwrap();
     }
 
     #[test]

@@ -472,7 +472,7 @@ mod tests {
     fn treloar() -> TensileData {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../data/reference/treloar_1944.csv");
-        let table = hypercontact_core::csv_table::read_csv(&path).unwrap();
+        let table = hypercontact_labfiles::csv_table::read_csv(&path).unwrap();
         TensileData::from_table(&table, "treloar_1944.csv").unwrap()
     }
 
@@ -643,7 +643,7 @@ mod tests {
     fn three_term_ogden_matches_ogden_1972_on_treloar() {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../data/reference/treloar_1944.csv");
-        let table = hypercontact_core::csv_table::read_csv(&path).unwrap();
+        let table = hypercontact_labfiles::csv_table::read_csv(&path).unwrap();
         let data = TensileData::from_table(&table, "treloar_1944.csv").unwrap();
         assert_eq!(data.counts(), "UT 24, PT 13, BT 16");
         // Ogden (1972), Proc. R. Soc. Lond. A 326, 565: μ = (0.63, 0.0012,

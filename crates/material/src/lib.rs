@@ -36,7 +36,7 @@ pub mod tensile_stage;
 pub mod testing;
 pub mod yeoh;
 
-use hypercontact_core::csv_table::RowPlace;
+use hypercontact_core::RowPlace;
 
 pub use arruda_boyce::ArrudaBoyce;
 pub use contact::{ContactLaw, MonotonicRange};

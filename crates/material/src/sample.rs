@@ -116,7 +116,7 @@ mod tests {
         // rerun it if this fails after a change to the sample.
         let path =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/tensile/epdm.csv");
-        let table = hypercontact_core::csv_table::read_csv(&path).unwrap();
+        let table = hypercontact_labfiles::csv_table::read_csv(&path).unwrap();
         let shipped = TensileData::from_table(&table, "epdm.csv").unwrap();
         assert_eq!(shipped, paper_sample());
     }
@@ -128,7 +128,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("t.csv");
         std::fs::write(&path, to_csv(&data, "test")).unwrap();
-        let table = hypercontact_core::csv_table::read_csv(&path).unwrap();
+        let table = hypercontact_labfiles::csv_table::read_csv(&path).unwrap();
         let back = TensileData::from_table(&table, "t.csv").unwrap();
         assert_eq!(back, data);
         std::fs::remove_dir_all(dir).unwrap();

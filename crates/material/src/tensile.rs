@@ -3,8 +3,7 @@
 //! it (columns `mode`, `stretch`, `nominal_stress_pa`), validated so that a
 //! fit can trust it.
 
-use hypercontact_core::csv_table::{RowLines, RowPlace};
-use hypercontact_core::{ColumnData, Schema, Table};
+use hypercontact_core::{ColumnData, RowLines, RowPlace, Schema, Table};
 
 use crate::{MaterialError, Mode};
 

@@ -30,7 +30,9 @@ fn load(path: &PathBuf, text: &[u8]) -> Result<Table, StageError> {
     }
     .check()
     .unwrap();
-    let out = TensileTable.run(&p, &Inputs::new(), &Context::new("tensile"))?;
+    // The CSV reader the runner lends (core's own reads fields only).
+    let ctx = Context::with("tensile", None, &hypercontact_labfiles::LabReader);
+    let out = TensileTable.run(&p, &Inputs::new(), &ctx)?;
     match out.get("tensile") {
         Some(Product::Table(t)) => Ok(t.clone()),
         _ => panic!("tensile-table gave no table"),

@@ -3,7 +3,8 @@
 //! side and overlaid, each with a scale bar; the registration of every
 //! sample; and the agreement table under Fig. 7.
 
-use hypercontact_core::{FileSource, Files};
+use hypercontact_core::Files;
+use hypercontact_labfiles::FileSource;
 use image::{Rgb, RgbImage};
 
 use crate::ReportError;

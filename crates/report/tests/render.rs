@@ -521,7 +521,7 @@ fn bem_alone_draws_figs_7_and_8() {
 /// A 40 × 40 RGB PNG of one colour.
 fn flat_png(rgb: [u8; 3]) -> Vec<u8> {
     let pixels: Vec<u8> = (0..40 * 40).flat_map(|_| rgb).collect();
-    hypercontact_core::png::encode_png(40, 40, hypercontact_core::png::Pixels::Rgb8(pixels))
+    hypercontact_labfiles::png::encode_png(40, 40, hypercontact_labfiles::png::Pixels::Rgb8(pixels))
         .unwrap()
 }
 

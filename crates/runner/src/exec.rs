@@ -9,12 +9,13 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-use hypercontact_core::{Context, Inputs, Outputs, Product, ProductKind};
+use hypercontact_core::{Context, Inputs, Outputs, Product, ProductKind, ProgressSink};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::cache::{Cache, EntryState, MANIFEST_FORMAT, Manifest, short_key, unix_now};
 use crate::pipeline::{Pipeline, PipelineError};
 use crate::plan::{Plan, PlanOptions, PlannedStage, Reason};
+use crate::progress::TerminalProgress;
 use crate::provenance::{CacheUse, Provenance, StageRecord};
 use crate::store::{self, OutputRecord, StoreError};
 
@@ -537,8 +538,13 @@ fn obtain_entry(
         .expect("the plan only names pipeline stages");
     let inputs = gather_inputs(plan, planned, cache, manifests, products)?;
     let reader = hypercontact_io::RunnerReader;
-    let ctx = Context::with(&planned.name, multi, &reader)
-        .with_upstream(upstream_record(plan, planned, pipeline));
+    let sink = multi.map(TerminalProgress);
+    let ctx = Context::with(
+        &planned.name,
+        sink.as_ref().map(|s| s as &dyn ProgressSink),
+        &reader,
+    )
+    .with_upstream(upstream_record(plan, planned, pipeline));
     let t_compute = Instant::now();
     let outputs = decl
         .stage

@@ -61,7 +61,7 @@ impl Stage for HeightMap {
         _: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let bytes = hypercontact_core::source::read_regular_file(&p.path)?;
+        let bytes = hypercontact_core::regular_file::read_regular_file(&p.path)?;
         let field = match hypercontact_formats::detect(&bytes, Some(&p.path)) {
             None | Some(Format::Npy) => read_npy(p, &bytes)?,
             Some(_) => read_instrument_file(p, &bytes, ctx)?,

@@ -4,9 +4,10 @@
 //! analyses it.
 
 use hypercontact_core::{
-    Arity, Checked, Choice, Context, Field, FileSource, InputPath, InputSpec, Inputs, OutputSpec,
-    Outputs, ParamError, Schema, Stage, StageError, StageInfo, params,
+    Arity, Checked, Choice, Context, Field, InputPath, InputSpec, Inputs, OutputSpec, Outputs,
+    ParamError, Schema, Stage, StageError, StageInfo, params,
 };
+use hypercontact_labfiles::FileSource;
 use ndarray::Array2;
 
 pub use crate::analysis::{Analysis, FLAT_RELATIVE, analyse, analyse_named};
@@ -290,11 +291,11 @@ fn listed_tiles(
                 ),
             ));
         }
-        let bytes = hypercontact_core::source::read_regular_file(path.path())?;
+        let bytes = hypercontact_core::regular_file::read_regular_file(path.path())?;
         files = files.with(&name, bytes);
     }
     if let Some(positions) = positions {
-        let bytes = hypercontact_core::source::read_regular_file(positions.path())?;
+        let bytes = hypercontact_core::regular_file::read_regular_file(positions.path())?;
         files = files.with(crate::tiles::POSITIONS, bytes);
     }
     Ok(files)

@@ -8,9 +8,10 @@
 
 use std::collections::BTreeMap;
 
-use hypercontact_core::csv_table::{CsvTable, RowPlace};
-use hypercontact_core::{ColumnData, Field, FileSource};
+use hypercontact_core::{ColumnData, Field};
 use hypercontact_formats::Format;
+use hypercontact_labfiles::FileSource;
+use hypercontact_labfiles::csv_table::{CsvTable, RowPlace};
 use ndarray::Array2;
 
 use crate::error::SurfaceError;

@@ -9,8 +9,9 @@
 mod common;
 
 use common::npy;
-use hypercontact_core::{FileSource, Files, Inputs, Outputs, Product, StageError};
+use hypercontact_core::{Files, Inputs, Outputs, Product, StageError};
 use hypercontact_fuzz::{config, splice};
+use hypercontact_labfiles::FileSource;
 use hypercontact_surface::surface_stage::SurfaceParams;
 use hypercontact_surface::tiles::{POSITIONS, read_tiles};
 use ndarray::Array2;

@@ -3,7 +3,8 @@
 
 mod common;
 
-use hypercontact_core::{Context, FileSource, Inputs, Params, Product, Stage};
+use hypercontact_core::{Context, Inputs, Params, Product, Stage};
+use hypercontact_labfiles::FileSource;
 use hypercontact_surface::stitch::stitch;
 use hypercontact_surface::surface_stage::{Surface, SurfaceParams};
 use hypercontact_surface::tiles::read_tiles;

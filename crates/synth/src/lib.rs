@@ -6,8 +6,8 @@ pub mod contact;
 pub mod surface;
 pub mod tensile;
 
-use hypercontact_core::png::Pixels;
 use hypercontact_core::{Registry, StageError};
+use hypercontact_labfiles::png::Pixels;
 
 /// Registers this crate's stage kinds.
 pub fn register(registry: &mut Registry) {
@@ -35,6 +35,6 @@ pub fn encode_png(
             StageError::invalid(format!("an image side of {n} px is beyond PNG's limit"))
         })
     };
-    hypercontact_core::png::encode_png(side(width)?, side(height)?, pixels)
+    hypercontact_labfiles::png::encode_png(side(width)?, side(height)?, pixels)
         .map_err(StageError::invalid)
 }

@@ -1,10 +1,9 @@
 //! Stage `synth-contact`: the lab files it writes and their truth.
 
 use hypercontact_core::contact::ObservedMapIndex;
-use hypercontact_core::sequence::Sequence;
-use hypercontact_core::{
-    Context, Field, FileSource, Files, Inputs, Params, Product, Schema, Stage, Table,
-};
+use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Schema, Stage, Table};
+use hypercontact_labfiles::FileSource;
+use hypercontact_labfiles::sequence::Sequence;
 use hypercontact_synth::contact::{
     ContactTruthTable, RigTruthTable, SynthContact, SynthContactParams,
 };

@@ -13,7 +13,7 @@ use std::sync::OnceLock;
 
 use base64::Engine;
 use hypercontact_core::Mode;
-use hypercontact_core::png::Pixels;
+use hypercontact_labfiles::png::Pixels;
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{KeyPointHint, Ranged, ValueFormatter};
 use plotters::element::DashedPathElement;
@@ -558,7 +558,7 @@ pub fn render(figure: &impl Figure) -> Result<Rendered, ReportError> {
 
 /// RGB pixels as PNG (the core's encoder); an error names the file.
 fn encode_png(name: &str, w: u32, h: u32, rgb: Vec<u8>) -> Result<Vec<u8>, ReportError> {
-    hypercontact_core::png::encode_png(w, h, Pixels::Rgb8(rgb)).map_err(|message| {
+    hypercontact_labfiles::png::encode_png(w, h, Pixels::Rgb8(rgb)).map_err(|message| {
         ReportError::Encode {
             name: name.to_owned(),
             message,

@@ -351,12 +351,13 @@ mod tests {
 
         // The force log is the true force within half a resolution step plus
         // the noise (4 σ), at 50 Hz over the whole test.
-        let lab =
-            hypercontact_core::sequence::Sequence::open(hypercontact_core::FileSource::Files {
+        let lab = hypercontact_labfiles::sequence::Sequence::open(
+            hypercontact_labfiles::FileSource::Files {
                 files,
                 input: "sequence".into(),
-            })
-            .unwrap();
+            },
+        )
+        .unwrap();
         let rows = &lab.force;
         assert_eq!(rows.len(), 51);
         let area = 40e-3 * 1.5e-3;

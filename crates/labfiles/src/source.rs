@@ -7,28 +7,8 @@ use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use crate::csv_table::CsvTable;
-use crate::{Files, InputPath, Inputs, StageError, Table};
-
-/// The bytes of a file a stage reads. Anything but a regular file (a
-/// folder, a device such as `/dev/zero`, a pipe) is refused before reading:
-/// reading one may never end.
-pub fn read_regular_file(path: &Path) -> Result<Vec<u8>, StageError> {
-    check_regular_file(path)?;
-    std::fs::read(path).map_err(|e| StageError::file(path, e.to_string()))
-}
-
-/// Refuses anything but a regular file before a reader opens it: a folder,
-/// a device such as `/dev/zero`, a pipe.
-pub fn check_regular_file(path: &Path) -> Result<(), StageError> {
-    let meta = std::fs::metadata(path).map_err(|e| StageError::file(path, e.to_string()))?;
-    if !meta.is_file() {
-        return Err(StageError::file(
-            path,
-            "is not a regular file (a folder, a device or a pipe)",
-        ));
-    }
-    Ok(())
-}
+use hypercontact_core::regular_file::read_regular_file;
+use hypercontact_core::{Files, InputPath, Inputs, StageError, Table};
 
 /// Whether `name` stays inside the folder it is joined to: relative, no
 /// `..` (the lab's own index files name frames and tiles; they must not
@@ -151,7 +131,7 @@ impl<'a> FileSource<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Product;
+    use hypercontact_core::Product;
 
     #[test]
     fn files_and_folders_read_alike_and_name_their_files() {

@@ -10,8 +10,9 @@
 
 use std::borrow::Cow;
 
+use crate::FileSource;
 use crate::csv_table::{RowLines, RowPlace, read_csv_bytes_with_lines};
-use crate::{ColumnData, FileSource, StageError, Table};
+use hypercontact_core::{ColumnData, StageError, Table};
 
 mod image_file;
 pub use image_file::{DecodedImage, GrayFrame, LUMA_RULE, Samples, decode_image};
@@ -614,7 +615,7 @@ fn parse_force(log: &Log) -> Result<Vec<(f64, f64)>, StageError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Files;
+    use hypercontact_core::Files;
 
     /// (frame, time, file) of every frame, in order.
     fn listed<'s>(s: &'s Sequence) -> Vec<(i64, f64, &'s str)> {

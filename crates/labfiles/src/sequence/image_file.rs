@@ -5,7 +5,7 @@
 //! ([`LUMA_RULE`]); no value is rescaled here (a 12-bit camera's counts in
 //! a 16-bit file stay counts: the reader of the frame knows the camera).
 
-use crate::StageError;
+use hypercontact_core::StageError;
 
 /// A decoded grey frame as the camera's integers: row-major
 /// (`data[y * width + x]`), `bits` the container's depth (8 or 16; colour

@@ -8,10 +8,14 @@
 //! errors here and in the stages that check the values name the file and
 //! that line.
 
-use std::fmt;
 use std::path::Path;
 
-use crate::{ColumnData, StageError, Table};
+use hypercontact_core::regular_file::read_regular_file;
+use hypercontact_core::{ColumnData, StageError, Table};
+
+// Part of a CSV table's API; they live in core, where `ProductReader`
+// returns them.
+pub use hypercontact_core::row_lines::{RowLines, RowPlace};
 
 /// A CSV file read as a table, with where its rows stand in the file.
 #[derive(Clone, Debug, PartialEq)]
@@ -23,52 +27,13 @@ pub struct CsvTable {
     pub lines: RowLines,
 }
 
-/// Where the rows of a table stand in the file they were read from: file
-/// lines for a text file, 1-based row numbers for a table that has no lines
-/// (Parquet, another stage's output).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct RowLines(Option<Vec<u64>>);
-
-impl RowLines {
-    /// The 1-based file line of every row.
-    pub fn from_lines(lines: Vec<u64>) -> Self {
-        RowLines(Some(lines))
-    }
-
-    /// Where row `row` (0-based) stands, as messages name it.
-    pub fn place(&self, row: usize) -> RowPlace {
-        match self.0.as_ref().and_then(|lines| lines.get(row)) {
-            Some(&line) => RowPlace::Line(line),
-            None => RowPlace::Row(row + 1),
-        }
-    }
-}
-
-/// One row's place: `line 7` of a file, or `row 3` of a table.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum RowPlace {
-    /// 1-based file line.
-    Line(u64),
-    /// 1-based data row.
-    Row(usize),
-}
-
-impl fmt::Display for RowPlace {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            RowPlace::Line(line) => write!(f, "line {line}"),
-            RowPlace::Row(row) => write!(f, "row {row}"),
-        }
-    }
-}
-
 pub fn read_csv(path: &Path) -> Result<Table, StageError> {
     read_csv_with_lines(path).map(|csv| csv.table)
 }
 
 /// [`read_csv`] with the line of every row.
 pub fn read_csv_with_lines(path: &Path) -> Result<CsvTable, StageError> {
-    let bytes = crate::source::read_regular_file(path)?;
+    let bytes = read_regular_file(path)?;
     read_csv_bytes_with_lines(&bytes, &path.display().to_string())
 }
 
@@ -84,52 +49,97 @@ pub fn read_csv_bytes(bytes: &[u8], display: &str) -> Result<Table, StageError> 
 /// rows is an error saying so.
 pub fn read_csv_bytes_with_lines(bytes: &[u8], display: &str) -> Result<CsvTable, StageError> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    let fail = |message: String| StageError::file(display, message);
-    let lines = LineIndex::new(bytes);
-    // The csv crate's positions skip the bytes of comment lines it drops,
-    // so comments are blanked here instead (same length, so every offset
-    // stays the file's) and its blank-line skipping drops them.
-    let blanked = blank_comments(bytes);
+    let file = CsvFile::new(bytes, display);
     let mut reader = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .has_headers(false)
-        .from_reader(blanked.as_slice());
-    // A record's position is where the reader stood before it: the blank
-    // lines above it lie in between.
-    let line_of = |position: Option<&csv::Position>| {
-        let mut offset = position.map_or(0, |p| p.byte() as usize);
-        while matches!(blanked.get(offset), Some(b'\r' | b'\n')) {
-            offset += 1;
-        }
-        lines.line(offset)
-    };
-    let error = |e: csv::Error| match e.kind() {
-        csv::ErrorKind::UnequalLengths {
-            pos,
-            expected_len,
-            len,
-        } => fail(format!(
-            "line {}: {len} fields, the header has {expected_len}",
-            line_of(pos.as_ref())
-        )),
-        _ => fail(format!("line {}: {e}", line_of(e.position()))),
-    };
+        .from_reader(file.blanked.as_slice());
     let mut records = reader.byte_records();
     let Some(header) = records.next() else {
-        return Err(fail(if bytes.is_empty() {
+        return Err(file.fail(if bytes.is_empty() {
             "is empty".into()
         } else {
             "is empty: no header line, only blank or comment lines".into()
         }));
     };
-    let header = header.map_err(error)?;
-    let header_line = line_of(header.position());
-    let header: Vec<String> = header
+    let (header, header_line) = read_header(&file, header)?;
+    let (cells, row_lines) = read_rows(&file, &header, records)?;
+    if row_lines.is_empty() {
+        return Err(file.fail(format!(
+            "no data rows (the header, line {header_line}, is all there is)"
+        )));
+    }
+    Ok(CsvTable {
+        table: into_table(&file, header_line, &header, cells)?,
+        header_line,
+        lines: RowLines::from_lines(row_lines),
+    })
+}
+
+/// A CSV file being read: its name for errors and the file line of every
+/// byte offset the csv crate reports.
+struct CsvFile<'d> {
+    display: &'d str,
+    lines: LineIndex,
+    /// The bytes the csv crate reads: the file with its comment lines
+    /// blanked. The csv crate's positions skip the bytes of comment lines
+    /// it drops itself; blanked lines keep their length, so every offset
+    /// stays the file's, and its blank-line skipping drops them.
+    blanked: Vec<u8>,
+}
+
+impl<'d> CsvFile<'d> {
+    fn new(bytes: &[u8], display: &'d str) -> Self {
+        CsvFile {
+            display,
+            lines: LineIndex::new(bytes),
+            blanked: blank_comments(bytes),
+        }
+    }
+
+    fn fail(&self, message: String) -> StageError {
+        StageError::file(self.display, message)
+    }
+
+    /// The line of the record at `position`. A record's position is where
+    /// the reader stood before it: the blank lines above it lie in between.
+    fn line_of(&self, position: Option<&csv::Position>) -> u64 {
+        let mut offset = position.map_or(0, |p| p.byte() as usize);
+        while matches!(self.blanked.get(offset), Some(b'\r' | b'\n')) {
+            offset += 1;
+        }
+        self.lines.line(offset)
+    }
+
+    /// A csv crate error as this file's, at its line.
+    fn error(&self, e: csv::Error) -> StageError {
+        match e.kind() {
+            csv::ErrorKind::UnequalLengths {
+                pos,
+                expected_len,
+                len,
+            } => self.fail(format!(
+                "line {}: {len} fields, the header has {expected_len}",
+                self.line_of(pos.as_ref())
+            )),
+            _ => self.fail(format!("line {}: {e}", self.line_of(e.position()))),
+        }
+    }
+}
+
+/// The column names of the header record and its line.
+fn read_header(
+    file: &CsvFile,
+    record: csv::Result<csv::ByteRecord>,
+) -> Result<(Vec<String>, u64), StageError> {
+    let record = record.map_err(|e| file.error(e))?;
+    let header_line = file.line_of(record.position());
+    let header: Vec<String> = record
         .iter()
         .enumerate()
         .map(|(i, name)| {
             String::from_utf8(name.to_vec()).map_err(|_| {
-                fail(format!(
+                file.fail(format!(
                     "line {header_line}: the name of column {} is not UTF-8 text",
                     i + 1
                 ))
@@ -143,21 +153,30 @@ pub fn read_csv_bytes_with_lines(bytes: &[u8], display: &str) -> Result<CsvTable
     {
         // A spreadsheet saved in a decimal-comma locale writes `;`; read
         // with `,` it is one column whose name holds every header field.
-        return Err(fail(format!(
+        return Err(file.fail(format!(
             "line {header_line}: the fields are separated by {name} (`{}`), not commas: \
              save the file as comma-separated CSV with `.` as the decimal mark \
              (e.g. `time_s,force_n` and `0.5,12.25`)",
             only.escape_debug()
         )));
     }
+    Ok((header, header_line))
+}
+
+/// The text of every cell by column, and the line of every data row.
+fn read_rows(
+    file: &CsvFile,
+    header: &[String],
+    records: impl Iterator<Item = csv::Result<csv::ByteRecord>>,
+) -> Result<(Vec<Vec<String>>, Vec<u64>), StageError> {
     let mut cells: Vec<Vec<String>> = vec![Vec::new(); header.len()];
     let mut row_lines = Vec::new();
     for record in records {
-        let record = record.map_err(error)?;
-        let line = line_of(record.position());
-        for ((column, cell), name) in cells.iter_mut().zip(record.iter()).zip(&header) {
+        let record = record.map_err(|e| file.error(e))?;
+        let line = file.line_of(record.position());
+        for ((column, cell), name) in cells.iter_mut().zip(record.iter()).zip(header) {
             let text = std::str::from_utf8(cell).map_err(|_| {
-                fail(format!(
+                file.fail(format!(
                     "line {line}, column `{name}`: the cell is not UTF-8 text"
                 ))
             })?;
@@ -165,25 +184,27 @@ pub fn read_csv_bytes_with_lines(bytes: &[u8], display: &str) -> Result<CsvTable
         }
         row_lines.push(line);
     }
-    if row_lines.is_empty() {
-        return Err(fail(format!(
-            "no data rows (the header, line {header_line}, is all there is)"
-        )));
-    }
+    Ok((cells, row_lines))
+}
+
+/// The columns as a table, each of the type its cells allow ([`infer`]);
+/// a name the header gives twice is an error.
+fn into_table(
+    file: &CsvFile,
+    header_line: u64,
+    header: &[String],
+    cells: Vec<Vec<String>>,
+) -> Result<Table, StageError> {
     let mut table = Table::new();
     for (name, column) in header.iter().zip(cells) {
         if table.column(name).is_ok() {
-            return Err(fail(format!(
+            return Err(file.fail(format!(
                 "line {header_line}: the header names column `{name}` twice"
             )));
         }
         table.push(name, infer(column));
     }
-    Ok(CsvTable {
-        table,
-        header_line,
-        lines: RowLines::from_lines(row_lines),
-    })
+    Ok(table)
 }
 
 /// The start offset of every line; a line ends at `\n`, `\r\n` or `\r`, as

@@ -5,9 +5,9 @@
 //! Bounded for CI: a fixed seed and a few hundred cases per property;
 //! `PROPTEST_CASES` and `PROPTEST_RNG_SEED` widen or move the search.
 
-use hypercontact_core::csv_table::{RowPlace, read_csv_bytes_with_lines};
 use hypercontact_core::{ColumnData, Table};
 use hypercontact_fuzz::config;
+use hypercontact_labfiles::csv_table::{RowPlace, read_csv_bytes_with_lines};
 use proptest::prelude::*;
 
 const NAME: &str = "data/t.csv";
