@@ -21,12 +21,21 @@ use crate::mesh::Mesh;
 /// (4.6 kB each) stay in cache-sized memory.
 const CHUNK: usize = 512;
 
-/// The upper-triangular CSC pattern of the tangent over the unknowns.
+/// Marks an element entry that is not stored (a held component, or the
+/// lower triangle).
+const NOT_STORED: u32 = u32::MAX;
+
+/// The upper-triangular CSC pattern of the tangent over the unknowns, with
+/// the value index of each element matrix entry (computed once: looking
+/// them up at every assembly took half its time).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pattern {
     pub size: usize,
     pub col_ptr: Vec<usize>,
     pub row_idx: Vec<usize>,
+    /// Per element, 24 × 24 value indices (row-major in the element's local
+    /// numbering), [`NOT_STORED`] where none.
+    entries: Vec<u32>,
 }
 
 impl Pattern {
@@ -51,10 +60,37 @@ impl Pattern {
             row_idx.extend_from_slice(column);
             col_ptr.push(row_idx.len());
         }
-        Self {
+        let mut pattern = Self {
             size: dofs.count,
             col_ptr,
             row_idx,
+            entries: Vec::with_capacity(mesh.elements.len() * 576),
+        };
+        for element in &mesh.elements {
+            let eqs = element_equations(dofs, element);
+            for row in &eqs {
+                for col in &eqs {
+                    let index = match (row, col) {
+                        (Some(r), Some(c)) if r <= c => {
+                            pattern.position(*r, *c).and_then(|k| u32::try_from(k).ok())
+                        }
+                        _ => None,
+                    };
+                    pattern.entries.push(index.unwrap_or(NOT_STORED));
+                }
+            }
+        }
+        pattern
+    }
+
+    /// A pattern from CSC arrays alone, without element entries (for
+    /// solver tests).
+    pub fn from_csc(size: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>) -> Self {
+        Self {
+            size,
+            col_ptr,
+            row_idx,
+            entries: Vec::new(),
         }
     }
 
@@ -124,9 +160,9 @@ pub fn evaluate(
                 })
             })
             .collect();
-        for (&(_, element), response) in chunk.iter().zip(responses) {
+        for (&numbered, response) in chunk.iter().zip(responses) {
             let response = response?;
-            scatter(dofs, pattern, element, &response, &mut out);
+            scatter(dofs, pattern, numbered, &response, &mut out);
         }
     }
     Ok(out)
@@ -135,7 +171,7 @@ pub fn evaluate(
 fn scatter(
     dofs: &Dofs,
     pattern: Option<&Pattern>,
-    element: &[usize; 8],
+    (index, element): (usize, &[usize; 8]),
     response: &ElementOutput,
     out: &mut Evaluation,
 ) {
@@ -151,18 +187,11 @@ fn scatter(
     else {
         return;
     };
-    for (q, col) in eqs.iter().enumerate() {
-        let Some(c) = *col else { continue };
-        let start = pattern.col_ptr[c];
-        let rows = &pattern.row_idx[start..pattern.col_ptr[c + 1]];
-        for (p, row) in eqs.iter().enumerate() {
-            if let Some(r) = *row
-                && r <= c
-            {
-                // Every (r, c) of an element is in the pattern by
-                // construction.
-                let position = start + rows.binary_search(&r).unwrap_or_else(|k| k);
-                values[position] += k[p][q];
+    let entries = &pattern.entries[576 * index..576 * (index + 1)];
+    for (row, positions) in k.iter().zip(entries.chunks_exact(24)) {
+        for (value, &position) in row.iter().zip(positions) {
+            if position != NOT_STORED {
+                values[position as usize] += value;
             }
         }
     }

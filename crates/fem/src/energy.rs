@@ -175,7 +175,7 @@ impl IsochoricEnergy {
     /// that it is μ0 for every family by one formula.
     pub fn shear_modulus_pa(&self) -> f64 {
         let (powers, count) = self.powers();
-        let derivatives = self.derivatives(&[3.0; MAX_TRACES][..count]);
+        let derivatives = self.derivatives(&[3.0; MAX_TRACES][..count], false);
         // At C̄ = I + 2ε with det C̄ = 1 (so tr ε = |ε|² to second order),
         // tr C̄^p = 3 + 2p tr ε + 2p(p − 1)|ε|² = 3 + 2p²|ε|², so
         // Ψ ≈ Σ_k Ψ_k 2p_k² |ε|², which is μ0 |ε|² of linear elasticity.
@@ -220,8 +220,9 @@ impl IsochoricEnergy {
         }
     }
 
-    /// Ψ, ∂Ψ/∂m_k and ∂²Ψ/∂m_k∂m_l at `m` by hyper-dual numbers.
-    pub fn derivatives(&self, m: &[f64]) -> TraceDerivatives {
+    /// Ψ, ∂Ψ/∂m_k and (`with_hessian`, else zero) ∂²Ψ/∂m_k∂m_l at `m` by
+    /// hyper-dual numbers: one evaluation per pair k ≤ l, or per k.
+    pub fn derivatives(&self, m: &[f64], with_hessian: bool) -> TraceDerivatives {
         let count = m.len();
         let mut out = TraceDerivatives {
             energy_pa: 0.0,
@@ -230,7 +231,8 @@ impl IsochoricEnergy {
         };
         let mut seeded = [HyperDual64::from_re(0.0); MAX_TRACES];
         for k in 0..count {
-            for l in k..count {
+            let last = if with_hessian { count } else { k + 1 };
+            for l in k..last {
                 for (j, s) in seeded[..count].iter_mut().enumerate() {
                     let eps1 = if j == k { 1.0 } else { 0.0 };
                     let eps2 = if j == l { 1.0 } else { 0.0 };
@@ -316,13 +318,13 @@ pub(crate) mod tests {
             let energy = IsochoricEnergy::from_model(model.as_ref()).unwrap();
             let (_, count) = energy.powers();
             let m: Vec<f64> = (0..count).map(|k| 3.1 + 0.05 * k as f64).collect();
-            let d = energy.derivatives(&m);
+            let d = energy.derivatives(&m, true);
             let h = 1e-5;
             for k in 0..count {
                 let shifted = |delta: f64| {
                     let mut x = m.clone();
                     x[k] += delta;
-                    energy.derivatives(&x)
+                    energy.derivatives(&x, true)
                 };
                 let (plus, minus) = (shifted(h), shifted(-h));
                 let gradient = (plus.energy_pa - minus.energy_pa) / (2.0 * h);

@@ -134,7 +134,9 @@ pub fn evaluate(
                 }
             }
         }
-        let response = law.isochoric(&f).ok_or(ElementFailure::Inverted)?;
+        let response = law
+            .isochoric(&f, with_tangent)
+            .ok_or(ElementFailure::Inverted)?;
         let ratio = law.volume_ratio(&f);
         if ratio.finite && (ratio.value.is_nan() || ratio.value <= 0.0) {
             return Err(ElementFailure::Inverted);
@@ -169,11 +171,13 @@ pub fn evaluate(
     }
     if let Some(k) = out.stiffness.as_deref_mut() {
         add_volumetric_stiffness(k, &dv, &points, stiffness / volume, pressure);
+        mirror_lower_blocks(k);
     }
     Ok(out)
 }
 
-/// K_ab,ij += w Σ_IJ G_aI A_iI,jJ G_bJ.
+/// K_ab,ij += w Σ_IJ G_aI A_iI,jJ G_bJ for node blocks b ≥ a (A is a
+/// Hessian, so K is symmetric: the blocks b < a are mirrored afterwards).
 fn add_material_stiffness(
     k: &mut Stiffness,
     g: &[[f64; 3]; 8],
@@ -191,7 +195,7 @@ fn add_material_stiffness(
                 }
             }
         }
-        for (b, gb) in g.iter().enumerate() {
+        for (b, gb) in g.iter().enumerate().skip(a) {
             for (i, ti) in t.iter().enumerate() {
                 let row = &mut k[3 * a + i];
                 for j in 0..3 {
@@ -213,20 +217,35 @@ fn add_volumetric_stiffness(
     stiffness_over_volume: f64,
     pressure: f64,
 ) {
-    for (row, dr) in k.iter_mut().zip(dv) {
-        for (entry, dc) in row.iter_mut().zip(dv) {
+    for (p, (row, dr)) in k.iter_mut().zip(dv).enumerate() {
+        // Node blocks b ≥ a only (see `mirror_lower_blocks`).
+        let first = 3 * (p / 3);
+        for (entry, dc) in row[first..].iter_mut().zip(&dv[first..]) {
             *entry += stiffness_over_volume * dr * dc;
         }
     }
     for point in points.iter().filter(|p| p.volume_ratio > 0.0) {
         let scale = pressure * point.weight / point.volume_ratio;
         for a in 0..8 {
-            for b in 0..8 {
+            for b in a..8 {
                 let (ha, hb) = (&point.h[a], &point.h[b]);
                 for i in 0..3 {
                     for j in 0..3 {
                         k[3 * a + i][3 * b + j] += scale * (ha[i] * hb[j] - ha[j] * hb[i]);
                     }
+                }
+            }
+        }
+    }
+}
+
+/// K_ba = K_abᵀ for b < a, from the blocks computed.
+fn mirror_lower_blocks(k: &mut Stiffness) {
+    for a in 0..8 {
+        for b in 0..a {
+            for i in 0..3 {
+                for j in 0..3 {
+                    k[3 * a + i][3 * b + j] = k[3 * b + j][3 * a + i];
                 }
             }
         }

@@ -31,81 +31,122 @@ pub struct Response {
 
 /// Δ_q(x, y) = (x^q − y^q)/(x − y) for x, y > 0, without cancellation.
 pub fn divided_difference(q: f64, x: f64, y: f64) -> f64 {
-    if x == y {
-        return q * x.powf(q - 1.0);
-    }
-    let log_ratio = (x / y).ln();
-    if log_ratio == 0.0 {
-        return q * x.powf(q - 1.0);
-    }
-    y.powf(q - 1.0) * (q * log_ratio).exp_m1() / log_ratio.exp_m1()
+    divided_difference_at(q, y.powf(q - 1.0), (x / y).ln())
 }
 
-/// Per-trace quantities at one state: s = J^(−2p/3), t = Σ c_a^p, and
-/// q_a = c_a^(p−1) − t/(3 c_a), so that ∂m/∂c_a = p s q_a.
+/// Δ_q(x, y) from y^(q−1) and L = ln(x/y): y^(q−1) expm1(qL)/expm1(L),
+/// and q y^(q−1) at L = 0.
+fn divided_difference_at(q: f64, y_power: f64, log: f64) -> f64 {
+    if log == 0.0 {
+        q * y_power
+    } else {
+        y_power * (q * log).exp_m1() / log.exp_m1()
+    }
+}
+
+/// Per-trace quantities at one state: s = J^(−2p/3), t = Σ c_a^p,
+/// c_a^(p−1), and q_a = c_a^(p−1) − t/(3 c_a), so that ∂m/∂c_a = p s q_a.
 struct Trace {
     p: f64,
     s: f64,
     t: f64,
+    power_less_one: [f64; 3],
     q: [f64; 3],
 }
 
-/// The isochoric response at deformation gradient `f`; `None` where
-/// det F ≤ 0 (an inverted point, which the solver backs away from).
-pub fn response(energy: &IsochoricEnergy, f: &Mat3) -> Option<Response> {
+impl Trace {
+    fn new(p: f64, ln_j: f64, c: &[f64; 3]) -> Self {
+        let power = c.map(|ca| ca.powf(p));
+        let t = power[0] + power[1] + power[2];
+        let power_less_one = [0, 1, 2].map(|a| power[a] / c[a]);
+        Self {
+            p,
+            s: (-2.0 * p / 3.0 * ln_j).exp(),
+            t,
+            power_less_one,
+            q: [0, 1, 2].map(|a| power_less_one[a] - t / (3.0 * c[a])),
+        }
+    }
+}
+
+/// The isochoric response at deformation gradient `f` (A only
+/// `with_tangent`, else zero); `None` where det F ≤ 0 (an inverted point,
+/// which the solver backs away from).
+pub fn response(energy: &IsochoricEnergy, f: &Mat3, with_tangent: bool) -> Option<Response> {
     let j = crate::tensor::det(f);
-    let c_tensor = transpose_times(f, f);
-    let eigen = symmetric_eigen(&c_tensor);
+    let eigen = symmetric_eigen(&transpose_times(f, f));
     let c = eigen.values;
     if !(j > 0.0 && c.iter().all(|v| *v > 0.0) && j.is_finite()) {
         return None;
     }
     let (powers, count) = energy.powers();
     let ln_j = j.ln();
-    let traces: [Option<Trace>; MAX_TRACES] = std::array::from_fn(|k| {
-        (k < count).then(|| {
-            let p = powers[k];
-            let s = (-2.0 * p / 3.0 * ln_j).exp();
-            let t = c.iter().map(|v| v.powf(p)).sum::<f64>();
-            Trace {
-                p,
-                s,
-                t,
-                q: c.map(|ca| ca.powf(p - 1.0) - t / (3.0 * ca)),
-            }
-        })
-    });
-    let traces: Vec<&Trace> = traces.iter().flatten().collect();
-    let m: Vec<f64> = traces.iter().map(|tr| tr.s * tr.t).collect();
-    let psi = energy.derivatives(&m);
-    let dm = |k: usize, a: usize| traces[k].p * traces[k].s * traces[k].q[a];
+    let traces: [Trace; MAX_TRACES] =
+        std::array::from_fn(|k| Trace::new(if k < count { powers[k] } else { 0.0 }, ln_j, &c));
+    let traces = &traces[..count];
+    let mut m = [0.0; MAX_TRACES];
+    for (mk, tr) in m.iter_mut().zip(traces) {
+        *mk = tr.s * tr.t;
+    }
+    let psi = energy.derivatives(&m[..count], with_tangent);
     let mut w1 = [0.0; 3];
+    for (tr, g) in traces.iter().zip(&psi.gradient_pa) {
+        for (w, q) in w1.iter_mut().zip(&tr.q) {
+            *w += g * tr.p * tr.s * q;
+        }
+    }
+    let (w2, theta) = if with_tangent {
+        second_derivatives(traces, &psi, &c)
+    } else {
+        ([[0.0; 3]; 3], [[0.0; 3]; 3])
+    };
+    Some(assemble(
+        f,
+        &eigen,
+        psi.energy_pa,
+        &w1,
+        &w2,
+        &theta,
+        with_tangent,
+    ))
+}
+
+/// w_ab = ∂²w/∂c_a∂c_b and θ_ab = (w_a − w_b)/(c_a − c_b) (a ≠ b), the
+/// latter through divided differences of c^(p−1) that share one
+/// ln(c_a/c_b) per pair.
+fn second_derivatives(
+    traces: &[Trace],
+    psi: &crate::energy::TraceDerivatives,
+    c: &[f64; 3],
+) -> ([[f64; 3]; 3], [[f64; 3]; 3]) {
     let mut w2 = [[0.0; 3]; 3];
     let mut theta = [[0.0; 3]; 3];
+    let pairs = [(0, 1), (0, 2), (1, 2)];
+    let logs = pairs.map(|(a, b)| (c[a] / c[b]).ln());
     for (k, tr) in traces.iter().enumerate() {
         let g = psi.gradient_pa[k];
         let (p, s, t) = (tr.p, tr.s, tr.t);
         for a in 0..3 {
-            w1[a] += g * dm(k, a);
             for b in 0..3 {
-                let mut second = -(p / 3.0) * (tr.q[a] / c[b] + c[b].powf(p - 1.0) / c[a]);
+                let mut second = -(p / 3.0) * (tr.q[a] / c[b] + tr.power_less_one[b] / c[a]);
                 if a == b {
-                    second += (p - 1.0) * c[a].powf(p - 2.0) + t / (3.0 * c[a] * c[a]);
+                    second += (p - 1.0) * tr.power_less_one[a] / c[a] + t / (3.0 * c[a] * c[a]);
                 }
-                w2[a][b] += g * p * s * second;
-                for l in 0..traces.len() {
-                    w2[a][b] += psi.hessian_pa[k][l] * dm(k, a) * dm(l, b);
+                let mut hessian_part = 0.0;
+                for (l, other) in traces.iter().enumerate() {
+                    hessian_part += psi.hessian_pa[k][l] * other.p * other.s * other.q[b];
                 }
-                if a != b {
-                    theta[a][b] += g
-                        * p
-                        * s
-                        * (divided_difference(p - 1.0, c[a], c[b]) + t / (3.0 * c[a] * c[b]));
-                }
+                w2[a][b] += g * p * s * second + hessian_part * p * s * tr.q[a];
             }
         }
+        for (&(a, b), &log) in pairs.iter().zip(&logs) {
+            let divided = divided_difference_at(p - 1.0, tr.power_less_one[b] / c[b], log);
+            let value = g * p * s * (divided + t / (3.0 * c[a] * c[b]));
+            theta[a][b] += value;
+            theta[b][a] += value;
+        }
     }
-    Some(assemble(f, &eigen, psi.energy_pa, &w1, &w2, &theta))
+    (w2, theta)
 }
 
 /// P and A from the principal derivatives (module doc), with n_a = F N_a:
@@ -119,6 +160,7 @@ fn assemble(
     w1: &[f64; 3],
     w2: &[[f64; 3]; 3],
     theta: &[[f64; 3]; 3],
+    with_tangent: bool,
 ) -> Response {
     let vectors = [0, 1, 2].map(|a| eigen.vector(a));
     let spatial = vectors.map(|v| apply(f, &v));
@@ -130,11 +172,19 @@ fn assemble(
             }
         }
     }
+    let stress_pa = crate::tensor::times(f, &s);
+    let mut tangent = [[0.0; 9]; 9];
+    if !with_tangent {
+        return Response {
+            energy_pa,
+            stress_pa,
+            tangent_pa: tangent,
+        };
+    }
     let y = |a: usize, b: usize| -> [f64; 9] {
         std::array::from_fn(|iu| spatial[a][iu / 3] * vectors[b][iu % 3])
     };
     let x: [[f64; 9]; 3] = [y(0, 0), y(1, 1), y(2, 2)];
-    let mut tangent = [[0.0; 9]; 9];
     for a in 0..3 {
         for b in 0..3 {
             let weight = 4.0 * w2[a][b];
@@ -163,7 +213,7 @@ fn assemble(
     }
     Response {
         energy_pa,
-        stress_pa: crate::tensor::times(f, &s),
+        stress_pa,
         tangent_pa: tangent,
     }
 }
@@ -209,7 +259,7 @@ mod tests {
             let energy = IsochoricEnergy::from_model(model.as_ref()).unwrap();
             let mu = model.shear_modulus_pa();
             for f in sample_gradients() {
-                let r = response(&energy, &f).unwrap();
+                let r = response(&energy, &f, true).unwrap();
                 // The paper's Ogden terms (μ_i ~ 5e9 Pa, α_i ~ 0.05) cancel to
                 // μ0 ~ 2e6 Pa: its energy carries ~1e-3 Pa of round-off and
                 // its stress ~1e-5 Pa, which set the steps (1e-4 for the
@@ -220,7 +270,7 @@ mod tests {
                     let shifted = |delta: f64| {
                         let mut g = f;
                         g[iu / 3][iu % 3] += delta;
-                        response(&energy, &g).unwrap()
+                        response(&energy, &g, true).unwrap()
                     };
                     let stress_fd = (shifted(h_energy).energy_pa - shifted(-h_energy).energy_pa)
                         / (2.0 * h_energy);
@@ -251,7 +301,7 @@ mod tests {
         for model in every_family() {
             let energy = IsochoricEnergy::from_model(model.as_ref()).unwrap();
             let mu = model.shear_modulus_pa();
-            let r = response(&energy, &crate::tensor::IDENTITY).unwrap();
+            let r = response(&energy, &crate::tensor::IDENTITY, true).unwrap();
             assert!(r.stress_pa.iter().flatten().all(|s| s.abs() < 1e-9 * mu));
             // Linearised: A = μ (δ_ij δ_IJ + δ_iJ δ_jI) − (2μ/3) δ_iI δ_jJ.
             for iu in 0..9 {
@@ -275,6 +325,6 @@ mod tests {
     fn inverted_points_have_no_response() {
         let energy = IsochoricEnergy::NeoHookean { c10_pa: 1e5 };
         let f = [[-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-        assert!(response(&energy, &f).is_none());
+        assert!(response(&energy, &f, true).is_none());
     }
 }

@@ -108,10 +108,11 @@ impl Law {
         2.0 * mu / (1.0 - nu)
     }
 
-    /// The isochoric W, P and A at F; `None` at an inverted point.
-    pub fn isochoric(&self, f: &Mat3) -> Option<Response> {
+    /// The isochoric W, P and (`with_tangent`) A at F; `None` at an
+    /// inverted point.
+    pub fn isochoric(&self, f: &Mat3, with_tangent: bool) -> Option<Response> {
         match self {
-            Law::Hyperelastic { energy, .. } => isochoric::response(energy, f),
+            Law::Hyperelastic { energy, .. } => isochoric::response(energy, f, with_tangent),
             Law::LinearElastic {
                 shear_modulus_pa, ..
             } => Some(linear_isochoric(*shear_modulus_pa, f)),
@@ -208,15 +209,15 @@ mod tests {
             [-0.001, 0.999, 0.0005],
             [0.0003, 0.0, 1.0002],
         ];
-        let r = law.isochoric(&f).unwrap();
+        let r = law.isochoric(&f, true).unwrap();
         let h = 1e-7;
         for iu in 0..9 {
             let mut plus = f;
             let mut minus = f;
             plus[iu / 3][iu % 3] += h;
             minus[iu / 3][iu % 3] -= h;
-            let fd = (law.isochoric(&plus).unwrap().energy_pa
-                - law.isochoric(&minus).unwrap().energy_pa)
+            let fd = (law.isochoric(&plus, true).unwrap().energy_pa
+                - law.isochoric(&minus, true).unwrap().energy_pa)
                 / (2.0 * h);
             assert!(
                 (fd - r.stress_pa[iu / 3][iu % 3]).abs() < 1e-3,

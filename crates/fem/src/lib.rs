@@ -13,12 +13,13 @@
 //! - [`dofs`], [`assembly`], [`linear_solver`]: boundary conditions (base
 //!   clamped, lateral faces mirror or periodic), fixed-order sparse assembly,
 //!   and faer's sparse Cholesky with its symbolic analysis reused;
-//! - [`contact`]: exact active-set contact with the plane, Newton with line
-//!   search, approach-controlled steps;
+//! - [`contact`], [`newton`], [`curve`]: exact active-set contact with the
+//!   plane, Newton with line search, approach-controlled steps;
 //! - [`vtk`]: the deformed mesh for ParaView.
 
 pub mod assembly;
 pub mod contact;
+pub mod curve;
 pub mod dofs;
 pub mod energy;
 pub mod hexahedron;
@@ -26,10 +27,14 @@ pub mod isochoric;
 pub mod law;
 pub mod linear_solver;
 pub mod mesh;
+pub mod newton;
+pub mod ordering;
+pub mod sample;
 mod tensor;
 pub mod vtk;
 
-pub use contact::{ContactProblem, CurveOptions, Snapshot, Step, solve_curve};
+pub use contact::{ContactProblem, NewtonOptions, Step};
+pub use curve::{Curve, CurveOptions, Snapshot, solve_curve};
 pub use law::{DEFAULT_BULK_RATIO, Law};
 pub use mesh::{HeightMap, Lateral, Mesh, MeshOptions};
 

@@ -16,6 +16,7 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::linalg::solvers::SolveCore;
+use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
     LdltRef, LltRef, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
 };
@@ -57,8 +58,10 @@ fn solver_error(what: &str, e: impl std::fmt::Debug) -> FemError {
 }
 
 impl LinearSolver {
-    /// The symbolic analysis of `pattern`.
-    pub fn new(pattern: &Pattern) -> Result<Self, FemError> {
+    /// The symbolic analysis of `pattern`, in the elimination `order`
+    /// (`order[k]` eliminated k-th; e.g. [`crate::ordering`]) or, without
+    /// one, approximate minimum degree.
+    pub fn new(pattern: &Pattern, order: Option<&[usize]>) -> Result<Self, FemError> {
         let n = pattern.size;
         let upper = SymbolicSparseColMat::new_checked(
             n,
@@ -67,13 +70,22 @@ impl LinearSolver {
             None,
             pattern.row_idx.clone(),
         );
-        let symbolic = factorize_symbolic_cholesky(
-            upper.as_ref(),
-            Side::Upper,
-            SymmetricOrdering::Amd,
-            Default::default(),
-        )
-        .map_err(|e| solver_error("symbolic Cholesky", e))?;
+        let inverse = order.map(|forward| {
+            let mut inverse = vec![0; forward.len()];
+            for (k, &e) in forward.iter().enumerate() {
+                inverse[e] = k;
+            }
+            inverse
+        });
+        let ordering = match (order, &inverse) {
+            (Some(forward), Some(inverse)) if forward.len() == n => {
+                SymmetricOrdering::Custom(PermRef::new_checked(forward, inverse, n))
+            }
+            _ => SymmetricOrdering::Amd,
+        };
+        let symbolic =
+            factorize_symbolic_cholesky(upper.as_ref(), Side::Upper, ordering, Default::default())
+                .map_err(|e| solver_error("symbolic Cholesky", e))?;
         Ok(Self {
             factor_values: vec![0.0; symbolic.len_val()],
             upper,
@@ -82,6 +94,11 @@ impl LinearSolver {
             full: None,
             lu: None,
         })
+    }
+
+    /// Stored values of the Cholesky factor (fill included).
+    pub fn factor_len(&self) -> usize {
+        self.symbolic.len_val()
     }
 
     /// Factorises the matrix with `values` on the pattern.
@@ -233,12 +250,8 @@ mod tests {
             row_idx.push(c);
             col_ptr.push(row_idx.len());
         }
-        let pattern = Pattern {
-            size: n,
-            col_ptr: col_ptr.clone(),
-            row_idx: row_idx.clone(),
-        };
-        let mut solver = LinearSolver::new(&pattern).unwrap();
+        let pattern = Pattern::from_csc(n, col_ptr.clone(), row_idx.clone());
+        let mut solver = LinearSolver::new(&pattern, None).unwrap();
         let diagonal_of = |c: usize, d: f64| if c.is_multiple_of(2) { d } else { -d };
         for (definite, expected) in [
             (true, Factorization::Cholesky),
