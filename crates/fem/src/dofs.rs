@@ -32,6 +32,9 @@ pub struct Dofs {
     pub top: Vec<TopNode>,
     /// For each map point (i * ny + j), its index in `top`.
     pub top_of_point: Vec<usize>,
+    /// Values of the held components (`3n + c`), m: 0 under the block's
+    /// boundary conditions; set by [`Dofs::prescribed`].
+    pub held_value_m: Vec<f64>,
 }
 
 impl Dofs {
@@ -89,6 +92,7 @@ impl Dofs {
             }
         }
         Self {
+            held_value_m: vec![0.0; equation_of.len()],
             equation_of,
             count,
             top,
@@ -96,12 +100,49 @@ impl Dofs {
         }
     }
 
-    /// Nodal displacements from the unknowns (held components are 0).
+    /// Unknowns with prescribed values instead of the block's conditions:
+    /// `rule(i, j, k, c)` gives the displacement of component c of node
+    /// (i, j, k), or `None` where it is free. No ties; every top node is a
+    /// contact candidate whose z is free (for homogeneous tests and other
+    /// set-ups of the same mesh).
+    pub fn prescribed(
+        mesh: &Mesh,
+        rule: impl Fn(usize, usize, usize, usize) -> Option<f64>,
+    ) -> Self {
+        let mut dofs = Self::new(mesh, Lateral::Mirror);
+        let mut count = 0;
+        for node in 0..mesh.nodes_m.len() {
+            let (i, j, k) = mesh.grid_of(node);
+            for c in 0..3 {
+                let slot = 3 * node + c;
+                match rule(i, j, k, c) {
+                    Some(value) => {
+                        dofs.equation_of[slot] = None;
+                        dofs.held_value_m[slot] = value;
+                    }
+                    None => {
+                        dofs.equation_of[slot] = Some(count);
+                        count += 1;
+                    }
+                }
+            }
+        }
+        dofs.count = count;
+        for top in &mut dofs.top {
+            top.equation = dofs.equation_of[3 * top.node + 2].unwrap_or(usize::MAX);
+        }
+        dofs
+    }
+
+    /// Nodal displacements from the unknowns (held components at their
+    /// held values).
     pub fn expand(&self, unknowns: &[f64]) -> Vec<[f64; 3]> {
-        self.equation_of
+        (self
+            .equation_of
             .chunks_exact(3)
-            .map(|eq| [0, 1, 2].map(|c| eq[c].map_or(0.0, |e| unknowns[e])))
-            .collect()
+            .zip(self.held_value_m.chunks_exact(3)))
+        .map(|(eq, held)| [0, 1, 2].map(|c| eq[c].map_or(held[c], |e| unknowns[e])))
+        .collect()
     }
 }
 
