@@ -19,6 +19,9 @@ use crate::law::Law;
 use crate::linear_solver::LinearSolver;
 use crate::mesh::{Lateral, Mesh};
 
+/// Halvings of a step's increment before its failure is reported.
+pub const MAX_CUTS: usize = 4;
+
 /// Newton and active-set controls.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NewtonOptions {
@@ -26,7 +29,8 @@ pub struct NewtonOptions {
     /// this times the 2-norm of the contact reactions (and the active set
     /// did not change).
     pub tolerance: f64,
-    /// Newton iterations per step before the step fails.
+    /// Newton iterations per attempt before the increment is halved (and,
+    /// after [`MAX_CUTS`] halvings, the step fails).
     pub max_iterations: usize,
 }
 
@@ -34,7 +38,7 @@ impl Default for NewtonOptions {
     fn default() -> Self {
         Self {
             tolerance: 1e-8,
-            max_iterations: 60,
+            max_iterations: 30,
         }
     }
 }
@@ -51,7 +55,8 @@ pub struct Step {
     pub area_fraction_current: f64,
     /// The plane's force on the block, positive in compression, N.
     pub load_n: f64,
-    /// Newton iterations (factorisations) of this step.
+    /// Newton iterations (factorisations) of this step, failed attempts
+    /// included.
     pub iterations: usize,
     /// Largest height of a free top node above the plane (0 if none), m.
     pub largest_penetration_m: f64,
@@ -163,16 +168,44 @@ impl ContactProblem {
     }
 
     /// Solves step `step` (numbered from 1, for messages) at `approach_m`.
+    /// A step whose Newton iteration fails (an active set that keeps
+    /// changing over a large increment) is cut in half and retried from the
+    /// last converged state, up to [`MAX_CUTS`] times.
     pub fn solve_step(&mut self, step: usize, approach_m: f64) -> Result<Step, FemError> {
-        self.predict(approach_m);
-        let plane = self.plane_m(approach_m);
-        self.add_penetrating(plane, approach_m);
-        let iterations = crate::newton::solve(self, step, approach_m)?;
-        self.history.push((approach_m, self.unknowns.clone()));
-        if self.history.len() > 2 {
-            self.history.remove(0);
-        }
+        let start = self.history.last().map_or(0.0, |h| h.0);
+        let iterations = self.advance(step, start, approach_m, 0)?;
         Ok(self.summary(approach_m, iterations))
+    }
+
+    /// Reaches `to_m` from the converged state at `from_m`, halving the
+    /// increment on failure; returns the Newton iterations spent.
+    fn advance(
+        &mut self,
+        step: usize,
+        from_m: f64,
+        to_m: f64,
+        cuts: usize,
+    ) -> Result<usize, FemError> {
+        let saved = (self.unknowns.clone(), self.active.clone());
+        self.predict(to_m);
+        self.add_penetrating(self.plane_m(to_m), to_m);
+        match crate::newton::solve(self, step, to_m) {
+            Ok(iterations) => {
+                self.history.push((to_m, self.unknowns.clone()));
+                if self.history.len() > 2 {
+                    self.history.remove(0);
+                }
+                Ok(iterations)
+            }
+            Err(FemError::NotConverged { iterations, .. }) if cuts < MAX_CUTS => {
+                (self.unknowns, self.active) = saved;
+                let middle = 0.5 * (from_m + to_m);
+                let first = self.advance(step, from_m, middle, cuts + 1)?;
+                let second = self.advance(step, middle, to_m, cuts + 1)?;
+                Ok(iterations + first + second)
+            }
+            Err(e) => Err(e),
+        }
     }
 
     /// The start of a step: the last state extrapolated linearly in the
