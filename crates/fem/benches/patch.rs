@@ -4,7 +4,8 @@
 //! ≈ 0.2, the paper's EPDM), up to ~30 % contact.
 //!
 //! Run: `cargo bench -p hypercontact-fem --bench patch` (`-- 64` for the
-//! larger patch; RAYON_NUM_THREADS=1 for one thread).
+//! larger patch, `-- neo` for the neo-Hookean solid of the felupe timing;
+//! RAYON_NUM_THREADS=1 for one thread).
 
 use std::time::Instant;
 
@@ -14,7 +15,7 @@ use hypercontact_fem::{
     solve_curve,
 };
 
-fn run(n: usize, steps: usize) {
+fn run(n: usize, steps: usize, neo_hookean: bool) {
     let pixel_m = 20e-6;
     let surface = SampleSurface {
         nx: n,
@@ -35,9 +36,10 @@ fn run(n: usize, steps: usize) {
         dy_m: pixel_m,
     };
     let mesh = Mesh::new(&map, &MeshOptions::default()).unwrap();
-    let law = if std::env::var("FEM_NEO").is_ok() {
+    let law = if neo_hookean {
+        // μ = 1 MPa: the felupe comparison's solid.
         Law::hyperelastic(
-            &hypercontact_material::NeoHookean::new(0.9e6).unwrap(),
+            &hypercontact_material::NeoHookean::new(0.5e6).unwrap(),
             5000.0,
         )
         .unwrap()
@@ -55,8 +57,13 @@ fn run(n: usize, steps: usize) {
     let iterations: usize = curve.steps.iter().map(|s| s.iterations).sum();
     let last = curve.steps.last().unwrap();
     println!(
-        "{n} × {n} × 8, {steps} steps, {} threads: {total:.2?} (set-up {setup:.2?}), {iterations} \
+        "{n} × {n} × 8, {}, {steps} steps, {} threads: {total:.2?} (set-up {setup:.2?}), {iterations} \
          Newton iterations, final area fraction {:.3}, load {:.4e} N",
+        if neo_hookean {
+            "neo-Hookean μ = 1 MPa"
+        } else {
+            "paper EPDM"
+        },
         rayon::current_num_threads(),
         last.area_fraction,
         last.load_n
@@ -68,10 +75,11 @@ fn main() {
         .skip(1)
         .filter(|a| !a.starts_with('-'))
         .collect();
-    if which.is_empty() || which.iter().any(|a| a == "32") {
-        run(32, 20);
+    let neo_hookean = which.iter().any(|a| a == "neo");
+    if which.iter().all(|a| a != "64") || which.iter().any(|a| a == "32") {
+        run(32, 20, neo_hookean);
     }
     if which.iter().any(|a| a == "64") {
-        run(64, 20);
+        run(64, 20, neo_hookean);
     }
 }
