@@ -1,0 +1,232 @@
+//! Newton's method with a backtracking line search for one contact step
+//! ([`crate::contact`]): each iteration factorises the tangent, takes the
+//! step −K⁻¹r on the free unknowns, halves it until the residual or the
+//! energy decreases enough (Armijo's condition on either; Nocedal & Wright,
+//! Numerical Optimization, § 3.1), then updates the active set.
+
+use crate::FemError;
+use crate::assembly::Evaluation;
+use crate::contact::ContactProblem;
+
+/// Halvings of the step before the line search gives up and takes the
+/// best trial it has seen.
+const MAX_HALVINGS: usize = 8;
+
+/// Armijo's sufficient-decrease factor.
+const ARMIJO: f64 = 1e-4;
+
+/// The 2-norm of the residual on the free unknowns.
+fn free_norm(residual_n: &[f64], held: &[bool]) -> f64 {
+    (residual_n.iter().zip(held))
+        .filter(|(_, h)| !**h)
+        .map(|(r, _)| r * r)
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// Whether the update from `before` to `after` is below 1e-10 of the
+/// largest displacement: the residual is then at the round-off floor of the
+/// assembly (forces of a κ = 5000 μ material cancel to ~1e-16 κ/μ of their
+/// size), and further iterations cannot lower it.
+fn is_small(before: &[f64], after: &[f64]) -> bool {
+    let largest = after.iter().fold(0.0_f64, |m, u| m.max(u.abs()));
+    let change = before
+        .iter()
+        .zip(after)
+        .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+    change <= 1e-10 * largest
+}
+
+/// Iterates the current state of `problem` to equilibrium at `approach_m`
+/// with a converged active set; returns the number of iterations.
+pub fn solve(
+    problem: &mut ContactProblem,
+    step: usize,
+    approach_m: f64,
+) -> Result<usize, FemError> {
+    let options = problem.options();
+    let plane = problem.plane_at(approach_m);
+    let floor_n = 1e-12 * problem.shear_modulus_pa() * problem.top_area_m2();
+    let reach_m = crate::contact::penetration_tolerance_m(approach_m, problem.mesh.depth_m);
+    let mut evaluation = first_evaluation(problem, step, approach_m)?;
+    let mut set_changed = false;
+    let mut small_update = false;
+    let mut previous_n = f64::INFINITY;
+    let mut iterations = 0;
+    loop {
+        let held = problem.held();
+        let pending = problem.pending_m(plane);
+        let placed = pending.iter().all(|d| d.abs() <= reach_m);
+        let scale_n = problem.reaction_norm_n(&evaluation.residual_n).max(floor_n);
+        let residual_n = free_norm(&evaluation.residual_n, &held);
+        let tolerance_n = options.tolerance * scale_n;
+        // Newton halves any residual in its quadratic range; one that does
+        // not, though already below √tolerance of the reactions, is the
+        // round-off of the assembly (the paper's Ogden terms, ±5e9 Pa,
+        // cancel to 2e6 Pa and leave ~1e-7 of the reactions).
+        let stagnant =
+            residual_n <= options.tolerance.sqrt() * scale_n && residual_n > 0.5 * previous_n;
+        if (residual_n <= tolerance_n || small_update || stagnant) && !set_changed && placed {
+            problem.set_last(evaluation);
+            return Ok(iterations);
+        }
+        if iterations >= options.max_iterations {
+            return Err(not_converged(
+                problem,
+                step,
+                approach_m,
+                iterations,
+                residual_n,
+                tolerance_n,
+                String::new(),
+            ));
+        }
+        let (direction, pending_force_n) =
+            problem.newton_direction(&evaluation, &held, &pending)?;
+        iterations += 1;
+        previous_n = if placed && !set_changed {
+            residual_n
+        } else {
+            f64::INFINITY
+        };
+        let search = line_search(
+            problem,
+            &evaluation,
+            &direction,
+            &held,
+            residual_n,
+            pending_force_n,
+        );
+        let (unknowns, trial) = search.ok_or_else(|| {
+            not_converged(
+                problem,
+                step,
+                approach_m,
+                iterations,
+                residual_n,
+                tolerance_n,
+                "; every trial along the Newton direction inverts an element".into(),
+            )
+        })?;
+        small_update = placed && is_small(problem.unknowns(), &unknowns);
+        problem.set_unknowns(unknowns);
+        let released = problem.release_tensile(&trial.residual_n, scale_n);
+        let added = problem.add_penetrating(plane, approach_m);
+        set_changed = released || added;
+        // The active set does not move the unknowns, so the trial's
+        // evaluation stands unless it lacks the tangent.
+        evaluation = if trial.tangent.is_none() {
+            problem.evaluate(problem.unknowns(), true).map_err(|f| {
+                not_converged(
+                    problem,
+                    step,
+                    approach_m,
+                    iterations,
+                    residual_n,
+                    tolerance_n,
+                    format!("; element {} inverted", f.element),
+                )
+            })?
+        } else {
+            trial
+        };
+    }
+}
+
+/// The residual and tangent at the predicted state, or, if the prediction
+/// inverts an element, at the last converged state.
+fn first_evaluation(
+    problem: &mut ContactProblem,
+    step: usize,
+    approach_m: f64,
+) -> Result<Evaluation, FemError> {
+    match problem.evaluate(problem.unknowns(), true) {
+        Ok(e) => Ok(e),
+        Err(_) if problem.restore_last() => {
+            problem.add_penetrating(problem.plane_at(approach_m), approach_m);
+            problem.evaluate(problem.unknowns(), true).map_err(|f| {
+                not_converged(
+                    problem,
+                    step,
+                    approach_m,
+                    0,
+                    f64::NAN,
+                    f64::NAN,
+                    format!("; element {} inverted at the start of the step", f.element),
+                )
+            })
+        }
+        Err(f) => Err(not_converged(
+            problem,
+            step,
+            approach_m,
+            0,
+            f64::NAN,
+            f64::NAN,
+            format!("; element {} inverted at the start", f.element),
+        )),
+    }
+}
+
+/// The first of x + η d, η = 1, ½, ¼, … whose merit (free residual norm
+/// plus the force owed to held nodes) or energy decreases sufficiently, else the trial with the smallest residual; `None`
+/// if every trial inverts an element.
+fn line_search(
+    problem: &ContactProblem,
+    start: &Evaluation,
+    direction: &[f64],
+    held: &[bool],
+    residual_n: f64,
+    pending_force_n: f64,
+) -> Option<(Vec<f64>, Evaluation)> {
+    let x = problem.unknowns();
+    let slope: f64 = (start.residual_n.iter().zip(direction).zip(held))
+        .filter(|(_, h)| !**h)
+        .map(|((r, d), _)| r * d)
+        .sum();
+    let mut best: Option<(f64, Vec<f64>, Evaluation)> = None;
+    let mut eta = 1.0;
+    for _ in 0..=MAX_HALVINGS {
+        let trial: Vec<f64> = x.iter().zip(direction).map(|(u, d)| u + eta * d).collect();
+        // The full step is usually taken: assemble its tangent with it, for
+        // the next iteration.
+        if let Ok(e) = problem.evaluate(&trial, eta == 1.0) {
+            // Merit: the free residual plus the force still owed to the held
+            // nodes, (1 − η) of the pending one.
+            let norm = free_norm(&e.residual_n, held) + (1.0 - eta) * pending_force_n;
+            let residual_ok = norm <= (1.0 - ARMIJO * eta) * (residual_n + pending_force_n);
+            // The energy is a merit function only when no held node still
+            // has to move (the plane's work is not in it).
+            let energy_ok =
+                pending_force_n == 0.0 && e.energy_j <= start.energy_j + ARMIJO * eta * slope;
+            if residual_ok || energy_ok {
+                return Some((trial, e));
+            }
+            if best.as_ref().is_none_or(|(n, _, _)| norm < *n) {
+                best = Some((norm, trial, e));
+            }
+        }
+        eta *= 0.5;
+    }
+    best.map(|(_, trial, e)| (trial, e))
+}
+
+fn not_converged(
+    problem: &ContactProblem,
+    step: usize,
+    approach_m: f64,
+    iterations: usize,
+    residual_n: f64,
+    tolerance_n: f64,
+    detail: String,
+) -> FemError {
+    FemError::NotConverged {
+        step,
+        approach_m,
+        iterations,
+        residual_n,
+        tolerance_n,
+        contact_nodes: problem.contact_count(),
+        detail,
+    }
+}

@@ -1,0 +1,91 @@
+//! A deterministic rough test surface, written so that another code (the
+//! felupe comparison) can rebuild it exactly: a sum of cosines over the
+//! wave vectors q = 2π (m, n)/L of the patch (0 < |m|, |n| ≤ `modes`,
+//! one of each ±q pair), amplitudes ∝ |q|^(−(1 + H)) (a self-affine
+//! spectrum C(q) ∝ q^(−2(1+H)), Persson's 2-D convention), phases from
+//! Knuth's MMIX linear congruential generator, scaled to the rms height
+//! asked for.
+
+/// The surface's recipe.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleSurface {
+    pub nx: usize,
+    pub ny: usize,
+    pub pixel_m: f64,
+    pub rms_m: f64,
+    pub hurst: f64,
+    /// Largest |m|, |n|: the shortest wavelength is the patch size / modes.
+    pub modes: usize,
+    pub seed: u64,
+}
+
+/// MMIX: state ← 6364136223846793005 state + 1442695040888963407 (mod 2⁶⁴);
+/// a phase is the top 53 bits as a fraction of 2π.
+fn next_phase(state: &mut u64) -> f64 {
+    *state = state
+        .wrapping_mul(6_364_136_223_846_793_005)
+        .wrapping_add(1_442_695_040_888_963_407);
+    (*state >> 11) as f64 / (1u64 << 53) as f64 * std::f64::consts::TAU
+}
+
+impl SampleSurface {
+    /// Heights at `i * ny + j`, m, with zero mean over the modes.
+    pub fn heights_m(&self) -> Vec<f64> {
+        let (lx, ly) = (self.nx as f64 * self.pixel_m, self.ny as f64 * self.pixel_m);
+        let modes = self.modes as i64;
+        let mut state = self.seed;
+        let mut waves = Vec::new();
+        for m in 0..=modes {
+            for n in -modes..=modes {
+                if m == 0 && n <= 0 {
+                    continue;
+                }
+                let (qx, qy) = (
+                    std::f64::consts::TAU * m as f64 / lx,
+                    std::f64::consts::TAU * n as f64 / ly,
+                );
+                let q = qx.hypot(qy);
+                waves.push((qx, qy, q.powf(-(1.0 + self.hurst)), next_phase(&mut state)));
+            }
+        }
+        let power: f64 = waves.iter().map(|w| 0.5 * w.2 * w.2).sum();
+        let scale = self.rms_m / power.sqrt();
+        let mut heights = Vec::with_capacity(self.nx * self.ny);
+        for i in 0..self.nx {
+            for j in 0..self.ny {
+                let (x, y) = (i as f64 * self.pixel_m, j as f64 * self.pixel_m);
+                heights.push(
+                    waves
+                        .iter()
+                        .map(|(qx, qy, a, phase)| scale * a * (qx * x + qy * y + phase).cos())
+                        .sum(),
+                );
+            }
+        }
+        heights
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rms_and_determinism() {
+        let s = SampleSurface {
+            nx: 64,
+            ny: 64,
+            pixel_m: 20e-6,
+            rms_m: 5e-6,
+            hurst: 0.8,
+            modes: 8,
+            seed: 7,
+        };
+        let h = s.heights_m();
+        // On the full periodic grid the cosines are orthogonal: rms exact.
+        let rms = (h.iter().map(|v| v * v).sum::<f64>() / h.len() as f64).sqrt();
+        assert!((rms / 5e-6 - 1.0).abs() < 1e-12, "{rms}");
+        assert_eq!(h, s.heights_m());
+        assert_ne!(h, SampleSurface { seed: 8, ..s }.heights_m());
+    }
+}
