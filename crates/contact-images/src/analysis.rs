@@ -6,8 +6,8 @@
 //! from the trigger, or from first contact) and the force at each frame's
 //! mid-exposure.
 
-use hypercontact_labfiles::sequence::{GrayFrame, Sequence};
 use hypercontact_core::{Context, StageError};
+use hypercontact_labfiles::sequence::{GrayFrame, Sequence};
 
 use crate::calibrated::{Calibrated, Level, segment_calibrated};
 use crate::stage::{ContactImagesParams, ContactTable, Method, SyncTable};

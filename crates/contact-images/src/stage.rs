@@ -11,7 +11,7 @@ use hypercontact_core::{
     ParamError, Schema, Stage, StageError, StageInfo, params,
 };
 use hypercontact_labfiles::FileSource;
-use hypercontact_labfiles::sequence::{GrayFrame, Sequence};
+use hypercontact_labfiles::sequence::Sequence;
 
 use crate::Mask;
 use crate::analysis::analyse;
