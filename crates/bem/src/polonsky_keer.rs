@@ -46,10 +46,10 @@
 //! of u = K p (see [`Solution::residual`]): what is returned is checked, not
 //! extrapolated.
 
+use hypercontact_numeric::reduce::{CHUNK, fill_sums, sum, sums};
 use rayon::prelude::*;
 
 use crate::influence::Influence;
-use crate::reduce::{CHUNK, fill_sums, sum, sums};
 
 /// At most this many clipped points are added to u directly (each costs one
 /// pass over the map); more, and u is recomputed by a convolution.
