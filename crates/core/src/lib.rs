@@ -17,7 +17,6 @@ pub mod contact;
 pub mod context;
 pub mod csv_table;
 pub mod error;
-pub mod fft;
 pub mod field;
 pub mod mode;
 pub mod param;
