@@ -231,11 +231,11 @@ mod tests {
     }
 
     #[test]
-    fn the_tree_is_pairwise_and_the_same_on_one_two_and_three_threads() {
+    fn the_tree_is_pairwise_and_the_same_on_any_number_of_threads() {
         let tree = || reduce(1000, || 0.0, term, |a, b| a + b);
         let one = in_pool(1, tree);
         assert_eq!(one.to_bits(), pairwise(0, 1000).to_bits());
-        for threads in [2, 3] {
+        for threads in [2, 3, 4, 7] {
             assert_eq!(in_pool(threads, tree).to_bits(), one.to_bits(), "{threads}");
         }
         let add = |a: f64, b: f64| a + b;
