@@ -1,41 +1,23 @@
 //! Cyclic 2-D convolution of a real map with a real, even kernel by FFTs, on
 //! a transform grid at least as large as the map (the rest zero: Hockney's
-//! padding for the free surface, none for a periodic one).
+//! padding for the free surface, none for a periodic one), on the
+//! workspace's one FFT ([`hypercontact_numeric::fft2::RealFft2`]).
 //!
 //! Layout: maps are row-major with axis 1 (y) contiguous, as `Field` holds
-//! them. A transform is real-to-complex along y (`realfft`), then complex
-//! along x (`rustfft`) on the transposed half-spectrum, so that both passes
-//! run over contiguous memory. The padding rows are never transformed along
-//! y (their spectrum is zero) and only the map's rows come back, which
-//! saves a quarter of the row transforms.
-//!
-//! Each row and each column is transformed by one thread with the same
-//! arithmetic whatever the thread count, so the result is the same to the
-//! bit on 1 or 64 threads.
+//! them: the real transforms run along y, the complex ones along x. An even
+//! kernel (k[i, j] = k[−i, −j] cyclically) has a real spectrum, which is
+//! kept real and divided by mx · my once, so a convolution is a forward
+//! transform, one real factor per frequency (applied a strip of columns at
+//! a time while it is in cache) and an inverse transform with no further
+//! scaling. The same bits on any number of threads (see the FFT's module).
 
-use std::sync::Arc;
-
-use rayon::prelude::*;
-use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
-use rustfft::num_complex::Complex64;
-use rustfft::{Fft, FftPlanner};
-
-/// Rows or columns moved per task in the transposes: 16 complex numbers
-/// are 256 bytes, a few cache lines per read.
-const BLOCK: usize = 16;
+use hypercontact_numeric::fft2::{Complex64, RealFft2, RealWorkspace};
 
 /// The FFT plans for one map size and one transform size.
 pub struct Fft2 {
     nx: usize,
     ny: usize,
-    mx: usize,
-    my: usize,
-    /// my / 2 + 1: the columns of the half-spectrum.
-    hy: usize,
-    r2c: Arc<dyn RealToComplex<f64>>,
-    c2r: Arc<dyn ComplexToReal<f64>>,
-    forward: Arc<dyn Fft<f64>>,
-    inverse: Arc<dyn Fft<f64>>,
+    fft: RealFft2,
 }
 
 /// How a convolution uses the kernel's spectrum.
@@ -49,70 +31,47 @@ pub enum Factor {
 }
 
 /// Buffers one convolution needs, kept between calls.
-pub struct Workspace {
-    /// nx rows of hy complex numbers: the half-spectrum along y.
-    rows: Vec<Complex64>,
-    /// hy columns of mx complex numbers: the transposed half-spectrum.
-    columns: Vec<Complex64>,
-}
+pub struct Workspace(RealWorkspace);
 
 impl Fft2 {
     /// Plans for an `nx × ny` map on an `mx × my` transform grid
     /// (`mx ≥ nx`, `my ≥ ny`).
     pub fn new(nx: usize, ny: usize, mx: usize, my: usize) -> Self {
         assert!(nx >= 1 && ny >= 1 && mx >= nx && my >= ny);
-        let mut real = RealFftPlanner::<f64>::new();
-        let mut complex = FftPlanner::<f64>::new();
-        Self {
-            nx,
-            ny,
-            mx,
-            my,
-            hy: my / 2 + 1,
-            r2c: real.plan_fft_forward(my),
-            c2r: real.plan_fft_inverse(my),
-            forward: complex.plan_fft_forward(mx),
-            inverse: complex.plan_fft_inverse(mx),
-        }
+        let fft = RealFft2::new(mx, my).expect("the grid is at least 1 × 1");
+        Self { nx, ny, fft }
     }
 
     /// The transform grid, (mx, my).
     pub fn transform_size(&self) -> (usize, usize) {
-        (self.mx, self.my)
+        self.fft.grid()
     }
 
-    /// Points of a spectrum (see [`Fft2::spectrum`]): hy · mx.
+    /// Points of a spectrum (see [`Fft2::spectrum`]): (my / 2 + 1) · mx.
     pub fn spectrum_len(&self) -> usize {
-        self.hy * self.mx
+        self.fft.spectrum_len()
     }
 
     pub fn workspace(&self) -> Workspace {
-        Workspace {
-            rows: vec![Complex64::ZERO; self.nx * self.hy],
-            columns: vec![Complex64::ZERO; self.spectrum_len()],
-        }
+        Workspace(self.fft.workspace())
     }
 
     /// The real part of the DFT of a full `mx × my` real array, divided by
     /// mx · my so that [`Fft2::convolve`] needs no further scaling; index
-    /// `jy · mx + ix`. For an even kernel (k[i, j] = k[−i, −j] cyclically)
-    /// the imaginary part is zero up to rounding.
+    /// `jy · mx + ix`. For an even kernel the imaginary part is zero up to
+    /// rounding.
     pub fn spectrum(&self, full: Vec<f64>) -> Vec<f64> {
-        assert_eq!(full.len(), self.mx * self.my);
-        // Each buffer is dropped as soon as it is read: at 2048² they are
-        // 134 MB each, and this is the peak of the memory a solve needs.
-        let mut rows = vec![Complex64::ZERO; self.mx * self.hy];
-        self.rows_forward(&full, self.mx, self.my, &mut rows);
-        drop(full);
-        let mut columns = vec![Complex64::ZERO; self.spectrum_len()];
-        transpose_in(&rows, self.mx, self.hy, self.mx, &mut columns);
-        drop(rows);
-        columns.par_chunks_mut(self.mx).for_each_init(
-            || vec![Complex64::ZERO; self.forward.get_inplace_scratch_len()],
-            |scratch, column| self.forward.process_with_scratch(column, scratch),
-        );
-        let scale = 1.0 / (self.mx * self.my) as f64;
-        columns.iter().map(|c| c.re * scale).collect()
+        let (mx, my) = self.fft.grid();
+        assert_eq!(full.len(), mx * my);
+        let mut spectrum = vec![Complex64::ZERO; self.spectrum_len()];
+        let mut work = self.fft.workspace();
+        self.fft
+            .forward(&full, (mx, my), &mut spectrum, &mut work)
+            .expect("the kernel fills the grid");
+        // At 4096² each buffer is 134 MB: freed before the real part is made.
+        drop((full, work));
+        let scale = 1.0 / (mx * my) as f64;
+        spectrum.iter().map(|c| c.re * scale).collect()
     }
 
     /// `output = (kernel ⊛ input)` (or the inverse operation, see
@@ -127,155 +86,29 @@ impl Fft2 {
         output: &mut [f64],
         work: &mut Workspace,
     ) {
-        let (nx, ny, mx, hy) = (self.nx, self.ny, self.mx, self.hy);
-        assert!(input.len() == nx * ny && output.len() == nx * ny);
         assert_eq!(spectrum.len(), self.spectrum_len());
-        self.rows_forward(input, nx, ny, &mut work.rows);
+        let (mx, my) = self.fft.grid();
         // The spectrum carries 1/(mx my) once; its inverse must too.
-        let inverse_scale = ((self.mx * self.my) as f64).powi(-2);
-        let scratch_len = self
-            .forward
-            .get_inplace_scratch_len()
-            .max(self.inverse.get_inplace_scratch_len());
-        // A strip of columns at a time, while it is in cache: gathered from
-        // the rows, transformed along x, multiplied, transformed back.
-        let rows = &work.rows;
-        work.columns
-            .par_chunks_mut(BLOCK * mx)
-            .zip(spectrum.par_chunks(BLOCK * mx))
-            .enumerate()
-            .for_each_init(
-                || vec![Complex64::ZERO; scratch_len],
-                |scratch, (block, (strip, spectrum))| {
-                    gather_columns(rows, nx, hy, mx, block * BLOCK, strip);
-                    self.forward.process_with_scratch(strip, scratch);
-                    match factor {
-                        Factor::Multiply => {
-                            for (c, &s) in strip.iter_mut().zip(spectrum) {
-                                *c *= s;
-                            }
-                        }
-                        Factor::Divide => {
-                            for (c, &s) in strip.iter_mut().zip(spectrum) {
-                                *c *= if s > 0.0 { inverse_scale / s } else { 0.0 };
-                            }
-                        }
+        let inverse_scale = ((mx * my) as f64).powi(-2);
+        let apply = |offset: usize, strip: &mut [Complex64]| {
+            let spectrum = &spectrum[offset..offset + strip.len()];
+            match factor {
+                Factor::Multiply => {
+                    for (c, &s) in strip.iter_mut().zip(spectrum) {
+                        *c *= s;
                     }
-                    self.inverse.process_with_scratch(strip, scratch);
-                },
-            );
-        // A band of rows at a time: gathered from the columns, transformed
-        // back along y, the map's part written out.
-        let columns = &work.columns;
-        let even = self.my.is_multiple_of(2);
-        output.par_chunks_mut(BLOCK * ny).enumerate().for_each_init(
-            || {
-                (
-                    vec![Complex64::ZERO; BLOCK * hy],
-                    vec![0.0; self.my],
-                    vec![Complex64::ZERO; self.c2r.get_scratch_len()],
-                )
-            },
-            |(band, line, scratch), (block, out)| {
-                let height = out.len() / ny;
-                let band = &mut band[..height * hy];
-                gather_rows(columns, hy, mx, block * BLOCK, band);
-                for (row, out) in band.chunks_mut(hy).zip(out.chunks_mut(ny)) {
-                    // The spectrum of a real row: these are real; rounding in
-                    // the column passes leaves ~1e-17 there, which the
-                    // inverse would refuse.
-                    row[0].im = 0.0;
-                    if even {
-                        row[hy - 1].im = 0.0;
-                    }
-                    self.c2r
-                        .process_with_scratch(row, line, scratch)
-                        .expect("lengths come from the plan");
-                    out.copy_from_slice(&line[..ny]);
                 }
-            },
-        );
+                Factor::Divide => {
+                    for (c, &s) in strip.iter_mut().zip(spectrum) {
+                        *c *= if s > 0.0 { inverse_scale / s } else { 0.0 };
+                    }
+                }
+            }
+        };
+        self.fft
+            .convolve(input, (self.nx, self.ny), output, 1.0, &mut work.0, apply)
+            .expect("input and output are nx × ny maps");
     }
-
-    /// Real-to-complex transforms along y of the first `rows` rows of a
-    /// `rows × cols` array (each zero-padded to my) into `out` (rows × hy).
-    fn rows_forward(&self, input: &[f64], rows: usize, cols: usize, out: &mut [Complex64]) {
-        let hy = self.hy;
-        out[..rows * hy]
-            .par_chunks_mut(hy)
-            .zip(input.par_chunks(cols))
-            .for_each_init(
-                || {
-                    (
-                        vec![0.0; self.my],
-                        vec![Complex64::ZERO; self.r2c.get_scratch_len()],
-                    )
-                },
-                |(line, scratch), (spectrum, row)| {
-                    line[..cols].copy_from_slice(row);
-                    line[cols..].fill(0.0);
-                    self.r2c
-                        .process_with_scratch(line, spectrum, scratch)
-                        .expect("lengths come from the plan");
-                },
-            );
-    }
-}
-
-/// `columns[j · mx + i] = rows[i · hy + j]` for i < nx, zero for nx ≤ i < mx.
-fn transpose_in(rows: &[Complex64], nx: usize, hy: usize, mx: usize, columns: &mut [Complex64]) {
-    columns
-        .par_chunks_mut(BLOCK * mx)
-        .enumerate()
-        .for_each(|(block, strip)| gather_columns(rows, nx, hy, mx, block * BLOCK, strip));
-}
-
-/// Columns j0.. of the `nx × hy` row-major `rows`, as contiguous columns of
-/// length mx (zero below row nx), into `strip`.
-fn gather_columns(
-    rows: &[Complex64],
-    nx: usize,
-    hy: usize,
-    mx: usize,
-    j0: usize,
-    strip: &mut [Complex64],
-) {
-    let width = strip.len() / mx;
-    for i in 0..nx {
-        let source = &rows[i * hy + j0..i * hy + j0 + width];
-        for (b, &v) in source.iter().enumerate() {
-            strip[b * mx + i] = v;
-        }
-    }
-    for b in 0..width {
-        strip[b * mx + nx..(b + 1) * mx].fill(Complex64::ZERO);
-    }
-}
-
-/// Rows i0.. of the column-major `columns` (hy columns of length mx), as
-/// contiguous rows of length hy, into `band`.
-fn gather_rows(columns: &[Complex64], hy: usize, mx: usize, i0: usize, band: &mut [Complex64]) {
-    let height = band.len() / hy;
-    for j in 0..hy {
-        let source = &columns[j * mx + i0..j * mx + i0 + height];
-        for (b, &v) in source.iter().enumerate() {
-            band[b * hy + j] = v;
-        }
-    }
-}
-
-/// The smallest n ≥ `min` of the form 2^a 3^b 5^c (the one fast size of
-/// the workspace).
-pub use hypercontact_core::fft::fast_size;
-
-/// The smallest even [`fast_size`] ≥ `min` (a real FFT's half spectrum
-/// wants an even length).
-pub fn fast_even_size(min: usize) -> usize {
-    let mut n = fast_size(min.max(2));
-    while !n.is_multiple_of(2) {
-        n = fast_size(n + 1);
-    }
-    n
 }
 
 #[cfg(test)]
@@ -362,20 +195,5 @@ mod tests {
                 }
             }
         }
-    }
-
-    #[test]
-    fn fast_sizes_have_small_factors() {
-        assert_eq!(fast_size(1), 1);
-        assert_eq!(fast_size(7), 8);
-        assert_eq!(fast_size(1025), 1080);
-    }
-
-    #[test]
-    fn fast_sizes_are_even_and_smooth() {
-        assert_eq!(fast_even_size(900), 900);
-        assert_eq!(fast_even_size(242), 250);
-        assert_eq!(fast_even_size(1), 2);
-        assert_eq!(fast_even_size(4096), 4096);
     }
 }

@@ -34,9 +34,10 @@
 //! (1985), §3.9; at a square pixel's centre it gives 8a·asinh(1)/π =
 //! 2.24 a p/E*, Johnson's value.
 
+use hypercontact_numeric::fft2::fast_even_size;
 use rayon::prelude::*;
 
-use crate::fft2::{self, Factor, Fft2, fast_even_size};
+use crate::fft2::{self, Factor, Fft2};
 
 /// How the map continues beyond its edges.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, hypercontact_core::Choice)]

@@ -6,17 +6,19 @@
 //!
 //! - [`influence`]: the half-space's pressure-to-displacement operator
 //!   (periodic, or free with Love's pixel kernel and Hockney's padding);
-//! - [`fft2`]: the real 2-D FFT convolution it runs on;
+//! - [`fft2`]: the convolution with an even kernel it runs on (on the
+//!   workspace's FFT, `hypercontact_numeric::fft2`);
 //! - [`polonsky_keer`]: the constrained conjugate-gradient contact solver;
 //! - [`curve`]: the load steps from first contact to a top area fraction;
-//! - [`reduce`]: sums that are the same on any number of threads;
 //! - [`stage`]: the `bem` stage.
+//!
+//! Sums over a map run in the fixed order of `hypercontact_numeric::reduce`,
+//! so every product is the same on any number of threads.
 
 pub mod curve;
 pub mod fft2;
 pub mod influence;
 pub mod polonsky_keer;
-pub mod reduce;
 pub mod stage;
 
 pub use curve::{CurveError, CurveOptions, Step, solve_curve};

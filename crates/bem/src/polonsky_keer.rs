@@ -46,10 +46,10 @@
 //! of u = K p (see [`Solution::residual`]): what is returned is checked, not
 //! extrapolated.
 
+use hypercontact_numeric::reduce::{CHUNK, fill_sums, sum, sums};
 use rayon::prelude::*;
 
 use crate::influence::Influence;
-use crate::reduce::{CHUNK, fill_sums, sum, sums};
 
 /// At most this many clipped points are added to u directly (each costs one
 /// pass over the map); more, and u is recomputed by a convolution.
@@ -220,6 +220,75 @@ impl<'a> Problem<'a> {
         options: SolverOptions,
         warm: Option<&[f64]>,
     ) -> Result<Solution, SolveError> {
+        let mut it = Iterate::new(self.start_pressure(control, warm)?, self.influence);
+        let load_control = matches!(control, Control::MeanPressure(_));
+        let target_sum = self.target_sum(control);
+        let pre = options.preconditioned;
+        let mut iteration = 0;
+        loop {
+            if it.stale {
+                self.influence.apply(&it.p, &mut it.u, &mut it.work);
+                (it.stale, it.updated) = (false, false);
+            }
+            let plane_m = self.plane_m(control, &it);
+            let [contact, entering, violation] = self.gap(plane_m, &mut it);
+            let approach_m = self.top_m - plane_m;
+            let residual = self.residual(contact + entering, violation, approach_m);
+            if residual <= options.tolerance || target_sum == Some(0.0) {
+                if !it.updated {
+                    return Ok(self.solution(it.p, it.g, approach_m, iteration, residual));
+                }
+                // Converged on an updated u: check it on a computed one.
+                it.stale = true;
+                continue;
+            }
+            if iteration >= options.max_iterations {
+                let p = &it.p;
+                return Err(SolveError::NotConverged {
+                    iterations: iteration,
+                    residual,
+                    tolerance: options.tolerance,
+                    mean_pressure: sum(p.len(), |i| p[i]) / self.measured as f64,
+                });
+            }
+            iteration += 1;
+
+            if contact == 0.0 && !pre {
+                self.close_overlaps_alone(&mut it);
+                continue;
+            }
+            // The set the direction lives on: the contact, and under the
+            // preconditioner the overlapping points too.
+            let count = contact + if pre { entering } else { 0.0 };
+            let rho = self.direction(&mut it, pre, load_control, count);
+            let tau = self.step_length(&mut it, rho, load_control, count);
+            if !(tau.is_finite() && tau > 0.0) {
+                return Err(SolveError::Breakdown { iteration });
+            }
+            it.rho_old = rho;
+            let follow = !load_control && (pre || entering == 0.0);
+            let clipped = self.step(&mut it, tau, follow);
+            it.conjugate = pre || entering == 0.0;
+            if let Some(target) = target_sum {
+                rescale(&mut it.p, target, &self.heights_m);
+                it.stale = true;
+            } else if follow && clipped.len() <= DIRECT_CLIPS {
+                // p moved by −τ t plus the clipped amounts: so does u.
+                self.influence.add_point_loads(&clipped, &mut it.u);
+                it.updated = true;
+            } else {
+                it.stale = true;
+            }
+        }
+    }
+
+    /// The checked warm start, or PK's start, scaled to the load under load
+    /// control.
+    fn start_pressure(
+        &self,
+        control: Control,
+        warm: Option<&[f64]>,
+    ) -> Result<Vec<f64>, SolveError> {
         let n = self.heights_m.len();
         let value = match control {
             Control::Approach(v) | Control::MeanPressure(v) => v,
@@ -249,205 +318,187 @@ impl<'a> Problem<'a> {
                 Control::Approach(_) => vec![0.0; n],
             },
         };
-        let load_control = matches!(control, Control::MeanPressure(_));
-        let target_sum = match control {
-            Control::MeanPressure(mean) => Some(mean * self.measured as f64),
-            Control::Approach(_) => None,
-        };
-        if let Some(target) = target_sum {
+        if let Some(target) = self.target_sum(control) {
             rescale(&mut p, target, h);
         }
+        Ok(p)
+    }
 
-        let mut work = self.influence.workspace();
-        let [mut u, mut g, mut t, mut r, mut z, mut masked] = std::array::from_fn(|_| vec![0.0; n]);
-        let mut active = vec![false; n];
-        // u is stale (to compute from p), or valid but updated rather than
-        // computed (to compute before convergence is declared).
-        let (mut stale, mut updated) = (true, false);
-        let mut conjugate = false;
-        let mut rho_old = 1.0;
-        let mut iteration = 0;
-        loop {
-            if stale {
-                self.influence.apply(&p, &mut u, &mut work);
-                (stale, updated) = (false, false);
-            }
-            // The gap with the plane where it is, or where the load puts it,
-            // with the residual's sums and the counts of the two sets.
-            let plane_m = match control {
-                Control::Approach(delta) => self.top_m - delta,
-                Control::MeanPressure(_) => {
-                    let [count, sum_hu] = sums(n, |i| {
-                        if p[i] > 0.0 {
-                            [1.0, h[i] - u[i]]
-                        } else {
-                            [0.0, 0.0]
-                        }
-                    });
-                    if count > 0.0 {
-                        sum_hu / count
-                    } else {
-                        self.top_m
-                    }
-                }
-            };
-            let [contact, entering, violation] = fill_sums(&mut g, |i| {
-                let g = plane_m - h[i] + u[i];
-                let terms = if p[i] > 0.0 {
-                    [1.0, 0.0, g * g]
-                } else if g < 0.0 {
-                    [0.0, 1.0, g * g]
-                } else {
-                    [0.0, 0.0, 0.0]
-                };
-                (g, terms)
-            });
-            let approach_m = self.top_m - plane_m;
-            let residual = self.residual(contact + entering, violation, approach_m);
-            if residual <= options.tolerance || target_sum == Some(0.0) {
-                if !updated {
-                    return Ok(self.solution(p, g, approach_m, iteration, residual));
-                }
-                // Converged on an updated u: check it on a computed one.
-                stale = true;
-                continue;
-            }
-            if iteration >= options.max_iterations {
-                return Err(SolveError::NotConverged {
-                    iterations: iteration,
-                    residual,
-                    tolerance: options.tolerance,
-                    mean_pressure: sum(n, |i| p[i]) / self.measured as f64,
-                });
-            }
-            iteration += 1;
+    /// Σ p prescribed by a load control.
+    fn target_sum(&self, control: Control) -> Option<f64> {
+        match control {
+            Control::MeanPressure(mean) => Some(mean * self.measured as f64),
+            Control::Approach(_) => None,
+        }
+    }
 
-            if contact == 0.0 && !options.preconditioned {
-                // Nothing in contact yet (approach control from p = 0): each
-                // overlapping point alone closes its own overlap.
-                let stiffness = 1.0 / self.influence.self_displacement_m();
-                p.par_iter_mut()
-                    .zip(&g)
-                    .for_each(|(p, &g)| *p = if g < 0.0 { -g * stiffness } else { 0.0 });
-                conjugate = false;
-                stale = true;
-                continue;
-            }
-            // The set the direction lives on, and the direction before
-            // conjugation: the gap there (PK), or the gap through K̃⁻¹.
-            let pre = options.preconditioned;
-            let count = contact + if pre { entering } else { 0.0 };
-            masked
-                .par_iter_mut()
-                .zip(active.par_iter_mut())
-                .zip(&p)
-                .zip(&g)
-                .for_each(|(((m, a), &p), &g)| {
-                    *a = p > 0.0 || (pre && g < 0.0);
-                    *m = if *a { g } else { 0.0 };
-                });
-            let direction: &[f64] = if pre {
-                self.influence.precondition(&masked, &mut r, &mut work);
-                &r
-            } else {
-                &masked
-            };
-            // (Off the set g may be +∞: an unmeasured point.)
-            let [z_sum, gz, g_sum] = fill_sums(&mut z, |i| {
-                if active[i] {
-                    let v = direction[i];
-                    (v, [v, g[i] * v, g[i]])
-                } else {
-                    (0.0, [0.0; 3])
-                }
-            });
-            let rho = if load_control {
-                // Keep the load: directions of zero sum on the set.
-                let z_mean = z_sum / count;
-                z.par_iter_mut().zip(&active).for_each(|(z, &a)| {
-                    if a {
-                        *z -= z_mean
-                    }
-                });
-                gz - z_mean * g_sum
-            } else {
-                gz
-            };
-            // The conjugate direction; if it is not a descent direction (the
-            // set changed under it), the steepest one.
-            let mut tau = f64::NAN;
-            for restart in [false, true] {
-                if restart && !conjugate {
-                    break;
-                }
-                let beta = if conjugate && !restart {
-                    rho / rho_old
-                } else {
-                    0.0
-                };
-                t.par_iter_mut()
-                    .zip(&active)
-                    .zip(&z)
-                    .for_each(|((t, &a), &z)| *t = if a { z + beta * *t } else { 0.0 });
-                self.influence.apply(&t, &mut r, &mut work);
-                let [r_sum, gt, rt] = sums(n, |i| {
-                    if active[i] {
-                        [r[i], g[i] * t[i], r[i] * t[i]]
+    /// The rigid plane's height: where the approach puts it, or (load
+    /// control) the mean of h − u over the contact set.
+    fn plane_m(&self, control: Control, it: &Iterate) -> f64 {
+        match control {
+            Control::Approach(delta) => self.top_m - delta,
+            Control::MeanPressure(_) => {
+                let (h, p, u) = (&self.heights_m, &it.p, &it.u);
+                let [count, sum_hu] = sums(p.len(), |i| {
+                    if p[i] > 0.0 {
+                        [1.0, h[i] - u[i]]
                     } else {
-                        [0.0, 0.0, 0.0]
+                        [0.0, 0.0]
                     }
                 });
-                // Under load control r is centred on the set: Σ (r − r̄) t.
-                let t_sum = if load_control { sum(n, |i| t[i]) } else { 0.0 };
-                tau = gt / (rt - r_sum / count * t_sum);
-                if tau.is_finite() && tau > 0.0 {
-                    break;
+                if count > 0.0 {
+                    sum_hu / count
+                } else {
+                    self.top_m
                 }
-            }
-            if !(tau.is_finite() && tau > 0.0) {
-                return Err(SolveError::Breakdown { iteration });
-            }
-            rho_old = rho;
-            // Step and clip (PK's points entering at −τ g), noting the clipped
-            // points and by how much; u follows the step where it can.
-            let follow = !load_control && (pre || entering == 0.0);
-            let clipped: Vec<(usize, f64)> = p
-                .par_chunks_mut(CHUNK)
-                .zip(u.par_chunks_mut(CHUNK))
-                .enumerate()
-                .map(|(c, (ps, us))| {
-                    let mut clipped = Vec::new();
-                    for (k, (p, u)) in ps.iter_mut().zip(us).enumerate() {
-                        let i = c * CHUNK + k;
-                        if active[i] {
-                            let stepped = *p - tau * t[i];
-                            if stepped < 0.0 {
-                                clipped.push((i, -stepped));
-                            }
-                            *p = stepped.max(0.0);
-                        } else {
-                            *p = if g[i] < 0.0 { -tau * g[i] } else { 0.0 };
-                        }
-                        if follow {
-                            *u -= tau * r[i];
-                        }
-                    }
-                    clipped
-                })
-                .collect::<Vec<_>>()
-                .concat();
-            conjugate = options.preconditioned || entering == 0.0;
-            if let Some(target) = target_sum {
-                rescale(&mut p, target, h);
-                stale = true;
-            } else if follow && clipped.len() <= DIRECT_CLIPS {
-                // p moved by −τ t plus the clipped amounts: so does u.
-                self.influence.add_point_loads(&clipped, &mut u);
-                updated = true;
-            } else {
-                stale = true;
             }
         }
+    }
+
+    /// The gap g = plane − h + u into `it.g`, with the counts of the
+    /// contact set and of the overlapping points off it, and the sum of the
+    /// squared complementarity violation.
+    fn gap(&self, plane_m: f64, it: &mut Iterate) -> [f64; 3] {
+        let (h, p, u) = (&self.heights_m, &it.p, &it.u);
+        fill_sums(&mut it.g, |i| {
+            let g = plane_m - h[i] + u[i];
+            let terms = if p[i] > 0.0 {
+                [1.0, 0.0, g * g]
+            } else if g < 0.0 {
+                [0.0, 1.0, g * g]
+            } else {
+                [0.0, 0.0, 0.0]
+            };
+            (g, terms)
+        })
+    }
+
+    /// Nothing in contact yet (approach control from p = 0, PK as
+    /// published): each overlapping point alone closes its own overlap.
+    fn close_overlaps_alone(&self, it: &mut Iterate) {
+        let stiffness = 1.0 / self.influence.self_displacement_m();
+        it.p.par_iter_mut()
+            .zip(&it.g)
+            .for_each(|(p, &g)| *p = if g < 0.0 { -g * stiffness } else { 0.0 });
+        it.conjugate = false;
+        it.stale = true;
+    }
+
+    /// The direction before conjugation into `it.z`, on the set `it.active`
+    /// (made here): the gap there (PK), or the gap through K̃⁻¹
+    /// (preconditioned); under load control centred on the set, so that a
+    /// step keeps the load. Returns ρ = Σ g z.
+    fn direction(&self, it: &mut Iterate, pre: bool, load_control: bool, count: f64) -> f64 {
+        it.masked
+            .par_iter_mut()
+            .zip(it.active.par_iter_mut())
+            .zip(&it.p)
+            .zip(&it.g)
+            .for_each(|(((m, a), &p), &g)| {
+                *a = p > 0.0 || (pre && g < 0.0);
+                *m = if *a { g } else { 0.0 };
+            });
+        let direction: &[f64] = if pre {
+            self.influence
+                .precondition(&it.masked, &mut it.r, &mut it.work);
+            &it.r
+        } else {
+            &it.masked
+        };
+        let (active, g) = (&it.active, &it.g);
+        // (Off the set g may be +∞: an unmeasured point.)
+        let [z_sum, gz, g_sum] = fill_sums(&mut it.z, |i| {
+            if active[i] {
+                let v = direction[i];
+                (v, [v, g[i] * v, g[i]])
+            } else {
+                (0.0, [0.0; 3])
+            }
+        });
+        if load_control {
+            // Keep the load: directions of zero sum on the set.
+            let z_mean = z_sum / count;
+            it.z.par_iter_mut().zip(active).for_each(|(z, &a)| {
+                if a {
+                    *z -= z_mean
+                }
+            });
+            gz - z_mean * g_sum
+        } else {
+            gz
+        }
+    }
+
+    /// The conjugate direction into `it.t` (and r = K t into `it.r`) and
+    /// the step τ along it; if it is not a descent direction (the set
+    /// changed under it), the steepest one's. NaN or τ ≤ 0 is a breakdown.
+    fn step_length(&self, it: &mut Iterate, rho: f64, load_control: bool, count: f64) -> f64 {
+        let mut tau = f64::NAN;
+        for restart in [false, true] {
+            if restart && !it.conjugate {
+                break;
+            }
+            let beta = if it.conjugate && !restart {
+                rho / it.rho_old
+            } else {
+                0.0
+            };
+            it.t.par_iter_mut()
+                .zip(&it.active)
+                .zip(&it.z)
+                .for_each(|((t, &a), &z)| *t = if a { z + beta * *t } else { 0.0 });
+            self.influence.apply(&it.t, &mut it.r, &mut it.work);
+            let (active, g, t, r) = (&it.active, &it.g, &it.t, &it.r);
+            let [r_sum, gt, rt] = sums(t.len(), |i| {
+                if active[i] {
+                    [r[i], g[i] * t[i], r[i] * t[i]]
+                } else {
+                    [0.0, 0.0, 0.0]
+                }
+            });
+            // Under load control r is centred on the set: Σ (r − r̄) t.
+            let t_sum = if load_control {
+                sum(t.len(), |i| t[i])
+            } else {
+                0.0
+            };
+            tau = gt / (rt - r_sum / count * t_sum);
+            if tau.is_finite() && tau > 0.0 {
+                break;
+            }
+        }
+        tau
+    }
+
+    /// p ← max(p − τ t, 0) on the set, PK's points entering at −τ g off it,
+    /// and u ← u − τ r when u follows the step; returns the clipped points
+    /// and by how much they were clipped, in index order.
+    fn step(&self, it: &mut Iterate, tau: f64, follow: bool) -> Vec<(usize, f64)> {
+        let (active, g, t, r) = (&it.active, &it.g, &it.t, &it.r);
+        it.p.par_chunks_mut(CHUNK)
+            .zip(it.u.par_chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(c, (ps, us))| {
+                let mut clipped = Vec::new();
+                for (k, (p, u)) in ps.iter_mut().zip(us).enumerate() {
+                    let i = c * CHUNK + k;
+                    if active[i] {
+                        let stepped = *p - tau * t[i];
+                        if stepped < 0.0 {
+                            clipped.push((i, -stepped));
+                        }
+                        *p = stepped.max(0.0);
+                    } else {
+                        *p = if g[i] < 0.0 { -tau * g[i] } else { 0.0 };
+                    }
+                    if follow {
+                        *u -= tau * r[i];
+                    }
+                }
+                clipped
+            })
+            .collect::<Vec<_>>()
+            .concat()
     }
 
     /// See [`Solution::residual`]: from the count of the points where the
@@ -493,6 +544,53 @@ impl<'a> Problem<'a> {
             approach_m,
             iterations,
             residual,
+        }
+    }
+}
+
+/// The iterate of a solve and the buffers its steps share.
+struct Iterate {
+    /// pressure, displacement K p, gap, conjugate direction, K t, the
+    /// direction before conjugation, the gap on the set
+    p: Vec<f64>,
+    u: Vec<f64>,
+    g: Vec<f64>,
+    t: Vec<f64>,
+    r: Vec<f64>,
+    z: Vec<f64>,
+    masked: Vec<f64>,
+    /// the set the direction lives on
+    active: Vec<bool>,
+    work: crate::influence::Workspace,
+    /// u is stale (to compute from p)
+    stale: bool,
+    /// u is valid but was updated rather than computed (to compute before
+    /// convergence is declared)
+    updated: bool,
+    /// the next direction is conjugated to the last
+    conjugate: bool,
+    /// ρ of the last step
+    rho_old: f64,
+}
+
+impl Iterate {
+    fn new(p: Vec<f64>, influence: &Influence) -> Self {
+        let n = p.len();
+        let [u, g, t, r, z, masked] = std::array::from_fn(|_| vec![0.0; n]);
+        Self {
+            p,
+            u,
+            g,
+            t,
+            r,
+            z,
+            masked,
+            active: vec![false; n],
+            work: influence.workspace(),
+            stale: true,
+            updated: false,
+            conjugate: false,
+            rho_old: 1.0,
         }
     }
 }

@@ -63,18 +63,18 @@
 //! camera pixel over 60 random scenes; the paper's 2048² camera against a
 //! 453² scan over ±10° takes 0.38 s on 2 cores (`benches/register.rs`).
 
-mod correlate;
 mod levels;
 mod simplex;
 
 use std::f64::consts::{PI, TAU};
 
 use hypercontact_interference::{CameraGrid, GapMap, Placement, resample};
+use hypercontact_numeric::NumericError;
+use hypercontact_numeric::zncc::{Correlator, Peak};
 use ndarray::ArrayView2;
 use rayon::prelude::*;
 
 use crate::error::{CompareError, positive};
-use correlate::Correlator;
 use levels::{Blocks, Level, area_average};
 
 /// The fine template must be at least this many cells each way.
@@ -623,7 +623,8 @@ impl Pitch {
         let cells = |ext: f64| 2 * (ext / q).ceil() as usize + 1 + 2 * margin;
         let (nx, ny) = (cells(ext_x), cells(ext_y));
         let Some(correlator) =
-            Correlator::new(&self.blocks.fraction, (tw, th), (nx, ny), min_overlap)?
+            Correlator::new(&self.blocks.fraction, (tw, th), (nx, ny), min_overlap)
+                .map_err(correlation_error)?
         else {
             return Ok(None);
         };
@@ -636,10 +637,10 @@ impl Pitch {
             .par_iter()
             .map(|&angle| {
                 let image = self.level.sample(angle, self.level.centre_m, &grid)?;
-                correlator.best(&image)
+                correlator.best(&image).map_err(correlation_error)
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let mut best: Option<(usize, correlate::Peak)> = None;
+        let mut best: Option<(usize, Peak)> = None;
         for (k, peak) in peaks.iter().enumerate() {
             if let Some(p) = peak
                 && best.is_none_or(|(_, b)| p.zncc > b.zncc)
@@ -760,6 +761,23 @@ impl Zncc {
         let value = (var_a > floor && var_b > floor)
             .then(|| (cov / (var_a * var_b).sqrt()).clamp(-1.0, 1.0));
         Self { count, value }
+    }
+}
+
+/// The correlator's refusals as the comparison's: a wrong length names the
+/// array, anything else cannot happen on the sizes `coarse_search` checks.
+fn correlation_error(e: NumericError) -> CompareError {
+    match e {
+        NumericError::Length {
+            what,
+            expected,
+            got,
+        } => CompareError::Length {
+            what,
+            expected,
+            got,
+        },
+        other => CompareError::Internal(other.to_string()),
     }
 }
 

@@ -26,7 +26,6 @@ extern crate self as hypercontact_core;
 pub mod contact;
 pub mod context;
 pub mod error;
-pub mod fft;
 pub mod field;
 pub mod mode;
 pub mod param;

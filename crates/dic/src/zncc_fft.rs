@@ -1,12 +1,11 @@
 //! Integer-pixel initial guess by zero-normalised cross-correlation over a
-//! search window, computed with FFTs.
-//!
-//! The numerator Σ (T − T̄) S is a cross-correlation (FFT, rustfft); the
-//! window means and norms under every shift come from summed-area tables
-//! (Lewis, "Fast normalized cross-correlation", Vision Interface 1995).
+//! search window: the subset's ZNCC at every integer shift at once, by the
+//! workspace's FFT correlator (`hypercontact_numeric::zncc`: the numerator
+//! Σ (T − T̄) S by FFT, the window means and norms under every shift from
+//! summed-area tables, as in Lewis, "Fast normalized cross-correlation",
+//! Vision Interface 1995).
 
-use rustfft::FftPlanner;
-use rustfft::num_complex::Complex;
+use hypercontact_numeric::zncc::Correlator;
 
 use crate::gray::GrayImage;
 
@@ -17,6 +16,46 @@ pub struct IntegerMatch {
     pub dx: i64,
     pub dy: i64,
     pub zncc: f64,
+}
+
+/// The pixels of `target` searched: [x0, x0 + width) × [y0, y0 + height).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct SearchWindow {
+    x0: usize,
+    y0: usize,
+    width: usize,
+    height: usize,
+}
+
+impl SearchWindow {
+    /// The pixels within `reach` of (cx, cy), clipped to the image; None
+    /// when fewer than `side` remain either way.
+    fn around(target: &GrayImage, cx: i64, cy: i64, reach: usize, side: usize) -> Option<Self> {
+        let reach = reach as i64;
+        if cx + reach < 0 || cy + reach < 0 {
+            return None;
+        }
+        let x0 = (cx - reach).max(0) as usize;
+        let y0 = (cy - reach).max(0) as usize;
+        let x1 = ((cx + reach) as usize).min(target.width.saturating_sub(1));
+        let y1 = ((cy + reach) as usize).min(target.height.saturating_sub(1));
+        if x1 < x0 + side - 1 || y1 < y0 + side - 1 {
+            return None;
+        }
+        Some(Self {
+            x0,
+            y0,
+            width: x1 - x0 + 1,
+            height: y1 - y0 + 1,
+        })
+    }
+
+    /// The window's pixels of `image`, row-major.
+    fn pixels(&self, image: &GrayImage) -> Vec<f64> {
+        (self.y0..self.y0 + self.height)
+            .flat_map(|y| (self.x0..self.x0 + self.width).map(move |x| image.get(x, y)))
+            .collect()
+    }
 }
 
 /// Finds the integer displacement of the `2 half + 1` square around
@@ -37,126 +76,29 @@ pub fn integer_search(
     if x0 < half || y0 < half || x0 + half >= reference.width || y0 + half >= reference.height {
         return None;
     }
-    let reach = (radius + half) as i64;
-    let wx0 = (cx - reach).max(0) as usize;
-    let wy0 = (cy - reach).max(0) as usize;
-    let wx1 = ((cx + reach) as usize).min(target.width.saturating_sub(1));
-    let wy1 = ((cy + reach) as usize).min(target.height.saturating_sub(1));
-    if cx + reach < 0 || cy + reach < 0 || wx1 < wx0 + side - 1 || wy1 < wy0 + side - 1 {
-        return None;
-    }
-    let (mx, my) = (wx1 - wx0 + 1, wy1 - wy0 + 1);
-
-    let n = (side * side) as f64;
-    let mut template = Vec::with_capacity(side * side);
-    for y in y0 - half..=y0 + half {
-        for x in x0 - half..=x0 + half {
-            template.push(reference.get(x, y));
-        }
-    }
-    let t_mean = template.iter().sum::<f64>() / n;
-    let t_norm = template
-        .iter()
-        .map(|t| (t - t_mean) * (t - t_mean))
-        .sum::<f64>()
-        .sqrt();
-    if t_norm.is_nan() || t_norm <= 1e-12 {
-        return None;
-    }
-
-    let mut window = vec![Complex::new(0.0, 0.0); mx * my];
-    let mut padded = vec![Complex::new(0.0, 0.0); mx * my];
-    for y in 0..my {
-        for x in 0..mx {
-            window[y * mx + x].re = target.get(wx0 + x, wy0 + y);
-        }
-    }
-    for j in 0..side {
-        for i in 0..side {
-            padded[j * mx + i].re = template[j * side + i] - t_mean;
-        }
-    }
-    let mut planner = FftPlanner::new();
-    fft_2d(&mut planner, &mut window, mx, my, false);
-    fft_2d(&mut planner, &mut padded, mx, my, false);
-    for (w, t) in window.iter_mut().zip(&padded) {
-        *w *= t.conj();
-    }
-    fft_2d(&mut planner, &mut window, mx, my, true);
-    let scale = 1.0 / (mx * my) as f64;
-
-    // Summed-area tables of the window and its square.
-    let stride = mx + 1;
-    let mut sum = vec![0.0; stride * (my + 1)];
-    let mut sum_sq = vec![0.0; stride * (my + 1)];
-    for y in 0..my {
-        for x in 0..mx {
-            let v = target.get(wx0 + x, wy0 + y);
-            let i = (y + 1) * stride + x + 1;
-            sum[i] = v + sum[i - 1] + sum[i - stride] - sum[i - stride - 1];
-            sum_sq[i] = v * v + sum_sq[i - 1] + sum_sq[i - stride] - sum_sq[i - stride - 1];
-        }
-    }
-    let box_sum = |table: &[f64], x: usize, y: usize| {
-        table[(y + side) * stride + x + side]
-            - table[y * stride + x + side]
-            - table[(y + side) * stride + x]
-            + table[y * stride + x]
+    let window = SearchWindow::around(target, cx, cy, radius + half, side)?;
+    let subset = SearchWindow {
+        x0: x0 - half,
+        y0: y0 - half,
+        width: side,
+        height: side,
     };
-
-    let mut best: Option<IntegerMatch> = None;
-    for sy in 0..=my - side {
-        for sx in 0..=mx - side {
-            let s = box_sum(&sum, sx, sy);
-            let ss = box_sum(&sum_sq, sx, sy);
-            let var = ss - s * s / n;
-            if var.is_nan() || var <= 1e-12 {
-                continue;
-            }
-            let zncc = window[sy * mx + sx].re * scale / (t_norm * var.sqrt());
-            if best.is_none_or(|b| zncc > b.zncc) {
-                best = Some(IntegerMatch {
-                    dx: (wx0 + sx + half) as i64 - x0 as i64,
-                    dy: (wy0 + sy + half) as i64 - y0 as i64,
-                    zncc,
-                });
-            }
-        }
-    }
-    best
-}
-
-/// In-place 2-D FFT of a row-major `mx × my` array.
-fn fft_2d(
-    planner: &mut FftPlanner<f64>,
-    data: &mut [Complex<f64>],
-    mx: usize,
-    my: usize,
-    inverse: bool,
-) {
-    let row_fft = if inverse {
-        planner.plan_fft_inverse(mx)
-    } else {
-        planner.plan_fft_forward(mx)
-    };
-    for row in data.chunks_exact_mut(mx) {
-        row_fft.process(row);
-    }
-    let column_fft = if inverse {
-        planner.plan_fft_inverse(my)
-    } else {
-        planner.plan_fft_forward(my)
-    };
-    let mut column = vec![Complex::new(0.0, 0.0); my];
-    for x in 0..mx {
-        for (y, c) in column.iter_mut().enumerate() {
-            *c = data[y * mx + x];
-        }
-        column_fft.process(&mut column);
-        for (y, c) in column.iter().enumerate() {
-            data[y * mx + x] = *c;
-        }
-    }
+    // The sizes agree by construction: a refusal would be a bug, and gives
+    // no guess rather than a panic.
+    let correlator = Correlator::new(
+        &subset.pixels(reference),
+        (side, side),
+        (window.width, window.height),
+        1.0,
+    )
+    .ok()??;
+    let peak = correlator.best(&window.pixels(target)).ok()??;
+    let (sx, sy) = peak.cell;
+    Some(IntegerMatch {
+        dx: (window.x0 + sx + half) as i64 - x0 as i64,
+        dy: (window.y0 + sy + half) as i64 - y0 as i64,
+        zncc: peak.zncc,
+    })
 }
 
 #[cfg(test)]
@@ -184,5 +126,48 @@ mod tests {
         let m = integer_search(&a, 40, 40, 7, &b, 40, 40, 12).unwrap();
         assert_eq!((m.dx, m.dy), (7, -4));
         assert!((m.zncc - 1.0).abs() < 1e-9, "{}", m.zncc);
+    }
+
+    #[test]
+    fn a_window_is_clipped_to_the_image_and_refused_when_too_small() {
+        let image = GrayImage::new(50, 40, vec![0.5; 2000]).unwrap();
+        let inside = SearchWindow::around(&image, 25, 20, 10, 7).unwrap();
+        assert_eq!(
+            (inside.x0, inside.y0, inside.width, inside.height),
+            (15, 10, 21, 21)
+        );
+        let corner = SearchWindow::around(&image, 2, 38, 10, 7).unwrap();
+        assert_eq!(
+            (corner.x0, corner.y0, corner.width, corner.height),
+            (0, 28, 13, 12)
+        );
+        // beyond the image, or too few pixels left for the subset
+        assert_eq!(SearchWindow::around(&image, -11, 20, 10, 7), None);
+        assert_eq!(SearchWindow::around(&image, 60, 20, 10, 7), None);
+        // rows 0..=6 above a centre at −4: just the 7 the subset needs
+        assert_eq!(
+            SearchWindow::around(&image, 25, -4, 10, 7).map(|w| w.height),
+            Some(7)
+        );
+        assert_eq!(SearchWindow::around(&image, 25, -5, 10, 7), None);
+        assert!(SearchWindow::around(&image, 25, -5, 10, 6).is_some());
+        let pixels = corner.pixels(&image);
+        assert_eq!(pixels.len(), 13 * 12);
+    }
+
+    #[test]
+    fn a_subset_off_the_reference_or_a_flat_one_gives_no_guess() {
+        let texture: Vec<f64> = (0..60 * 60)
+            .map(|k| ((k * 7919) % 101) as f64 / 100.0)
+            .collect();
+        let image = GrayImage::new(60, 60, texture).unwrap();
+        // the subset reaches past the reference's edge
+        assert_eq!(integer_search(&image, 3, 30, 5, &image, 30, 30, 5), None);
+        assert_eq!(integer_search(&image, 30, 55, 5, &image, 30, 30, 5), None);
+        assert!(integer_search(&image, 30, 30, 5, &image, 30, 30, 5).is_some());
+        let flat = GrayImage::new(60, 60, vec![0.25; 3600]).unwrap();
+        assert_eq!(integer_search(&flat, 30, 30, 5, &image, 30, 30, 5), None);
+        // a flat target has no window to match
+        assert_eq!(integer_search(&image, 30, 30, 5, &flat, 30, 30, 5), None);
     }
 }

@@ -7,7 +7,6 @@ pub mod filter;
 pub mod height_map;
 pub mod hurst;
 pub mod infill;
-mod ordered_reduce;
 pub mod plane;
 pub mod psd;
 pub mod register;

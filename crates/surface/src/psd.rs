@@ -27,7 +27,7 @@ use realfft::RealFftPlanner;
 use rustfft::FftPlanner;
 use rustfft::num_complex::Complex64;
 
-use crate::ordered_reduce::{add_into, tree_reduce};
+use hypercontact_numeric::reduce::{ScratchPool, add_into, reduce};
 
 /// The window applied before the Fourier transform.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -122,7 +122,8 @@ fn hann_radial(nx: usize, ny: usize, dx_m: f64, dy_m: f64) -> Array2<f64> {
 /// Columns (axis 1) gathered into contiguous buffers per block when
 /// transforming along axis 0: enough to read whole cache lines of each row.
 /// Blocks are also the units whose power sums are added in a fixed order
-/// (`tree_reduce`), so the PSD does not depend on the thread count.
+/// (`hypercontact_numeric::reduce`), so the PSD does not depend on the
+/// thread count.
 const BLOCK: usize = 16;
 
 /// Contiguous profiles summed in one piece before the fixed-order merge.
@@ -166,11 +167,11 @@ fn mean_profile_psd(profiles: &[f64], n: usize, spacing_m: f64, window: Window) 
         }
         acc
     };
-    let power = tree_reduce(
+    let pool = ScratchPool::new(|| (vec![0.0; n], fft.make_output_vec()));
+    let power = reduce(
         n_profiles.div_ceil(PROFILES_PER_BLOCK),
         || vec![0.0; half],
-        || (vec![0.0; n], fft.make_output_vec()),
-        block_power,
+        |block| pool.with(|buffers| block_power(buffers, block)),
         add_into,
     );
     let l_m = n as f64 * spacing_m;
@@ -221,11 +222,11 @@ pub fn profile_psd_x(h: &Array2<f64>, dx_m: f64, window: Window) -> Spectrum {
         }
         acc
     };
-    let power = tree_reduce(
+    let pool = ScratchPool::new(|| column_buffers(nx, fft.get_inplace_scratch_len()));
+    let power = reduce(
         n_pairs.div_ceil(BLOCK),
         || vec![0.0; nx],
-        || column_buffers(nx, fft.get_inplace_scratch_len()),
-        block_power,
+        |block| pool.with(|buffers| block_power(buffers, block)),
         add_into,
     );
     let l_m = nx as f64 * dx_m;
@@ -392,11 +393,11 @@ pub fn psd_radial(
         }
         sums
     };
-    let mut sums = tree_reduce(
+    let pool = ScratchPool::new(|| column_buffers(nx, fft.get_inplace_scratch_len()));
+    let mut sums = reduce(
         nh.div_ceil(BLOCK),
         || vec![[0.0; 3]; edges.len()],
-        || column_buffers(nx, fft.get_inplace_scratch_len()),
-        block_sums,
+        |block| pool.with(|buffers| block_sums(buffers, block)),
         |mut a: BinSums, b: BinSums| {
             for (x, y) in a.iter_mut().zip(b) {
                 for k in 0..3 {

@@ -12,10 +12,9 @@
 
 use std::f64::consts::TAU;
 
+use hypercontact_numeric::fft2::{Complex64, ComplexFft2, Direction};
 use nalgebra::{Matrix5, Vector5};
 use ndarray::Array2;
-use rustfft::FftPlanner;
-use rustfft::num_complex::Complex64;
 
 use crate::plane;
 
@@ -26,27 +25,6 @@ pub struct Registration {
     pub shift_px: [f64; 2],
     /// Height of the phase-correlation peak, 1 for identical content.
     pub peak: f64,
-}
-
-/// 2-D complex FFT of a row-major nx × ny buffer, in place.
-fn fft2(data: &mut [Complex64], nx: usize, ny: usize, inverse: bool) {
-    let mut planner = FftPlanner::<f64>::new();
-    let (along_y, along_x) = if inverse {
-        (planner.plan_fft_inverse(ny), planner.plan_fft_inverse(nx))
-    } else {
-        (planner.plan_fft_forward(ny), planner.plan_fft_forward(nx))
-    };
-    along_y.process(data);
-    let mut column = vec![Complex64::default(); nx];
-    for j in 0..ny {
-        for i in 0..nx {
-            column[i] = data[i * ny + j];
-        }
-        along_x.process(&mut column);
-        for i in 0..nx {
-            data[i * ny + j] = column[i];
-        }
-    }
 }
 
 /// Gap-filled, plane-removed, Hann-tapered patch as a complex buffer.
@@ -84,6 +62,7 @@ fn signed(k: usize, n: usize) -> Option<f64> {
 struct CrossPower {
     nx: usize,
     ny: usize,
+    fft: ComplexFft2,
     /// A·B*, unnormalised.
     raw: Vec<Complex64>,
 }
@@ -94,12 +73,13 @@ impl CrossPower {
         if b.dim() != (nx, ny) || nx < 4 || ny < 4 {
             return None;
         }
+        let fft = ComplexFft2::new(nx, ny).ok()?;
         let mut fa = prepare(a)?;
         let mut fb = prepare(b)?;
-        fft2(&mut fa, nx, ny, false);
-        fft2(&mut fb, nx, ny, false);
+        fft.process(&mut fa, Direction::Forward).ok()?;
+        fft.process(&mut fb, Direction::Forward).ok()?;
         let raw = fa.iter().zip(&fb).map(|(x, y)| x * y.conj()).collect();
-        Some(Self { nx, ny, raw })
+        Some(Self { nx, ny, fft, raw })
     }
 
     /// A·B* / |A·B*|^power.
@@ -119,12 +99,13 @@ impl CrossPower {
 
     /// The correlation surface: real part of the inverse transform of the
     /// spectrum whitened to `power` (1: phase correlation, 1 at a perfect
-    /// match; 0: plain cross-correlation).
-    fn surface(&self, power: f64) -> Vec<f64> {
+    /// match; 0: plain cross-correlation). (None only if the plan refused
+    /// the spectrum, which has the patches' shape.)
+    fn surface(&self, power: f64) -> Option<Vec<f64>> {
         let mut cross = self.whitened(power);
-        fft2(&mut cross, self.nx, self.ny, true);
+        self.fft.process(&mut cross, Direction::Inverse).ok()?;
         let n = (self.nx * self.ny) as f64;
-        cross.iter().map(|v| v.re / n).collect()
+        Some(cross.iter().map(|v| v.re / n).collect())
     }
 }
 
@@ -152,7 +133,9 @@ pub fn correlation_peaks(a: &Array2<f64>, b: &Array2<f64>, count: usize) -> Vec<
     // Half whitening: full whitening gives the many wavevectors beyond the
     // surface's short cut-off, where only noise and dropouts live, as much
     // say as those with signal, and the true peak can drown among theirs.
-    let r = cross.surface(0.5);
+    let Some(r) = cross.surface(0.5) else {
+        return Vec::new();
+    };
     let at = |i: usize, j: usize| r[i * ny + j];
     let mut peaks: Vec<([i64; 2], f64)> = Vec::new();
     for i in 0..nx {
@@ -192,7 +175,7 @@ pub fn phase_correlate(a: &Array2<f64>, b: &Array2<f64>) -> Option<Registration>
     // true shift of a pure translation.
     let spectrum = cross.whitened(0.5);
     let (best, peak) = cross
-        .surface(1.0)
+        .surface(1.0)?
         .into_iter()
         .enumerate()
         .max_by(|x, y| x.1.total_cmp(&y.1))?;
@@ -418,7 +401,8 @@ mod tests {
     fn shifted(h: &Array2<f64>, e: [f64; 2]) -> Array2<f64> {
         let (nx, ny) = h.dim();
         let mut data: Vec<Complex64> = h.iter().map(|v| Complex64::new(*v, 0.0)).collect();
-        fft2(&mut data, nx, ny, false);
+        let fft = ComplexFft2::new(nx, ny).unwrap();
+        fft.process(&mut data, Direction::Forward).unwrap();
         for i in 0..nx {
             for j in 0..ny {
                 let (kx, ky) = (signed(i, nx).unwrap_or(0.0), signed(j, ny).unwrap_or(0.0));
@@ -426,7 +410,7 @@ mod tests {
                 data[i * ny + j] *= Complex64::from_polar(1.0, phase);
             }
         }
-        fft2(&mut data, nx, ny, true);
+        fft.process(&mut data, Direction::Inverse).unwrap();
         Array2::from_shape_fn((nx, ny), |(i, j)| data[i * ny + j].re / (nx * ny) as f64)
     }
 

@@ -167,7 +167,7 @@ fn grid_px(p: &SynthSurfaceParams, size: [usize; 2]) -> [usize; 2] {
     let pad = ((p.lambda_max_m / p.pixel_m).ceil() as usize).max(size[0].max(size[1]) / 4);
     size.map(|n| match n.saturating_add(pad) {
         n if n > MAX_GRID_SIDE => n,
-        n => hypercontact_core::fft::fast_size(n),
+        n => hypercontact_numeric::fft2::fast_size(n),
     })
 }
 
