@@ -30,9 +30,8 @@ use hypercontact_core::{
     Arity, Checked, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs, ParamError,
     Schema, Stage, StageError, StageInfo, params,
 };
-use hypercontact_icm::{CompositeModulus, Model, Scheme};
+use hypercontact_icm::{CompositeModulus, LawParams};
 use hypercontact_interference::{CameraGrid, CameraParams, Placement};
-use hypercontact_material::Poisson;
 use hypercontact_material::table::MaterialTable;
 
 use crate::encode_png;
@@ -42,15 +41,9 @@ use solve::{ContactError, FrameContact, contact_sequence, penetration_at_m};
 /// Parameters of `synth-contact`.
 #[params(check = consistent)]
 pub struct SynthContactParams {
-    /// contact law of the experiment's physics (as `bem`)
-    #[param(default = Model::Hyperelastic)]
-    pub model: Model,
-    /// integration of the hyperelastic load (as `bem`)
-    #[param(default = Scheme::Heun)]
-    pub scheme: Scheme,
-    /// Poisson's ratio ν of the composite moduli
-    #[param(default = Poisson::INCOMPRESSIBLE)]
-    pub poisson: Poisson,
+    /// The experiment's contact law, as `bem`'s.
+    #[param(flatten)]
+    pub law: LawParams,
     /// how the sample continues beyond the map (as `bem`)
     #[param(default = Boundary::Free)]
     pub boundary: Boundary,
@@ -345,7 +338,7 @@ impl Stage for SynthContact {
         let surface = filtered(inputs.field("surface")?, p.resolution_m)?;
         let material = hypercontact_material::table::from_table(inputs.table("material")?)
             .map_err(|e| StageError::invalid(format!("material: {e}")))?;
-        let modulus = CompositeModulus::new(Arc::from(material), p.model, p.poisson.0)
+        let modulus = p.law.modulus(Arc::from(material))
             .map_err(|e| StageError::invalid(format!("material: {e}")))?;
         check_view_inside(&surface, &p.placement(), &p.grid())?;
         let (ramp, contacts) = solve_frames(&surface, &modulus, p, ctx)?;
@@ -425,7 +418,7 @@ fn solve_frames(
         &problem,
         surface.dx_m * surface.dy_m,
         modulus,
-        p.scheme,
+        p.law.scheme,
         solver,
         &ramp.penetrations_m(),
         &mut |_| progress.inc(1),
