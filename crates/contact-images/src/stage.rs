@@ -1,7 +1,7 @@
 //! Stage `contact-images`: a contact-interference image sequence and its
 //! force log in, the measured contact area and patch count per frame out
 //! (the paper's Section 3 experiment), with binary contact maps for Fig. 6.
-//! The physics of the methods is in [`crate::otsu`], [`crate::multi_otsu`]
+//! The physics of the methods is in [`mod@crate::otsu`], [`mod@crate::multi_otsu`]
 //! and [`crate::calibrated`]; reading in [`hypercontact_labfiles::sequence`];
 //! the analysis of the frames and the clock in `analysis.rs`.
 

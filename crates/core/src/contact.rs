@@ -30,9 +30,9 @@ pub struct ResponseTable {
 }
 
 impl ResponseTable {
-    /// The response from a model's curve: the load `load_n` [N] at contact
-    /// area `area_m2` [m²] (A/A0 `area_fraction`) and separation `z_m`, with
-    /// the tangent modulus `modulus_pa` [Pa] each row was integrated with
+    /// The response from a model's curve: the load `load_n` (N) at contact
+    /// area `area_m2` (m²; A/A0 `area_fraction`) and separation `z_m`, with
+    /// the tangent modulus `modulus_pa` (Pa) each row was integrated with
     /// (E0* for a linear model), normalised by E0* `e0_star_pa` and the
     /// nominal area `a0_m2`. The one place the derived columns are formed:
     /// load_norm = F/(E0* A0), mean_stress_pa = F/A (0 without contact),

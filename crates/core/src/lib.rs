@@ -2,8 +2,11 @@
 //!
 //! A stage is a pure computation: checked parameters and named input products
 //! in, named output products out. Everything around it (reading the pipeline,
-//! caching, timing, progress, file formats) belongs to the runner. Stage
-//! crates depend on this crate only, so they build and test in seconds.
+//! caching, timing, progress, file formats) belongs to the runner. A stage
+//! crate depends on this crate, on hypercontact-numeric or -labfiles where it
+//! computes transforms or reads a lab's files, and on the stage crates whose
+//! tables or physics it reuses; never on the runner or the Parquet edge
+//! (hypercontact-io), so it builds and tests without polars.
 //!
 //! A stage declares each fact once: its parameters with [`macro@params`]
 //! (type, default, unit, doc, range), its choices with [`Choice`], its tables

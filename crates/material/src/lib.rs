@@ -6,7 +6,7 @@
 //! - [`contact`]: the paper's Eq. (2) φ(ε), its inverse and Eq. (6) E_t,
 //!   which the incremental contact model evaluates;
 //! - [`table`]: the `material` table that carries a model between stages;
-//! - [`tensile`], [`fit`], [`stability`]: tensile data, the simultaneous
+//! - [`tensile`], [`mod@fit`], [`stability`]: tensile data, the simultaneous
 //!   UT/PT/BT least-squares fit and the Drucker stability check, behind the
 //!   stages `tensile-table`, `material-fit` and `material-preset`.
 

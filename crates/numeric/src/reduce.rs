@@ -115,7 +115,7 @@ pub fn add_into(mut a: Vec<f64>, b: Vec<f64>) -> Vec<f64> {
 /// vanishes, small enough that 2 threads share a 256² map evenly.
 pub const CHUNK: usize = 4096;
 
-/// `N` sums Σᵢ f(i)[k] over i in 0..len, in the fixed order of the module
+/// `N` sums Σᵢ f(i)\[k\] over i in 0..len, in the fixed order of the module
 /// doc.
 pub fn sums<const N: usize, F>(len: usize, f: F) -> [f64; N]
 where
@@ -136,7 +136,7 @@ where
     add_in_order(chunks)
 }
 
-/// Writes `out[i] = f(i).0` and returns the `N` sums Σᵢ f(i).1[k] in the
+/// Writes `out[i] = f(i).0` and returns the `N` sums Σᵢ f(i).1\[k\] in the
 /// same order as [`sums`]: one pass where a map and its sums are both
 /// needed.
 pub fn fill_sums<const N: usize, F>(out: &mut [f64], f: F) -> [f64; N]

@@ -1,6 +1,13 @@
 //! The synthetic laboratory: stages that write the raw files a lab would
-//! (interferometer tiles, ...) from a known ground truth, which they emit
-//! separately so tests can score the stages that read those files.
+//! from a known ground truth, which they emit separately so tests can score
+//! the stages that read those files.
+//!
+//! - [`surface`]: `synth-surface`, interferometer tiles of a self-affine
+//!   surface;
+//! - [`tensile`]: `synth-tensile`, speckle image sequences and the force log
+//!   of a tensile test;
+//! - [`contact`]: `synth-contact`, contact-interference frames and a force
+//!   log of the sample pressed onto glass.
 
 pub mod contact;
 pub mod surface;
