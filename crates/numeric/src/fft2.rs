@@ -16,7 +16,7 @@
 mod complex;
 #[cfg(test)]
 mod direct;
-mod plans;
+pub(crate) mod plans;
 mod real;
 mod sizes;
 mod transpose;

@@ -12,6 +12,7 @@
 //! slices, so any stage crate can use it without the core's types.
 
 mod error;
+pub mod fft1;
 pub mod fft2;
 pub mod reduce;
 pub mod zncc;

@@ -21,11 +21,10 @@
 
 use std::f64::consts::{PI, TAU};
 
+use hypercontact_numeric::fft1::{self, Complex64, Direction};
+use hypercontact_numeric::fft2::RealFft2;
 use ndarray::Array2;
 use rayon::prelude::*;
-use realfft::RealFftPlanner;
-use rustfft::FftPlanner;
-use rustfft::num_complex::Complex64;
 
 use hypercontact_numeric::reduce::{ScratchPool, add_into, reduce};
 
@@ -141,7 +140,7 @@ fn column_buffers(n: usize, scratch_len: usize) -> (Vec<Complex64>, Vec<Complex6
 /// `profiles`, k = 0 … n/2 − 1, unbinned.
 fn mean_profile_psd(profiles: &[f64], n: usize, spacing_m: f64, window: Window) -> Spectrum {
     let n_profiles = profiles.len() / n;
-    let fft = RealFftPlanner::<f64>::new().plan_fft_forward(n);
+    let fft = fft1::real_forward(n);
     let w = match window {
         Window::Hann => Some(hann_1d(n)),
         Window::None => None,
@@ -195,7 +194,7 @@ pub fn profile_psd_x(h: &Array2<f64>, dx_m: f64, window: Window) -> Spectrum {
     let data = standard
         .as_slice()
         .expect("as_standard_layout gives a contiguous array");
-    let fft = FftPlanner::<f64>::new().plan_fft_forward(nx);
+    let fft = fft1::complex(nx, Direction::Forward);
     let w = match window {
         Window::Hann => Some(hann_1d(nx)),
         Window::None => None,
@@ -324,61 +323,60 @@ pub fn psd_radial(
         .as_slice()
         .expect("as_standard_layout gives a contiguous array");
 
-    // Real FFTs along y (contiguous rows) of the windowed rows; the window is
-    // made on the fly and its mean square folded into the normalisation.
-    let r2c = RealFftPlanner::<f64>::new().plan_fft_forward(ny);
+    // The window is made a row at a time and its mean square folded into
+    // the normalisation; the per-row sums are added in row order (a
+    // parallel sum would not be the same on every thread count).
     let hann = HannRadial::new(nx, ny, dx_m, dy_m);
-    let mut rows = vec![Complex64::default(); nx * nh];
-    // Per-row window sums, added in row order (a parallel sum would not be
-    // the same on every thread count).
-    let row_sums_w2: Vec<f64> = rows
-        .par_chunks_mut(nh)
-        .zip(data.par_chunks(ny))
-        .enumerate()
-        .map_init(
-            || (r2c.make_input_vec(), r2c.make_scratch_vec(), vec![0.0; ny]),
-            |(input, scratch, w_row), (i, (out, row))| {
-                let mut sum_w2 = 0.0;
-                match window {
-                    Window::Hann => {
+    let (windowed, sum_w2) = match window {
+        Window::Hann => {
+            let mut windowed = vec![0.0; nx * ny];
+            let row_sums_w2: Vec<f64> = windowed
+                .par_chunks_mut(ny)
+                .zip(data.par_chunks(ny))
+                .enumerate()
+                .map_init(
+                    || vec![0.0; ny],
+                    |w_row, (i, (out, row))| {
                         hann.row(i, w_row);
-                        for ((x, h), w) in input.iter_mut().zip(row).zip(w_row.iter()) {
+                        let mut sum_w2 = 0.0;
+                        for ((x, h), w) in out.iter_mut().zip(row).zip(w_row.iter()) {
                             *x = h * w;
                             sum_w2 += w * w;
                         }
-                    }
-                    Window::None => input.copy_from_slice(row),
-                }
-                r2c.process_with_scratch(input, out, scratch)
-                    .expect("buffer sizes match the plan");
-                sum_w2
-            },
-        )
-        .collect();
-    let sum_w2: f64 = row_sums_w2.iter().sum();
+                        sum_w2
+                    },
+                )
+                .collect();
+            (Some(windowed), row_sums_w2.iter().sum())
+        }
+        Window::None => (None, 0.0),
+    };
     let window_scale2 = match window {
         Window::Hann => (nx * ny) as f64 / sum_w2,
         Window::None => 1.0,
     };
+    // The half spectrum (real transforms along y, complex ones along x),
+    // column-major: column j of it is spectrum[j·nx ..].
+    let fft = RealFft2::new(nx, ny).expect("the map is not empty");
+    let mut spectrum = vec![Complex64::default(); fft.spectrum_len()];
+    fft.forward(
+        windowed.as_deref().unwrap_or(data),
+        (nx, ny),
+        &mut spectrum,
+        &mut fft.workspace(),
+    )
+    .expect("the spectrum's length comes from the plan");
 
-    // Complex FFTs along x of BLOCK gathered columns at a time, binned as
-    // they come: no transposed copy of the half spectrum.
+    // Columns binned BLOCK at a time, the blocks' sums merged in a fixed order.
     let q_min = (TAU / lx).min(TAU / ly);
     let q_max = PI * (1.0 / dx_m).min(1.0 / dy_m);
     let edges = log_bin_edges(q_min, q_max, per_decade);
-    let fft = FftPlanner::<f64>::new().plan_fft_forward(nx);
     let wrap = |k: usize, n: usize| if k > n / 2 { n - k } else { k } as f64;
-    let block_sums = |(buffer, scratch): &mut (Vec<Complex64>, Vec<Complex64>), block: usize| {
+    let block_sums = |block: usize| {
         let first = block * BLOCK;
         let width = BLOCK.min(nh - first);
-        let columns = &mut buffer[..width * nx];
-        for (i, row) in rows.chunks_exact(nh).enumerate() {
-            for (c, v) in row[first..first + width].iter().enumerate() {
-                columns[c * nx + i] = *v;
-            }
-        }
-        fft.process_with_scratch(columns, scratch);
         let mut sums: BinSums = vec![[0.0; 3]; edges.len()];
+        let columns = &spectrum[first * nx..(first + width) * nx];
         for (c, column) in columns.chunks_exact(nx).enumerate() {
             let j = first + c;
             bin_column(
@@ -393,11 +391,10 @@ pub fn psd_radial(
         }
         sums
     };
-    let pool = ScratchPool::new(|| column_buffers(nx, fft.get_inplace_scratch_len()));
     let mut sums = reduce(
         nh.div_ceil(BLOCK),
         || vec![[0.0; 3]; edges.len()],
-        |block| pool.with(|buffers| block_sums(buffers, block)),
+        block_sums,
         |mut a: BinSums, b: BinSums| {
             for (x, y) in a.iter_mut().zip(b) {
                 for k in 0..3 {

@@ -338,7 +338,9 @@ impl Stage for SynthContact {
         let surface = filtered(inputs.field("surface")?, p.resolution_m)?;
         let material = hypercontact_material::table::from_table(inputs.table("material")?)
             .map_err(|e| StageError::invalid(format!("material: {e}")))?;
-        let modulus = p.law.modulus(Arc::from(material))
+        let modulus = p
+            .law
+            .modulus(Arc::from(material))
             .map_err(|e| StageError::invalid(format!("material: {e}")))?;
         check_view_inside(&surface, &p.placement(), &p.grid())?;
         let (ramp, contacts) = solve_frames(&surface, &modulus, p, ctx)?;

@@ -13,14 +13,12 @@
 //! is white Gaussian noise shaped in Fourier space, so it is periodic over
 //! the generated grid; callers that need a non-periodic sample crop a part.
 
+use hypercontact_numeric::fft2::RealFft2;
 use ndarray::Array2;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 use rayon::prelude::*;
-use realfft::RealFftPlanner;
-use rustfft::FftPlanner;
-use rustfft::num_complex::Complex64;
 
 /// The statistics a synthetic surface is drawn from.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -116,66 +114,15 @@ fn wavevector(i: usize, n: usize, l: f64) -> f64 {
 }
 
 /// Multiplies the 2-D DFT of a real field by a real gain(i, j) and
-/// transforms back, unnormalised: rows (axis 1) by real FFTs, columns
-/// (axis 0) by complex FFTs on a transposed half spectrum.
+/// transforms back, unnormalised (`hypercontact_numeric`'s real 2-D
+/// transform, in place: the field and one half spectrum are the only large
+/// arrays alive, a paper-scale truth grid being ~14 000² points).
 fn filter_real(field: &mut Array2<f64>, gain: impl Fn(usize, usize) -> f64 + Sync) {
     let (nx, ny) = field.dim();
-    let nh = ny / 2 + 1;
-    let mut real_planner = RealFftPlanner::<f64>::new();
-    let r2c = real_planner.plan_fft_forward(ny);
-    let c2r = real_planner.plan_fft_inverse(ny);
-    let mut planner = FftPlanner::<f64>::new();
-    let fwd = planner.plan_fft_forward(nx);
-    let inv = planner.plan_fft_inverse(nx);
-
-    // half[j][i]: column j of the half spectrum, contiguous along x. Rows
-    // go through their real FFTs a block at a time and are scattered into
-    // it at once, so the field and the half spectrum are the only large
-    // arrays alive (a paper-scale truth grid is ~14 000² points).
-    const BLOCK: usize = 64;
-    let mut half = vec![Complex64::default(); nh * nx];
+    let fft = RealFft2::new(nx, ny).expect("the generator's grids are not empty");
     let slice = field.as_slice_mut().expect("a standard-layout array");
-    for (b, block) in slice.chunks(BLOCK * ny).enumerate() {
-        let spectra: Vec<Vec<Complex64>> = block
-            .par_chunks(ny)
-            .map(|row| {
-                let mut input = row.to_vec();
-                let mut out = r2c.make_output_vec();
-                r2c.process(&mut input, &mut out)
-                    .expect("sizes match the plan");
-                out
-            })
-            .collect();
-        for (k, row) in spectra.iter().enumerate() {
-            let i = b * BLOCK + k;
-            for (j, v) in row.iter().enumerate() {
-                half[j * nx + i] = *v;
-            }
-        }
-    }
-    half.par_chunks_mut(nx).enumerate().for_each(|(j, column)| {
-        fwd.process(column);
-        for (i, v) in column.iter_mut().enumerate() {
-            *v *= gain(i, j);
-        }
-        inv.process(column);
-    });
-    for (b, block) in slice.chunks_mut(BLOCK * ny).enumerate() {
-        block.par_chunks_mut(ny).enumerate().for_each(|(k, out)| {
-            let i = b * BLOCK + k;
-            let mut spectrum: Vec<Complex64> = (0..nh).map(|j| half[j * nx + i]).collect();
-            // The real inverse needs exactly real DC and Nyquist terms;
-            // they are real up to rounding because the gain is symmetric.
-            spectrum[0].im = 0.0;
-            if ny % 2 == 0 {
-                spectrum[nh - 1].im = 0.0;
-            }
-            let mut real = c2r.make_output_vec();
-            c2r.process(&mut spectrum, &mut real)
-                .expect("sizes match the plan");
-            out.copy_from_slice(&real);
-        });
-    }
+    fft.filter_in_place(slice, gain)
+        .expect("the field fills the transform's grid");
 }
 
 #[cfg(test)]
