@@ -196,7 +196,9 @@ impl Stage for Bem {
         let influence = Influence::new(grid.0, grid.1, grid.2, grid.3, p.boundary);
         let problem = Problem::new(&influence, &heights_m)
             .map_err(|e| StageError::other(BemError::Surface(e.to_string())))?;
-        let a0_m2 = problem.measured() as f64 * grid.2 * grid.3;
+        // dx·dy first, then the count: the order the areas have always had.
+        let pixel_m2 = grid.2 * grid.3;
+        let a0_m2 = problem.measured() as f64 * pixel_m2;
         let lowest_m = heights_m
             .iter()
             .copied()
@@ -218,7 +220,7 @@ impl Stage for Bem {
             area_fraction: rows.iter().map(|r| r.area_fraction).collect(),
             area_m2: rows
                 .iter()
-                .map(|r| r.contact_pixels as f64 * grid.2 * grid.3)
+                .map(|r| r.contact_pixels as f64 * pixel_m2)
                 .collect(),
             ..Curve::default()
         };
