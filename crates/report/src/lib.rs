@@ -28,6 +28,7 @@ pub mod material;
 pub mod models;
 pub mod powerlaw;
 pub mod report;
+pub mod roster;
 pub mod stage;
 pub mod summary;
 pub mod table1;
