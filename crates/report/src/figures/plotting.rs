@@ -100,16 +100,11 @@ pub fn sample_colour(index: usize) -> RGBColor {
 /// (the report's roster order): black, then Okabe–Ito's colours without
 /// the blue the experiment's symbols take.
 pub fn model_colour(index: usize) -> RGBColor {
-    const PALETTE: [RGBColor; 7] = [
-        RGBColor(0, 0, 0),       // black
-        RGBColor(213, 94, 0),    // vermillion
-        RGBColor(0, 158, 115),   // bluish green
-        RGBColor(204, 121, 167), // reddish purple
-        RGBColor(230, 159, 0),   // orange
-        RGBColor(86, 180, 233),  // sky blue
-        RGBColor(120, 120, 120), // grey
-    ];
-    PALETTE[index % PALETTE.len()]
+    // The samples' palette after its blue, behind black.
+    match index % 7 {
+        0 => RGBColor(0, 0, 0),
+        k => sample_colour(k),
+    }
 }
 
 /// Colour of a tensile mode in Fig. 2 (a label that is no mode gets a
