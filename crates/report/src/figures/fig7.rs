@@ -69,6 +69,27 @@ fn model_style(key: &ModelKey) -> ShapeStyle {
     model_colour(key.colour).stroke_width(width)
 }
 
+/// The axes of Figs. 7, 8 and 9: A/A0 along x (six ticks), `y_desc`
+/// with `y_ticks` ticks formatted by `y_fmt` up the side.
+pub fn area_axes<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<Axis, Axis>>,
+    (name, sizes): (&str, TextSizes),
+    y_desc: &str,
+    y_fmt: &dyn Fn(&f64) -> String,
+    y_ticks: usize,
+) -> Result<(), ReportError> {
+    draw_axes(
+        chart,
+        name,
+        sizes,
+        "contact area fraction A/A₀",
+        y_desc,
+        &|v| tick_linear(*v),
+        y_fmt,
+        (6, y_ticks),
+    )
+}
+
 /// The experiment's symbols (Okabe–Ito blue).
 const EXPERIMENT_COLOUR: RGBColor = RGBColor(0, 114, 178);
 
@@ -178,15 +199,12 @@ impl Fig7<'_> {
                 Axis::decades(e_lo, e_hi, 12),
             )
             .map_err(err)?;
-        draw_axes(
+        area_axes(
             &mut chart,
-            name,
-            sizes,
-            "contact area fraction A/A₀",
+            (name, sizes),
             "normalised load F/(E₀* A₀)",
-            &|v| tick_linear(*v),
             &|v| tick_decade(*v),
-            (6, (e_hi - e_lo) as usize + 1),
+            (e_hi - e_lo) as usize + 1,
         )?;
         // Drawn as log10 on a linear axis, so decade ticks are exact; a
         // band edge at or below zero cannot be, and splits the band there.

@@ -12,10 +12,10 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::fig2::min_max;
-use super::fig7::{LEGEND_PX, SampleResponses};
+use super::fig7::{LEGEND_PX, SampleResponses, area_axes};
 use super::plotting::{
-    Axis, Figure, LegendEntry, Line, Rasters, TextSizes, band_legend, draw_axes, draw_band,
-    draw_curve, draw_legend, sample_colour, thin, tick_linear,
+    Axis, Figure, LegendEntry, Line, Rasters, TextSizes, band_legend, draw_band, draw_curve,
+    draw_legend, sample_colour, thin, tick_linear,
 };
 use crate::ReportError;
 use crate::band::{Band, runs};
@@ -131,15 +131,12 @@ impl Figure for Fig8<'_> {
             .y_label_area_size(sizes.label * 3.4)
             .build_cartesian_2d(Axis::new(0.0, x_hi, 6), Axis::new(y_lo, y_hi, 8))
             .map_err(err)?;
-        draw_axes(
+        area_axes(
             &mut chart,
-            name,
-            sizes,
-            "contact area fraction A/A₀",
+            (name, sizes),
             "tangent modulus ratio Eₜ*/E₀*",
             &|v| tick_linear(*v),
-            &|v| tick_linear(*v),
-            (6, 8),
+            8,
         )?;
         // Every band first, so no sample's shading covers another's curve.
         let finite = |v: f64| v.is_finite().then_some(v);
