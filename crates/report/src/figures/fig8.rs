@@ -38,9 +38,16 @@ struct Ranges {
 }
 
 impl Fig8<'_> {
-    fn stroke(&self, key: &ModelKey) -> Line {
+    /// A model's line and width: the strokes in turn, thinner on each
+    /// round, so a fourth model is not drawn as the first.
+    fn stroke(&self, key: &ModelKey) -> (Line, u32) {
         let k = self.models.iter().position(|m| m.label == key.label);
-        STROKES[k.unwrap_or(0) % STROKES.len()]
+        let k = k.unwrap_or(0);
+        let round = (k / STROKES.len()) as u32;
+        (
+            STROKES[k % STROKES.len()],
+            3u32.saturating_sub(round).max(1),
+        )
     }
 
     fn bands(&self) -> impl Iterator<Item = &Band> {
@@ -87,15 +94,18 @@ impl Fig8<'_> {
             .map(|s| LegendEntry {
                 label: s.label.to_owned(),
                 style: sample_colour(s.colour_index).stroke_width(3),
-                line: s.curves.first().map_or(Line::Solid, |d| self.stroke(d.key)),
+                line: s
+                    .curves
+                    .first()
+                    .map_or(Line::Solid, |d| self.stroke(d.key).0),
             })
             .collect();
         if self.models.len() > 1 {
             for key in &self.models {
                 legend.push(LegendEntry {
                     label: key.label.clone(),
-                    style: BLACK.stroke_width(3),
-                    line: self.stroke(key),
+                    style: BLACK.stroke_width(self.stroke(key).1),
+                    line: self.stroke(key).0,
                 });
             }
         }
@@ -154,7 +164,7 @@ impl Figure for Fig8<'_> {
             }
         }
         for s in &self.samples {
-            let style = sample_colour(s.colour_index).stroke_width(3);
+            let colour = sample_colour(s.colour_index);
             for d in &s.curves {
                 let r = d.response;
                 let points: Vec<(f64, f64)> = r
@@ -164,7 +174,8 @@ impl Figure for Fig8<'_> {
                     .zip(r.tangent_ratio.iter().copied())
                     .collect();
                 let points = thin(&points, x_hi, y_hi - y_lo, 0.006);
-                draw_curve(&mut chart, name, points, self.stroke(d.key), style)?;
+                let (line, width) = self.stroke(d.key);
+                draw_curve(&mut chart, name, points, line, colour.stroke_width(width))?;
             }
         }
         let legend = self.legend();
