@@ -9,13 +9,21 @@
 //!   predicted and an observed map;
 //! - [`agreement`]: a model's load at the measured contact areas against the
 //!   measured load;
-//! - [`stage`]: the `contact-compare` stage.
+//! - [`stage`]: the `contact-compare` stage, whose `run` reads the maps
+//!   (`maps`), registers the observed ones (`registration`), lays every
+//!   prediction over them (`overlays`, with the figures' [`stage::FigureIndex`])
+//!   and scores the responses (`scoring`, on the camera's view: `view`).
 
 pub mod agreement;
 pub mod error;
+mod maps;
 pub mod overlap;
+mod overlays;
 pub mod register;
+mod registration;
+mod scoring;
 pub mod stage;
+mod view;
 
 pub use error::CompareError;
 pub use register::{

@@ -1,5 +1,5 @@
-//! The 5–95 % bootstrap band of a sample's hyperelastic ICM curve (icm's
-//! `bands` output): how far the tensile tests' scatter and the fit's
+//! The 5–95 % bootstrap band of a contact model's curve on one sample
+//! (e.g. icm's `bands` output): how far the tensile tests' scatter and the fit's
 //! freedom move F/(E0* A0) and E_t*/E0* at each contact area fraction.
 //! Drawn under the curves of Figs. 7 and 8 and read at the summary's area
 //! fractions.

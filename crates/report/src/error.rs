@@ -11,6 +11,10 @@ pub enum ReportError {
     /// An input holds a value the report cannot draw (NaN, wrong label, ...).
     #[error("input `{input}`: {message}")]
     Input { input: String, message: String },
+    /// A parameter naming something the inputs do not hold (a model label
+    /// not wired).
+    #[error("parameter `{param}`: {message}")]
+    Param { param: String, message: String },
     /// The `material` table cannot be decoded into a model.
     #[error("input `material`: {0}")]
     Material(String),

@@ -3,8 +3,8 @@
 //! side and overlaid, each with a scale bar; the registration of every
 //! sample; and the agreement table under Fig. 7.
 
+use hypercontact_compare::stage::{FigureIndex, TRUNCATION};
 use hypercontact_core::Files;
-use hypercontact_labfiles::FileSource;
 use image::{Rgb, RgbImage};
 
 use crate::ReportError;
@@ -20,7 +20,7 @@ const BAR_LENGTHS_M: [f64; 12] = [
 /// A file name and its PNG bytes.
 pub type NamedPng = (String, Vec<u8>);
 
-/// One row of contact-compare's figures.csv.
+/// One row of contact-compare's figure index.
 struct FigureRow {
     model: String,
     requested: f64,
@@ -35,46 +35,21 @@ struct FigureRow {
     width_px: f64,
 }
 
-fn read_rows(label: &str, files: &Files) -> Result<Vec<FigureRow>, ReportError> {
-    let input = format!("compare_figures.{label}");
-    let source = FileSource::Files {
-        files,
-        input: input.clone(),
-    };
-    let table = source
-        .read_csv("figures.csv")
-        .map_err(|e| ReportError::input(&input, e.to_string()))?;
-    let err = |e: hypercontact_core::TableError| ReportError::table(&input, e);
-    let text = |name: &str| table.str(name).map(<[String]>::to_vec).map_err(err);
-    let number = |name: &str| table.to_f64(name).map_err(err);
-    let (model, observed, predicted, overlay) = (
-        text("model")?,
-        text("observed_file")?,
-        text("predicted_file")?,
-        text("overlay_file")?,
-    );
-    let (requested, area, model_area, frame, pixel, width) = (
-        number("requested_area_fraction")?,
-        number("area_fraction")?,
-        number("model_area_fraction")?,
-        number("frame")?,
-        number("pixel_m")?,
-        number("width_px")?,
-    );
-    Ok((0..model.len())
+fn rows_of(index: &FigureIndex) -> Vec<FigureRow> {
+    (0..index.model.len())
         .map(|k| FigureRow {
-            model: model[k].clone(),
-            requested: requested[k],
-            area_fraction: area[k],
-            model_area_fraction: model_area[k],
-            frame: frame[k] as i64,
-            observed: observed[k].clone(),
-            predicted: predicted[k].clone(),
-            overlay: overlay[k].clone(),
-            pixel_m: pixel[k],
-            width_px: width[k],
+            model: index.model[k].clone(),
+            requested: index.requested_area_fraction[k],
+            area_fraction: index.area_fraction[k],
+            model_area_fraction: index.model_area_fraction[k],
+            frame: index.frame[k],
+            observed: index.observed_file[k].clone(),
+            predicted: index.predicted_file[k].clone(),
+            overlay: index.overlay_file[k].clone(),
+            pixel_m: index.pixel_m[k],
+            width_px: index.width_px[k] as f64,
         })
-        .collect())
+        .collect()
 }
 
 /// An RGB PNG of the figures with a scale bar of `bar_px` drawn at its
@@ -127,66 +102,63 @@ fn length_text(m: f64) -> String {
     }
 }
 
-/// Fig. 6 for the first sample with contact-compare's figures: per mapped
-/// area fraction, the observed map, and each model's predicted map and its
-/// overlay on the observed one; every image at one scale with one bar.
-/// Returns the HTML and the images it embeds (also written beside it).
-pub fn fig6(data: &ReportData<'_>) -> Result<(String, Vec<NamedPng>), ReportError> {
-    let Some(sample) = data.samples.iter().find(|s| s.compare_figures.is_some()) else {
-        return Ok((
-            "<p class=\"skipped\" id=\"fig6\"><b>Fig. 6</b> skipped: no `compare_figures` \
-             (contact-compare's figures) is wired.</p>\n"
-                .into(),
-            Vec::new(),
-        ));
-    };
-    let files = sample.compare_figures.expect("found above");
-    let input = format!("compare_figures.{}", sample.label);
-    let rows = read_rows(&sample.label, files)?;
-    let Some(first) = rows.first() else {
-        return Ok((
-            format!(
-                "<p class=\"skipped\" id=\"fig6\"><b>Fig. 6</b> skipped: {} lists no map.</p>\n",
-                escape(&input)
-            ),
-            Vec::new(),
-        ));
-    };
+/// The labels in first-seen order.
+fn distinct<T: PartialEq + Copy>(values: impl Iterator<Item = T>) -> Vec<T> {
+    let mut seen = Vec::new();
+    for v in values {
+        if !seen.contains(&v) {
+            seen.push(v);
+        }
+    }
+    seen
+}
+
+/// The longest bar not above a quarter of the figures' width, in metres
+/// and in figure pixels.
+fn bar(first: &FigureRow) -> (f64, u32) {
     let width_m = first.width_px * first.pixel_m;
     let bar_m = BAR_LENGTHS_M
         .iter()
         .copied()
         .rfind(|l| *l <= 0.25 * width_m)
         .unwrap_or(BAR_LENGTHS_M[0]);
-    let bar_px = (bar_m / first.pixel_m).round() as u32;
-    let mut models: Vec<&str> = Vec::new();
-    for r in &rows {
-        if !models.contains(&r.model.as_str()) {
-            models.push(&r.model);
-        }
-    }
-    let mut requested: Vec<f64> = Vec::new();
-    for r in &rows {
-        if !requested.contains(&r.requested) {
-            requested.push(r.requested);
-        }
-    }
-    let mut images = Vec::new();
-    let mut cell = |name: &str| -> Result<String, ReportError> {
-        let bytes = files
+    (bar_m, (bar_m / first.pixel_m).round() as u32)
+}
+
+/// The figures of one sample, each embedded with the scale bar and kept
+/// for writing beside the page.
+struct Cells<'a> {
+    sample: &'a str,
+    input: String,
+    files: &'a Files,
+    bar_px: u32,
+    images: Vec<NamedPng>,
+}
+
+impl Cells<'_> {
+    fn cell(&mut self, name: &str) -> Result<String, ReportError> {
+        let bytes = self
+            .files
             .files
             .get(name)
-            .ok_or_else(|| ReportError::input(&input, format!("{name} is missing")))?;
-        let png = with_bar(&input, name, bytes, bar_px)?;
-        let out = format!("fig6_{}_{name}", sample.label);
+            .ok_or_else(|| ReportError::input(&self.input, format!("{name} is missing")))?;
+        let png = with_bar(&self.input, name, bytes, self.bar_px)?;
+        let out = format!("fig6_{}_{name}", self.sample);
         let html = format!(
             "<td><img src=\"{}\" alt=\"{}\" style=\"width:100%\"></td>",
             data_uri(&png),
             escape(&out)
         );
-        images.push((out, png));
+        self.images.push((out, png));
         Ok(html)
-    };
+    }
+}
+
+/// The table of Fig. 6: a row per mapped area fraction, the observed map
+/// and each model's predicted map and overlay.
+fn fig6_grid(rows: &[FigureRow], cells: &mut Cells<'_>) -> Result<String, ReportError> {
+    let models = distinct(rows.iter().map(|r| r.model.as_str()));
+    let requested = distinct(rows.iter().map(|r| r.requested));
     let mut html = String::from(
         "<figure id=\"fig6\"><table class=\"fig6\"><thead><tr><th></th><th>observed</th>",
     );
@@ -205,19 +177,59 @@ pub fn fig6(data: &ReportData<'_>) -> Result<(String, Vec<NamedPng>), ReportErro
             "<tr><th>frame {}<br>A/A<sub>0</sub> = {}</th>{}",
             head.frame,
             fmt_sig(head.area_fraction, 3),
-            cell(&head.observed)?
+            cells.cell(&head.observed)?
         ));
         for m in &models {
             match of_fraction.iter().find(|r| r.model == *m) {
                 Some(r) => {
-                    html.push_str(&cell(&r.predicted)?);
-                    html.push_str(&cell(&r.overlay)?);
+                    html.push_str(&cells.cell(&r.predicted)?);
+                    html.push_str(&cells.cell(&r.overlay)?);
                 }
                 None => html.push_str("<td></td><td></td>"),
             }
         }
         html.push_str("</tr>\n");
     }
+    Ok(html)
+}
+
+/// Fig. 6 for the first sample with contact-compare's figures: per mapped
+/// area fraction, the observed map, and each model's predicted map and its
+/// overlay on the observed one; every image at one scale with one bar.
+/// Returns the HTML and the images it embeds (also written beside it).
+pub fn fig6(data: &ReportData<'_>) -> Result<(String, Vec<NamedPng>), ReportError> {
+    let Some((sample, (files, index))) = data
+        .samples
+        .iter()
+        .find_map(|s| Some((s, s.compare_figures.as_ref()?)))
+    else {
+        return Ok((
+            "<p class=\"skipped\" id=\"fig6\"><b>Fig. 6</b> skipped: no `compare_figures` \
+             (contact-compare's figures) is wired.</p>\n"
+                .into(),
+            Vec::new(),
+        ));
+    };
+    let input = format!("compare_figures.{}", sample.label);
+    let rows = rows_of(index);
+    let Some(first) = rows.first() else {
+        return Ok((
+            format!(
+                "<p class=\"skipped\" id=\"fig6\"><b>Fig. 6</b> skipped: {} lists no map.</p>\n",
+                escape(&input)
+            ),
+            Vec::new(),
+        ));
+    };
+    let (bar_m, bar_px) = bar(first);
+    let mut cells = Cells {
+        sample: &sample.label,
+        input,
+        files,
+        bar_px,
+        images: Vec::new(),
+    };
+    let mut html = fig6_grid(&rows, &mut cells)?;
     html.push_str(&format!(
         "</tbody></table><figcaption><b>Fig. 6.</b> Sample {}: contact observed by the camera \
          (black) and predicted by each model on the registered scan, at the mapped frames; \
@@ -227,13 +239,13 @@ pub fn fig6(data: &ReportData<'_>) -> Result<(String, Vec<NamedPng>), ReportErro
          A/A<sub>0</sub> ({}). All panels at one scale: bar = {}.</figcaption></figure>\n",
         escape(&sample.label),
         rows.iter()
-            .filter(|r| r.model != "truncation")
+            .filter(|r| r.model != TRUNCATION)
             .map(|r| format!("{} {}", escape(&r.model), fmt_sig(r.model_area_fraction, 3)))
             .collect::<Vec<_>>()
             .join(", "),
         length_text(bar_m),
     ));
-    Ok((html, images))
+    Ok((html, cells.images))
 }
 
 /// The registration of each sample's camera view onto its scan.

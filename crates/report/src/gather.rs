@@ -9,8 +9,7 @@
 
 use std::collections::BTreeMap;
 
-use hypercontact_classical::stage::{GwSummaryTable, PerssonSummaryTable};
-use hypercontact_compare::stage::{AgreementTable, LoadRatioTable, TransformTable};
+use hypercontact_compare::stage::{AgreementTable, FigureIndex, LoadRatioTable, TransformTable};
 use hypercontact_contact_images::stage::ContactTable;
 use hypercontact_core::contact::{BandTable, ResponseTable};
 use hypercontact_core::{Field, Files, Inputs, Mode, Product, Schema, Table};
@@ -23,6 +22,7 @@ use hypercontact_truncation::stage::ProfileTable;
 use crate::ReportError;
 use crate::band::Band;
 use crate::material::{FitChoice, MaterialSummary};
+use crate::roster::Roster;
 
 /// One tensile mode's measured and fitted nominal stress (Fig. 2).
 #[derive(Clone, Debug, PartialEq)]
@@ -86,6 +86,14 @@ pub struct Experiment {
     pub force_n: Vec<f64>,
 }
 
+/// One contact model's curve on one sample, labelled as wired
+/// (`responses: { T1: { <label>: ... } }`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelResponse {
+    pub label: String,
+    pub response: Response,
+}
+
 /// Everything the report knows about one sample.
 #[derive(Clone, Debug, Default)]
 pub struct Sample<'a> {
@@ -97,63 +105,38 @@ pub struct Sample<'a> {
     pub stats: Option<SurfaceStats>,
     /// A/A0 against z/σ.
     pub profile: Option<Series>,
-    /// Hyperelastic and linear ICM.
-    pub response: Option<Response>,
-    pub response_linear: Option<Response>,
-    /// Hyperelastic and linear boundary elements.
-    pub bem: Option<Response>,
-    pub bem_linear: Option<Response>,
-    /// The theories from the spectrum (hyperelastic as wired).
-    pub persson: Option<Response>,
-    pub gw: Option<Response>,
-    /// The hyperelastic ICM's 5–95 % bootstrap band (`None` when not wired
-    /// or without rows).
-    pub band: Option<Band>,
-    /// What they were given (their `summary` tables).
-    pub persson_summary: Option<PerssonSummaryTable>,
-    pub gw_summary: Option<GwSummaryTable>,
+    /// Every contact model's response, in the roster's order.
+    pub models: Vec<ModelResponse>,
+    /// Each model's 5–95 % bootstrap band by label (tables without rows
+    /// are no band).
+    pub bands: BTreeMap<String, Band>,
+    /// What each model was given (its one-row summary table), by label.
+    pub model_summaries: BTreeMap<String, &'a Table>,
     /// The contact experiment and its comparison with the models
     /// (contact-images, contact-compare).
     pub experiment: Option<Experiment>,
     pub agreement: Option<AgreementTable>,
     pub load_ratio: Option<LoadRatioTable>,
     pub transform: Option<TransformTable>,
-    pub compare_figures: Option<&'a Files>,
+    /// contact-compare's figures and their index.
+    pub compare_figures: Option<(&'a Files, FigureIndex)>,
 }
 
 impl Sample<'_> {
     /// `load_norm` per newton for this sample's measured forces: that of
-    /// its first wired response carrying load.
+    /// its first response carrying load.
     pub fn per_newton(&self) -> Option<f64> {
-        self.responses()
-            .into_iter()
-            .find_map(|(_, r)| r.and_then(|r| r.per_newton))
+        self.models.iter().find_map(|m| m.response.per_newton)
     }
 
-    /// Every wired contact-model response with its input's name.
-    pub fn responses(&self) -> [(&'static str, Option<&Response>); 6] {
-        [
-            (RESPONSE_INPUTS[0], self.response.as_ref()),
-            (RESPONSE_INPUTS[1], self.response_linear.as_ref()),
-            (RESPONSE_INPUTS[2], self.bem.as_ref()),
-            (RESPONSE_INPUTS[3], self.bem_linear.as_ref()),
-            (RESPONSE_INPUTS[4], self.persson.as_ref()),
-            (RESPONSE_INPUTS[5], self.gw.as_ref()),
-        ]
+    /// Model `label`'s response on this sample, if wired.
+    pub fn response(&self, label: &str) -> Option<&Response> {
+        self.models
+            .iter()
+            .find(|m| m.label == label)
+            .map(|m| &m.response)
     }
 }
-
-/// The report's contact-model inputs: hyperelastic and linear ICM,
-/// hyperelastic and linear boundary elements, then Persson's theory and
-/// Greenwood–Williamson's.
-pub const RESPONSE_INPUTS: [&str; 6] = [
-    "responses",
-    "responses_linear",
-    "responses_bem",
-    "responses_bem_linear",
-    "responses_persson",
-    "responses_gw",
-];
 
 /// The wired inputs, read and checked.
 #[derive(Clone, Debug, Default)]
@@ -174,13 +157,20 @@ pub struct ReportData<'a> {
     pub material: Option<MaterialSummary>,
     /// Samples in label order (T1, T2, ...), each with what is wired for it.
     pub samples: Vec<Sample<'a>>,
+    /// The contact models wired, in order, with their colours and lines.
+    pub roster: Roster,
 }
 
 impl<'a> ReportData<'a> {
     /// Reads every wired input; absent inputs stay `None`. Table 1's moduli
     /// are taken at Poisson's ratio `poisson`, and every wired response must
-    /// have been normalised by that E0*.
-    pub fn gather(inputs: &'a Inputs, poisson: f64) -> Result<Self, ReportError> {
+    /// have been normalised by that E0*. The models come in the order
+    /// `model_order` gives (labels not in it after, in label order).
+    pub fn gather(
+        inputs: &'a Inputs,
+        poisson: f64,
+        model_order: &[String],
+    ) -> Result<Self, ReportError> {
         let quality = optional_table(inputs, "quality")?;
         let params = optional_table(inputs, "params")?;
         let comparison = optional_table(inputs, "comparison")?;
@@ -191,6 +181,11 @@ impl<'a> ReportData<'a> {
             .map(|t| read::<ComparisonTable>("comparison", t))
             .transpose()?
             .and_then(|c| FitChoice::read(&c));
+        let mut samples = read_samples(inputs)?;
+        let roster = Roster::new(model_order, &samples);
+        for s in &mut samples {
+            s.models.sort_by_key(|m| roster.position(&m.label));
+        }
         let data = ReportData {
             curves: read_optional::<CurvesTable>(inputs, "curves")?
                 .map(read_curves)
@@ -212,14 +207,14 @@ impl<'a> ReportData<'a> {
             material: optional_table(inputs, "material")?
                 .map(|t| MaterialSummary::read(t, poisson, fit_params.as_ref()))
                 .transpose()?,
-            samples: read_samples(inputs)?,
+            samples,
+            roster,
         };
         if let Some(material) = &data.material {
             for s in &data.samples {
-                for (input, response) in s.responses() {
-                    if let Some(r) = response {
-                        material.check_normalisation(&format!("{input}.{}", s.label), r)?;
-                    }
+                for m in &s.models {
+                    let input = format!("responses.{}.{}", s.label, m.label);
+                    material.check_normalisation(&input, &m.response)?;
                 }
             }
         }
@@ -354,14 +349,44 @@ fn sample_table<S: Schema>(input: &str, product: &Product) -> Result<S, ReportEr
     read(input, as_table(input, product)?)
 }
 
-fn read_samples(inputs: &Inputs) -> Result<Vec<Sample<'_>>, ReportError> {
-    let mut map: BTreeMap<String, Sample<'_>> = BTreeMap::new();
-    fn slot<'m, 'a>(map: &'m mut BTreeMap<String, Sample<'a>>, label: &str) -> &'m mut Sample<'a> {
-        map.entry(label.to_owned()).or_insert_with(|| Sample {
-            label: label.to_owned(),
-            ..Default::default()
+/// The products of a nested input by (sample, model), each read by `read`
+/// under its input name (`responses.T1.icm`).
+fn nested<'a, T>(
+    inputs: &'a Inputs,
+    name: &str,
+    read: impl Fn(&str, &'a Product) -> Result<T, ReportError>,
+) -> Result<Vec<(&'a str, &'a str, T)>, ReportError> {
+    inputs
+        .nested(name)
+        .into_iter()
+        .map(|(sample, model, p)| {
+            Ok((sample, model, read(&format!("{name}.{sample}.{model}"), p)?))
         })
-    }
+        .collect()
+}
+
+/// The samples by label while they are gathered.
+type Slots<'a> = BTreeMap<String, Sample<'a>>;
+
+fn slot<'m, 'a>(map: &'m mut Slots<'a>, label: &str) -> &'m mut Sample<'a> {
+    map.entry(label.to_owned()).or_insert_with(|| Sample {
+        label: label.to_owned(),
+        ..Default::default()
+    })
+}
+
+fn read_samples(inputs: &Inputs) -> Result<Vec<Sample<'_>>, ReportError> {
+    let mut map = Slots::new();
+    read_surfaces(inputs, &mut map)?;
+    read_models(inputs, &mut map)?;
+    read_comparisons(inputs, &mut map)?;
+    let mut samples: Vec<Sample<'_>> = map.into_values().collect();
+    samples.sort_by_key(|s| natural_key(&s.label));
+    Ok(samples)
+}
+
+/// Height maps, spectra, statistics and truncation profiles.
+fn read_surfaces<'a>(inputs: &'a Inputs, map: &mut Slots<'a>) -> Result<(), ReportError> {
     let heights = labelled(inputs, "heights", |input, p| match p {
         Product::Field(f) => Ok(f),
         other => Err(ReportError::input(
@@ -370,13 +395,13 @@ fn read_samples(inputs: &Inputs) -> Result<Vec<Sample<'_>>, ReportError> {
         )),
     })?;
     for (label, f) in heights {
-        slot(&mut map, label).height = Some(f);
+        slot(map, label).height = Some(f);
     }
     let psd = labelled(inputs, "psd", |input, p| {
         read_psd(input, sample_table(input, p)?)
     })?;
     for (label, (x, y)) in psd {
-        let s = slot(&mut map, label);
+        let s = slot(map, label);
         s.psd_x = x;
         s.psd_y = y;
     }
@@ -384,63 +409,60 @@ fn read_samples(inputs: &Inputs) -> Result<Vec<Sample<'_>>, ReportError> {
         read_stats(input, sample_table(input, p)?)
     })?;
     for (label, stats) in stats {
-        slot(&mut map, label).stats = Some(stats);
+        slot(map, label).stats = Some(stats);
     }
     let profiles = labelled(inputs, "profiles", |input, p| {
         read_profile(input, sample_table(input, p)?)
     })?;
     for (label, profile) in profiles {
-        slot(&mut map, label).profile = Some(profile);
+        slot(map, label).profile = Some(profile);
     }
+    Ok(())
+}
+
+/// Every contact model's response, band and summary, by sample and label.
+fn read_models<'a>(inputs: &'a Inputs, map: &mut Slots<'a>) -> Result<(), ReportError> {
     let response = |input: &str, p: &Product| read_response(input, sample_table(input, p)?);
-    for (k, input) in RESPONSE_INPUTS.into_iter().enumerate() {
-        for (label, r) in labelled(inputs, input, response)? {
-            let s = slot(&mut map, label);
-            let field = match k {
-                0 => &mut s.response,
-                1 => &mut s.response_linear,
-                2 => &mut s.bem,
-                3 => &mut s.bem_linear,
-                4 => &mut s.persson,
-                _ => &mut s.gw,
-            };
-            *field = Some(r);
-        }
+    for (sample, label, response) in nested(inputs, "responses", response)? {
+        slot(map, sample).models.push(ModelResponse {
+            label: label.to_owned(),
+            response,
+        });
     }
-    for (label, band) in labelled(inputs, "bands", |input, p| {
+    for (sample, label, band) in nested(inputs, "bands", |input, p| {
         Band::read(input, sample_table::<BandTable>(input, p)?)
     })? {
         // A table without rows is no band: the sample gets no slot for it.
         if let Some(band) = band {
-            slot(&mut map, label).band = Some(band);
+            slot(map, sample).bands.insert(label.to_owned(), band);
         }
     }
-    for (label, t) in labelled(
-        inputs,
-        "persson_summary",
-        sample_table::<PerssonSummaryTable>,
-    )? {
-        slot(&mut map, label).persson_summary = Some(t);
+    for (sample, label, table) in nested(inputs, "model_summaries", as_table)? {
+        slot(map, sample)
+            .model_summaries
+            .insert(label.to_owned(), table);
     }
-    for (label, t) in labelled(inputs, "gw_summary", sample_table::<GwSummaryTable>)? {
-        slot(&mut map, label).gw_summary = Some(t);
-    }
+    Ok(())
+}
+
+/// The contact experiment and contact-compare's products.
+fn read_comparisons<'a>(inputs: &'a Inputs, map: &mut Slots<'a>) -> Result<(), ReportError> {
     for (label, t) in labelled(inputs, "experiments", |input, p| {
         let t: ContactTable = sample_table(input, p)?;
         finite!(input, t.area_fraction)?;
         finite!(input, t.force_n)?;
         Ok(t)
     })? {
-        slot(&mut map, label).experiment = Some(Experiment {
+        slot(map, label).experiment = Some(Experiment {
             area_fraction: t.area_fraction,
             force_n: t.force_n,
         });
     }
     for (label, t) in labelled(inputs, "agreement", sample_table::<AgreementTable>)? {
-        slot(&mut map, label).agreement = Some(t);
+        slot(map, label).agreement = Some(t);
     }
     for (label, t) in labelled(inputs, "load_ratio", sample_table::<LoadRatioTable>)? {
-        slot(&mut map, label).load_ratio = Some(t);
+        slot(map, label).load_ratio = Some(t);
     }
     for (label, t) in labelled(inputs, "transforms", |input, p| {
         let t: TransformTable = sample_table(input, p)?;
@@ -452,20 +474,20 @@ fn read_samples(inputs: &Inputs) -> Result<Vec<Sample<'_>>, ReportError> {
         }
         Ok(t)
     })? {
-        slot(&mut map, label).transform = Some(t);
+        slot(map, label).transform = Some(t);
     }
-    for (label, f) in labelled(inputs, "compare_figures", |input, p| match p {
-        Product::Files(f) => Ok(f),
-        other => Err(ReportError::input(
-            input,
-            format!("is a {}, expected files", other.kind()),
-        )),
-    })? {
-        slot(&mut map, label).compare_figures = Some(f);
+    for label in inputs
+        .labelled("compare_figures")
+        .into_iter()
+        .map(|(label, _)| label)
+    {
+        let input = format!("compare_figures.{label}");
+        let (files, index) = inputs
+            .indexed_files::<FigureIndex>(&input)
+            .map_err(|e| ReportError::input(&input, e.to_string()))?;
+        slot(map, label).compare_figures = Some((files, index));
     }
-    let mut samples: Vec<Sample<'_>> = map.into_values().collect();
-    samples.sort_by_key(|s| natural_key(&s.label));
-    Ok(samples)
+    Ok(())
 }
 
 /// Orders `T2` before `T10`: the text before the trailing number, then the number.
@@ -608,7 +630,9 @@ mod tests {
             .to_string();
         assert!(e.contains("stability") && e.contains("NaN"), "{e}");
         let inputs = Inputs::new().with("heights.T1", Product::Table(Table::new()));
-        let e = ReportData::gather(&inputs, 0.5).unwrap_err().to_string();
+        let e = ReportData::gather(&inputs, 0.5, &[])
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("heights.T1") && e.contains("expected a field"),
             "{e}"

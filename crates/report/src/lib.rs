@@ -4,7 +4,9 @@
 //!
 //! - [`gather`]: reads and checks whatever inputs are wired, with the
 //!   upstream stages' own table schemas;
-//! - [`band`]: the bootstrap band of a sample's ICM curve;
+//! - [`roster`]: the contact models wired, by label: their order, colours
+//!   and laws (no model is known by name);
+//! - [`band`]: the bootstrap band of a model's curve;
 //! - [`material`]: Table 1's moduli at the report's ν, held to the E0* of
 //!   the responses;
 //! - [`table1`]: Table 1 as HTML, with the bootstrap intervals and the
@@ -28,6 +30,7 @@ pub mod material;
 pub mod models;
 pub mod powerlaw;
 pub mod report;
+pub mod roster;
 pub mod stage;
 pub mod summary;
 pub mod table1;

@@ -1,5 +1,5 @@
 //! The contact models compared (Fig. 9's tables): κ of every wired model at
-//! small load, and what the theories from the spectrum were given.
+//! small load, and what each model was given (its one-row summary table).
 //!
 //! κ = (A/A0) / (F/(A0 E0* h'rms)) = (A/A0) h'rms / load_norm, the
 //! dimensionless contact stiffness of the area: 1.596 for Persson's original
@@ -8,41 +8,27 @@
 //! forward differences on the map), so the numbers compare areas at equal
 //! load, not the models' own yardsticks.
 
+use std::collections::BTreeMap;
+
+use hypercontact_core::{ColumnData, Table};
 use serde::Serialize;
 
 use crate::gather::{Response, Sample};
 use crate::html::{escape, fmt_sig, simple_table};
 use crate::interp::interpolate;
+use crate::roster::ModelKey;
 
 /// A/A0 at which κ is read: small load, and the top of the early regime.
 pub const KAPPA_AREAS: [f64; 2] = [0.02, 0.1];
 
-/// κ of each wired model of one sample at one A/A0 (None: not wired, no
-/// h'rms, or A/A0 outside the curve).
+/// κ of each wired model of one sample at one A/A0, by label (None: no
+/// h'rms, or A/A0 outside the curve), and of the experiment.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct KappaAt {
     pub area_fraction: f64,
-    pub icm: Option<f64>,
-    pub icm_linear: Option<f64>,
-    pub bem: Option<f64>,
-    pub bem_linear: Option<f64>,
-    pub persson: Option<f64>,
-    pub gw: Option<f64>,
+    pub models: BTreeMap<String, Option<f64>>,
     pub experiment: Option<f64>,
 }
-
-/// The columns of the κ table: heading and value.
-type KappaColumn = (&'static str, fn(&KappaAt) -> Option<f64>);
-
-const COLUMNS: [KappaColumn; 7] = [
-    ("hyperelastic ICM", |k| k.icm),
-    ("linear ICM", |k| k.icm_linear),
-    ("hyperelastic BEM", |k| k.bem),
-    ("linear BEM", |k| k.bem_linear),
-    ("Persson", |k| k.persson),
-    ("Greenwood–Williamson", |k| k.gw),
-    ("experiment", |k| k.experiment),
-];
 
 /// κ of a response at A/A0 = `a` (load_norm linearly interpolated in A/A0).
 pub fn kappa_at(r: &Response, a: f64, rms_slope: f64) -> Option<f64> {
@@ -55,7 +41,6 @@ impl KappaAt {
     /// on the models' axes (sorted by A/A0 here).
     pub fn read(s: &Sample<'_>, experiment: Option<&Response>, a: f64) -> Self {
         let slope = s.stats.as_ref().map_or(f64::NAN, |st| st.rms_slope);
-        let at = |r: &Option<Response>| r.as_ref().and_then(|r| kappa_at(r, a, slope));
         let measured = experiment.and_then(|e| {
             let mut points: Vec<(f64, f64)> = e
                 .area_fraction
@@ -77,46 +62,51 @@ impl KappaAt {
         });
         KappaAt {
             area_fraction: a,
-            icm: at(&s.response),
-            icm_linear: at(&s.response_linear),
-            bem: at(&s.bem),
-            bem_linear: at(&s.bem_linear),
-            persson: at(&s.persson),
-            gw: at(&s.gw),
+            models: s
+                .models
+                .iter()
+                .map(|m| (m.label.clone(), kappa_at(&m.response, a, slope)))
+                .collect(),
             experiment: measured,
         }
     }
 }
 
 /// The κ table under Fig. 9: a row per sample and A/A0, a column per model
-/// wired anywhere. Empty when no theory from the spectrum is wired.
-pub fn kappa_table(samples: &[(&str, Vec<KappaAt>)]) -> String {
-    let wired: Vec<&KappaColumn> = COLUMNS
-        .iter()
-        .filter(|(_, get)| {
-            samples
-                .iter()
-                .any(|(_, ks)| ks.iter().any(|k| get(k).is_some()))
-        })
-        .collect();
-    if wired.is_empty() {
+/// of `models` with a value anywhere, then the experiment's.
+pub fn kappa_table(samples: &[(&str, Vec<KappaAt>)], models: &[&ModelKey]) -> String {
+    // A column is a model's label, or None for the experiment's.
+    let value = |k: &KappaAt, column: Option<&str>| match column {
+        Some(label) => k.models.get(label).copied().flatten(),
+        None => k.experiment,
+    };
+    let mut columns: Vec<Option<&str>> = models.iter().map(|k| Some(k.label.as_str())).collect();
+    columns.push(None);
+    columns.retain(|&column| {
+        samples
+            .iter()
+            .any(|(_, ks)| ks.iter().any(|k| value(k, column).is_some()))
+    });
+    if columns.is_empty() {
         return String::new();
     }
     let mut header = vec!["sample".to_owned(), "A/A<sub>0</sub>".to_owned()];
-    header.extend(wired.iter().map(|(name, _)| (*name).to_owned()));
-    let wired = &wired;
+    header.extend(
+        columns
+            .iter()
+            .map(|column| escape(column.unwrap_or("experiment"))),
+    );
     let rows: Vec<Vec<String>> = samples
         .iter()
-        .flat_map(|(label, ks)| {
-            ks.iter().map(move |k| {
-                let mut row = vec![escape(label), fmt_sig(k.area_fraction, 3)];
-                row.extend(
-                    wired
-                        .iter()
-                        .map(|(_, get)| get(k).map_or("n/a".into(), |v| fmt_sig(v, 3))),
-                );
-                row
-            })
+        .flat_map(|(label, ks)| ks.iter().map(move |k| (label, k)))
+        .map(|(label, k)| {
+            let mut row = vec![escape(label), fmt_sig(k.area_fraction, 3)];
+            row.extend(
+                columns
+                    .iter()
+                    .map(|&column| value(k, column).map_or("n/a".into(), |v| fmt_sig(v, 3))),
+            );
+            row
         })
         .collect();
     let mut html = simple_table(
@@ -138,88 +128,50 @@ pub fn kappa_table(samples: &[(&str, Vec<KappaAt>)]) -> String {
     html
 }
 
-/// What Persson's theory and Greenwood–Williamson were given, per sample.
-pub fn theory_table(samples: &[Sample<'_>]) -> String {
-    let rows: Vec<Vec<String>> = samples
+/// One cell of a summary table: column `name`'s first value.
+fn first_cell(table: &Table, name: &str) -> String {
+    match table
+        .columns()
         .iter()
-        .filter(|s| s.persson_summary.is_some() || s.gw_summary.is_some())
-        .map(|s| {
-            let n = |v: Option<f64>, digits| {
-                v.filter(|v| v.is_finite())
-                    .map_or("n/a".into(), |v| fmt_sig(v, digits))
-            };
-            let p = s.persson_summary.as_ref();
-            let g = s.gw_summary.as_ref();
-            let first = |v: Option<&Vec<f64>>| v.and_then(|v| v.first().copied());
-            let variant = p.map_or("n/a".into(), |p| {
-                match (p.variant.first(), p.gamma.first()) {
-                    (Some(v), Some(g)) if g.is_finite() => {
-                        format!("{} (γ = {})", escape(v), fmt_sig(*g, 3))
-                    }
-                    (Some(v), _) => escape(v),
-                    _ => "n/a".into(),
-                }
-            });
-            let q_range = p
-                .map(|p| (first(Some(&p.q_min_per_m)), first(Some(&p.q_max_per_m))))
-                .or_else(|| g.map(|g| (first(Some(&g.q_min_per_m)), first(Some(&g.q_max_per_m)))));
-            let q = match q_range {
-                Some((Some(lo), Some(hi))) => format!("{} … {}", fmt_sig(lo, 3), fmt_sig(hi, 3)),
-                _ => "n/a".into(),
-            };
-            vec![
-                escape(&s.label),
-                variant,
-                q,
-                n(p.and_then(|p| first(Some(&p.rms_slope))), 3),
-                n(s.stats.as_ref().map(|st| st.rms_slope), 3),
-                n(p.and_then(|p| first(Some(&p.kappa_small_load))), 4),
-                n(g.and_then(|g| first(Some(&g.nayak_alpha))), 3),
-                n(
-                    g.and_then(|g| first(Some(&g.summit_density_per_m2)))
-                        .map(|v| v * 1e-6),
-                    4,
-                ),
-                n(
-                    g.and_then(|g| first(Some(&g.summit_radius_m)))
-                        .map(|v| v * 1e6),
-                    4,
-                ),
-                n(
-                    g.and_then(|g| first(Some(&g.summit_sigma_m)))
-                        .map(|v| v * 1e6),
-                    4,
-                ),
-            ]
-        })
-        .collect();
-    if rows.is_empty() {
-        return String::new();
+        .find(|c| c.name == name)
+        .map(|c| &c.data)
+    {
+        Some(ColumnData::F64(v)) => v.first().map_or("n/a".into(), |v| fmt_sig(*v, 4)),
+        Some(ColumnData::I64(v)) => v.first().map_or("n/a".into(), i64::to_string),
+        Some(ColumnData::Str(v)) => v.first().map_or("n/a".into(), |v| escape(v)),
+        None => "n/a".into(),
     }
-    let header = [
-        "sample",
-        "Persson",
-        "q range (rad/m)",
-        "h'rms (spectrum)",
-        "h'rms (map)",
-        "κ at vanishing load (linear, own h'rms)",
-        "Nayak α",
-        "summits per mm²",
-        "summit radius (µm)",
-        "summit σ<sub>s</sub> (µm)",
-    ]
-    .map(String::from);
-    let mut html = simple_table(
-        "The theories from the spectrum: what they were given",
-        &header,
-        &rows,
-    );
-    html.push_str(
-        "<p class=\"note\">Both theories integrate the sample's radial PSD over the q range \
-         shown (by default up to the map's Nyquist wavevector, the 20 µm filter's roll-off \
-         included). The spectral h'rms = √(2π∫q³C dq) differs from the map's forward \
-         differences; the shortest wavelengths kept set h'rms, and Greenwood–Williamson's \
-         summit density and radius (from m<sub>4</sub>) even more so.</p>\n",
-    );
+}
+
+/// What each model was given, as its one-row `model_summaries` tables
+/// hold it: a table per model (in `models`' order), a row per sample, the
+/// columns of its first sample's table as they are.
+pub fn model_summary_tables(samples: &[Sample<'_>], models: &[ModelKey]) -> String {
+    let mut html = String::new();
+    for key in models {
+        let tables: Vec<(&str, &Table)> = samples
+            .iter()
+            .filter_map(|s| Some((s.label.as_str(), *s.model_summaries.get(&key.label)?)))
+            .collect();
+        let Some((_, first)) = tables.first() else {
+            continue;
+        };
+        let names = first.column_names();
+        let mut header = vec!["sample".to_owned()];
+        header.extend(names.iter().map(|n| escape(n)));
+        let rows: Vec<Vec<String>> = tables
+            .iter()
+            .map(|(sample, table)| {
+                let mut row = vec![escape(sample)];
+                row.extend(names.iter().map(|n| first_cell(table, n)));
+                row
+            })
+            .collect();
+        html.push_str(&simple_table(
+            &format!("What {} was given (its summary)", key.label),
+            &header,
+            &rows,
+        ));
+    }
     html
 }

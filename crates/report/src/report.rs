@@ -8,11 +8,12 @@ use serde_json::Value;
 use crate::ReportError;
 use crate::figures::fig2::Fig2;
 use crate::figures::fig4::Fig4;
-use crate::figures::fig7::{Fig7, SampleResponses};
+use crate::figures::fig7::{Drawn, Fig7, SampleResponses};
 use crate::figures::fig8::Fig8;
 use crate::figures::{Rendered, render};
-use crate::gather::{ReportData, Response};
+use crate::gather::{ReportData, Response, Sample};
 use crate::html::{escape, fmt_sig, generic_table, page, provenance_section, simple_table};
+use crate::roster::{ModelKey, is_linear};
 use crate::summary::{FigureStatus, Summary};
 
 /// What the report shows beyond its inputs.
@@ -24,6 +25,56 @@ pub struct ReportOptions {
     /// Poisson's ratio ν of Table 1's E0 and E0*; the responses must have
     /// been normalised by the same E0*.
     pub poisson: f64,
+    /// Which contact models go where, by their labels in `responses`.
+    pub models: ModelChoice,
+}
+
+/// The contact models' order and which of them each figure and table
+/// shows, by label; an empty list means every wired model (the summary:
+/// the first).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModelChoice {
+    /// Legend and colour order; labels not listed follow in label order.
+    pub order: Vec<String>,
+    pub fig7: Vec<String>,
+    pub fig9: Vec<String>,
+    /// The models whose loads the per-sample summary table shows.
+    pub summary: Vec<String>,
+    /// The model every other's load is divided by in the load-ratio table.
+    pub reference: Option<String>,
+}
+
+/// [`ModelChoice`] checked against the wired models.
+pub(crate) struct Chosen<'a> {
+    pub fig7: Vec<&'a ModelKey>,
+    pub fig9: Vec<&'a ModelKey>,
+    pub summary: Vec<&'a ModelKey>,
+    pub reference: Option<&'a ModelKey>,
+}
+
+impl ModelChoice {
+    fn resolve<'a>(&self, data: &'a ReportData<'_>) -> Result<Chosen<'a>, ReportError> {
+        let roster = &data.roster;
+        roster.check("models", &self.order)?;
+        let summary = if self.summary.is_empty() {
+            roster.models.iter().take(1).collect()
+        } else {
+            roster.select("summary_models", &self.summary)?
+        };
+        let reference = match &self.reference {
+            Some(label) => {
+                roster.check("reference_model", std::slice::from_ref(label))?;
+                roster.get(label)
+            }
+            None => None,
+        };
+        Ok(Chosen {
+            fig7: roster.select("fig7_models", &self.fig7)?,
+            fig9: roster.select("fig9_models", &self.fig9)?,
+            summary,
+            reference,
+        })
+    }
 }
 
 impl Default for ReportOptions {
@@ -33,6 +84,7 @@ impl Default for ReportOptions {
             area_fractions: vec![0.1, 0.5, 0.9],
             // Incompressible rubber, as the paper takes it.
             poisson: hypercontact_material::Poisson::INCOMPRESSIBLE.0,
+            models: ModelChoice::default(),
         }
     }
 }
@@ -45,7 +97,7 @@ pub fn render_report(
     options: &ReportOptions,
     provenance: Option<&Value>,
 ) -> Result<Files, ReportError> {
-    let data = ReportData::gather(inputs, options.poisson)?;
+    let data = ReportData::gather(inputs, options.poisson, &options.models.order)?;
     build_report(&data, options, provenance)
 }
 
@@ -80,45 +132,71 @@ fn drawn(rendered: Rendered, notes: Vec<String>) -> Outcome {
 /// Which figure the responses are gathered for.
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Plot {
-    /// Fig. 7: ICM and BEM with both laws, and the experiment.
+    /// Fig. 7: the chosen models with their bands, and the experiment.
     LoadArea,
-    /// Fig. 8: the hyperelastic ICM and BEM only.
+    /// Fig. 8: every model whose tangent ratio is not 1 throughout.
     Tangent,
-    /// Fig. 9: ICM (both laws), hyperelastic BEM, Persson, GW, experiment.
+    /// Fig. 9: the chosen models and the experiment, without bands.
     Comparison,
 }
 
-/// The samples with a response the figure can draw.
-fn responses<'a>(data: &'a ReportData<'a>, plot: Plot) -> Vec<SampleResponses<'a>> {
-    let theories = plot == Plot::Comparison;
+/// The samples with a curve of `models` the figure can draw.
+fn responses<'a>(
+    data: &'a ReportData<'a>,
+    models: &[&'a ModelKey],
+    plot: Plot,
+) -> Vec<SampleResponses<'a>> {
     data.samples
         .iter()
         .enumerate()
-        .map(|(i, s)| SampleResponses {
-            label: &s.label,
-            colour_index: i,
-            hyperelastic: s.response.as_ref(),
-            linear: s.response_linear.as_ref().filter(|_| plot != Plot::Tangent),
-            bem: s.bem.as_ref(),
-            bem_linear: s.bem_linear.as_ref().filter(|_| plot == Plot::LoadArea),
-            persson: s.persson.as_ref().filter(|_| theories),
-            gw: s.gw.as_ref().filter(|_| theories),
-            experiment: if plot == Plot::Tangent {
-                None
-            } else {
-                experiment_points(s)
-            },
-            // The hyperelastic ICM's band: Figs. 7 and 8, not the comparison.
-            band: s.band.as_ref().filter(|_| !theories),
+        .map(|(i, s)| {
+            let curves: Vec<Drawn<'a>> = models
+                .iter()
+                .filter_map(|&key| {
+                    let response = s.response(&key.label)?;
+                    let drawn = plot != Plot::Tangent || !is_linear(response);
+                    drawn.then_some(Drawn { key, response })
+                })
+                .collect();
+            let bands = models
+                .iter()
+                .filter(|_| plot != Plot::Comparison)
+                .filter_map(|&key| Some((key, s.bands.get(&key.label)?)))
+                .filter(|(key, _)| plot != Plot::Tangent || curves.iter().any(|d| d.key == *key))
+                .collect();
+            SampleResponses {
+                label: &s.label,
+                colour_index: i,
+                curves,
+                experiment: if plot == Plot::Tangent {
+                    None
+                } else {
+                    experiment_points(s)
+                },
+                bands,
+            }
         })
-        .filter(|s| s.curves().next().is_some() || s.band.is_some())
+        .filter(|s| !s.curves.is_empty() || !s.bands.is_empty())
+        .collect()
+}
+
+/// The models with a curve in `samples`, in their order.
+fn drawn_models<'a>(models: &[&'a ModelKey], samples: &[SampleResponses<'a>]) -> Vec<&'a ModelKey> {
+    models
+        .iter()
+        .copied()
+        .filter(|key| {
+            samples
+                .iter()
+                .any(|s| s.curves.iter().any(|d| d.key == *key))
+        })
         .collect()
 }
 
 /// The sample's measured (A/A0, F) on Fig. 7's axes: F/(E0* A0) with the
 /// E0* A0 of its responses; frames without load (before contact, or noise
 /// at or below zero) cannot be drawn on the log axis.
-pub(crate) fn experiment_points(s: &crate::gather::Sample<'_>) -> Option<Response> {
+pub(crate) fn experiment_points(s: &Sample<'_>) -> Option<Response> {
     let e = s.experiment.as_ref()?;
     let per_newton = s.per_newton()?;
     let (area_fraction, load_norm): (Vec<f64>, Vec<f64>) = e
@@ -138,11 +216,14 @@ pub(crate) fn experiment_points(s: &crate::gather::Sample<'_>) -> Option<Respons
 }
 
 /// Decides on and renders one figure.
-type FigureJob = fn(&ReportData<'_>) -> Result<Outcome, ReportError>;
+type FigureJob = fn(&ReportData<'_>, &Chosen<'_>) -> Result<Outcome, ReportError>;
 
 /// Renders the figures on scoped threads (each figure is independent;
 /// Fig. 4 with its height maps dominates), in figure order.
-fn figure_outcomes(data: &ReportData<'_>) -> Result<Vec<Outcome>, ReportError> {
+fn figure_outcomes(
+    data: &ReportData<'_>,
+    chosen: &Chosen<'_>,
+) -> Result<Vec<Outcome>, ReportError> {
     let jobs: [FigureJob; 5] = [
         fig2_outcome,
         fig4_outcome,
@@ -153,7 +234,7 @@ fn figure_outcomes(data: &ReportData<'_>) -> Result<Vec<Outcome>, ReportError> {
     std::thread::scope(|scope| {
         let handles: Vec<_> = jobs
             .iter()
-            .map(|job| scope.spawn(move || job(data)))
+            .map(|job| scope.spawn(move || job(data, chosen)))
             .collect();
         handles
             .into_iter()
@@ -165,7 +246,7 @@ fn figure_outcomes(data: &ReportData<'_>) -> Result<Vec<Outcome>, ReportError> {
     })
 }
 
-fn fig2_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
+fn fig2_outcome(data: &ReportData<'_>, _: &Chosen<'_>) -> Result<Outcome, ReportError> {
     let Some(curves) = &data.curves else {
         return Ok(skipped(
             "fig2",
@@ -187,7 +268,7 @@ fn fig2_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
     Ok(drawn(render(&fig)?, notes))
 }
 
-fn fig4_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
+fn fig4_outcome(data: &ReportData<'_>, _: &Chosen<'_>) -> Result<Outcome, ReportError> {
     let surfaces: Vec<_> = data
         .samples
         .iter()
@@ -221,84 +302,53 @@ fn fig4_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
     Ok(drawn(render(&Fig4 { samples: surfaces })?, notes))
 }
 
-fn fig7_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
-    let samples = responses(data, Plot::LoadArea);
+fn fig7_outcome(data: &ReportData<'_>, chosen: &Chosen<'_>) -> Result<Outcome, ReportError> {
+    let samples = responses(data, &chosen.fig7, Plot::LoadArea);
     if samples.is_empty() {
         return Ok(skipped(
             "fig7",
-            "no contact-model response (`responses`, `responses_linear`, `responses_bem` or \
-             `responses_bem_linear`) is wired"
-                .into(),
+            "no contact-model response (`responses`) is wired".into(),
         ));
     }
-    let mut notes = Vec::new();
-    if samples.iter().all(|s| s.linear.is_none()) {
-        notes.push("`responses_linear` not wired: no linear-ICM curves".to_owned());
-    }
-    if samples.iter().all(|s| s.hyperelastic.is_none()) {
-        notes.push("`responses` not wired: no hyperelastic-ICM curves".to_owned());
-    }
-    Ok(drawn(
-        render(&Fig7 {
-            samples,
-            comparison: false,
-        })?,
-        notes,
-    ))
+    let models = drawn_models(&chosen.fig7, &samples);
+    let fig = Fig7 {
+        samples,
+        models,
+        comparison: false,
+    };
+    Ok(drawn(render(&fig)?, Vec::new()))
 }
 
-fn fig8_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
-    let samples = responses(data, Plot::Tangent);
+fn fig8_outcome(data: &ReportData<'_>, _: &Chosen<'_>) -> Result<Outcome, ReportError> {
+    let all: Vec<&ModelKey> = data.roster.models.iter().collect();
+    let samples = responses(data, &all, Plot::Tangent);
     if samples.is_empty() {
         return Ok(skipped(
             "fig8",
-            "no hyperelastic response (`responses` or `responses_bem`) is wired; a linear \
-             model's ratio is 1 by construction"
+            "no response whose tangent ratio differs from 1 is wired; a linear model's ratio \
+             is 1 by construction"
                 .into(),
         ));
     }
-    Ok(drawn(render(&Fig8 { samples })?, Vec::new()))
+    let models = drawn_models(&all, &samples);
+    Ok(drawn(render(&Fig8 { samples, models })?, Vec::new()))
 }
 
-fn fig9_outcome(data: &ReportData<'_>) -> Result<Outcome, ReportError> {
-    if !data
-        .samples
-        .iter()
-        .any(|s| s.persson.is_some() || s.gw.is_some())
-    {
+fn fig9_outcome(data: &ReportData<'_>, chosen: &Chosen<'_>) -> Result<Outcome, ReportError> {
+    let samples = responses(data, &chosen.fig9, Plot::Comparison);
+    if samples.is_empty() {
         return Ok(skipped(
             "fig9",
-            "no theory from the spectrum (`responses_persson` or `responses_gw`) is wired".into(),
+            "no contact-model response (`responses`) of `fig9_models` is wired".into(),
         ));
     }
-    let samples = responses(data, Plot::Comparison);
-    let mut notes = Vec::new();
-    for (input, wired) in [
-        (
-            "responses",
-            data.samples.iter().any(|s| s.response.is_some()),
-        ),
-        (
-            "responses_bem",
-            data.samples.iter().any(|s| s.bem.is_some()),
-        ),
-        (
-            "responses_persson",
-            data.samples.iter().any(|s| s.persson.is_some()),
-        ),
-        ("responses_gw", data.samples.iter().any(|s| s.gw.is_some())),
-    ] {
-        if !wired {
-            notes.push(format!("`{input}` not wired"));
-        }
-    }
-    Ok(drawn(
-        render(&Fig7 {
-            samples,
-            comparison: true,
-        })?,
-        notes,
-    ))
+    let models = drawn_models(&chosen.fig9, &samples);
+    let fig = Fig7 {
+        samples,
+        models,
+        comparison: true,
+    };
+    Ok(drawn(render(&fig)?, Vec::new()))
 }
 
 const CAPTIONS: [(&str, &str, &str); 5] = [
@@ -322,41 +372,36 @@ const CAPTIONS: [(&str, &str, &str); 5] = [
         "fig7",
         "Fig. 7",
         "Normalised load F/(E<sub>0</sub>* A<sub>0</sub>) against contact area fraction \
-         A/A<sub>0</sub>: incremental contact model (ICM, profile theory) with the \
-         hyperelastic tangent modulus (solid) and with the constant modulus of the linear \
-         model (dashed). Where boundary-element responses (BEM: the same map as an elastic \
-         half-space, with the coupling between asperities that profile theory leaves out) \
-         or the contact experiment are wired, one panel per sample on common axes, as the \
-         paper draws model against experiment: the measured points as blue circles (the \
-         measured force over the models' E<sub>0</sub>* A<sub>0</sub>; the measured area is \
-         the camera's view), hyperelastic ICM black solid, linear ICM black dashed, \
-         hyperelastic BEM vermillion dotted, linear BEM vermillion dashed.",
+         A/A<sub>0</sub> of the contact models wired (the legend gives their labels): a \
+         nonlinear law (such as the hyperelastic tangent modulus) solid, a linear law \
+         (E<sub>t</sub>*/E<sub>0</sub>* = 1 throughout) dashed. With the models of one \
+         family alone, every sample in its colour in one panel, as the paper draws it; with \
+         several families or the contact experiment, one panel per sample on common axes, \
+         colour = model family, the measured points as blue circles (the measured force over \
+         the models' E<sub>0</sub>* A<sub>0</sub>; the measured area is the camera's view).",
     ),
     (
         "fig8",
         "Fig. 8",
-        "Composite tangent modulus ratio E<sub>t</sub>*/E<sub>0</sub>* of the hyperelastic \
-         incremental contact model (solid) and, where wired, of the hyperelastic \
-         boundary-element model (dotted) against contact area fraction A/A<sub>0</sub>.",
+        "Composite tangent modulus ratio E<sub>t</sub>*/E<sub>0</sub>* against contact area \
+         fraction A/A<sub>0</sub> of every model whose ratio is not 1 throughout (a linear \
+         law's is 1 by construction): colour = sample, stroke = model (legend).",
     ),
     (
         "fig9",
         "Fig. 9",
         "The contact models side by side on each sample's measured surface: normalised load \
-         F/(E<sub>0</sub>* A<sub>0</sub>) against contact area fraction A/A<sub>0</sub>. \
-         Profile theory (ICM, black: hyperelastic solid, linear dashed), the elastically \
-         coupled half-space (BEM, vermillion dotted, hyperelastic), Persson's theory (bluish \
-         green) and Greenwood–Williamson's asperity model (GW, reddish purple), the last two from \
-         the map's spectrum alone and with the material law as their stages were wired (the \
-         table below gives the variant); the experiment as blue circles where wired.",
+         F/(E<sub>0</sub>* A<sub>0</sub>) against contact area fraction A/A<sub>0</sub>, \
+         colour = model family (legend), linear laws dashed; the experiment as blue circles \
+         where wired. The tables below give κ of each model at small load and what each \
+         model was given (its own summary).",
     ),
 ];
 
 /// What Figs. 7 and 8's captions add when a band is drawn.
-const BAND_CAPTION: &str = " Shaded: the 5–95 % band of the hyperelastic ICM over bootstrap \
-     refits of the material (the tensile tests resampled within each mode and refitted, each \
-     refit carried through the ICM): how far the tensile scatter and the fit's freedom move \
-     the curve.";
+const BAND_CAPTION: &str = " Shaded: the 5–95 % band of a model over bootstrap refits of the \
+     material (the tensile tests resampled within each mode and refitted, each refit carried \
+     through the model): how far the tensile scatter and the fit's freedom move the curve.";
 
 /// A figure with its caption, followed by `extra` (a sentence on what
 /// this run adds), or the note saying why it was skipped.
@@ -454,21 +499,41 @@ fn fmt_limit(lambda: f64) -> String {
     }
 }
 
-fn sample_table(summary: &Summary) -> String {
+fn opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or("n/a".into(), |v| fmt_sig(v, digits))
+}
+
+/// The summary table's load cells of one sample: per model of `models`,
+/// F/(E0* A0) at each area fraction, with the model's band in brackets
+/// where it has one.
+fn load_cells(s: &crate::summary::SampleSummary, models: &[&ModelKey]) -> Vec<String> {
+    let mut cells = Vec::new();
+    for key in models {
+        for l in &s.load_norm {
+            let value = opt(l.load_norm.get(&key.label).copied().flatten(), 3);
+            let p05 = l.load_norm_p05.get(&key.label).copied().flatten();
+            let p95 = l.load_norm_p95.get(&key.label).copied().flatten();
+            cells.push(match (p05, p95) {
+                (None, None) => value,
+                (p05, p95) => format!("{value} [{}, {}]", opt(p05, 3), opt(p95, 3)),
+            });
+        }
+    }
+    cells
+}
+
+fn sample_table(summary: &Summary, models: &[&ModelKey]) -> String {
     if summary.samples.is_empty() {
         return "<p class=\"skipped\"><b>Sample summary</b> skipped: no per-sample input is wired.</p>\n"
             .into();
     }
-    let any_linear = summary
-        .samples
-        .iter()
-        .any(|s| s.load_norm.iter().any(|l| l.linear.is_some()));
     let any_band = summary.samples.iter().any(|s| {
-        s.load_norm
-            .iter()
-            .any(|l| l.load_norm_p05.is_some() || l.load_norm_p95.is_some())
+        s.load_norm.iter().any(|l| {
+            models
+                .iter()
+                .any(|k| l.load_norm_p05.contains_key(&k.label))
+        })
     });
-    let opt = |v: Option<f64>, digits| v.map_or("n/a".into(), |v| fmt_sig(v, digits));
     let mut header: Vec<String> = [
         "sample",
         "σ (µm)",
@@ -483,14 +548,12 @@ fn sample_table(summary: &Summary) -> String {
         .first()
         .map(|s| s.load_norm.iter().map(|l| l.area_fraction).collect())
         .unwrap_or_default();
-    for a in &areas {
-        header.push(format!(
-            "F/(E<sub>0</sub>*A<sub>0</sub>) at A/A<sub>0</sub> = {a}"
-        ));
-    }
-    if any_linear {
+    for key in models {
         for a in &areas {
-            header.push(format!("linear ICM at {a}"));
+            header.push(format!(
+                "{}: F/(E<sub>0</sub>*A<sub>0</sub>) at A/A<sub>0</sub> = {a}",
+                escape(&key.label)
+            ));
         }
     }
     let rows: Vec<Vec<String>> = summary
@@ -504,63 +567,57 @@ fn sample_table(summary: &Summary) -> String {
                 opt(s.hurst_x, 3),
                 opt(s.hurst_y, 3),
             ];
-            row.extend(s.load_norm.iter().map(|l| {
-                let value = opt(l.hyperelastic, 3);
-                match (l.load_norm_p05, l.load_norm_p95) {
-                    (None, None) => value,
-                    (p05, p95) => format!("{value} [{}, {}]", opt(p05, 3), opt(p95, 3)),
-                }
-            }));
-            if any_linear {
-                row.extend(s.load_norm.iter().map(|l| opt(l.linear, 3)));
-            }
+            row.extend(load_cells(s, models));
             row
         })
         .collect();
+    let names: Vec<&str> = models.iter().map(|k| k.label.as_str()).collect();
     let mut html = simple_table(
-        "Summary per sample (loads from the hyperelastic ICM unless marked linear)",
+        &format!("Summary per sample (loads of {})", names.join(", ")),
         &header,
         &rows,
     );
     let band_note = if any_band {
-        " [p05, p95] = the 5–95 % bootstrap band of the hyperelastic ICM (the tensile tests' \
-         scatter carried through the fit), read the same way."
+        " [p05, p95] = the 5–95 % bootstrap band of the model (the tensile tests' scatter carried \
+         through the fit), read the same way."
     } else {
         ""
     };
     html.push_str(&format!(
-        "<p class=\"note\">Loads are read off the ICM curves by linear interpolation in \
+        "<p class=\"note\">Loads are read off the models' curves by linear interpolation in \
          A/A<sub>0</sub>; n/a = input not wired or A/A<sub>0</sub> outside the computed range.\
-         {band_note} The same numbers, unrounded, are in \
+         {band_note} Every model's loads, unrounded, are in \
          <a href=\"summary.json\">summary.json</a>.</p>\n"
     ));
     html
 }
 
-/// The ICM/BEM load ratio at the summary's area fractions, per sample and
-/// material law: how far profile theory's load is from the coupled
-/// solution's at the same contact area. Empty when no sample has both.
-fn icm_bem_table(summary: &Summary) -> String {
-    let ratios = |s: &crate::summary::SampleSummary, linear: bool| -> Vec<Option<f64>> {
-        s.load_norm
-            .iter()
-            .map(|l| {
-                if linear {
-                    l.icm_over_bem_linear
-                } else {
-                    l.icm_over_bem
-                }
-            })
-            .collect()
+/// Each model's load over the reference model's at the summary's area
+/// fractions, per sample: how far a model's load is from the reference's
+/// at the same contact area. Without a reference, a note saying how to ask
+/// for it.
+fn load_ratio_table(summary: &Summary, chosen: &Chosen<'_>, data: &ReportData<'_>) -> String {
+    let Some(reference) = chosen.reference else {
+        if data.roster.models.len() < 2 {
+            return String::new();
+        }
+        return format!(
+            "<p class=\"note\">Load ratios between the models are not tabulated: the report's \
+             `reference_model` is not set (one of {}).</p>\n",
+            escape(&data.roster.labels())
+        );
     };
-    let laws = [(false, "hyperelastic"), (true, "linear")];
     let mut rows = Vec::new();
     for s in &summary.samples {
-        for (linear, law) in laws {
-            let r = ratios(s, linear);
-            if r.iter().any(Option::is_some) {
-                let mut row = vec![escape(&s.label), law.to_owned()];
-                row.extend(r.iter().map(|v| v.map_or("n/a".into(), |v| fmt_sig(v, 3))));
+        for key in &data.roster.models {
+            let ratios: Vec<Option<f64>> = s
+                .load_norm
+                .iter()
+                .map(|l| l.over_reference.get(&key.label).copied().flatten())
+                .collect();
+            if ratios.iter().any(Option::is_some) {
+                let mut row = vec![escape(&s.label), escape(&key.label)];
+                row.extend(ratios.iter().map(|v| opt(*v, 3)));
                 rows.push(row);
             }
         }
@@ -568,7 +625,7 @@ fn icm_bem_table(summary: &Summary) -> String {
     if rows.is_empty() {
         return String::new();
     }
-    let mut header = vec!["sample".to_owned(), "material law".to_owned()];
+    let mut header = vec!["sample".to_owned(), "model".to_owned()];
     if let Some(first) = summary.samples.first() {
         header.extend(
             first
@@ -578,18 +635,72 @@ fn icm_bem_table(summary: &Summary) -> String {
         );
     }
     let mut html = simple_table(
-        "Load ratio F_ICM / F_BEM at equal contact area A/A0",
+        &format!(
+            "Load ratio F_model / F_{} at equal contact area A/A0",
+            reference.label
+        ),
         &header,
         &rows,
     );
-    html.push_str(
+    html.push_str(&format!(
         "<p class=\"note\">Both loads read off the curves of Fig. 7 by linear interpolation \
-         in A/A<sub>0</sub>, each model with the same material law. A ratio below 1: profile \
-         theory reaches the area at a smaller load than the elastically coupled surface (it \
-         leaves out the deformation of the surface between the contacts). n/a = a model not \
-         wired or A/A<sub>0</sub> outside its computed range.</p>\n",
-    );
+         in A/A<sub>0</sub>. A ratio below 1: the model reaches the area at a smaller load \
+         than {}. n/a = A/A<sub>0</sub> outside a model's computed range.</p>\n",
+        escape(&reference.label)
+    ));
     html
+}
+
+/// The page's contact sections: Fig. 6 and the registrations, Figs. 7 and
+/// 8 with the agreement and load-ratio tables, Fig. 9 with κ and the
+/// models' summaries.
+fn contact_sections(
+    data: &ReportData<'_>,
+    chosen: &Chosen<'_>,
+    summary: &Summary,
+    outcomes: &[Outcome],
+    fig6_html: &str,
+) -> String {
+    let mut body = String::new();
+    let by_name = |name: &str| outcomes.iter().find(|o| o.status.name == name);
+    let compared = data
+        .samples
+        .iter()
+        .any(|s| s.compare_figures.is_some() || s.transform.is_some());
+    if compared {
+        body.push_str("<h2>Contact experiment: observed against predicted contact</h2>\n");
+        body.push_str(fig6_html);
+        body.push_str(&crate::experiment::transform_table(data));
+    }
+    body.push_str("<h2>Contact: the contact models' load against area</h2>\n");
+    let band_caption = if data.samples.iter().any(|s| !s.bands.is_empty()) {
+        BAND_CAPTION
+    } else {
+        ""
+    };
+    if let Some(o) = by_name("fig7") {
+        body.push_str(&figure_html(o, band_caption));
+    }
+    body.push_str(&crate::experiment::agreement_table(data));
+    body.push_str(&load_ratio_table(summary, chosen, data));
+    if let Some(o) = by_name("fig8") {
+        body.push_str(&figure_html(o, band_caption));
+    }
+    if let Some(o) = by_name("fig9").filter(|o| o.status.rendered) {
+        body.push_str("<h2>Contact models compared</h2>\n");
+        body.push_str(&figure_html(o, ""));
+        let kappas: Vec<(&str, Vec<crate::models::KappaAt>)> = summary
+            .samples
+            .iter()
+            .map(|s| (s.label.as_str(), s.kappa.clone()))
+            .collect();
+        body.push_str(&crate::models::kappa_table(&kappas, &chosen.fig9));
+        body.push_str(&crate::models::model_summary_tables(
+            &data.samples,
+            &data.roster.models,
+        ));
+    }
+    body
 }
 
 /// Renders every figure the data allows and writes the report's files.
@@ -598,11 +709,13 @@ pub fn build_report(
     options: &ReportOptions,
     provenance: Option<&Value>,
 ) -> Result<Files, ReportError> {
-    let outcomes = figure_outcomes(data)?;
+    let chosen = options.models.resolve(data)?;
+    let outcomes = figure_outcomes(data, &chosen)?;
     let summary = Summary::new(
         &options.title,
         data,
         &options.area_fractions,
+        chosen.reference.map(|k| k.label.as_str()),
         outcomes.iter().map(|o| o.status.clone()).collect(),
     );
 
@@ -612,18 +725,7 @@ pub fn build_report(
          own results. Self-contained: figures are embedded; PNG and SVG copies and \
          <a href=\"summary.json\">summary.json</a> sit beside this page.</p>\n",
     );
-    let skipped: Vec<&Outcome> = outcomes.iter().filter(|o| !o.status.rendered).collect();
-    if !skipped.is_empty() {
-        body.push_str("<div class=\"skipped\"><b>Figures not drawn in this run:</b><ul>\n");
-        for o in skipped {
-            body.push_str(&format!(
-                "<li>{}: {}</li>\n",
-                o.status.name,
-                escape(o.status.note.as_deref().unwrap_or(""))
-            ));
-        }
-        body.push_str("</ul></div>\n");
-    }
+    body.push_str(&skipped_list(&outcomes));
     let by_name = |name: &str| outcomes.iter().find(|o| o.status.name == name);
     body.push_str("<h2>Material: tensile tests and hyperelastic fit</h2>\n");
     if let Some(o) = by_name("fig2") {
@@ -635,42 +737,11 @@ pub fn build_report(
         body.push_str(&figure_html(o, ""));
     }
     let (fig6_html, fig6_images) = crate::experiment::fig6(data)?;
-    let compared = data
-        .samples
-        .iter()
-        .any(|s| s.compare_figures.is_some() || s.transform.is_some());
-    if compared {
-        body.push_str("<h2>Contact experiment: observed against predicted contact</h2>\n");
-        body.push_str(&fig6_html);
-        body.push_str(&crate::experiment::transform_table(data));
-    }
-    body.push_str("<h2>Contact: incremental contact model and boundary elements</h2>\n");
-    let band_caption = if data.samples.iter().any(|s| s.band.is_some()) {
-        BAND_CAPTION
-    } else {
-        ""
-    };
-    if let Some(o) = by_name("fig7") {
-        body.push_str(&figure_html(o, band_caption));
-    }
-    body.push_str(&crate::experiment::agreement_table(data));
-    body.push_str(&icm_bem_table(&summary));
-    if let Some(o) = by_name("fig8") {
-        body.push_str(&figure_html(o, band_caption));
-    }
-    if let Some(o) = by_name("fig9").filter(|o| o.status.rendered) {
-        body.push_str("<h2>Contact models compared: profile theory, boundary elements, Persson, Greenwood–Williamson</h2>\n");
-        body.push_str(&figure_html(o, ""));
-        let kappas: Vec<(&str, Vec<crate::models::KappaAt>)> = summary
-            .samples
-            .iter()
-            .map(|s| (s.label.as_str(), s.kappa.clone()))
-            .collect();
-        body.push_str(&crate::models::kappa_table(&kappas));
-        body.push_str(&crate::models::theory_table(&data.samples));
-    }
+    body.push_str(&contact_sections(
+        data, &chosen, &summary, &outcomes, &fig6_html,
+    ));
     body.push_str("<h2>Summary per sample</h2>\n");
-    body.push_str(&sample_table(&summary));
+    body.push_str(&sample_table(&summary, &chosen.summary));
     body.push_str(&provenance_section(provenance));
 
     let mut files = Files::new()
@@ -687,4 +758,23 @@ pub fn build_report(
         }
     }
     Ok(files)
+}
+
+/// The list of figures not drawn, with the reasons.
+fn skipped_list(outcomes: &[Outcome]) -> String {
+    let skipped: Vec<&Outcome> = outcomes.iter().filter(|o| !o.status.rendered).collect();
+    if skipped.is_empty() {
+        return String::new();
+    }
+    let mut html =
+        String::from("<div class=\"skipped\"><b>Figures not drawn in this run:</b><ul>\n");
+    for o in skipped {
+        html.push_str(&format!(
+            "<li>{}: {}</li>\n",
+            o.status.name,
+            escape(o.status.note.as_deref().unwrap_or(""))
+        ));
+    }
+    html.push_str("</ul></div>\n");
+    html
 }

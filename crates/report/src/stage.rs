@@ -2,13 +2,12 @@
 //! comparison and a per-sample summary, as one `Files` product `report`
 //! (`index.html`, `figN.png`, `figN.svg`, `summary.json`).
 
-use hypercontact_classical::stage::{GwSummaryTable, PerssonSummaryTable};
-use hypercontact_compare::stage::{AgreementTable, LoadRatioTable, TransformTable};
+use hypercontact_compare::stage::{AgreementTable, FigureIndex, LoadRatioTable, TransformTable};
 use hypercontact_contact_images::stage::ContactTable;
 use hypercontact_core::contact::{BandTable, ResponseTable};
 use hypercontact_core::{
-    Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, Stage, StageError, StageInfo,
-    params,
+    Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, ProductKind, Stage,
+    StageError, StageInfo, params,
 };
 use hypercontact_material::fit_stage::{
     ComparisonTable, CurvesTable, ParamsTable, QualityTable, StabilityTable,
@@ -19,7 +18,7 @@ use hypercontact_truncation::stage::ProfileTable;
 
 use hypercontact_material::Poisson;
 
-use crate::report::{ReportOptions, render_report};
+use crate::report::{ModelChoice, ReportOptions, render_report};
 
 /// Parameters of `report`.
 #[params]
@@ -34,6 +33,20 @@ pub struct ReportParams {
     /// whose responses are wired
     #[param(default = Poisson::INCOMPRESSIBLE)]
     pub poisson: Poisson,
+    /// the contact models' order in legends and colours, by their labels in `responses` (labels not listed follow in label order); a model's colour is its family's (the label's text before its first `-`)
+    #[param(default = Vec::new())]
+    pub models: Vec<String>,
+    /// the models Fig. 7 draws, by label (none listed: every wired model)
+    #[param(default = Vec::new())]
+    pub fig7_models: Vec<String>,
+    /// the models Fig. 9 compares side by side, by label (none listed: every wired model)
+    #[param(default = Vec::new())]
+    pub fig9_models: Vec<String>,
+    /// the models whose loads the per-sample summary table shows, by label (none listed: the first model)
+    #[param(default = Vec::new())]
+    pub summary_models: Vec<String>,
+    /// the model every other model's load is divided by at equal A/A0 in the load-ratio table (unset: no table)
+    pub reference_model: Option<String>,
 }
 
 fn not_blank(title: &str) -> Result<(), String> {
@@ -57,46 +70,52 @@ pub struct Report;
 
 static INFO: StageInfo = StageInfo {
     kind: "report",
-    version: 6,
+    version: 7,
     summary: "HTML report with the paper's Figs. 2, 4, 6, 7, 8, a model comparison (Fig. 9; PNG + \
               SVG), Table 1 and a summary",
     doc: "Every input is optional: a figure whose inputs are not wired is skipped and the \
           page says why (e.g. a pipeline without the tensile branch still gets Figs. 4, 7 \
-          and 8). Per-sample inputs are labelled by sample (`responses: {T1: icm1, ...}`); \
-          one label gets one colour in every figure. Fig. 2 needs `curves` (R² from \
-          `quality`, limits from `stability`); Fig. 4 any of `heights`, `psd`, `profiles` \
-          (the H of the drawn power law comes from `stats` when wired, otherwise from a \
-          log-log least-squares fit); Fig. 7 any of `responses`, `responses_linear` (ICM, \
-          hyperelastic and linear), `responses_bem`, `responses_bem_linear` (boundary \
-          elements), with the ICM/BEM load ratio at `area_fractions` per sample and law where \
-          both are wired, and the measured points of `experiments` (contact-images' contact, \
-          the force over the models' E0* A0) with the agreement table of `agreement` and \
-          `load_ratio` (contact-compare) under it; Fig. 6 the first sample's \
-          `compare_figures` (observed, predicted and overlay maps at one scale with a bar) with \
-          the registrations of `transforms`; Fig. 8 `responses` and/or `responses_bem`; Fig. 9 \
-          (the contact models side by side: hyperelastic and linear ICM, hyperelastic BEM, \
-          `responses_persson`, `responses_gw`, with the experiment) needs Persson or GW wired, \
-          and comes with a table of kappa = (A/A0)/(F/(A0 E0* h'rms)) per model at A/A0 = \
-          0.02 and 0.1 (h'rms from `stats`, one yardstick for every model; read off each curve \
-          by linear interpolation in A/A0, n/a outside it) and the theories' inputs from \
-          `persson_summary` and `gw_summary`. `bands` (icm's bands of the hyperelastic ICM, \
-          labelled per sample like `responses`; a table without rows is no band) shades the \
-          5–95 % bootstrap band of F/(E0* A0) under Fig. 7's curves and of E_t*/E0* under Fig. \
-          8's (sample colour at opacity 0.2; in Fig. 7's per-sample panels the ICM's grey; \
-          points at or below zero left off the log axis), with a legend entry. Table 1 decodes \
-          `material` and gives its initial moduli μ0, E0 and E0* at Poisson's ratio `poisson`; \
-          with `params` wired, each parameter and modulus with its 5–95 % bootstrap interval \
-          where finite; with `comparison` wired, a line under it states the fit's constraint \
-          and RMS relative error (and condition number) beside the same family's under the \
-          other setting. One E0* on the page: each wired response must \
-          have been normalised by Table 1's (its E0* is mean_stress_pa · area_fraction / \
-          load_norm, from the response alone), and a wired `params` must be the fit of \
-          `material` at the same ν; otherwise the stage stops and names the input, so set \
-          `poisson` to the contact model's (and the fit's). The summary reads F/(E0* A0) \
-          at `area_fractions` by linear interpolation in A/A0 (null outside the computed \
-          range), and the band's 5th and 95th percentiles the same way (`load_norm_p05`, \
-          `load_norm_p95`; null without a band). Figures use the bundled DejaVu Sans font; no system font or network is \
-          needed.",
+          and 8). Per-sample inputs are labelled by sample (`stats: {T1: s1, ...}`); one \
+          sample gets one colour in every single-panel figure. The contact models are a role: \
+          `responses` takes any number of them per sample, labelled by sample and then by \
+          model (`responses: {T1: {icm: a, bem: b}}`), and `bands` and `model_summaries` \
+          likewise; a model's label is its legend name, its colour comes from a fixed \
+          palette by the order of the labels (parameter `models`, then label order; labels \
+          `x` and `x-...` share a family's colour), and its stroke from its law as the data \
+          say (a response whose tangent_ratio is 1 everywhere is linear: dashed). Fig. 2 \
+          needs `curves` (R² from `quality`, limits from `stability`); Fig. 4 any of \
+          `heights`, `psd`, `profiles` (the H of the drawn power law comes from `stats` when \
+          wired, otherwise from a log-log least-squares fit); Fig. 7 the `fig7_models` \
+          (default every wired model) with the measured points of `experiments` \
+          (contact-images' contact, the force over the models' E0* A0) and the agreement \
+          table of `agreement` and `load_ratio` (contact-compare) under it, then each \
+          model's load over `reference_model`'s at `area_fractions` where that is set; Fig. \
+          6 the first sample's `compare_figures` (observed, predicted and overlay maps at one \
+          scale with a bar, read through contact-compare's figure index) with the \
+          registrations of `transforms`; Fig. 8 every model whose tangent_ratio is not 1 \
+          throughout; Fig. 9 the `fig9_models` side by side with the experiment, with a \
+          table of kappa = (A/A0)/(F/(A0 E0* h'rms)) per model at A/A0 = 0.02 and 0.1 (h'rms \
+          from `stats`, one yardstick for every model; read off each curve by linear \
+          interpolation in A/A0, n/a outside it) and each model's `model_summaries` table \
+          (one row: what it was given) as it is. A label in a model parameter that no \
+          response is wired under stops the stage, naming the parameter, the label and the \
+          wired ones. `bands` (a model's bootstrap bands; a table without rows is no band) \
+          shades the 5–95 % band of F/(E0* A0) under Fig. 7's curves and of E_t*/E0* under \
+          Fig. 8's (opacity 0.2; sample colour in single panels, the model's in per-sample \
+          panels; points at or below zero left off the log axis), with a legend entry. \
+          Table 1 decodes `material` and gives its initial moduli μ0, E0 and E0* at \
+          Poisson's ratio `poisson`; with `params` wired, each parameter and modulus with its \
+          5–95 % bootstrap interval where finite; with `comparison` wired, a line under it \
+          states the fit's constraint and RMS relative error (and condition number) beside \
+          the same family's under the other setting. One E0* on the page: each wired \
+          response must have been normalised by Table 1's (its E0* is mean_stress_pa · \
+          area_fraction / load_norm, from the response alone), and a wired `params` must be \
+          the fit of `material` at the same ν; otherwise the stage stops and names the \
+          input, so set `poisson` to the contact model's (and the fit's). The summary reads \
+          F/(E0* A0) of every model at `area_fractions` by linear interpolation in A/A0 \
+          (null outside the computed range), and each band's 5th and 95th percentiles the \
+          same way; its table on the page shows `summary_models`. Figures use the bundled \
+          DejaVu Sans font; no system font or network is needed.",
     inputs: &[
         InputSpec::table::<CurvesTable>(
             "curves",
@@ -128,44 +147,27 @@ static INFO: StageInfo = StageInfo {
         InputSpec::table::<PsdTable>("psd", Arity::Many, "PSD per sample"),
         InputSpec::table::<StatsTable>("stats", Arity::Many, "surface statistics per sample"),
         InputSpec::table::<ProfileTable>("profiles", Arity::Many, "truncation profile per sample"),
-        InputSpec::table::<ResponseTable>("responses", Arity::Many, "hyperelastic ICM per sample"),
+        InputSpec::table::<ResponseTable>(
+            "responses",
+            Arity::Nested,
+            "every contact model's load-area curve, by sample and model label: Figs. 7, 8, 9, \
+             the κ, load-ratio and summary tables",
+        ),
         InputSpec::table::<BandTable>(
             "bands",
-            Arity::Many,
-            "hyperelastic ICM's 5–95 % bootstrap bands per sample (icm's bands): shaded in Figs. \
+            Arity::Nested,
+            "contact models' 5–95 % bootstrap bands, by sample and model label: shaded in Figs. \
              7 and 8, read in the summary",
         ),
-        InputSpec::table::<ResponseTable>("responses_linear", Arity::Many, "linear ICM per sample"),
-        InputSpec::table::<ResponseTable>(
-            "responses_bem",
-            Arity::Many,
-            "hyperelastic boundary elements per sample",
-        ),
-        InputSpec::table::<ResponseTable>(
-            "responses_bem_linear",
-            Arity::Many,
-            "linear boundary elements per sample",
-        ),
-        InputSpec::table::<ResponseTable>(
-            "responses_persson",
-            Arity::Many,
-            "Persson's theory per sample (model comparison, Fig. 9)",
-        ),
-        InputSpec::table::<ResponseTable>(
-            "responses_gw",
-            Arity::Many,
-            "Greenwood-Williamson per sample (model comparison, Fig. 9)",
-        ),
-        InputSpec::table::<PerssonSummaryTable>(
-            "persson_summary",
-            Arity::Many,
-            "persson's summary per sample: the variant and spectrum of Fig. 9's curve",
-        ),
-        InputSpec::table::<GwSummaryTable>(
-            "gw_summary",
-            Arity::Many,
-            "greenwood-williamson's summary per sample: the asperity parameters",
-        ),
+        // Any table: each model's summary has its own columns.
+        InputSpec {
+            name: "model_summaries",
+            kind: ProductKind::Table,
+            arity: Arity::Nested,
+            columns: &[],
+            doc: "what each model was given (any one-row table), by sample and model label: \
+                  shown as is under Fig. 9",
+        },
         InputSpec::table::<ContactTable>(
             "experiments",
             Arity::Many,
@@ -186,10 +188,10 @@ static INFO: StageInfo = StageInfo {
             Arity::Many,
             "contact-compare's registration per sample",
         ),
-        InputSpec::files(
+        InputSpec::files_indexed::<FigureIndex>(
             "compare_figures",
             Arity::Many,
-            "contact-compare's figures per sample: Fig. 6 (the first sample wired)",
+            "contact-compare's figures per sample, indexed: Fig. 6 (the first sample wired)",
         ),
     ],
     outputs: &[OutputSpec::files(
@@ -215,6 +217,13 @@ impl Stage for Report {
             title: p.title.clone(),
             area_fractions: p.area_fractions.clone(),
             poisson: p.poisson.0,
+            models: ModelChoice {
+                order: p.models.clone(),
+                fig7: p.fig7_models.clone(),
+                fig9: p.fig9_models.clone(),
+                summary: p.summary_models.clone(),
+                reference: p.reference_model.clone(),
+            },
         };
         let progress = ctx.progress(1, "figures and page");
         let files = render_report(inputs, &options, ctx.upstream())?;
@@ -263,7 +272,7 @@ mod tests {
         assert!(
             INFO.inputs
                 .iter()
-                .all(|i| matches!(i.arity, Arity::Optional | Arity::Many))
+                .all(|i| matches!(i.arity, Arity::Optional | Arity::Many | Arity::Nested))
         );
     }
 }

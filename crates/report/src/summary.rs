@@ -3,12 +3,14 @@
 //! not wired, a statistic the upstream could not estimate, an area fraction
 //! outside the computed range) are `null`, never NaN.
 
+use std::collections::BTreeMap;
+
 use serde::Serialize;
 use serde_json::{Map, Value};
 
 use hypercontact_core::{ColumnData, Schema, Table};
 
-use crate::gather::{ReportData, Response};
+use crate::gather::{ReportData, Response, Sample};
 use crate::interp::interpolate;
 
 #[derive(Clone, Debug, Serialize)]
@@ -64,43 +66,53 @@ pub struct SampleSummary {
 #[derive(Clone, Debug, Serialize)]
 pub struct LoadAtArea {
     pub area_fraction: f64,
-    /// Hyperelastic and linear ICM.
-    pub hyperelastic: Option<f64>,
-    /// The 5th and 95th percentiles of the hyperelastic ICM's bootstrap
-    /// band (null without a band, or outside it).
-    pub load_norm_p05: Option<f64>,
-    pub load_norm_p95: Option<f64>,
-    pub linear: Option<f64>,
-    /// Hyperelastic and linear boundary elements.
-    pub bem_hyperelastic: Option<f64>,
-    pub bem_linear: Option<f64>,
-    /// F_ICM / F_BEM, each law with itself.
-    pub icm_over_bem: Option<f64>,
-    pub icm_over_bem_linear: Option<f64>,
+    /// F/(E0* A0) of each model, by label (null outside its curve).
+    pub load_norm: BTreeMap<String, Option<f64>>,
+    /// The 5th and 95th percentiles of each banded model's bootstrap band,
+    /// by label (null outside the band).
+    pub load_norm_p05: BTreeMap<String, Option<f64>>,
+    pub load_norm_p95: BTreeMap<String, Option<f64>>,
+    /// Each other model's load over the reference model's (the report's
+    /// `reference_model`; empty without one).
+    pub over_reference: BTreeMap<String, Option<f64>>,
 }
 
 impl LoadAtArea {
-    /// The loads of every wired response of `s` at area fraction `a`.
-    fn read(s: &crate::gather::Sample<'_>, a: f64) -> Self {
-        let at = |r: &Option<Response>| r.as_ref().and_then(|r| load_norm_at(r, a));
-        let ratio = |icm: Option<f64>, bem: Option<f64>| match (icm, bem) {
-            (Some(i), Some(b)) if b > 0.0 => Some(i / b),
-            _ => None,
+    /// The loads of every wired response of `s` at area fraction `a`, and
+    /// their ratios to `reference`'s.
+    fn read(s: &Sample<'_>, a: f64, reference: Option<&str>) -> Self {
+        let load_norm: BTreeMap<String, Option<f64>> = s
+            .models
+            .iter()
+            .map(|m| (m.label.clone(), load_norm_at(&m.response, a)))
+            .collect();
+        let (mut load_norm_p05, mut load_norm_p95) = (BTreeMap::new(), BTreeMap::new());
+        for (label, band) in &s.bands {
+            let (p05, p95) = band.load_norm_at(a);
+            load_norm_p05.insert(label.clone(), p05);
+            load_norm_p95.insert(label.clone(), p95);
+        }
+        let base = reference.and_then(|r| load_norm.get(r).copied().flatten());
+        let over_reference = match reference {
+            Some(r) if load_norm.contains_key(r) => load_norm
+                .iter()
+                .filter(|(label, _)| *label != r)
+                .map(|(label, load)| {
+                    let ratio = match (load, base) {
+                        (Some(l), Some(b)) if b > 0.0 => Some(l / b),
+                        _ => None,
+                    };
+                    (label.clone(), ratio)
+                })
+                .collect(),
+            _ => BTreeMap::new(),
         };
-        let (hyperelastic, linear) = (at(&s.response), at(&s.response_linear));
-        let (bem_hyperelastic, bem_linear) = (at(&s.bem), at(&s.bem_linear));
-        let (load_norm_p05, load_norm_p95) =
-            s.band.as_ref().map_or((None, None), |b| b.load_norm_at(a));
         LoadAtArea {
             area_fraction: a,
-            hyperelastic,
+            load_norm,
             load_norm_p05,
             load_norm_p95,
-            linear,
-            bem_hyperelastic,
-            bem_linear,
-            icm_over_bem: ratio(hyperelastic, bem_hyperelastic),
-            icm_over_bem_linear: ratio(linear, bem_linear),
+            over_reference,
         }
     }
 }
@@ -143,10 +155,13 @@ pub fn table_rows(table: &Table) -> Vec<Map<String, Value>> {
 }
 
 impl Summary {
+    /// The numbers of `data`, loads read at `area_fractions` and divided
+    /// by model `reference`'s where given.
     pub fn new(
         title: &str,
         data: &ReportData<'_>,
         area_fractions: &[f64],
+        reference: Option<&str>,
         figures: Vec<FigureStatus>,
     ) -> Self {
         Summary {
@@ -204,7 +219,7 @@ impl Summary {
                         hurst_radial: stat(|st| st.hurst_radial),
                         load_norm: area_fractions
                             .iter()
-                            .map(|&a| LoadAtArea::read(s, a))
+                            .map(|&a| LoadAtArea::read(s, a, reference))
                             .collect(),
                         agreement: s.agreement.clone().map(|t| table_rows(&t.into_table())),
                         load_ratio: s.load_ratio.clone().map(|t| table_rows(&t.into_table())),

@@ -96,7 +96,7 @@ fn the_per_sample_panels_shade_the_band_in_the_icm_grey() {
     let mut inputs = banded();
     for (label, _, _, _, scale) in SAMPLES {
         inputs.insert(
-            &format!("responses_bem.{label}"),
+            &format!("responses.{label}.bem"),
             std::sync::Arc::new(Product::Table(common::response(
                 LEVELS,
                 1.25 * scale,
@@ -144,15 +144,15 @@ fn the_summary_reads_the_band_at_the_area_fractions() {
             .iter()
             .zip([0.1, 0.5, 0.9])
         {
-            let value = l["hyperelastic"].as_f64().unwrap();
+            let value = l["load_norm"]["icm"].as_f64().unwrap();
             if a > reached {
                 // No replicate reached A/A0 = 0.9 on T4: no band there.
-                assert!(l["load_norm_p05"].is_null() && l["load_norm_p95"].is_null());
+                assert!(l["load_norm_p05"]["icm"].is_null() && l["load_norm_p95"]["icm"].is_null());
                 continue;
             }
             let (p05, p95) = (
-                l["load_norm_p05"].as_f64().unwrap(),
-                l["load_norm_p95"].as_f64().unwrap(),
+                l["load_norm_p05"]["icm"].as_f64().unwrap(),
+                l["load_norm_p95"]["icm"].as_f64().unwrap(),
             );
             assert!(p05 <= value && value <= p95, "{label} at {a}");
             assert!(close(p05, lerp(&band, "load_norm_p05", a)), "{label} {a}");
@@ -167,9 +167,9 @@ fn the_summary_reads_the_band_at_the_area_fractions() {
     let t1 = &summary["samples"][0]["load_norm"][1];
     let cell = format!(
         "<td>{:.3} [{:.3}, {:.3}]</td>",
-        t1["hyperelastic"].as_f64().unwrap(),
-        t1["load_norm_p05"].as_f64().unwrap(),
-        t1["load_norm_p95"].as_f64().unwrap()
+        t1["load_norm"]["icm"].as_f64().unwrap(),
+        t1["load_norm_p05"]["icm"].as_f64().unwrap(),
+        t1["load_norm_p95"]["icm"].as_f64().unwrap()
     );
     let html = text(&files, "index.html");
     assert!(html.contains(&cell), "no {cell}");
@@ -183,7 +183,7 @@ fn the_summary_reads_the_band_at_the_area_fractions() {
     let plain = run(&plain());
     let plain_summary: Value = serde_json::from_slice(&plain.files["summary.json"]).unwrap();
     let l = &plain_summary["samples"][0]["load_norm"][1];
-    assert!(l["load_norm_p05"].is_null() && l["load_norm_p95"].is_null());
+    assert!(l["load_norm_p05"]["icm"].is_null() && l["load_norm_p95"]["icm"].is_null());
     assert_eq!(
         row(&text(&plain, "index.html"), "T1").matches(" [").count(),
         0
@@ -263,7 +263,7 @@ fn a_band_table_without_rows_changes_nothing_and_a_bad_one_is_named() {
         replicates: vec![],
     };
     inputs.insert(
-        "bands.T1",
+        "bands.T1.icm",
         std::sync::Arc::new(Product::Table(empty.into_table())),
     );
     assert_eq!(run(&inputs).files, plain_files.files);
@@ -272,19 +272,22 @@ fn a_band_table_without_rows_changes_nothing_and_a_bad_one_is_named() {
     // are named.
     let mut inputs = plain();
     inputs.insert(
-        "bands.T2",
+        "bands.T2.icm",
         std::sync::Arc::new(Product::Table(common::response(LEVELS, 0.25, false))),
     );
     let e = run_with(&ReportParams::default(), &inputs).unwrap_err();
-    assert!(e.contains("bands.T2") && e.contains("load_norm_p05"), "{e}");
+    assert!(
+        e.contains("bands.T2.icm") && e.contains("load_norm_p05"),
+        "{e}"
+    );
     // Percentiles out of order are refused, not drawn.
     let mut swapped = BandTable::from_table(&common::band(LEVELS, 0.25, 1.0)).unwrap();
     std::mem::swap(&mut swapped.load_norm_p05, &mut swapped.load_norm_p95);
     let mut inputs = plain();
     inputs.insert(
-        "bands.T2",
+        "bands.T2.icm",
         std::sync::Arc::new(Product::Table(swapped.into_table())),
     );
     let e = run_with(&ReportParams::default(), &inputs).unwrap_err();
-    assert!(e.contains("bands.T2") && e.contains("above"), "{e}");
+    assert!(e.contains("bands.T2.icm") && e.contains("above"), "{e}");
 }

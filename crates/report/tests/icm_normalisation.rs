@@ -67,15 +67,18 @@ fn table_1_is_held_to_the_e0_star_of_the_icm() {
         .with("material", Product::Table(common::material()))
         .with("profiles.T1", Product::Table(profile.clone()))
         .with(
-            "responses.T1",
+            "responses.T1.icm",
             Product::Table(icm(Model::Hyperelastic, poisson, &profile)),
         )
         .with(
-            "responses_linear.T1",
+            "responses.T1.icm-linear",
             Product::Table(icm(Model::Linear, poisson, &profile)),
         );
     let e = report(0.5, &inputs).unwrap_err();
-    assert!(e.contains("responses.T1") && e.contains("`poisson`"), "{e}");
+    assert!(
+        e.contains("responses.T1.icm") && e.contains("`poisson`"),
+        "{e}"
+    );
 
     let summary = report(poisson, &inputs).unwrap();
     let shown = summary["material"]["e0_star_pa"].as_f64().unwrap();
@@ -84,7 +87,7 @@ fn table_1_is_held_to_the_e0_star_of_the_icm() {
     let p = hypercontact_truncation::stage::ProfileTable::from_table(&profile).unwrap();
     let last = p.area_fraction.len() - 1;
     let a0 = p.area_m2[last] / p.area_fraction[last];
-    for input in ["responses.T1", "responses_linear.T1"] {
+    for input in ["responses.T1.icm", "responses.T1.icm-linear"] {
         let r = ResponseTable::from_table(match inputs.get(input) {
             Some(Product::Table(t)) => t,
             _ => unreachable!(),
@@ -133,17 +136,17 @@ fn the_icm_bands_bracket_its_curve_by_the_replicates_scale() {
     );
     let inputs = Inputs::new()
         .with("material", Product::Table(common::material()))
-        .with("responses.T1", Product::Table(response))
-        .with("bands.T1", Product::Table(bands));
+        .with("responses.T1.icm", Product::Table(response))
+        .with("bands.T1.icm", Product::Table(bands));
     let summary = report(0.5, &inputs).unwrap();
     let mut read = 0;
     for l in summary["samples"][0]["load_norm"].as_array().unwrap() {
-        let Some(value) = l["hyperelastic"].as_f64() else {
+        let Some(value) = l["load_norm"]["icm"].as_f64() else {
             continue;
         };
         let (p05, p95) = (
-            l["load_norm_p05"].as_f64().unwrap(),
-            l["load_norm_p95"].as_f64().unwrap(),
+            l["load_norm_p05"]["icm"].as_f64().unwrap(),
+            l["load_norm_p95"]["icm"].as_f64().unwrap(),
         );
         assert!((p05 / value - 0.91).abs() < 1e-9, "{p05} vs {value}");
         assert!((p95 / value - 1.09).abs() < 1e-9, "{p95} vs {value}");

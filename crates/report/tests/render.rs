@@ -216,16 +216,16 @@ fn summary_json_holds_the_numbers_of_the_input_tables() {
         assert_eq!(loads.len(), 3);
         for (l, a) in loads.iter().zip([0.1, 0.5, 0.9]) {
             assert_eq!(l["area_fraction"].as_f64(), Some(a));
-            let got = l["hyperelastic"].as_f64().unwrap();
+            let got = l["load_norm"]["icm"].as_f64().unwrap();
             let want = lerp_at(&hyper, a);
             assert!(close(got, want), "{label} at {a}: {got} vs {want}");
             // Within 1 % of the closed form s a^1.5 the table samples.
             assert!((got / (scale * a.powf(1.5)) - 1.0).abs() < 0.01);
             // The linear responses are exactly linear in A/A0.
-            let linear = l["linear"].as_f64().unwrap();
+            let linear = l["load_norm"]["icm-linear"].as_f64().unwrap();
             assert!((linear - scale * a / 2.0).abs() < 1e-12, "{linear}");
         }
-        at_half.push(loads[1]["hyperelastic"].as_f64().unwrap());
+        at_half.push(loads[1]["load_norm"]["icm"].as_f64().unwrap());
     }
     // The synthetic samples are ordered as the paper's: T1 > T2 > T3 > T4.
     assert!(at_half.windows(2).all(|w| w[0] > w[1]), "{at_half:?}");
@@ -291,20 +291,20 @@ fn linear_only_responses_draw_fig7_and_skip_fig8() {
     assert!(files.files.contains_key("fig7.png"));
     assert!(!files.files.contains_key("fig8.png"));
     let summary: Value = serde_json::from_slice(&files.files["summary.json"]).unwrap();
-    let fig7 = summary["figures"]
+    let fig8 = summary["figures"]
         .as_array()
         .unwrap()
         .iter()
-        .find(|f| f["name"] == "fig7")
+        .find(|f| f["name"] == "fig8")
         .unwrap();
     assert!(
-        fig7["note"]
+        fig8["note"]
             .as_str()
             .unwrap()
-            .contains("`responses` not wired")
+            .contains("tangent ratio differs from 1")
     );
     assert_eq!(
-        summary["samples"][0]["load_norm"][1]["hyperelastic"],
+        summary["samples"][0]["load_norm"][1]["load_norm"]["icm"],
         Value::Null
     );
 }
@@ -322,7 +322,7 @@ fn a_nan_in_a_plotted_column_names_input_column_and_row() {
     // Every other column of the response schema stays as the fixture has it.
     let mut bad = ResponseTable::from_table(&common::response(21, 0.3, false)).unwrap();
     bad.load_norm[3] = f64::NAN;
-    let inputs = Inputs::new().with("responses.T2", Product::Table(bad.into_table()));
+    let inputs = Inputs::new().with("responses.T2.icm", Product::Table(bad.into_table()));
     let e = Report
         .run(
             &ReportParams::default().check().unwrap(),
@@ -401,12 +401,12 @@ fn table_1_shows_the_e0_star_the_responses_were_normalised_by() {
     let responses_only = Inputs::new()
         .with("material", Product::Table(common::material()))
         .with(
-            "responses_linear.T2",
+            "responses.T2.icm-linear",
             Product::Table(common::response_at(51, 0.3, true, poisson)),
         );
     let e = run_with(&ReportParams::default(), &responses_only).unwrap_err();
     assert!(
-        e.contains("responses_linear.T2") && e.contains("`poisson`"),
+        e.contains("responses.T2.icm-linear") && e.contains("`poisson`"),
         "{e}"
     );
 
@@ -438,12 +438,12 @@ fn with_bem(hyperelastic_samples: usize) -> Inputs {
     for (i, (label, _, _, _, scale)) in SAMPLES.iter().enumerate() {
         if i < hyperelastic_samples {
             inputs.insert(
-                &format!("responses_bem.{label}"),
+                &format!("responses.{label}.bem"),
                 table(common::response(LEVELS, 1.25 * scale, false)),
             );
         }
         inputs.insert(
-            &format!("responses_bem_linear.{label}"),
+            &format!("responses.{label}.bem-linear"),
             table(common::response(LEVELS, 0.8 * scale, true)),
         );
     }
@@ -454,40 +454,56 @@ fn with_bem(hyperelastic_samples: usize) -> Inputs {
 fn bem_responses_add_curves_and_the_icm_bem_load_ratio_table() {
     let plain = run(&common::inputs(ALL, MAP_N, LEVELS));
     // T4 has no hyperelastic BEM: its hyperelastic ratio is absent, not 0.
-    let files = run(&with_bem(3));
+    // Each law is compared with itself: the ICM with the hyperelastic BEM
+    // as the reference, the linear ICM with the linear BEM.
+    let inputs = with_bem(3);
+    let files = run(&inputs);
+    let linear_reference = ReportParams {
+        reference_model: Some("bem-linear".into()),
+        ..common::wired_params(&inputs)
+    };
+    let linear_files = run_with(&linear_reference, &inputs).unwrap();
     let summary: Value = serde_json::from_slice(&files.files["summary.json"]).unwrap();
+    let linear_summary: Value =
+        serde_json::from_slice(&linear_files.files["summary.json"]).unwrap();
     for (i, s) in summary["samples"].as_array().unwrap().iter().enumerate() {
         let scale = SAMPLES[i].4;
-        for (l, a) in s["load_norm"]
+        let linear_loads = &linear_summary["samples"][i]["load_norm"];
+        for ((k, l), a) in s["load_norm"]
             .as_array()
             .unwrap()
             .iter()
+            .enumerate()
             .zip([0.1f64, 0.5, 0.9])
         {
             // The hyperelastic loads are a^1.5 sampled and interpolated
             // alike, so their ratio is the factor to rounding.
-            match l["icm_over_bem"].as_f64() {
+            match l["over_reference"]["icm"].as_f64() {
                 Some(r) => {
                     assert!(i < 3);
                     assert!((r - 0.8).abs() < 1e-12, "{a}: {r}");
-                    let bem = l["bem_hyperelastic"].as_f64().unwrap();
+                    let bem = l["load_norm"]["bem"].as_f64().unwrap();
                     assert!((bem / (1.25 * scale * a.powf(1.5)) - 1.0).abs() < 0.01);
                 }
-                None => assert!(i == 3 && l["bem_hyperelastic"].is_null()),
+                None => assert!(i == 3 && l["load_norm"]["bem"].is_null()),
             }
-            let r = l["icm_over_bem_linear"].as_f64().unwrap();
+            let r = linear_loads[k]["over_reference"]["icm-linear"]
+                .as_f64()
+                .unwrap();
             assert!((r - 1.25).abs() < 1e-12, "{a}: {r}");
         }
     }
     let html = text(&files, "index.html");
-    let table = &html[html.find("F_ICM / F_BEM").expect("the ratio table")..];
+    let table = &html[html.find("F_model / F_bem at").expect("the ratio table")..];
     let table = &table[..table.find("</table>").unwrap()];
-    assert!(table.contains("<td>T1</td><td>hyperelastic</td><td>0.8</td><td>0.8</td><td>0.8</td>"));
-    assert!(table.contains("<td>T4</td><td>linear</td><td>1.25</td>"));
-    assert!(!table.contains("<td>T4</td><td>hyperelastic</td>"));
-    assert!(!text(&plain, "index.html").contains("F_ICM / F_BEM"));
+    assert!(table.contains("<td>T1</td><td>icm</td><td>0.8</td><td>0.8</td><td>0.8</td>"));
+    assert!(!table.contains("<td>T4</td><td>icm</td>"));
+    let linear_html = text(&linear_files, "index.html");
+    let table = &linear_html[linear_html.find("F_model / F_bem-linear").unwrap()..];
+    assert!(table.contains("<td>T4</td><td>icm-linear</td><td>1.25</td>"));
+    assert!(!text(&plain, "index.html").contains("F_model / F_"));
     // Fig. 7 turns into a panel per sample (each titled), with every curve
-    // drawn; Fig. 8 adds the dotted hyperelastic BEM (many short segments).
+    // drawn; Fig. 8 adds the hyperelastic BEM.
     let polylines = |f: &Files, fig: &str, w, h| {
         assert_svg(fig, &text(f, &format!("{fig}.svg")), w, h)["polyline"]
     };
@@ -495,11 +511,21 @@ fn bem_responses_add_curves_and_the_icm_bem_load_ratio_table() {
     for label in ["T1", "T2", "T3", "T4"] {
         assert!(fig7.contains(label), "no panel {label}");
     }
-    assert!(fig7.contains("hyperelastic BEM") && fig7.contains("linear BEM"));
-    assert!(!text(&plain, "fig7.svg").contains("BEM"));
+    // Both labels in the key: `bem` also on its own, not only in `bem-linear`.
+    assert!(fig7.matches("bem").count() > fig7.matches("bem-linear").count());
+    assert!(fig7.contains("bem-linear"));
+    assert!(!text(&plain, "fig7.svg").contains("bem"));
     assert!(polylines(&files, "fig7", 1200, 900) >= polylines(&plain, "fig7", 900, 600) + 3);
-    assert!(polylines(&files, "fig8", 900, 600) > polylines(&plain, "fig8", 900, 600) + 100);
-    assert!(text(&files, "fig8.svg").contains("hyperelastic BEM"));
+    // Fig. 8 draws every nonlinear model: the BEM's curve on each of the
+    // three samples that have one is added to the ICM's and the theories'.
+    // Strokes follow the models drawn, so the counts of segments are not
+    // comparable across the two: the curves differ and the key names them.
+    assert_ne!(text(&files, "fig8.svg"), text(&plain, "fig8.svg"));
+    let fig8 = text(&files, "fig8.svg");
+    for model in ["icm", "bem", "persson", "gw"] {
+        assert!(fig8.contains(model), "{model} not in Fig. 8's key");
+    }
+    assert!(!fig8.contains("linear"), "a linear law's ratio is drawn");
 }
 
 #[test]
@@ -507,15 +533,15 @@ fn bem_alone_draws_figs_7_and_8() {
     let mut inputs = Inputs::new();
     let (label, _, _, _, scale) = SAMPLES[0];
     inputs.insert(
-        &format!("responses_bem.{label}"),
+        &format!("responses.{label}.bem"),
         std::sync::Arc::new(Product::Table(common::response(LEVELS, scale, false))),
     );
     let files = run(&inputs);
     assert!(files.files.contains_key("fig7.png") && files.files.contains_key("fig8.png"));
     let summary: Value = serde_json::from_slice(&files.files["summary.json"]).unwrap();
     let l = &summary["samples"][0]["load_norm"][1];
-    assert!(l["bem_hyperelastic"].as_f64().is_some());
-    assert!(l["hyperelastic"].is_null() && l["icm_over_bem"].is_null());
+    assert!(l["load_norm"]["bem"].as_f64().is_some());
+    assert!(l["load_norm"]["icm"].is_null() && l["over_reference"]["icm"].is_null());
 }
 
 /// A 40 × 40 RGB PNG of one colour.
@@ -527,7 +553,9 @@ fn flat_png(rgb: [u8; 3]) -> Vec<u8> {
 
 /// T1 with the contact experiment and contact-compare's products.
 fn with_experiment() -> Inputs {
-    use hypercontact_compare::stage::{AgreementTable, LoadRatioTable, TransformTable};
+    use hypercontact_compare::stage::{
+        AgreementTable, FigureIndex, LoadRatioTable, TransformTable,
+    };
     use hypercontact_contact_images::stage::ContactTable;
     let mut inputs = common::inputs(ALL, MAP_N, LEVELS);
     let table = |t: Table| std::sync::Arc::new(Product::Table(t));
@@ -579,14 +607,19 @@ fn with_experiment() -> Inputs {
         .with("observed_a0.500.png", flat_png([0, 0, 0]))
         .with("predicted_truncation_a0.500.png", flat_png([255, 255, 255]))
         .with("overlay_truncation_a0.500.png", flat_png([213, 94, 0]))
-        .with(
-            "figures.csv",
-            b"model,requested_area_fraction,area_fraction,model_area_fraction,frame,observed_file,\
-              predicted_file,overlay_file,pixel_m,width_px,height_px\n\
-              truncation,0.5,0.6,0.6,5,observed_a0.500.png,predicted_truncation_a0.500.png,\
-              overlay_truncation_a0.500.png,1e-5,40,40\n"
-                .to_vec(),
-        );
+        .with_index(FigureIndex {
+            model: vec!["truncation".into()],
+            requested_area_fraction: vec![0.5],
+            area_fraction: vec![0.6],
+            model_area_fraction: vec![0.6],
+            frame: vec![5],
+            observed_file: vec!["observed_a0.500.png".into()],
+            predicted_file: vec!["predicted_truncation_a0.500.png".into()],
+            overlay_file: vec!["overlay_truncation_a0.500.png".into()],
+            pixel_m: vec![1e-5],
+            width_px: vec![40],
+            height_px: vec![40],
+        });
     inputs.insert(
         "compare_figures.T1",
         std::sync::Arc::new(Product::Files(figures)),
@@ -634,7 +667,7 @@ fn the_experiment_adds_fig6_its_points_in_fig7_and_the_agreement_table() {
     assert!(t1["load_ratio"][1]["load_ratio"].is_null());
     assert_eq!(t1["transform"]["angle_deg"], 2.5);
     assert!(summary["samples"][1]["agreement"].is_null());
-    // A figures product without its listing is named.
+    // A figures product without its index is named.
     let mut broken = with_experiment();
     broken.insert(
         "compare_figures.T1",
@@ -642,7 +675,7 @@ fn the_experiment_adds_fig6_its_points_in_fig7_and_the_agreement_table() {
     );
     let e = run_with(&ReportParams::default(), &broken).unwrap_err();
     assert!(
-        e.contains("compare_figures.T1") && e.contains("figures.csv"),
+        e.contains("compare_figures.T1") && e.contains("index"),
         "{e}"
     );
 }

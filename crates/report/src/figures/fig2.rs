@@ -24,6 +24,154 @@ pub struct Fig2<'a> {
     pub stability: Option<&'a [StabilityRange]>,
 }
 
+/// Fig. 2's axes: stretch from `x_min` to `x_max`, stress (MPa) from
+/// `y_min` to `y_max`.
+#[derive(Clone, Copy)]
+struct Ranges {
+    x_min: f64,
+    x_max: f64,
+    y_min: f64,
+    y_max: f64,
+}
+
+type Chart<'c, DB> = ChartContext<'c, DB, Cartesian2d<Axis, Axis>>;
+
+impl Fig2<'_> {
+    fn ranges(&self) -> Ranges {
+        let all = |f: fn(&ModeCurve) -> &Vec<f64>| self.curves.iter().flat_map(f).copied();
+        let (x_min, x_max) = min_max(all(|c| &c.stretch));
+        let (y_min, y_max) = min_max(all(|c| &c.measured_pa).chain(all(|c| &c.fitted_pa)));
+        let x_min = x_min.min(1.0);
+        let pad = 0.03 * (x_max - x_min).max(1e-3);
+        // Stress in MPa, from zero (the unstrained state) unless compressive.
+        let (y_min, y_max) = (y_min.min(0.0) / 1e6, y_max / 1e6);
+        let y_pad = 0.05 * (y_max - y_min).max(1e-9);
+        Ranges {
+            x_min: x_min - pad,
+            x_max: x_max + pad,
+            y_min: if y_min < 0.0 { y_min - y_pad } else { 0.0 },
+            y_max: y_max + y_pad,
+        }
+    }
+
+    /// One mode: the fitted line, its legend swatch and the measured
+    /// symbols (at most [`MAX_SYMBOLS`]).
+    fn draw_mode<'c, DB: DrawingBackend + 'c>(
+        &self,
+        chart: &mut Chart<'c, DB>,
+        sizes: TextSizes,
+        curve: &ModeCurve,
+        i: usize,
+    ) -> Result<(), ReportError> {
+        let err = |e| ReportError::plot(self.name(), e);
+        let colour = mode_colour(&curve.mode, i);
+        let line = colour.stroke_width(3);
+        let label = match self.r2_by_mode.get(&curve.mode) {
+            Some(r2) if r2.is_finite() => format!("{}  (R² = {r2:.4})", curve.mode),
+            _ => curve.mode.clone(),
+        };
+        let r = (sizes.tick * 0.32) as i32;
+        let series = chart
+            .draw_series(LineSeries::new(
+                curve
+                    .stretch
+                    .iter()
+                    .zip(&curve.fitted_pa)
+                    .map(|(&s, &f)| (s, f / 1e6)),
+                line,
+            ))
+            .map_err(err)?;
+        series.label(label);
+        // Swatch: the fitted line with the measured symbol on it.
+        let stroke = colour.stroke_width(2);
+        let fill = WHITE.filled();
+        let swatch = move |(x, y): (i32, i32)| {
+            EmptyElement::at((x, y)) + PathElement::new(vec![(0, 0), (44, 0)], line)
+        };
+        match Symbol::of(&curve.mode) {
+            Symbol::Circle => series.legend(move |p| {
+                swatch(p) + Circle::new((22, 0), r, fill) + Circle::new((22, 0), r, stroke)
+            }),
+            Symbol::Square => series.legend(move |p| {
+                swatch(p)
+                    + Rectangle::new([(22 - r, -r), (22 + r, r)], fill)
+                    + Rectangle::new([(22 - r, -r), (22 + r, r)], stroke)
+            }),
+            Symbol::Triangle => series.legend(move |p| {
+                swatch(p)
+                    + Polygon::new(triangle((22, 0), r), fill)
+                    + PathElement::new(triangle((22, 0), r), stroke)
+            }),
+        };
+        let step = curve.stretch.len().div_ceil(MAX_SYMBOLS).max(1);
+        let symbols: Vec<(f64, f64)> = curve
+            .stretch
+            .iter()
+            .zip(&curve.measured_pa)
+            .step_by(step)
+            .map(|(&s, &m)| (s, m / 1e6))
+            .collect();
+        match Symbol::of(&curve.mode) {
+            Symbol::Circle => chart.draw_series(symbols.into_iter().map(|at| {
+                EmptyElement::at(at) + Circle::new((0, 0), r, fill) + Circle::new((0, 0), r, stroke)
+            })),
+            Symbol::Square => chart.draw_series(symbols.into_iter().map(|at| {
+                EmptyElement::at(at)
+                    + Rectangle::new([(-r, -r), (r, r)], fill)
+                    + Rectangle::new([(-r, -r), (r, r)], stroke)
+            })),
+            Symbol::Triangle => chart.draw_series(symbols.into_iter().map(|at| {
+                EmptyElement::at(at)
+                    + Polygon::new(triangle((0, 0), r), fill)
+                    + PathElement::new(triangle((0, 0), r), stroke)
+            })),
+        }
+        .map_err(err)?;
+        Ok(())
+    }
+
+    /// The Drucker stability limits inside the plotted range, dashed in
+    /// their mode's colour and listed in the legend.
+    fn draw_stability<'c, DB: DrawingBackend + 'c>(
+        &self,
+        chart: &mut Chart<'c, DB>,
+        ranges: Ranges,
+    ) -> Result<(), ReportError> {
+        let err = |e| ReportError::plot(self.name(), e);
+        let Some(stability) = self.stability else {
+            return Ok(());
+        };
+        for range in stability {
+            let index = self
+                .curves
+                .iter()
+                .position(|c| c.mode == range.mode)
+                .unwrap_or(3);
+            let colour = mode_colour(&range.mode, index);
+            for (limit, side) in [(range.lambda_max, "≤"), (range.lambda_min, "≥")] {
+                if !(limit.is_finite() && limit > ranges.x_min && limit < ranges.x_max) {
+                    continue;
+                }
+                let style = colour.stroke_width(2);
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        [(limit, ranges.y_min), (limit, ranges.y_max)],
+                        7,
+                        6,
+                        style,
+                    ))
+                    .map_err(err)?
+                    .label(format!(
+                        "{} Drucker-stable for λ {side} {limit:.3}",
+                        range.mode
+                    ))
+                    .legend(move |p| dashed_swatch(p, 44, style));
+            }
+        }
+        Ok(())
+    }
+}
+
 impl Figure for Fig2<'_> {
     fn name(&self) -> &'static str {
         "fig2"
@@ -41,24 +189,16 @@ impl Figure for Fig2<'_> {
         let name = self.name();
         let err = |e| ReportError::plot(name, e);
         let sizes = TextSizes::for_width(self.size_px().0);
-        let all = |f: fn(&ModeCurve) -> &Vec<f64>| self.curves.iter().flat_map(f).copied();
-        let (mut x_min, mut x_max) = min_max(all(|c| &c.stretch));
-        let (mut y_min, mut y_max) = min_max(all(|c| &c.measured_pa).chain(all(|c| &c.fitted_pa)));
-        x_min = x_min.min(1.0);
-        let pad = 0.03 * (x_max - x_min).max(1e-3);
-        (x_min, x_max) = (x_min - pad, x_max + pad);
-        // Stress in MPa, from zero (the unstrained state) unless compressive.
-        (y_min, y_max) = (y_min.min(0.0) / 1e6, y_max / 1e6);
-        let y_pad = 0.05 * (y_max - y_min).max(1e-9);
-        let y_max = y_max + y_pad;
-        let y_min = if y_min < 0.0 { y_min - y_pad } else { 0.0 };
-
+        let ranges = self.ranges();
         let mut chart = ChartBuilder::on(root)
             .margin(20)
             .margin_right(35)
             .x_label_area_size(sizes.label * 2.9)
             .y_label_area_size(sizes.label * 3.6)
-            .build_cartesian_2d(Axis::new(x_min, x_max, 9), Axis::new(y_min, y_max, 8))
+            .build_cartesian_2d(
+                Axis::new(ranges.x_min, ranges.x_max, 9),
+                Axis::new(ranges.y_min, ranges.y_max, 8),
+            )
             .map_err(err)?;
         draw_axes(
             &mut chart,
@@ -70,105 +210,10 @@ impl Figure for Fig2<'_> {
             &|v| tick_linear(*v),
             (8, 8),
         )?;
-
         for (i, curve) in self.curves.iter().enumerate() {
-            let colour = mode_colour(&curve.mode, i);
-            let line = colour.stroke_width(3);
-            let label = match self.r2_by_mode.get(&curve.mode) {
-                Some(r2) if r2.is_finite() => format!("{}  (R² = {r2:.4})", curve.mode),
-                _ => curve.mode.clone(),
-            };
-            let r = (sizes.tick * 0.32) as i32;
-            let series = chart
-                .draw_series(LineSeries::new(
-                    curve
-                        .stretch
-                        .iter()
-                        .zip(&curve.fitted_pa)
-                        .map(|(&s, &f)| (s, f / 1e6)),
-                    line,
-                ))
-                .map_err(err)?;
-            series.label(label);
-            // Swatch: the fitted line with the measured symbol on it.
-            let stroke = colour.stroke_width(2);
-            let fill = WHITE.filled();
-            let swatch = move |(x, y): (i32, i32)| {
-                EmptyElement::at((x, y)) + PathElement::new(vec![(0, 0), (44, 0)], line)
-            };
-            match Symbol::of(&curve.mode) {
-                Symbol::Circle => series.legend(move |p| {
-                    swatch(p) + Circle::new((22, 0), r, fill) + Circle::new((22, 0), r, stroke)
-                }),
-                Symbol::Square => series.legend(move |p| {
-                    swatch(p)
-                        + Rectangle::new([(22 - r, -r), (22 + r, r)], fill)
-                        + Rectangle::new([(22 - r, -r), (22 + r, r)], stroke)
-                }),
-                Symbol::Triangle => series.legend(move |p| {
-                    swatch(p)
-                        + Polygon::new(triangle((22, 0), r), fill)
-                        + PathElement::new(triangle((22, 0), r), stroke)
-                }),
-            };
-            let step = curve.stretch.len().div_ceil(MAX_SYMBOLS).max(1);
-            let symbols: Vec<(f64, f64)> = curve
-                .stretch
-                .iter()
-                .zip(&curve.measured_pa)
-                .step_by(step)
-                .map(|(&s, &m)| (s, m / 1e6))
-                .collect();
-            match Symbol::of(&curve.mode) {
-                Symbol::Circle => chart.draw_series(symbols.into_iter().map(|at| {
-                    EmptyElement::at(at)
-                        + Circle::new((0, 0), r, fill)
-                        + Circle::new((0, 0), r, stroke)
-                })),
-                Symbol::Square => chart.draw_series(symbols.into_iter().map(|at| {
-                    EmptyElement::at(at)
-                        + Rectangle::new([(-r, -r), (r, r)], fill)
-                        + Rectangle::new([(-r, -r), (r, r)], stroke)
-                })),
-                Symbol::Triangle => chart.draw_series(symbols.into_iter().map(|at| {
-                    EmptyElement::at(at)
-                        + Polygon::new(triangle((0, 0), r), fill)
-                        + PathElement::new(triangle((0, 0), r), stroke)
-                })),
-            }
-            .map_err(err)?;
+            self.draw_mode(&mut chart, sizes, curve, i)?;
         }
-
-        if let Some(stability) = self.stability {
-            for range in stability {
-                let index = self
-                    .curves
-                    .iter()
-                    .position(|c| c.mode == range.mode)
-                    .unwrap_or(3);
-                let colour = mode_colour(&range.mode, index);
-                for (limit, side) in [(range.lambda_max, "≤"), (range.lambda_min, "≥")] {
-                    if !(limit.is_finite() && limit > x_min && limit < x_max) {
-                        continue;
-                    }
-                    let style = colour.stroke_width(2);
-                    chart
-                        .draw_series(DashedLineSeries::new(
-                            [(limit, y_min), (limit, y_max)],
-                            7,
-                            6,
-                            style,
-                        ))
-                        .map_err(err)?
-                        .label(format!(
-                            "{} Drucker-stable for λ {side} {limit:.3}",
-                            range.mode
-                        ))
-                        .legend(move |p| dashed_swatch(p, 44, style));
-                }
-            }
-        }
-
+        self.draw_stability(&mut chart, ranges)?;
         chart
             .configure_series_labels()
             .position(SeriesLabelPosition::LowerRight)

@@ -274,7 +274,21 @@ fn draw_map<DB: DrawingBackend>(
     .map_err(err)?;
 
     // Colour bar: heights above the lowest measured point, µm.
-    let (lo_um, hi_um) = ((lo - lowest) * 1e6, (hi - lowest) * 1e6);
+    let heights_um = ((lo - lowest) * 1e6, (hi - lowest) * 1e6);
+    draw_colour_bar(figure, area, (x0, y0), (w, h), heights_um)
+}
+
+/// The colour bar right of a map drawn at `(x0, y0)`, `w` × `h` pixels:
+/// viridis over the heights `lo_um`…`hi_um` with their ticks.
+fn draw_colour_bar<DB: DrawingBackend>(
+    figure: &str,
+    area: &DrawingArea<DB, Shift>,
+    (x0, y0): (i32, i32),
+    (w, h): (usize, usize),
+    (lo_um, hi_um): (f64, f64),
+) -> Result<(), ReportError> {
+    let err = |e| ReportError::plot(figure, e);
+    let (panel_w, _) = area.dim_in_pixel();
     let cbar_x = x0 + w as i32 + 18;
     let cbar = area.clone().shrink(
         (cbar_x, y0 - (TICK_PX * 0.5) as i32),

@@ -2,143 +2,101 @@
 //! fraction A/A0, on a logarithmic load axis so the early contact, where the
 //! models differ most in relative terms, stays visible.
 //!
-//! With the incremental contact model alone it is the paper's single panel:
-//! every sample in its colour, hyperelastic ICM solid and linear (Wang's
-//! original) ICM dashed. Where boundary-element responses or the contact
-//! experiment are wired, one panel per sample on common axes instead
+//! With the models of one family alone (a label and its variants, e.g. a
+//! model and its linear law) it is the paper's single panel: every sample
+//! in its colour, a nonlinear law solid and a linear law (tangent ratio 1
+//! throughout) dashed. Where models of several families or the contact
+//! experiment are drawn, one panel per sample on common axes instead
 //! (sixteen curves in one panel cannot be told apart), as the paper draws
 //! model against experiment: the experiment as circles (Okabe–Ito blue),
-//! the models as lines, colour = model (ICM black, BEM vermillion), stroke =
-//! law (hyperelastic ICM solid, linear ICM dashed, hyperelastic BEM dotted,
-//! linear BEM dashed).
+//! the models as lines, colour = the model's family (the roster's), stroke
+//! = law.
 //!
-//! Where the hyperelastic ICM's bootstrap band is wired (icm's `bands`), it
-//! is shaded under the curves between its 5th and 95th percentiles: in the
-//! sample's colour in the single panel, in the ICM's colour (grey) in the
-//! per-sample panels, where colour tells the models apart and a band in
-//! T1's blue would read as the experiment's.
+//! A model's bootstrap band, where wired, is shaded under the curves
+//! between its 5th and 95th percentiles: in the sample's colour in the
+//! single panel, in the model's colour in the per-sample panels, where
+//! colour tells the models apart.
 //!
-//! Fig. 9 (`comparison`) is the same plot for the contact models side by
-//! side, one panel per sample: hyperelastic and linear ICM, hyperelastic
-//! BEM, Persson's theory (Okabe–Ito bluish green) and Greenwood–Williamson
-//! (reddish purple), with the experiment where wired.
+//! Fig. 9 (`comparison`) is the same plot for the models chosen to be
+//! compared side by side (`fig9_models`), one panel per sample, with the
+//! experiment where wired and without bands.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plotting::{
     Axis, Figure, LegendEntry, Line, Rasters, TextSizes, band_legend, draw_axes, draw_band,
-    draw_curve, draw_legend, sample_colour, thin, tick_decade, tick_linear,
+    draw_curve, draw_legend, model_colour, sample_colour, thin, tick_decade, tick_linear,
 };
 use crate::ReportError;
 use crate::band::{Band, runs};
 use crate::gather::Response;
+use crate::roster::ModelKey;
 
-/// One sample's curves: label, colour index, and each contact model's
+/// One model's curve on one sample.
+#[derive(Clone, Copy)]
+pub struct Drawn<'a> {
+    pub key: &'a ModelKey,
+    pub response: &'a Response,
+}
+
+/// One sample's curves: label, colour index, and each drawn model's
 /// response where wired.
 pub struct SampleResponses<'a> {
     pub label: &'a str,
     pub colour_index: usize,
-    /// Hyperelastic ICM.
-    pub hyperelastic: Option<&'a Response>,
-    /// Linear ICM.
-    pub linear: Option<&'a Response>,
-    /// Hyperelastic boundary elements.
-    pub bem: Option<&'a Response>,
-    /// Linear boundary elements.
-    pub bem_linear: Option<&'a Response>,
-    /// Persson's theory and Greenwood–Williamson (Fig. 9).
-    pub persson: Option<&'a Response>,
-    pub gw: Option<&'a Response>,
+    /// In the roster's order.
+    pub curves: Vec<Drawn<'a>>,
     /// The contact experiment: (A/A0, F/(E0* A0)), positive loads only.
     pub experiment: Option<Response>,
-    /// The hyperelastic ICM's 5–95 % bootstrap band (Figs. 7 and 8).
-    pub band: Option<&'a Band>,
+    /// The drawn models' 5–95 % bootstrap bands (Figs. 7 and 8).
+    pub bands: Vec<(&'a ModelKey, &'a Band)>,
 }
 
-/// The curves a sample can have.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Curve {
-    Icm,
-    IcmLinear,
-    Bem,
-    BemLinear,
-    Persson,
-    Gw,
-}
-
-impl Curve {
-    const ALL: [Curve; 6] = [
-        Curve::Icm,
-        Curve::IcmLinear,
-        Curve::Bem,
-        Curve::BemLinear,
-        Curve::Persson,
-        Curve::Gw,
-    ];
-
-    fn name(self) -> &'static str {
-        match self {
-            Curve::Icm => "hyperelastic ICM",
-            Curve::IcmLinear => "linear ICM",
-            Curve::Bem => "hyperelastic BEM",
-            Curve::BemLinear => "linear BEM",
-            Curve::Persson => "Persson",
-            Curve::Gw => "GW (asperities)",
-        }
-    }
-
-    fn line(self) -> Line {
-        match self {
-            Curve::Icm | Curve::Persson | Curve::Gw => Line::Solid,
-            Curve::Bem => Line::Dotted,
-            Curve::IcmLinear | Curve::BemLinear => Line::Dashed,
-        }
-    }
-
-    fn is_bem(self) -> bool {
-        matches!(self, Curve::Bem | Curve::BemLinear)
-    }
-
-    /// The model's colour in the per-sample panels.
-    fn colour(self) -> RGBColor {
-        match self {
-            Curve::Icm | Curve::IcmLinear => ICM_COLOUR,
-            Curve::Bem | Curve::BemLinear => BEM_COLOUR,
-            Curve::Persson => PERSSON_COLOUR,
-            Curve::Gw => GW_COLOUR,
-        }
+/// A model's stroke in Figs. 7 and 9: dashed for a linear law.
+pub fn law_line(key: &ModelKey) -> Line {
+    if key.linear {
+        Line::Dashed
+    } else {
+        Line::Solid
     }
 }
 
-/// The model colours of the per-sample panels (Okabe–Ito: vermillion for
-/// the boundary elements, bluish green for Persson, reddish purple for GW).
-const ICM_COLOUR: RGBColor = RGBColor(0, 0, 0);
-const BEM_COLOUR: RGBColor = RGBColor(213, 94, 0);
-const PERSSON_COLOUR: RGBColor = RGBColor(0, 158, 115);
-const GW_COLOUR: RGBColor = RGBColor(204, 121, 167);
+/// A model's style in the per-sample panels: its colour; black thinner,
+/// as it is the darkest.
+fn model_style(key: &ModelKey) -> ShapeStyle {
+    let width = if key.colour == 0 { 2 } else { 3 };
+    model_colour(key.colour).stroke_width(width)
+}
+
+/// The axes of Figs. 7, 8 and 9: A/A0 along x (six ticks), `y_desc`
+/// with `y_ticks` ticks formatted by `y_fmt` up the side.
+pub fn area_axes<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<Axis, Axis>>,
+    (name, sizes): (&str, TextSizes),
+    y_desc: &str,
+    y_fmt: &dyn Fn(&f64) -> String,
+    y_ticks: usize,
+) -> Result<(), ReportError> {
+    draw_axes(
+        chart,
+        name,
+        sizes,
+        "contact area fraction A/A₀",
+        y_desc,
+        &|v| tick_linear(*v),
+        y_fmt,
+        (6, y_ticks),
+    )
+}
+
 /// The experiment's symbols (Okabe–Ito blue).
 const EXPERIMENT_COLOUR: RGBColor = RGBColor(0, 114, 178);
 
-impl<'a> SampleResponses<'a> {
-    /// The wired curves, in the key's order.
-    pub fn curves(&self) -> impl Iterator<Item = (&'a Response, Curve)> + '_ {
-        [
-            self.hyperelastic,
-            self.linear,
-            self.bem,
-            self.bem_linear,
-            self.persson,
-            self.gw,
-        ]
-        .into_iter()
-        .zip(Curve::ALL)
-        .filter_map(|(r, c)| Some((r?, c)))
-    }
-}
-
 pub struct Fig7<'a> {
     pub samples: Vec<SampleResponses<'a>>,
+    /// The models drawn, in legend order.
+    pub models: Vec<&'a ModelKey>,
     /// Drawn as Fig. 9, the contact models compared (always per sample).
     pub comparison: bool,
 }
@@ -176,11 +134,10 @@ struct Ranges {
 
 impl Fig7<'_> {
     fn per_sample(&self) -> bool {
+        let families = |k: &&ModelKey| k.colour != self.models[0].colour;
         self.comparison
-            || self
-                .samples
-                .iter()
-                .any(|s| s.experiment.is_some() || s.curves().any(|(_, c)| c.is_bem()))
+            || self.samples.iter().any(|s| s.experiment.is_some())
+            || self.models.iter().any(families)
     }
 
     fn rows(&self) -> usize {
@@ -189,11 +146,18 @@ impl Fig7<'_> {
 
     fn ranges(&self) -> Ranges {
         let responses = || {
+            self.samples.iter().flat_map(|s| {
+                s.curves
+                    .iter()
+                    .map(|d| d.response)
+                    .chain(s.experiment.as_ref())
+            })
+        };
+        let bands = || {
             self.samples
                 .iter()
-                .flat_map(|s| s.curves().map(|(r, _)| r).chain(s.experiment.as_ref()))
+                .flat_map(|s| s.bands.iter().map(|b| b.1))
         };
-        let bands = || self.samples.iter().filter_map(|s| s.band);
         let loads = responses()
             .flat_map(|r| r.load_norm.iter().copied())
             .chain(bands().flat_map(|b| b.load_norm_p05.iter().chain(&b.load_norm_p95).copied()));
@@ -235,15 +199,12 @@ impl Fig7<'_> {
                 Axis::decades(e_lo, e_hi, 12),
             )
             .map_err(err)?;
-        draw_axes(
+        area_axes(
             &mut chart,
-            name,
-            sizes,
-            "contact area fraction A/A₀",
+            (name, sizes),
             "normalised load F/(E₀* A₀)",
-            &|v| tick_linear(*v),
             &|v| tick_decade(*v),
-            (6, (e_hi - e_lo) as usize + 1),
+            (e_hi - e_lo) as usize + 1,
         )?;
         // Drawn as log10 on a linear axis, so decade ticks are exact; a
         // band edge at or below zero cannot be, and splits the band there.
@@ -280,31 +241,27 @@ impl Fig7<'_> {
         let bands: Vec<(&Band, RGBColor)> = self
             .samples
             .iter()
-            .filter_map(|s| Some((s.band?, sample_colour(s.colour_index))))
+            .flat_map(|s| s.bands.iter().map(|b| (b.1, sample_colour(s.colour_index))))
             .collect();
         for s in &self.samples {
             let style = sample_colour(s.colour_index).stroke_width(3);
-            let mut first = None;
-            for (r, c) in s.curves() {
-                curves.push((r, style, c.line()));
-                first.get_or_insert(c.line());
+            for d in &s.curves {
+                curves.push((d.response, style, law_line(d.key)));
             }
             legend.push(LegendEntry {
                 label: s.label.to_owned(),
                 style,
-                line: first.unwrap_or(Line::Solid),
+                line: s.curves.first().map_or(Line::Solid, |d| law_line(d.key)),
             });
         }
         self.panel(plot, sizes, self.ranges(), None, &bands, &curves)?;
-        // Line-style key in black, after the colour key: only the kinds drawn.
-        for c in Curve::ALL {
-            if self.samples.iter().any(|s| s.curves().any(|(_, k)| k == c)) {
-                legend.push(LegendEntry {
-                    label: c.name().into(),
-                    style: BLACK.stroke_width(3),
-                    line: c.line(),
-                });
-            }
+        // Line-style key in black, after the colour key.
+        for key in &self.models {
+            legend.push(LegendEntry {
+                label: key.label.clone(),
+                style: BLACK.stroke_width(3),
+                line: law_line(key),
+            });
         }
         if !bands.is_empty() {
             // One key for every sample's band: grey, as the line-style key.
@@ -313,33 +270,36 @@ impl Fig7<'_> {
         Ok(legend)
     }
 
-    /// One panel per sample on common axes, a colour per model.
+    /// One panel per sample on common axes, a colour per model family.
     fn draw_per_sample<DB: DrawingBackend>(
         &self,
         plot: &DrawingArea<DB, Shift>,
     ) -> Result<Vec<LegendEntry>, ReportError> {
         let sizes = TextSizes::panel(20.0);
         let ranges = self.ranges();
-        let style = |c: Curve| {
-            c.colour()
-                .stroke_width(if c.colour() == ICM_COLOUR { 2 } else { 3 })
-        };
         let panels = plot.split_evenly((self.rows(), COLUMNS));
         let measured = EXPERIMENT_COLOUR.stroke_width(2);
         for (area, s) in panels.iter().zip(&self.samples) {
-            let mut curves: Vec<_> = s.curves().map(|(r, c)| (r, style(c), c.line())).collect();
+            let mut curves: Vec<_> = s
+                .curves
+                .iter()
+                .map(|d| (d.response, model_style(d.key), law_line(d.key)))
+                .collect();
             curves.extend(s.experiment.as_ref().map(|e| (e, measured, Line::Circles)));
-            let bands: Vec<(&Band, RGBColor)> =
-                s.band.map(|b| (b, ICM_COLOUR)).into_iter().collect();
+            let bands: Vec<(&Band, RGBColor)> = s
+                .bands
+                .iter()
+                .map(|&(key, band)| (band, model_colour(key.colour)))
+                .collect();
             self.panel(area, sizes, ranges, Some(s.label), &bands, &curves)?;
         }
-        let mut legend: Vec<LegendEntry> = Curve::ALL
-            .into_iter()
-            .filter(|&c| self.samples.iter().any(|s| s.curves().any(|(_, k)| k == c)))
-            .map(|c| LegendEntry {
-                label: c.name().into(),
-                style: style(c),
-                line: c.line(),
+        let mut legend: Vec<LegendEntry> = self
+            .models
+            .iter()
+            .map(|key| LegendEntry {
+                label: key.label.clone(),
+                style: model_style(key),
+                line: law_line(key),
             })
             .collect();
         if self.samples.iter().any(|s| s.experiment.is_some()) {
@@ -349,8 +309,12 @@ impl Fig7<'_> {
                 line: Line::Circles,
             });
         }
-        if self.samples.iter().any(|s| s.band.is_some()) {
-            legend.push(band_legend(ICM_COLOUR));
+        let mut banded: Vec<usize> = Vec::new();
+        for (key, _) in self.samples.iter().flat_map(|s| &s.bands) {
+            if !banded.contains(&key.colour) {
+                banded.push(key.colour);
+                legend.push(band_legend(model_colour(key.colour)));
+            }
         }
         Ok(legend)
     }

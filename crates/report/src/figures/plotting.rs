@@ -96,6 +96,17 @@ pub fn sample_colour(index: usize) -> RGBColor {
     PALETTE[index % PALETTE.len()]
 }
 
+/// Colour of contact-model family number `index` in the per-sample panels
+/// (the report's roster order): black, then Okabe–Ito's colours without
+/// the blue the experiment's symbols take.
+pub fn model_colour(index: usize) -> RGBColor {
+    // The samples' palette after its blue, behind black.
+    match index % 7 {
+        0 => RGBColor(0, 0, 0),
+        k => sample_colour(k),
+    }
+}
+
 /// Colour of a tensile mode in Fig. 2 (a label that is no mode gets a
 /// sample colour).
 pub fn mode_colour(mode: &str, index: usize) -> RGBColor {

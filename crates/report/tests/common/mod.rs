@@ -467,21 +467,21 @@ pub fn inputs_at(wiring: Wiring, map_n: usize, levels: usize, poisson: f64) -> I
         }
         if wiring.responses {
             inputs.insert(
-                &format!("responses.{label}"),
+                &format!("responses.{label}.icm"),
                 table(response_at(levels, *scale, false, poisson)),
             );
             // The theories from the spectrum (Fig. 9): stiffer and softer
             // than the ICM by a constant factor.
-            for (input, factor) in [("responses_persson", 1.5), ("responses_gw", 2.5)] {
+            for (model, factor) in [("persson", 1.5), ("gw", 2.5)] {
                 inputs.insert(
-                    &format!("{input}.{label}"),
+                    &format!("responses.{label}.{model}"),
                     table(response_at(levels, scale * factor, false, poisson)),
                 );
             }
         }
         if wiring.linear {
             inputs.insert(
-                &format!("responses_linear.{label}"),
+                &format!("responses.{label}.icm-linear"),
                 table(response_at(levels, *scale, true, poisson)),
             );
         }
@@ -497,7 +497,7 @@ pub fn with_bands(mut inputs: Inputs, levels: usize) -> Inputs {
     for (i, (label, _, _, _, scale)) in SAMPLES.iter().enumerate() {
         let reached = if i == 3 { 0.7 } else { 1.0 };
         inputs.insert(
-            &format!("bands.{label}"),
+            &format!("bands.{label}.icm"),
             table(band(levels, *scale, reached)),
         );
     }
@@ -507,9 +507,44 @@ pub fn with_bands(mut inputs: Inputs, levels: usize) -> Inputs {
     inputs
 }
 
-/// The report stage's files for `inputs` at the default parameters.
+/// The report's parameters as the paper pipeline sets them: the models'
+/// order, the summary's models and the load ratios' reference.
+pub fn paper_params() -> ReportParams {
+    let labels = |l: &[&str]| l.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+    ReportParams {
+        models: labels(&["icm", "icm-linear", "bem", "bem-linear", "persson", "gw"]),
+        fig7_models: labels(&["icm", "icm-linear", "bem", "bem-linear"]),
+        fig9_models: labels(&["icm", "icm-linear", "bem", "persson", "gw"]),
+        summary_models: labels(&["icm", "icm-linear"]),
+        reference_model: Some("bem".into()),
+        ..ReportParams::default()
+    }
+}
+
+/// The report stage's files for `inputs` at the paper pipeline's
+/// parameters, with the model labels not wired left out of them.
 pub fn run(inputs: &Inputs) -> Files {
-    run_with(&ReportParams::default(), inputs).expect("the report renders")
+    run_with(&wired_params(inputs), inputs).expect("the report renders")
+}
+
+/// [`paper_params`] keeping only the labels `inputs` wire.
+pub fn wired_params(inputs: &Inputs) -> ReportParams {
+    let wired: Vec<String> = inputs
+        .nested("responses")
+        .into_iter()
+        .map(|(_, model, _)| model.to_owned())
+        .collect();
+    let keep =
+        |l: Vec<String>| -> Vec<String> { l.into_iter().filter(|m| wired.contains(m)).collect() };
+    let p = paper_params();
+    ReportParams {
+        models: keep(p.models),
+        fig7_models: keep(p.fig7_models),
+        fig9_models: keep(p.fig9_models),
+        summary_models: keep(p.summary_models),
+        reference_model: p.reference_model.filter(|r| wired.contains(r)),
+        ..p
+    }
 }
 
 /// The report stage's files, or its error as text.
