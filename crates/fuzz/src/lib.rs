@@ -1,6 +1,8 @@
-//! What the readers' property tests share (a dev-dependency only): one
-//! configuration, so every fuzz test in CI is bounded and seeded alike, and
-//! the byte splice and edits they mutate files with.
+//! What the property tests share (a dev-dependency only): one
+//! configuration, so every fuzz test in CI is bounded and seeded alike, the
+//! byte splice and edits the readers' tests mutate files with, and a run in
+//! a pool of a given size for the tests that products are the same bits on
+//! any thread count.
 
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
@@ -52,6 +54,15 @@ pub fn byte_edits() -> impl Strategy<Value = Vec<(usize, usize, Vec<u8>)>> {
         ],
         1..5,
     )
+}
+
+/// `run`'s result computed in a rayon pool of `threads` threads.
+pub fn on_threads<T: Send>(threads: usize, run: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a rayon pool of the requested size")
+        .install(run)
 }
 
 #[cfg(test)]
