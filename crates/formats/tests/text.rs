@@ -9,7 +9,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{assert_same_map, check_fuzzed_map, expected_more, meta, more};
+use common::{assert_same_map, check_fuzzed_read, expected_more, meta, more};
 use hypercontact_formats::{Channel, Format, detect, read_bytes, read_bytes_channel};
 use hypercontact_fuzz::{byte_edits, config, splice};
 use proptest::prelude::*;
@@ -101,10 +101,7 @@ const FILES: [&str; 4] = [
 ];
 
 fn fuzz_bytes(bytes: &[u8], name: &str) -> Result<(), TestCaseError> {
-    if let Ok(map) = read_bytes(bytes, Some(Path::new(name))) {
-        check_fuzzed_map(&map, bytes.len())?;
-    }
-    Ok(())
+    check_fuzzed_read(read_bytes(bytes, Some(Path::new(name))), bytes.len())
 }
 
 proptest! {
