@@ -16,13 +16,7 @@ use hypercontact_synth::surface::SelfAffine;
 /// A non-periodic n × n crop of a 2n × 2n self-affine surface at 20 µm:
 /// H = 0.65, rms 15 µm, power from 5 mm down to 40 µm (T1 filtered at 20 µm).
 fn map(n: usize) -> Vec<f64> {
-    let surface = SelfAffine {
-        hurst: 0.65,
-        rms_m: 15e-6,
-        lambda_min_m: 40e-6,
-        lambda_max_m: 5e-3,
-    }
-    .non_periodic(n, n, 20e-6, 101);
+    let surface = SelfAffine::T1_LIKE.non_periodic(n, n, 20e-6, 101);
     surface.iter().copied().collect()
 }
 

@@ -10,7 +10,7 @@ use hypercontact_contact_images::Mask;
 use hypercontact_contact_images::label;
 use hypercontact_contact_images::stage::{ContactTable, SyncTable};
 use hypercontact_core::contact::ObservedMapIndex;
-use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Schema, Stage, Table};
+use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Schema, Stage};
 use hypercontact_synth::contact::{
     ContactTruthTable, RigTruthTable, SynthContact, SynthContactParams,
 };
@@ -50,16 +50,8 @@ fn lab(json: &str) -> Lab {
     let out = SynthContact
         .run(&p, &inputs, &Context::new("synth-contact"))
         .unwrap();
-    let files = |name: &str| match out.get(name) {
-        Some(Product::Files(f)) => f.clone(),
-        _ => panic!("no {name}"),
-    };
-    let table = |name: &str| -> Table {
-        match out.get(name) {
-            Some(Product::Table(t)) => t.clone(),
-            _ => panic!("no {name}"),
-        }
-    };
+    let files = |name: &str| out.get_files(name).expect(name).clone();
+    let table = |name: &str| out.get_table(name).expect(name).clone();
     Lab {
         sequence: files("sequence"),
         truth: ContactTruthTable::from_table(&table("truth")).unwrap(),

@@ -26,6 +26,7 @@
 // The derives name this crate `::hypercontact_core`, also inside it.
 extern crate self as hypercontact_core;
 
+pub mod const_concat;
 pub mod contact;
 pub mod context;
 pub mod error;

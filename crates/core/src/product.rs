@@ -224,6 +224,22 @@ impl Outputs {
         self.items.get(name)
     }
 
+    /// The output `name` if it is a table.
+    pub fn get_table(&self, name: &str) -> Option<&Table> {
+        match self.items.get(name) {
+            Some(Product::Table(t)) => Some(t),
+            _ => None,
+        }
+    }
+
+    /// The output `name` if it is a set of files.
+    pub fn get_files(&self, name: &str) -> Option<&Files> {
+        match self.items.get(name) {
+            Some(Product::Files(f)) => Some(f),
+            _ => None,
+        }
+    }
+
     pub fn iter(&self) -> impl Iterator<Item = (&str, &Product)> {
         self.items.iter().map(|(k, v)| (k.as_str(), v))
     }

@@ -76,7 +76,7 @@ impl ParamsError {
 /// A stage of any kind, as the runner sees it.
 pub trait DynStage: Send + Sync {
     fn info(&self) -> &'static StageInfo;
-    /// The kind's default cluster resources ([`Stage::resources`]).
+    /// The kind's default cluster resources ([`Stage::RESOURCES`]).
     fn resources(&self) -> crate::stage::Resources;
     /// The declared parameters.
     fn params_spec(&self) -> Vec<ParamSpec>;
@@ -101,7 +101,7 @@ impl<S: Stage> DynStage for S {
     }
 
     fn resources(&self) -> crate::stage::Resources {
-        Stage::resources(self)
+        S::RESOURCES
     }
 
     fn params_spec(&self) -> Vec<ParamSpec> {

@@ -54,36 +54,6 @@ pub trait Schema: Sized {
     fn from_table(table: &Table) -> Result<Self, TableError>;
 }
 
-/// How many columns the parts of a schema hold together (the derive's
-/// `#[column(flatten)]` splices another schema's columns in).
-#[doc(hidden)]
-pub const fn total_len(parts: &[&[ColumnSpec]]) -> usize {
-    let (mut n, mut i) = (0, 0);
-    while i < parts.len() {
-        n += parts[i].len();
-        i += 1;
-    }
-    n
-}
-
-/// The parts' columns in order, as one array of `N` = [`total_len`] columns:
-/// what a derived schema's `COLUMNS` points at.
-#[doc(hidden)]
-pub const fn concat<const N: usize>(parts: &[&[ColumnSpec]]) -> [ColumnSpec; N] {
-    let mut out = [ColumnSpec::str("", ""); N];
-    let (mut k, mut i) = (0, 0);
-    while i < parts.len() {
-        let mut j = 0;
-        while j < parts[i].len() {
-            out[k] = parts[i][j];
-            k += 1;
-            j += 1;
-        }
-        i += 1;
-    }
-    out
-}
-
 /// The Rust type of one column.
 pub trait ColumnType: Sized {
     const DTYPE: DType;

@@ -277,11 +277,9 @@ pub trait Stage: Send + Sync + 'static {
 
     fn info(&self) -> &'static StageInfo;
 
-    /// What a cluster job of this kind asks for by default
-    /// ([`Resources::LIGHT`] unless the kind says more).
-    fn resources(&self) -> Resources {
-        Resources::LIGHT
-    }
+    /// What a cluster job of this kind asks for by default: a kind whose
+    /// work is parallel says `const RESOURCES: Resources = Resources::PARALLEL;`.
+    const RESOURCES: Resources = Resources::LIGHT;
 
     fn run(
         &self,

@@ -61,7 +61,8 @@ pub fn flatten_impl(ident: &Ident, vis: &Visibility, fields: &[ParamField]) -> T
 
             const FIELDS: &'static [&'static str] = {
                 const PARTS: &[&[&str]] = &[#(#parts),*];
-                const ALL: [&str; #core::total_len(PARTS)] = #core::concat(PARTS);
+                const ALL: [&str; ::hypercontact_core::const_concat::total_len(PARTS)] =
+                    ::hypercontact_core::const_concat::concat(PARTS, "");
                 &ALL
             };
 

@@ -110,8 +110,11 @@ pub fn expand(item: TokenStream) -> syn::Result<TokenStream> {
             const COLUMNS: &'static [::hypercontact_core::ColumnSpec] = {
                 const PARTS: &[&[::hypercontact_core::ColumnSpec]] = &[#(#parts),*];
                 const ALL: [::hypercontact_core::ColumnSpec;
-                    ::hypercontact_core::schema::total_len(PARTS)] =
-                    ::hypercontact_core::schema::concat(PARTS);
+                    ::hypercontact_core::const_concat::total_len(PARTS)] =
+                    ::hypercontact_core::const_concat::concat(
+                        PARTS,
+                        ::hypercontact_core::ColumnSpec::str("", ""),
+                    );
                 &ALL
             };
 

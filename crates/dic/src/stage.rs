@@ -254,14 +254,11 @@ static INFO: StageInfo = StageInfo {
 
 impl Stage for Dic {
     type Params = DicParams;
+    /// Parallel (rayon) over its work: a few cores pay off on a cluster.
+    const RESOURCES: hypercontact_core::Resources = hypercontact_core::Resources::PARALLEL;
 
     fn info(&self) -> &'static StageInfo {
         &INFO
-    }
-
-    /// Parallel over its work (rayon): a few cores pay off on a cluster.
-    fn resources(&self) -> hypercontact_core::Resources {
-        hypercontact_core::Resources::PARALLEL
     }
 
     fn run(

@@ -14,6 +14,8 @@
 //! evaluation per pair (k, l)) and one code path serves every family; the
 //! matrix calculus from m to C is closed form in [`crate::isochoric`].
 
+// Abaqus' five-term Arruda–Boyce series, the same C_i the material fits with.
+use hypercontact_material::arruda_boyce::SERIES as ARRUDA_BOYCE_SERIES;
 use hypercontact_material::{Hyperelastic, Parameter};
 use num_dual::{DualNum, HyperDual64};
 
@@ -22,16 +24,6 @@ use crate::FemError;
 /// Most power traces a family may use (an Ogden solid of up to this many
 /// terms); fixed so that the constitutive routine allocates nothing.
 pub const MAX_TRACES: usize = 8;
-
-/// Coefficients C_i of Abaqus' five-term Arruda–Boyce series (Abaqus Theory
-/// Guide, "Hyperelastic behavior of rubberlike materials").
-const ARRUDA_BOYCE_SERIES: [f64; 5] = [
-    1.0 / 2.0,
-    1.0 / 20.0,
-    11.0 / 1050.0,
-    19.0 / 7000.0,
-    519.0 / 673_750.0,
-];
 
 /// An isochoric strain energy Ψ(m) of power traces m_k = tr C̄^(p_k).
 #[derive(Clone, Debug, PartialEq)]

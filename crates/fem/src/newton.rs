@@ -70,20 +70,20 @@ pub fn solve(
             problem.set_last(evaluation);
             return Ok(iterations);
         }
+        let mut at = Progress {
+            step,
+            approach_m,
+            iterations,
+            residual_n,
+            tolerance_n,
+        };
         if iterations >= options.max_iterations {
-            return Err(not_converged(
-                problem,
-                step,
-                approach_m,
-                iterations,
-                residual_n,
-                tolerance_n,
-                String::new(),
-            ));
+            return Err(at.not_converged(problem, ""));
         }
         let (direction, pending_force_n) =
             problem.newton_direction(&evaluation, &held, &pending)?;
         iterations += 1;
+        at.iterations = iterations;
         previous_n = if placed && !set_changed {
             residual_n
         } else {
@@ -98,14 +98,9 @@ pub fn solve(
             pending_force_n,
         );
         let (unknowns, trial) = search.ok_or_else(|| {
-            not_converged(
+            at.not_converged(
                 problem,
-                step,
-                approach_m,
-                iterations,
-                residual_n,
-                tolerance_n,
-                "; every trial along the Newton direction inverts an element".into(),
+                "; every trial along the Newton direction inverts an element",
             )
         })?;
         small_update = placed && is_small(problem.unknowns(), &unknowns);
@@ -117,15 +112,7 @@ pub fn solve(
         // evaluation stands unless it lacks the tangent.
         evaluation = if trial.tangent.is_none() {
             problem.evaluate(problem.unknowns(), true).map_err(|f| {
-                not_converged(
-                    problem,
-                    step,
-                    approach_m,
-                    iterations,
-                    residual_n,
-                    tolerance_n,
-                    format!("; element {} inverted", f.element),
-                )
+                at.not_converged(problem, format!("; element {} inverted", f.element))
             })?
         } else {
             trial
@@ -140,29 +127,20 @@ fn first_evaluation(
     step: usize,
     approach_m: f64,
 ) -> Result<Evaluation, FemError> {
+    let at = Progress::start(step, approach_m);
     match problem.evaluate(problem.unknowns(), true) {
         Ok(e) => Ok(e),
         Err(_) if problem.restore_last() => {
             problem.add_penetrating(problem.plane_at(approach_m), approach_m);
             problem.evaluate(problem.unknowns(), true).map_err(|f| {
-                not_converged(
+                at.not_converged(
                     problem,
-                    step,
-                    approach_m,
-                    0,
-                    f64::NAN,
-                    f64::NAN,
                     format!("; element {} inverted at the start of the step", f.element),
                 )
             })
         }
-        Err(f) => Err(not_converged(
+        Err(f) => Err(at.not_converged(
             problem,
-            step,
-            approach_m,
-            0,
-            f64::NAN,
-            f64::NAN,
             format!("; element {} inverted at the start", f.element),
         )),
     }
@@ -211,22 +189,37 @@ fn line_search(
     best.map(|(_, trial, e)| (trial, e))
 }
 
-fn not_converged(
-    problem: &ContactProblem,
+/// Where Newton stands when it stops short: what the error reports.
+#[derive(Clone, Copy)]
+struct Progress {
     step: usize,
     approach_m: f64,
     iterations: usize,
     residual_n: f64,
     tolerance_n: f64,
-    detail: String,
-) -> FemError {
-    FemError::NotConverged {
-        step,
-        approach_m,
-        iterations,
-        residual_n,
-        tolerance_n,
-        contact_nodes: problem.contact_count(),
-        detail,
+}
+
+impl Progress {
+    /// Before the first iteration: no residual yet.
+    fn start(step: usize, approach_m: f64) -> Self {
+        Self {
+            step,
+            approach_m,
+            iterations: 0,
+            residual_n: f64::NAN,
+            tolerance_n: f64::NAN,
+        }
+    }
+
+    fn not_converged(self, problem: &ContactProblem, detail: impl Into<String>) -> FemError {
+        FemError::NotConverged {
+            step: self.step,
+            approach_m: self.approach_m,
+            iterations: self.iterations,
+            residual_n: self.residual_n,
+            tolerance_n: self.tolerance_n,
+            contact_nodes: problem.contact_count(),
+            detail: detail.into(),
+        }
     }
 }

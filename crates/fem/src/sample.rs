@@ -29,6 +29,18 @@ fn next_phase(state: &mut u64) -> f64 {
 }
 
 impl SampleSurface {
+    /// `heights_m` (these heights, or an edit of them) on this surface's
+    /// grid of square pixels.
+    pub fn on_grid<'a>(&self, heights_m: &'a [f64]) -> crate::HeightMap<'a> {
+        crate::HeightMap {
+            heights_m,
+            nx: self.nx,
+            ny: self.ny,
+            dx_m: self.pixel_m,
+            dy_m: self.pixel_m,
+        }
+    }
+
     /// Heights at `i * ny + j`, m, with zero mean over the modes.
     pub fn heights_m(&self) -> Vec<f64> {
         let (lx, ly) = (self.nx as f64 * self.pixel_m, self.ny as f64 * self.pixel_m);

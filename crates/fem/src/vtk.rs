@@ -33,16 +33,16 @@ pub fn write_deformed(
             contact.len()
         )));
     }
-    write_all(out, mesh, displacement_m, pressure_pa, contact, title)
-        .map_err(|e| FemError::Io(e.to_string()))
+    let io = |e: std::io::Error| FemError::Io(e.to_string());
+    write_grid(out, mesh, displacement_m, title).map_err(io)?;
+    write_top_fields(out, mesh, pressure_pa, contact).map_err(io)
 }
 
-fn write_all(
+/// The header, the displaced nodes, the hexahedra and the displacements.
+fn write_grid(
     out: &mut impl Write,
     mesh: &Mesh,
     displacement_m: &[[f64; 3]],
-    pressure_pa: &[f64],
-    contact: &[bool],
     title: &str,
 ) -> std::io::Result<()> {
     // The title is one line of at most 256 characters.
@@ -74,6 +74,17 @@ fn write_all(
     for u in displacement_m {
         writeln!(out, "{:e} {:e} {:e}", u[0], u[1], u[2])?;
     }
+    Ok(())
+}
+
+/// The contact pressure and flags of the top's map points, zero on the
+/// other nodes.
+fn write_top_fields(
+    out: &mut impl Write,
+    mesh: &Mesh,
+    pressure_pa: &[f64],
+    contact: &[bool],
+) -> std::io::Result<()> {
     let top_point = |node: usize| {
         let (i, j, k) = mesh.grid_of(node);
         (k == mesh.layers).then_some(i * mesh.ny + j)

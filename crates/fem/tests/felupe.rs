@@ -13,8 +13,7 @@
 
 use hypercontact_fem::sample::SampleSurface;
 use hypercontact_fem::{
-    ContactProblem, CurveOptions, HeightMap, Lateral, Law, Mesh, MeshOptions, NewtonOptions,
-    solve_curve,
+    ContactProblem, CurveOptions, Lateral, Law, Mesh, MeshOptions, NewtonOptions, solve_curve,
 };
 use hypercontact_material::NeoHookean;
 
@@ -40,13 +39,7 @@ fn rough_patch_matches_felupe() {
         seed: 5,
     };
     let heights = surface.heights_m();
-    let map = HeightMap {
-        heights_m: &heights,
-        nx: n,
-        ny: n,
-        dx_m: 20e-6,
-        dy_m: 20e-6,
-    };
+    let map = surface.on_grid(&heights);
     let options = MeshOptions {
         depth_m: None,
         layers: 4,

@@ -22,18 +22,12 @@ fn surface(n: usize) -> Vec<f64> {
     .heights_m()
 }
 
-fn curve(
-    heights: &[f64],
-    n: usize,
-    layers: usize,
-    lateral: Lateral,
-    approaches_m: Vec<f64>,
-) -> Curve {
-    let law = Law::hyperelastic(&hypercontact_material::presets::paper_epdm(), 5000.0).unwrap();
-    curve_of(law, heights, n, layers, lateral, approaches_m)
+/// The paper's EPDM, nearly incompressible (κ = 5000 μ).
+fn paper_epdm() -> Law {
+    Law::hyperelastic(&hypercontact_material::presets::paper_epdm(), 5000.0).unwrap()
 }
 
-fn curve_of(
+fn curve(
     law: Law,
     heights: &[f64],
     n: usize,
@@ -77,7 +71,16 @@ fn one_and_two_threads_give_the_same_bits() {
             .num_threads(threads)
             .build()
             .unwrap();
-        pool.install(|| curve(&h, n, 4, Lateral::Mirror, approaches(&h, 0.8, 4)))
+        pool.install(|| {
+            curve(
+                paper_epdm(),
+                &h,
+                n,
+                4,
+                Lateral::Mirror,
+                approaches(&h, 0.8, 4),
+            )
+        })
     };
     let (one, two) = (run(1), run(2));
     assert!(one.steps.last().unwrap().area_fraction > 0.1);
@@ -116,8 +119,8 @@ fn load_converges_when_the_mesh_is_refined_in_depth() {
         )
         .unwrap()
     };
-    let default = curve_of(law(), &h, n, 8, Lateral::Mirror, approach.clone());
-    let fine = curve_of(law(), &h, n, 16, Lateral::Mirror, approach);
+    let default = curve(law(), &h, n, 8, Lateral::Mirror, approach.clone());
+    let fine = curve(law(), &h, n, 16, Lateral::Mirror, approach);
     let (a, b) = (default.steps.last().unwrap(), fine.steps.last().unwrap());
     assert!(a.area_fraction > 0.1, "{}", a.area_fraction);
     let change = b.load_n / a.load_n - 1.0;
@@ -132,7 +135,14 @@ fn load_converges_when_the_mesh_is_refined_in_depth() {
 fn periodic_faces_tie_the_edges() {
     let n = 10;
     let h = periodic_extension(&surface(n), n, n);
-    let c = curve(&h, n + 1, 4, Lateral::Periodic, approaches(&h, 0.6, 3));
+    let c = curve(
+        paper_epdm(),
+        &h,
+        n + 1,
+        4,
+        Lateral::Periodic,
+        approaches(&h, 0.6, 3),
+    );
     let last = c.steps.last().unwrap();
     assert!(last.load_n > 0.0 && last.area_fraction > 0.0);
     let snapshot = &c.snapshots[0];

@@ -7,7 +7,7 @@ mod common;
 use hypercontact_fem::assembly::{self, Pattern};
 use hypercontact_fem::dofs::Dofs;
 use hypercontact_fem::sample::SampleSurface;
-use hypercontact_fem::{HeightMap, Lateral, Law, Mesh, MeshOptions};
+use hypercontact_fem::{Lateral, Law, Mesh, MeshOptions};
 
 /// y = K v from the upper triangle.
 fn multiply(pattern: &Pattern, values: &[f64], v: &[f64]) -> Vec<f64> {
@@ -36,13 +36,7 @@ fn assembled_tangent_equals_differences_of_the_residual() {
         seed: 3,
     };
     let h = surface.heights_m();
-    let map = HeightMap {
-        heights_m: &h,
-        nx: 5,
-        ny: 4,
-        dx_m: 1e-4,
-        dy_m: 1e-4,
-    };
+    let map = surface.on_grid(&h);
     let options = MeshOptions {
         depth_m: None,
         layers: 3,

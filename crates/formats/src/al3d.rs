@@ -92,11 +92,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
     let offset = count("DepthImageOffset")?;
     let invalid = real("InvalidPixelValue")?;
     let (dx_m, dy_m) = (real("PixelSizeXMeter")?, real("PixelSizeYMeter")?);
-    if !(dx_m.is_finite() && dx_m > 0.0 && dy_m.is_finite() && dy_m > 0.0) {
-        return Err(FORMAT.invalid(format!(
-            "PixelSizeXMeter {dx_m} and PixelSizeYMeter {dy_m} must be positive spacings"
-        )));
-    }
+    FORMAT.check_spacings(dx_m, dy_m, "PixelSizeXMeter and PixelSizeYMeter")?;
     // rows padded to a multiple of 8 bytes
     let stride = (nx * 4).div_ceil(8) * 8;
     let what = format!("the depth image at byte {offset}");
@@ -122,14 +118,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
             metadata.push((key.to_ascii_lowercase(), value.clone()));
         }
     }
-    Ok(Topography {
-        heights_m,
-        dx_m,
-        dy_m,
-        format: FORMAT,
-        position_m: None,
-        metadata,
-    })
+    Ok(Topography::new(FORMAT, heights_m, dx_m, dy_m, metadata))
 }
 
 #[cfg(test)]

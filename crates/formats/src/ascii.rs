@@ -234,14 +234,7 @@ pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatErr
     if line_scan {
         metadata.push(("line_scan".to_string(), "true".to_string()));
     }
-    let map = Topography {
-        heights_m,
-        dx_m,
-        dy_m,
-        format: FORMAT,
-        position_m: None,
-        metadata,
-    };
+    let map = Topography::new(FORMAT, heights_m, dx_m, dy_m, metadata);
     Ok(channel::with_channels(map, &names, index))
 }
 

@@ -107,11 +107,11 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
     let scale = block(SCALE, 12)?;
     let metres_per_count = bytes.read::<f64>(scale + 4, "the height scale")?;
     let (dx_m, dy_m) = (size_x_m / nx as f64, size_y_m / ny as f64);
-    if !(dx_m.is_finite() && dx_m > 0.0 && dy_m.is_finite() && dy_m > 0.0) {
-        return Err(FORMAT.invalid(format!(
-            "block 0x0067 at byte {size}: the sizes {size_x_m} m × {size_y_m} m"
-        )));
-    }
+    FORMAT.check_spacings(
+        dx_m,
+        dy_m,
+        format_args!("block 0x0067 at byte {size} (sizes {size_x_m} m × {size_y_m} m)"),
+    )?;
     let heights = block(HEIGHTS, 0)?;
     let what = format!("block 0x000b at byte {heights}");
     let counts: Vec<i64> = match bits {
@@ -152,14 +152,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
             metadata.push(("date".into(), date));
         }
     }
-    Ok(Topography {
-        heights_m,
-        dx_m,
-        dy_m,
-        format: FORMAT,
-        position_m: None,
-        metadata,
-    })
+    Ok(Topography::new(FORMAT, heights_m, dx_m, dy_m, metadata))
 }
 
 #[cfg(test)]

@@ -226,12 +226,7 @@ pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatErr
             wave.unit
         ))
     })?;
-    if !(wave.dx_m.is_finite() && wave.dx_m > 0.0 && wave.dy_m.is_finite() && wave.dy_m > 0.0) {
-        return Err(FORMAT.invalid(format!(
-            "byte {SF_A}: the spacings {} m × {} m are not positive",
-            wave.dx_m, wave.dy_m
-        )));
-    }
+    FORMAT.check_spacings(wave.dx_m, wave.dy_m, format_args!("the sfA at byte {SF_A}"))?;
     let values = layer(&bytes, &wave, index)?;
     let (nx, ny) = (wave.nx, wave.ny);
     let heights_m =
@@ -252,14 +247,7 @@ pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatErr
             metadata.push((name.into(), value.trim().to_string()));
         }
     }
-    let map = Topography {
-        heights_m,
-        dx_m: wave.dx_m,
-        dy_m: wave.dy_m,
-        format: FORMAT,
-        position_m: None,
-        metadata,
-    };
+    let map = Topography::new(FORMAT, heights_m, wave.dx_m, wave.dy_m, metadata);
     Ok(channel::with_channels(map, &wave.names, index))
 }
 

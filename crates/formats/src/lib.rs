@@ -149,6 +149,23 @@ impl Format {
         }
     }
 
+    /// Refuses grid spacings that are not positive and finite; `source`
+    /// says where in the file they come from.
+    pub(crate) fn check_spacings(
+        self,
+        dx_m: f64,
+        dy_m: f64,
+        source: impl std::fmt::Display,
+    ) -> Result<(), FormatError> {
+        if dx_m.is_finite() && dx_m > 0.0 && dy_m.is_finite() && dy_m > 0.0 {
+            Ok(())
+        } else {
+            Err(self.invalid(format!(
+                "{source} give the spacings {dx_m} m × {dy_m} m; both must be positive"
+            )))
+        }
+    }
+
     /// An error: the file is this format's, but holds what is not read here.
     pub(crate) fn unsupported(self, message: impl Into<String>) -> FormatError {
         FormatError::Unsupported {
@@ -176,6 +193,24 @@ pub struct Topography {
 }
 
 impl Topography {
+    /// A map whose file records no stage position.
+    pub(crate) fn new(
+        format: Format,
+        heights_m: Array2<f64>,
+        dx_m: f64,
+        dy_m: f64,
+        metadata: Vec<(String, String)>,
+    ) -> Self {
+        Self {
+            heights_m,
+            dx_m,
+            dy_m,
+            format,
+            position_m: None,
+            metadata,
+        }
+    }
+
     /// Whether the map is a line scan (a profile: n × 1, metadata `line_scan`).
     pub fn is_line_scan(&self) -> bool {
         self.heights_m.ncols() == 1
@@ -187,11 +222,14 @@ impl Topography {
 
     /// The value of a metadata key (the first, if the file gives it twice).
     pub fn meta(&self, key: &str) -> Option<&str> {
-        self.metadata
-            .iter()
-            .find(|(k, _)| k == key)
-            .map(|(_, v)| v.as_str())
+        lookup(&self.metadata, key).map(String::as_str)
     }
+}
+
+/// The value of the first pair named `key` in (name, value) pairs, as
+/// headers, attribute lists and metadata hold them.
+pub(crate) fn lookup<'a, V>(pairs: &'a [(String, V)], key: &str) -> Option<&'a V> {
+    pairs.iter().find(|(k, _)| k == key).map(|(_, v)| v)
 }
 
 /// Why a file could not be read. Messages say what was expected and where

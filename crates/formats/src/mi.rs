@@ -49,10 +49,7 @@ struct Header {
 
 impl Header {
     fn get(&self, key: &str) -> Option<&str> {
-        self.entries
-            .iter()
-            .find(|(k, _)| k == key)
-            .map(|(_, v)| v.as_str())
+        crate::lookup(&self.entries, key).map(String::as_str)
     }
 
     fn number(&self, key: &str) -> Result<f64, FormatError> {
@@ -146,11 +143,7 @@ pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatErr
         header.number("xLength")? / nx as f64,
         header.number("yLength")? / ny as f64,
     );
-    if !(dx_m.is_finite() && dx_m > 0.0 && dy_m.is_finite() && dy_m > 0.0) {
-        return Err(FORMAT.invalid(format!(
-            "xLength and yLength give the spacings {dx_m} m × {dy_m} m"
-        )));
-    }
+    FORMAT.check_spacings(dx_m, dy_m, "xLength and yLength")?;
     let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Little);
     let at = header.data_start + index * points * header.count_bytes;
     let what = format!("channel {} at byte {at}", buffer.name);
@@ -179,14 +172,7 @@ pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatErr
             metadata.push((name.into(), value.into()));
         }
     }
-    let map = Topography {
-        heights_m,
-        dx_m,
-        dy_m,
-        format: FORMAT,
-        position_m: None,
-        metadata,
-    };
+    let map = Topography::new(FORMAT, heights_m, dx_m, dy_m, metadata);
     Ok(channel::with_channels(map, &names, index))
 }
 

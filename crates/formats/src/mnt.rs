@@ -223,11 +223,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
         z.step * unit(&z.step_unit)?,
         z.offset * unit(&z.offset_unit)?,
     );
-    if !(dx_m.is_finite() && dx_m > 0.0 && dy_m.is_finite() && dy_m > 0.0) {
-        return Err(FORMAT.invalid(format!(
-            "the axis records give the spacings {dx_m} m × {dy_m} m"
-        )));
-    }
+    FORMAT.check_spacings(dx_m, dy_m, "the axis records")?;
     let heights_m = Array2::from_shape_fn((nx, ny), |(i, j)| {
         let count = counts[j * nx + i];
         if data_type == ZERO_IS_MISSING && count == 0 {

@@ -48,10 +48,7 @@ struct Section {
 
 impl Section {
     fn get(&self, key: &str) -> Option<&str> {
-        self.entries
-            .iter()
-            .find(|(k, _)| k == key)
-            .map(|(_, v)| v.as_str())
+        crate::lookup(&self.entries, key).map(String::as_str)
     }
 }
 
@@ -284,20 +281,12 @@ pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatErr
     if !image.direction.is_empty() {
         metadata.push(("line_direction".into(), image.direction.clone()));
     }
-    let map = Topography {
-        heights_m,
-        dx_m: image.dx_m,
-        dy_m: image.dy_m,
-        format: FORMAT,
-        position_m: None,
-        metadata,
-    };
-    if !(map.dx_m.is_finite() && map.dx_m > 0.0 && map.dy_m.is_finite() && map.dy_m > 0.0) {
-        return Err(FORMAT.invalid(format!(
-            "image {}: the scan size gives the spacings {} m × {} m",
-            image.name, map.dx_m, map.dy_m
-        )));
-    }
+    FORMAT.check_spacings(
+        image.dx_m,
+        image.dy_m,
+        format_args!("image {}: the scan size", image.name),
+    )?;
+    let map = Topography::new(FORMAT, heights_m, image.dx_m, image.dy_m, metadata);
     Ok(channel::with_channels(map, &names, index))
 }
 

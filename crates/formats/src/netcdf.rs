@@ -65,10 +65,7 @@ struct Variable {
 
 impl Variable {
     fn attribute(&self, name: &str) -> Option<&Value> {
-        self.attributes
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v)
+        crate::lookup(&self.attributes, name)
     }
 }
 
@@ -311,14 +308,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
     if line_scan {
         metadata.push(("line_scan".into(), "true".into()));
     }
-    Ok(Topography {
-        heights_m,
-        dx_m,
-        dy_m,
-        format: FORMAT,
-        position_m: None,
-        metadata,
-    })
+    Ok(Topography::new(FORMAT, heights_m, dx_m, dy_m, metadata))
 }
 
 /// A variable's `points` values as f64.

@@ -79,12 +79,9 @@ struct Image {
 
 /// The images in storage order, offsets from the start of the data.
 fn images(sections: &Sections) -> Result<Vec<Image>, FormatError> {
-    let section = |name: &str| sections.iter().find(|(n, _)| n == name).map(|(_, e)| e);
+    let section = |name: &str| crate::lookup(sections, name);
     let get = |entries: &Vec<(String, String)>, key: &str| {
-        entries
-            .iter()
-            .find(|(k, _)| k == key)
-            .map(|(_, v)| v.trim().to_string())
+        crate::lookup(entries, key).map(|v| v.trim().to_string())
     };
     let number = |entries: &Vec<(String, String)>, name: &str, key: &str| {
         get(entries, key)
@@ -122,12 +119,7 @@ fn image(
     offset: usize,
     number: &dyn Fn(&str) -> Result<f64, FormatError>,
 ) -> Result<Image, FormatError> {
-    let text = |key: &str| {
-        entries
-            .iter()
-            .find(|(k, _)| k == key)
-            .map_or("", |(_, v)| v.trim())
-    };
+    let text = |key: &str| crate::lookup(entries, key).map_or("", |v| v.trim());
     if text("SaveMode") != "Binary" {
         return Err(FORMAT.unsupported(format!(
             "[{name}]: SaveMode \"{}\" (Binary is read)",
@@ -234,31 +226,23 @@ pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatErr
         counts[(ny - 1 - j) * nx + i] * metres_per_count + offset_m
     });
     let mut metadata = vec![("vendor".to_string(), "Nanosurf".to_string())];
-    let info = sections.iter().find(|(n, _)| n == "DataSet-Info");
+    let info = crate::lookup(&sections, "DataSet-Info");
     for (key, name) in [
         ("Date", "date"),
         ("Time", "time"),
         ("Head type", "instrument"),
         ("Controller S/N", "serial"),
     ] {
-        if let Some((_, value)) = info.and_then(|(_, e)| e.iter().find(|(k, _)| k == key)) {
+        if let Some(value) = info.and_then(|e| crate::lookup(e, key)) {
             metadata.push((name.into(), value.trim().to_string()));
         }
     }
-    let map = Topography {
-        heights_m,
-        dx_m: image.dx_m,
-        dy_m: image.dy_m,
-        format: FORMAT,
-        position_m: None,
-        metadata,
-    };
-    if !(map.dx_m.is_finite() && map.dx_m > 0.0 && map.dy_m.is_finite() && map.dy_m > 0.0) {
-        return Err(FORMAT.invalid(format!(
-            "channel {}: the ranges give the spacings {} m × {} m",
-            image.name, map.dx_m, map.dy_m
-        )));
-    }
+    FORMAT.check_spacings(
+        image.dx_m,
+        image.dy_m,
+        format_args!("channel {}: the ranges", image.name),
+    )?;
+    let map = Topography::new(FORMAT, heights_m, image.dx_m, image.dy_m, metadata);
     Ok(channel::with_channels(map, &names, index))
 }
 

@@ -536,12 +536,12 @@ impl Inversion {
 }
 
 #[cfg(test)]
+#[path = "../tests/common/sur_streams.rs"]
+mod sur_streams;
+
+#[cfg(test)]
 mod tests {
-    use std::io::Write;
-
-    use flate2::Compression;
-    use flate2::write::ZlibEncoder;
-
+    use super::sur_streams::compressed_sur;
     use super::*;
 
     /// A plain header for an nx × ny map of 16-bit counts, spacing 2.5 µm,
@@ -667,29 +667,6 @@ mod tests {
         assert!(map.metadata.contains(&("comment".into(), "hello".into())));
     }
 
-    /// `counts` split into zlib streams of at most `chunk` bytes.
-    fn compressed(header_bytes: &[u8], counts: &[u8], chunk: usize) -> Vec<u8> {
-        let mut file = header_bytes.to_vec();
-        file[0..12].copy_from_slice(MAGIC_COMPRESSED);
-        let streams: Vec<(usize, Vec<u8>)> = counts
-            .chunks(chunk)
-            .map(|part| {
-                let mut encoder = ZlibEncoder::new(Vec::new(), Compression::default());
-                encoder.write_all(part).unwrap();
-                (part.len(), encoder.finish().unwrap())
-            })
-            .collect();
-        file.extend((streams.len() as u32).to_le_bytes());
-        for (raw, zipped) in &streams {
-            file.extend((*raw as u32).to_le_bytes());
-            file.extend((zipped.len() as u32).to_le_bytes());
-        }
-        for (_, zipped) in &streams {
-            file.extend(zipped);
-        }
-        file
-    }
-
     #[test]
     fn compressed_points_equal_the_plain_ones() {
         let values: Vec<i16> = (0..12).map(|v| v * 3 - 7).collect();
@@ -697,7 +674,7 @@ mod tests {
         plain.extend(counts16(&values));
         let expected = read(&plain).unwrap().heights_m;
         for chunk in [24, 10, 3] {
-            let file = compressed(&header(4, 3, 0), &counts16(&values), chunk);
+            let file = compressed_sur(&header(4, 3, 0), &counts16(&values), chunk);
             let map = read(&file).unwrap();
             assert_eq!(map.heights_m, expected, "streams of {chunk} bytes");
             assert!(
@@ -710,7 +687,7 @@ mod tests {
     #[test]
     fn a_compressed_directory_that_disagrees_is_refused() {
         let values: Vec<i16> = (0..12).collect();
-        let mut file = compressed(&header(4, 3, 0), &counts16(&values), 24);
+        let mut file = compressed_sur(&header(4, 3, 0), &counts16(&values), 24);
         // the directory's raw length (byte 516) claims one more byte
         file[516] += 1;
         let message = read(&file).unwrap_err().to_string();
@@ -718,7 +695,7 @@ mod tests {
             message.contains("byte 512") && message.contains("take 24"),
             "{message}"
         );
-        let mut file = compressed(&header(4, 3, 0), &counts16(&values), 24);
+        let mut file = compressed_sur(&header(4, 3, 0), &counts16(&values), 24);
         file[512..516].copy_from_slice(&u32::MAX.to_le_bytes());
         assert!(
             read(&file)

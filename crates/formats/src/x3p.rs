@@ -768,12 +768,7 @@ mod tests {
     fn record2_becomes_metadata() {
         let raw: Vec<u8> = (0..10).flat_map(|v| f64::from(v).to_le_bytes()).collect();
         let map = read(&synthetic("D", &raw, None)).unwrap();
-        let get = |key: &str| {
-            map.metadata
-                .iter()
-                .find(|(k, _)| k == key)
-                .map(|(_, v)| v.as_str())
-        };
+        let get = |key: &str| map.meta(key);
         assert_eq!(get("date"), Some("2024-05-01T10:00:00"));
         assert_eq!(get("instrument"), Some("ACME Profiler"));
         assert_eq!(get("instrument_serial"), Some("7"));

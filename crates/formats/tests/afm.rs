@@ -11,7 +11,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{assert_same_map, expected_more, meta, more};
+use common::{assert_same_map, check_fuzzed_read, expected_more, meta, more};
 use hypercontact_formats::{Channel, Format, FormatError, detect, read_bytes, read_bytes_channel};
 use hypercontact_fuzz::{byte_edits, config, splice};
 use proptest::prelude::*;
@@ -105,11 +105,7 @@ const FILES: [&str; 4] = ["di-1.di", "nid-1.nid", "spot_1-1000nm.ibw", "mi-1.mi"
 
 fn fuzz_bytes(bytes: &[u8]) -> Result<(), TestCaseError> {
     for channel in [Channel::Default, Channel::Index(1)] {
-        if let Ok(map) = read_bytes_channel(bytes, None, &channel) {
-            let (nx, ny) = map.heights_m.dim();
-            prop_assert!(nx * ny <= bytes.len());
-            prop_assert!(map.dx_m > 0.0 && map.dy_m > 0.0);
-        }
+        check_fuzzed_read(read_bytes_channel(bytes, None, &channel), bytes.len())?;
     }
     Ok(())
 }

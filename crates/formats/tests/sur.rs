@@ -4,13 +4,11 @@
 
 mod common;
 
-use std::io::Write;
 use std::path::Path;
 use std::sync::OnceLock;
 
+use common::sur_streams::compressed_sur;
 use common::{Expected, assert_heights_within, bytes, expected, meta};
-use flate2::Compression;
-use flate2::write::ZlibEncoder;
 use hypercontact_formats::{Format, detect, read_bytes};
 use ndarray::Axis;
 use proptest::prelude::*;
@@ -79,30 +77,11 @@ fn sur_is_detected_from_its_bytes_whatever_the_extension() {
     assert_eq!(map.heights_m.dim(), (563, 484));
 }
 
-/// sur-2 rewritten in the compressed layout: magic DSCOMPRESSED, then after
-/// the header a stream count, (raw, zipped) lengths and the zlib streams.
+/// sur-2 rewritten in the compressed layout.
 fn compressed_sur_2(stream_bytes: usize) -> Vec<u8> {
     let plain = bytes("sur-2.sur");
     let (header, points) = plain.split_at(512);
-    let mut file = header.to_vec();
-    file[..12].copy_from_slice(b"DSCOMPRESSED");
-    let streams: Vec<(usize, Vec<u8>)> = points
-        .chunks(stream_bytes)
-        .map(|part| {
-            let mut encoder = ZlibEncoder::new(Vec::new(), Compression::fast());
-            encoder.write_all(part).unwrap();
-            (part.len(), encoder.finish().unwrap())
-        })
-        .collect();
-    file.extend((streams.len() as u32).to_le_bytes());
-    for (raw, zipped) in &streams {
-        file.extend((*raw as u32).to_le_bytes());
-        file.extend((zipped.len() as u32).to_le_bytes());
-    }
-    for (_, zipped) in &streams {
-        file.extend(zipped);
-    }
-    file
+    compressed_sur(header, points, stream_bytes)
 }
 
 #[test]

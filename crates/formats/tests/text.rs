@@ -9,7 +9,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{assert_same_map, expected_more, meta, more};
+use common::{assert_same_map, check_fuzzed_read, expected_more, meta, more};
 use hypercontact_formats::{Channel, Format, detect, read_bytes, read_bytes_channel};
 use hypercontact_fuzz::{byte_edits, config, splice};
 use proptest::prelude::*;
@@ -101,12 +101,7 @@ const FILES: [&str; 4] = [
 ];
 
 fn fuzz_bytes(bytes: &[u8], name: &str) -> Result<(), TestCaseError> {
-    if let Ok(map) = read_bytes(bytes, Some(Path::new(name))) {
-        let (nx, ny) = map.heights_m.dim();
-        prop_assert!(nx * ny <= bytes.len());
-        prop_assert!(map.dx_m > 0.0 && map.dy_m > 0.0);
-    }
-    Ok(())
+    check_fuzzed_read(read_bytes(bytes, Some(Path::new(name))), bytes.len())
 }
 
 proptest! {

@@ -1,6 +1,8 @@
-//! What the readers' property tests share (a dev-dependency only): one
-//! configuration, so every fuzz test in CI is bounded and seeded alike, and
-//! the byte splice and edits they mutate files with.
+//! What the property tests share (a dev-dependency only): one
+//! configuration, so every fuzz test in CI is bounded and seeded alike, the
+//! byte splice and edits the readers' tests mutate files with, and a run in
+//! a pool of a given size for the tests that products are the same bits on
+//! any thread count, and a run with a deadline.
 
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
@@ -52,6 +54,27 @@ pub fn byte_edits() -> impl Strategy<Value = Vec<(usize, usize, Vec<u8>)>> {
         ],
         1..5,
     )
+}
+
+/// `run`'s result, computed on its own thread; panics if it takes longer
+/// than `seconds` (a reader that never ends, as on `/dev/zero`, fails the
+/// test instead of hanging it).
+pub fn within<T: Send + 'static>(seconds: u64, run: impl FnOnce() -> T + Send + 'static) -> T {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(run());
+    });
+    rx.recv_timeout(std::time::Duration::from_secs(seconds))
+        .unwrap_or_else(|_| panic!("did not end within {seconds} s"))
+}
+
+/// `run`'s result computed in a rayon pool of `threads` threads.
+pub fn on_threads<T: Send>(threads: usize, run: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("a rayon pool of the requested size")
+        .install(run)
 }
 
 #[cfg(test)]

@@ -27,13 +27,7 @@ fn table(out: &Outputs, name: &str) -> Table {
 fn profiles() -> Vec<Table> {
     (1..=4)
         .map(|seed| {
-            let h = SelfAffine {
-                hurst: 0.8,
-                rms_m: 1e-5,
-                lambda_min_m: 4e-5,
-                lambda_max_m: 453.0 * 2e-5,
-            }
-            .periodic(453, 453, 2e-5, seed);
+            let h = SelfAffine::whole_band(453, 2e-5).periodic(453, 453, 2e-5, seed);
             let options = TruncationOptions {
                 levels: Levels::Count(1000),
                 ..Default::default()

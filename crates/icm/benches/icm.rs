@@ -13,13 +13,7 @@ use hypercontact_truncation::{Levels, TruncationOptions, truncate};
 
 fn icm_100k_levels(c: &mut Criterion) {
     // H = 0.8, rms 10 µm, power from the map's side down to two pixels.
-    let h = SelfAffine {
-        hurst: 0.8,
-        rms_m: 1e-5,
-        lambda_min_m: 2.0 * 2e-5,
-        lambda_max_m: 512.0 * 2e-5,
-    }
-    .periodic(512, 512, 2e-5, 2024);
+    let h = SelfAffine::whole_band(512, 2e-5).periodic(512, 512, 2e-5, 2024);
     let options = TruncationOptions {
         levels: Levels::Count(100_000),
         ..Default::default()

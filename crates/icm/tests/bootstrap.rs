@@ -24,13 +24,7 @@ fn truth() -> Ogden {
 }
 
 fn profile() -> Profile {
-    let h = SelfAffine {
-        hurst: 0.8,
-        rms_m: 1e-5,
-        lambda_min_m: 4e-5,
-        lambda_max_m: 128.0 * 2e-5,
-    }
-    .periodic(128, 128, 2e-5, 7);
+    let h = SelfAffine::whole_band(128, 2e-5).periodic(128, 128, 2e-5, 7);
     let options = TruncationOptions {
         levels: Levels::Count(200),
         ..Default::default()

@@ -97,13 +97,7 @@ fn sampled_paraboloid_converges_to_profile_theorys_load() {
 
 fn sample_map(n: usize) -> Array2<f64> {
     // The shipped sample's statistics: H = 0.8, rms 10 µm, 20 µm pixels.
-    SelfAffine {
-        hurst: 0.8,
-        rms_m: 1e-5,
-        lambda_min_m: 2.0 * 2e-5,
-        lambda_max_m: n as f64 * 2e-5,
-    }
-    .periodic(n, n, 2e-5, 2024)
+    SelfAffine::whole_band(n, 2e-5).periodic(n, n, 2e-5, 2024)
 }
 
 #[test]

@@ -34,16 +34,8 @@ fn render(c: &mut Criterion) {
         .unwrap();
     let (n, dx_m) = (512, 20e-6);
     let field = gap_field(n, dx_m);
-    let gap = GapMap {
-        gap_m: field.view(),
-        dx_m,
-        dy_m: dx_m,
-    };
-    let grid = CameraGrid {
-        width_px: 2048,
-        height_px: 2048,
-        pixel_m: 5e-6,
-    };
+    let gap = GapMap::square(field.view(), dx_m);
+    let grid = CameraGrid::square(2048, 5e-6);
     let placement = Placement {
         angle_rad: 0.05,
         shift_x_m: 1e-4,

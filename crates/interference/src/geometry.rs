@@ -43,7 +43,16 @@ pub struct GapMap<'a> {
     pub dy_m: f64,
 }
 
-impl GapMap<'_> {
+impl<'a> GapMap<'a> {
+    /// A map on square pixels of side `pixel_m`.
+    pub fn square(gap_m: ArrayView2<'a, f64>, pixel_m: f64) -> Self {
+        Self {
+            gap_m,
+            dx_m: pixel_m,
+            dy_m: pixel_m,
+        }
+    }
+
     /// A non-empty grid with positive spacings; values finite or NaN.
     pub fn check(&self) -> Result<(), InterferenceError> {
         let (nx, ny) = self.gap_m.dim();
@@ -89,6 +98,15 @@ impl Default for CameraGrid {
 }
 
 impl CameraGrid {
+    /// A square sensor of `side_px` × `side_px` pixels.
+    pub fn square(side_px: usize, pixel_m: f64) -> Self {
+        Self {
+            width_px: side_px,
+            height_px: side_px,
+            pixel_m,
+        }
+    }
+
     pub fn check(&self) -> Result<(), InterferenceError> {
         if self.width_px == 0 || self.height_px == 0 {
             return Err(InterferenceError::Empty {
@@ -286,11 +304,7 @@ mod tests {
     fn identity_reproduces_the_field() {
         let (nx, ny) = (23, 17);
         let f = field(nx, ny);
-        let gap = GapMap {
-            gap_m: f.view(),
-            dx_m: 2e-5,
-            dy_m: 2e-5,
-        };
+        let gap = GapMap::square(f.view(), 2e-5);
         let camera = CameraGrid {
             width_px: nx,
             height_px: ny,
@@ -311,11 +325,7 @@ mod tests {
         let (nx, ny) = (20, 14);
         let f = field(nx, ny);
         let dx = 1.5e-5;
-        let gap = GapMap {
-            gap_m: f.view(),
-            dx_m: dx,
-            dy_m: dx,
-        };
+        let gap = GapMap::square(f.view(), dx);
         let camera = CameraGrid {
             width_px: nx,
             height_px: ny,
@@ -345,16 +355,8 @@ mod tests {
     fn quarter_turns_transpose_and_flip() {
         let n = 16;
         let f = field(n, n);
-        let gap = GapMap {
-            gap_m: f.view(),
-            dx_m: 1e-5,
-            dy_m: 1e-5,
-        };
-        let camera = CameraGrid {
-            width_px: n,
-            height_px: n,
-            pixel_m: 1e-5,
-        };
+        let gap = GapMap::square(f.view(), 1e-5);
+        let camera = CameraGrid::square(n, 1e-5);
         let turn = |angle_rad: f64| {
             resample(
                 &gap,
@@ -391,17 +393,9 @@ mod tests {
     fn nan_spreads_only_to_the_cells_it_touches() {
         let mut f = Array2::from_elem((5, 5), 1e-6);
         f[[2, 2]] = f64::NAN;
-        let gap = GapMap {
-            gap_m: f.view(),
-            dx_m: 1e-5,
-            dy_m: 1e-5,
-        };
+        let gap = GapMap::square(f.view(), 1e-5);
         // half-pixel camera: pixel centres at half steps of the field
-        let camera = CameraGrid {
-            width_px: 9,
-            height_px: 9,
-            pixel_m: 0.5e-5,
-        };
+        let camera = CameraGrid::square(9, 0.5e-5);
         let out = resample(&gap, &Placement::default(), &camera).unwrap();
         for y in 0..9 {
             for x in 0..9 {
@@ -418,11 +412,7 @@ mod tests {
     #[test]
     fn one_point_axes_and_bad_inputs() {
         let f = Array2::from_elem((1, 1), 3e-7);
-        let gap = GapMap {
-            gap_m: f.view(),
-            dx_m: 1e-5,
-            dy_m: 1e-5,
-        };
+        let gap = GapMap::square(f.view(), 1e-5);
         let camera = CameraGrid {
             width_px: 3,
             height_px: 1,
@@ -518,11 +508,7 @@ mod tests {
         let f = Array2::from_shape_fn((n, n), |(i, j)| {
             2e-6 + 0.01 * (i as f64 - half) * dx - 0.02 * (j as f64 - half) * dx
         });
-        let gap = GapMap {
-            gap_m: f.view(),
-            dx_m: dx,
-            dy_m: dx,
-        };
+        let gap = GapMap::square(f.view(), dx);
         let camera = CameraGrid {
             width_px: 50,
             height_px: 50,

@@ -82,16 +82,8 @@ mod tests {
             let r2 = x * x + y * y - contact_m * contact_m;
             (r2 / (2.0 * radius_m)).max(0.0)
         });
-        let gap = GapMap {
-            gap_m: field.view(),
-            dx_m,
-            dy_m: dx_m,
-        };
-        let grid = CameraGrid {
-            width_px: 64,
-            height_px: 64,
-            pixel_m: dx_m,
-        };
+        let gap = GapMap::square(field.view(), dx_m);
+        let grid = CameraGrid::square(64, dx_m);
         let params = CameraParams {
             vignetting: 0.0,
             ..CameraParams::default()

@@ -12,8 +12,9 @@
 use crate::invariants::{InvariantEnergy, InvariantSlopes};
 use crate::{MaterialError, Parameter};
 
-/// The series coefficients C_i.
-const C: [f64; 5] = [
+/// The series coefficients C_i (Abaqus Theory Guide, "Hyperelastic behavior
+/// of rubberlike materials"); the finite-element energy uses them too.
+pub const SERIES: [f64; 5] = [
     1.0 / 2.0,
     1.0 / 20.0,
     11.0 / 1050.0,
@@ -45,7 +46,7 @@ impl ArrudaBoyce {
         let beta = 1.0 / (self.lambda_m * self.lambda_m);
         let mut k = [0.0; 5];
         let mut power = 1.0;
-        for (ki, ci) in k.iter_mut().zip(C) {
+        for (ki, ci) in k.iter_mut().zip(SERIES) {
             *ki = self.mu_pa * ci * power;
             power *= beta;
         }

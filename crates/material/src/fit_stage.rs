@@ -222,14 +222,11 @@ fn gather_tensile(inputs: &Inputs) -> Result<TensileData, StageError> {
 
 impl Stage for MaterialFit {
     type Params = MaterialFitParams;
+    /// Parallel (rayon) over its work: a few cores pay off on a cluster.
+    const RESOURCES: hypercontact_core::Resources = hypercontact_core::Resources::PARALLEL;
 
     fn info(&self) -> &'static StageInfo {
         &INFO
-    }
-
-    /// Parallel over its work (rayon): a few cores pay off on a cluster.
-    fn resources(&self) -> hypercontact_core::Resources {
-        hypercontact_core::Resources::PARALLEL
     }
 
     fn run(

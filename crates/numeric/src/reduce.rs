@@ -190,17 +190,10 @@ fn add_in_order<const N: usize>(chunks: Vec<[f64; N]>) -> [f64; N] {
 
 #[cfg(test)]
 mod tests {
+    use hypercontact_fuzz::on_threads;
     use proptest::prelude::*;
 
     use super::*;
-
-    fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(f)
-    }
 
     /// Terms of very different magnitude, so that any change in the order
     /// of additions shows in the last bits.
@@ -233,10 +226,14 @@ mod tests {
     #[test]
     fn the_tree_is_pairwise_and_the_same_on_any_number_of_threads() {
         let tree = || reduce(1000, || 0.0, term, |a, b| a + b);
-        let one = in_pool(1, tree);
+        let one = on_threads(1, tree);
         assert_eq!(one.to_bits(), pairwise(0, 1000).to_bits());
         for threads in [2, 3, 4, 7] {
-            assert_eq!(in_pool(threads, tree).to_bits(), one.to_bits(), "{threads}");
+            assert_eq!(
+                on_threads(threads, tree).to_bits(),
+                one.to_bits(),
+                "{threads}"
+            );
         }
         let add = |a: f64, b: f64| a + b;
         assert_eq!(reduce(0, || -1.0, term, add), -1.0);
@@ -269,7 +266,7 @@ mod tests {
             made.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             vec![0.0; 8]
         });
-        let total = in_pool(2, || {
+        let total = on_threads(2, || {
             reduce(
                 500,
                 || 0.0,
@@ -291,11 +288,11 @@ mod tests {
     fn chunked_sums_are_identical_on_one_and_on_three_threads() {
         let len = 100_003;
         let run = || sums(len, |i| [term(i), term(i) * term(i)]);
-        let one = in_pool(1, run);
-        assert_eq!(one.map(f64::to_bits), in_pool(3, run).map(f64::to_bits));
+        let one = on_threads(1, run);
+        assert_eq!(one.map(f64::to_bits), on_threads(3, run).map(f64::to_bits));
         assert_eq!(one[0].to_bits(), chunked(len).to_bits());
         let mut filled = vec![0.0; len];
-        let both = in_pool(2, || {
+        let both = on_threads(2, || {
             fill_sums(&mut filled, |i| {
                 (2.0 * term(i), [term(i), term(i) * term(i)])
             })
@@ -318,10 +315,10 @@ mod tests {
             len in prop_oneof![0usize..20, (1usize..5).prop_map(|k| k * CHUNK), 1usize..3 * CHUNK + 7],
             threads in 1usize..4,
         ) {
-            let chunk_order = in_pool(threads, || sum(len, term));
+            let chunk_order = on_threads(threads, || sum(len, term));
             prop_assert_eq!(chunk_order.to_bits(), chunked(len).to_bits());
             if len > 0 {
-                let tree = in_pool(threads, || reduce(len, || 0.0, term, |a, b| a + b));
+                let tree = on_threads(threads, || reduce(len, || 0.0, term, |a, b| a + b));
                 prop_assert_eq!(tree.to_bits(), pairwise(0, len).to_bits());
             }
         }

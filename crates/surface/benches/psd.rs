@@ -17,13 +17,7 @@ const PIXEL_M: f64 = 1e-6;
 const PER_DECADE: usize = 10;
 
 fn psd_4096(c: &mut Criterion) {
-    let h = SelfAffine {
-        hurst: 0.8,
-        rms_m: 1e-6,
-        lambda_min_m: 4e-6,
-        lambda_max_m: 1e-3,
-    }
-    .periodic(N, N, PIXEL_M, 4);
+    let h = SelfAffine::MICRON.periodic(N, N, PIXEL_M, 4);
     let mut group = c.benchmark_group("psd_4096x4096");
     group.sample_size(10);
     group.measurement_time(Duration::from_secs(8));

@@ -15,10 +15,8 @@ fn main() -> std::io::Result<()> {
     let out_dir = PathBuf::from(std::env::args().nth(1).expect("argument: output directory"));
     let (n, pixel_m) = (512, 1e-6);
     let h = SelfAffine {
-        hurst: 0.8,
-        rms_m: 1e-6,
-        lambda_min_m: 4e-6,
         lambda_max_m: 2e-4,
+        ..SelfAffine::MICRON
     }
     .non_periodic(n, n, pixel_m, 9);
     let bytes: Vec<u8> = h.iter().flat_map(|v| v.to_le_bytes()).collect();

@@ -29,13 +29,7 @@ fn main() {
         .map_or(4096, |a| a.parse().expect("n: map size"));
     let runs: usize = args.next().map_or(7, |a| a.parse().expect("runs: count"));
     let pixel_m = 1e-6;
-    let h = SelfAffine {
-        hurst: 0.8,
-        rms_m: 1e-6,
-        lambda_min_m: 4e-6,
-        lambda_max_m: 1e-3,
-    }
-    .periodic(n, n, pixel_m, 4);
+    let h = SelfAffine::MICRON.periodic(n, n, pixel_m, 4);
     println!(
         "n = {n}, runs = {runs}, threads = {}",
         rayon::current_num_threads()

@@ -136,6 +136,30 @@ fn column_buffers(n: usize, scratch_len: usize) -> (Vec<Complex64>, Vec<Complex6
     )
 }
 
+/// The element-wise sum of `block_power` over `n_blocks` blocks of
+/// profiles (`len` values each), every block computed with working buffers
+/// from `make_buffers` and the sums added in a fixed order, so the result
+/// has the same bits on any thread count.
+fn summed_block_power<S: Send, F: Fn() -> S + Sync>(
+    n_blocks: usize,
+    len: usize,
+    make_buffers: F,
+    block_power: impl Fn(&mut S, usize) -> Vec<f64> + Sync,
+) -> Vec<f64> {
+    let pool = ScratchPool::new(make_buffers);
+    reduce(
+        n_blocks,
+        || vec![0.0; len],
+        |block| pool.with(|buffers| block_power(buffers, block)),
+        add_into,
+    )
+}
+
+/// q_k = 2π k / L, k = 0 … count − 1: the wavevectors of a profile of length `l_m`.
+fn wavevectors_per_m(count: usize, l_m: f64) -> Vec<f64> {
+    (0..count).map(|k| TAU * k as f64 / l_m).collect()
+}
+
 /// Profile-averaged 1-D PSD of the contiguous profiles of length n in
 /// `profiles`, k = 0 … n/2 − 1, unbinned.
 fn mean_profile_psd(profiles: &[f64], n: usize, spacing_m: f64, window: Window) -> Spectrum {
@@ -166,17 +190,16 @@ fn mean_profile_psd(profiles: &[f64], n: usize, spacing_m: f64, window: Window) 
         }
         acc
     };
-    let pool = ScratchPool::new(|| (vec![0.0; n], fft.make_output_vec()));
-    let power = reduce(
+    let power = summed_block_power(
         n_profiles.div_ceil(PROFILES_PER_BLOCK),
-        || vec![0.0; half],
-        |block| pool.with(|buffers| block_power(buffers, block)),
-        add_into,
+        half,
+        || (vec![0.0; n], fft.make_output_vec()),
+        block_power,
     );
     let l_m = n as f64 * spacing_m;
     let norm = spacing_m * spacing_m / l_m / n_profiles as f64;
     Spectrum {
-        q_per_m: (0..half).map(|k| TAU * k as f64 / l_m).collect(),
+        q_per_m: wavevectors_per_m(half, l_m),
         c: power.into_iter().map(|p| p * norm).collect(),
     }
 }
@@ -221,17 +244,16 @@ pub fn profile_psd_x(h: &Array2<f64>, dx_m: f64, window: Window) -> Spectrum {
         }
         acc
     };
-    let pool = ScratchPool::new(|| column_buffers(nx, fft.get_inplace_scratch_len()));
-    let power = reduce(
+    let power = summed_block_power(
         n_pairs.div_ceil(BLOCK),
-        || vec![0.0; nx],
-        |block| pool.with(|buffers| block_power(buffers, block)),
-        add_into,
+        nx,
+        || column_buffers(nx, fft.get_inplace_scratch_len()),
+        block_power,
     );
     let l_m = nx as f64 * dx_m;
     let norm = dx_m * dx_m / l_m / ny as f64;
     Spectrum {
-        q_per_m: (0..nx / 2).map(|k| TAU * k as f64 / l_m).collect(),
+        q_per_m: wavevectors_per_m(nx / 2, l_m),
         c: (0..nx / 2)
             .map(|k| 0.5 * (power[k] + power[(nx - k) % nx]) * norm)
             .collect(),

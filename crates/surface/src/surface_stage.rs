@@ -206,14 +206,11 @@ fn stitched(
 
 impl Stage for Surface {
     type Params = SurfaceParams;
+    /// Parallel (rayon) over its work: a few cores pay off on a cluster.
+    const RESOURCES: hypercontact_core::Resources = hypercontact_core::Resources::PARALLEL;
 
     fn info(&self) -> &'static StageInfo {
         &INFO
-    }
-
-    /// Parallel over its work (rayon): a few cores pay off on a cluster.
-    fn resources(&self) -> hypercontact_core::Resources {
-        hypercontact_core::Resources::PARALLEL
     }
 
     fn run(

@@ -55,9 +55,8 @@ fn a_self_affine_surface_fits_well_inside_the_default_range() {
     let (n, pixel_m, hurst) = (512, 1e-6, 0.7);
     let h = SelfAffine {
         hurst,
-        rms_m: 1e-6,
         lambda_min_m: 1e-6,
-        lambda_max_m: 1e-3,
+        ..SelfAffine::MICRON
     }
     .periodic(n, n, pixel_m, 8);
     let s = stats(h, pixel_m, true);
@@ -115,9 +114,8 @@ fn an_exponent_above_one_is_flagged_outside_the_unit_range() {
     let (n, pixel_m) = (256, 1e-6);
     let h = SelfAffine {
         hurst: 1.3,
-        rms_m: 1e-6,
         lambda_min_m: 1e-6,
-        lambda_max_m: 1e-3,
+        ..SelfAffine::MICRON
     }
     .periodic(n, n, pixel_m, 9);
     for (h, r2, _, _, flag) in fits(&stats(h, pixel_m, true)) {

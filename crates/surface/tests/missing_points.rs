@@ -63,10 +63,8 @@ fn scattered_dropouts_move_the_psd_far_less_with_harmonic_fill() {
     // the local height) show up as white noise.
     let (n, pixel_m) = (512, 1e-6);
     let full = SelfAffine {
-        hurst: 0.8,
-        rms_m: 1e-6,
-        lambda_min_m: 4e-6,
         lambda_max_m: 200e-6,
+        ..SelfAffine::MICRON
     }
     .periodic(n, n, pixel_m, 5);
     // 0.04 % as on sur-2.
@@ -156,10 +154,9 @@ fn at_the_default_limit_the_in_fill_biases_the_psd_by_about_the_missing_share() 
     // of filled points, at the short wavelengths.
     let (n, pixel_m) = (512, 1e-6);
     let full = SelfAffine {
-        hurst: 0.8,
-        rms_m: 1e-6,
         lambda_min_m: 2e-6,
         lambda_max_m: 200e-6,
+        ..SelfAffine::MICRON
     }
     .periodic(n, n, pixel_m, 6);
     let holed = with_dropouts(&full, 0.095, 43);

@@ -15,13 +15,7 @@ use hypercontact_synth::surface::SelfAffine;
 
 fn main() {
     let n = 454;
-    let values = SelfAffine {
-        hurst: 0.65,
-        rms_m: 15e-6,
-        lambda_min_m: 40e-6,
-        lambda_max_m: 5e-3,
-    }
-    .non_periodic(n, n, 20e-6, 101);
+    let values = SelfAffine::T1_LIKE.non_periodic(n, n, 20e-6, 101);
     let surface = Field::new(values, 20e-6, 20e-6).unwrap();
     let material = hypercontact_material::presets::preset("paper-epdm").unwrap();
     let inputs = Inputs::new().with("surface", Product::Field(surface)).with(

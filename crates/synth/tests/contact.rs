@@ -1,7 +1,7 @@
 //! Stage `synth-contact`: the lab files it writes and their truth.
 
 use hypercontact_core::contact::ObservedMapIndex;
-use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Schema, Stage, Table};
+use hypercontact_core::{Context, Field, Files, Inputs, Params, Product, Schema, Stage};
 use hypercontact_labfiles::FileSource;
 use hypercontact_labfiles::sequence::Sequence;
 use hypercontact_synth::contact::{
@@ -33,16 +33,8 @@ fn run(json: &str) -> Result<(Files, ContactTruthTable, RigTruthTable, Files), S
     let out = SynthContact
         .run(&p, &inputs, &Context::new("synth-contact"))
         .map_err(|e| e.to_string())?;
-    let files = |name: &str| match out.get(name) {
-        Some(Product::Files(f)) => f.clone(),
-        _ => panic!("no {name}"),
-    };
-    let table = |name: &str| -> Table {
-        match out.get(name) {
-            Some(Product::Table(t)) => t.clone(),
-            _ => panic!("no {name}"),
-        }
-    };
+    let files = |name: &str| out.get_files(name).expect(name).clone();
+    let table = |name: &str| out.get_table(name).expect(name).clone();
     Ok((
         files("sequence"),
         ContactTruthTable::from_table(&table("truth")).unwrap(),

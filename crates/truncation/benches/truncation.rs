@@ -19,13 +19,7 @@ const LEVELS: u32 = 1000;
 
 fn truncation_4096(c: &mut Criterion) {
     // H = 0.8, rms 10 µm, power from the map's side down to two pixels.
-    let h = SelfAffine {
-        hurst: 0.8,
-        rms_m: 1e-5,
-        lambda_min_m: 2.0 * 2e-5,
-        lambda_max_m: N as f64 * 2e-5,
-    }
-    .periodic(N, N, 2e-5, 4096);
+    let h = SelfAffine::whole_band(N, 2e-5).periodic(N, N, 2e-5, 4096);
     let options = TruncationOptions {
         levels: Levels::Count(LEVELS),
         ..Default::default()

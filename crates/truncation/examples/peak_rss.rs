@@ -44,13 +44,7 @@ fn main() {
     let n: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(8192);
     let levels: u32 = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(1000);
     let start = Instant::now();
-    let h = SelfAffine {
-        hurst: 0.8,
-        rms_m: 1e-5,
-        lambda_min_m: 2.0 * 2e-5,
-        lambda_max_m: n as f64 * 2e-5,
-    }
-    .periodic(n, n, 2e-5, 8192);
+    let h = SelfAffine::whole_band(n, 2e-5).periodic(n, n, 2e-5, 8192);
     println!(
         "generated {n} × {n} in {:.2} s; {}",
         start.elapsed().as_secs_f64(),

@@ -6,7 +6,7 @@
 use hypercontact_contact_images::stage::{
     ContactImages, ContactImagesParams, ContactTable, SyncTable,
 };
-use hypercontact_core::{Checked, Context, Files, Inputs, Params, Product, Schema, Stage, Table};
+use hypercontact_core::{Checked, Context, Files, Inputs, Params, Product, Schema, Stage};
 
 /// The stage's parameters from JSON; they must pass their checks.
 pub fn params(json: &str) -> Checked<ContactImagesParams> {
@@ -33,16 +33,8 @@ pub fn run_on(
     let out = ContactImages
         .run(p, &inputs, &Context::new("contact-images"))
         .map_err(|e| e.to_string())?;
-    let table = |name: &str| -> Table {
-        match out.get(name) {
-            Some(Product::Table(t)) => t.clone(),
-            _ => panic!("no table {name}"),
-        }
-    };
-    let maps = match out.get("contact_maps") {
-        Some(Product::Files(f)) => f.clone(),
-        _ => panic!("no maps"),
-    };
+    let table = |name: &str| out.get_table(name).expect(name).clone();
+    let maps = out.get_files("contact_maps").expect("contact_maps").clone();
     Ok((
         ContactTable::from_table(&table("contact")).unwrap(),
         SyncTable::from_table(&table("sync")).unwrap(),

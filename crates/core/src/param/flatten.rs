@@ -35,34 +35,6 @@ pub trait Flatten: Sized {
     fn finish<E: Error>(slots: Self::Slots) -> Result<Self, E>;
 }
 
-/// How many keys the parts hold together.
-#[doc(hidden)]
-pub const fn total_len(parts: &[&[&'static str]]) -> usize {
-    let (mut n, mut i) = (0, 0);
-    while i < parts.len() {
-        n += parts[i].len();
-        i += 1;
-    }
-    n
-}
-
-/// The parts' keys in order, as one array of `N` = [`total_len`] keys.
-#[doc(hidden)]
-pub const fn concat<const N: usize>(parts: &[&[&'static str]]) -> [&'static str; N] {
-    let mut out = [""; N];
-    let (mut k, mut i) = (0, 0);
-    while i < parts.len() {
-        let mut j = 0;
-        while j < parts[i].len() {
-            out[k] = parts[i][j];
-            k += 1;
-            j += 1;
-        }
-        i += 1;
-    }
-    out
-}
-
 /// The value of a key this struct declares, refusing it a second time.
 #[doc(hidden)]
 pub fn fill<'de, T: serde::Deserialize<'de>, A: MapAccess<'de>>(

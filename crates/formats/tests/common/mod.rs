@@ -15,6 +15,8 @@ use ndarray::Array2;
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, ZipArchive, ZipWriter};
 
+pub mod sur_streams;
+
 const REFERENCE_DIR: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../../../shared/reference/topography/"
@@ -175,12 +177,24 @@ pub fn assert_identical(actual: &Array2<f64>, expected: &Array2<f64>) {
     }
 }
 
+/// What a read of fuzzed bytes must satisfy: an error, or a map with no
+/// more points than the file has bytes and positive spacings.
+pub fn check_fuzzed_read(
+    read: Result<Topography, hypercontact_formats::FormatError>,
+    file_len: usize,
+) -> Result<(), proptest::test_runner::TestCaseError> {
+    let Ok(map) = read else {
+        return Ok(());
+    };
+    let (nx, ny) = map.heights_m.dim();
+    proptest::prop_assert!(nx * ny <= file_len);
+    proptest::prop_assert!(map.dx_m > 0.0 && map.dy_m > 0.0);
+    Ok(())
+}
+
 /// The value of a metadata key, if present.
 pub fn meta<'a>(read: &'a Topography, key: &str) -> Option<&'a str> {
-    read.metadata
-        .iter()
-        .find(|(k, _)| k == key)
-        .map(|(_, v)| v.as_str())
+    read.meta(key)
 }
 
 /// The members of a zip archive (an X3P file), inflated, in their order.

@@ -102,6 +102,7 @@ impl ComplexFft2 {
 
 #[cfg(test)]
 mod tests {
+    use hypercontact_fuzz::on_threads;
     use proptest::prelude::*;
 
     use super::*;
@@ -144,14 +145,7 @@ mod tests {
                 .flat_map(|c| [c.re.to_bits(), c.im.to_bits()])
                 .collect::<Vec<_>>()
         };
-        let on = |threads: usize| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-                .install(run)
-        };
-        assert_eq!(on(1), on(2));
+        assert_eq!(on_threads(1, run), on_threads(2, run));
     }
 
     proptest! {

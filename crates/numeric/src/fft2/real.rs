@@ -345,6 +345,7 @@ impl RealFft2 {
 
 #[cfg(test)]
 mod tests {
+    use hypercontact_fuzz::on_threads;
     use proptest::prelude::*;
 
     use super::*;
@@ -566,14 +567,21 @@ mod tests {
                 .collect();
             (spectrum_bits, bits(&out))
         };
-        let on = |threads: usize| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-                .install(run)
-        };
-        assert_eq!(on(1), on(2));
+        assert_eq!(on_threads(1, run), on_threads(2, run));
+    }
+
+    /// A grid of 1 to `end` − 1 cells per side, a map that fits in it (as
+    /// small as one cell) and a seed for the map's values.
+    fn grid_and_map(end: usize) -> impl Strategy<Value = ((usize, usize), (usize, usize), u64)> {
+        (1..end, 1..end, 0usize..6, 0usize..6, 0u64..1000).prop_map(
+            |(rows, cols, cut_rows, cut_cols, seed)| {
+                let map_size = (
+                    rows.saturating_sub(cut_rows).max(1),
+                    cols.saturating_sub(cut_cols).max(1),
+                );
+                ((rows, cols), map_size, seed)
+            },
+        )
     }
 
     proptest! {
@@ -582,14 +590,7 @@ mod tests {
         /// Odd, prime and even grids, maps smaller than the grid: the
         /// half spectrum is the direct DFT's.
         #[test]
-        fn forward_is_the_direct_dft(
-            rows in 1usize..14,
-            cols in 1usize..14,
-            cut_rows in 0usize..6,
-            cut_cols in 0usize..6,
-            seed in 0u64..1000,
-        ) {
-            let map_size = (rows.saturating_sub(cut_rows).max(1), cols.saturating_sub(cut_cols).max(1));
+        fn forward_is_the_direct_dft(((rows, cols), map_size, seed) in grid_and_map(14)) {
             let values = map(map_size.0, map_size.1, seed);
             let fft = RealFft2::new(rows, cols).unwrap();
             let fast = transform(&fft, &values, map_size);
@@ -602,14 +603,7 @@ mod tests {
         /// The fused convolution is the direct cyclic sum on the grid, and
         /// the inverse returns the map's part only.
         #[test]
-        fn convolution_is_the_direct_cyclic_sum(
-            rows in 1usize..12,
-            cols in 1usize..12,
-            cut_rows in 0usize..6,
-            cut_cols in 0usize..6,
-            seed in 0u64..1000,
-        ) {
-            let map_size = (rows.saturating_sub(cut_rows).max(1), cols.saturating_sub(cut_cols).max(1));
+        fn convolution_is_the_direct_cyclic_sum(((rows, cols), map_size, seed) in grid_and_map(12)) {
             let kernel = map(rows, cols, seed + 1);
             let values = map(map_size.0, map_size.1, seed);
             let fft = RealFft2::new(rows, cols).unwrap();

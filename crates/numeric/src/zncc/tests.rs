@@ -1,3 +1,4 @@
+use hypercontact_fuzz::on_threads;
 use proptest::prelude::*;
 
 use super::*;
@@ -182,14 +183,7 @@ fn one_and_two_threads_give_the_same_bits() {
             .map(|v| v.to_bits())
             .collect::<Vec<_>>()
     };
-    let on = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(run)
-    };
-    assert_eq!(on(1), on(2));
+    assert_eq!(on_threads(1, run), on_threads(2, run));
 }
 
 proptest! {

@@ -33,6 +33,37 @@ pub struct SelfAffine {
 }
 
 impl SelfAffine {
+    /// The micrometre-scale spectrum of `hypercontact-surface`'s PSD tests,
+    /// bench and SurfaceTopography cross-check: H = 0.8, rms 1 µm, power from
+    /// 1 mm down to 4 µm. Callers change a field with `..SelfAffine::MICRON`.
+    pub const MICRON: SelfAffine = SelfAffine {
+        hurst: 0.8,
+        rms_m: 1e-6,
+        lambda_min_m: 4e-6,
+        lambda_max_m: 1e-3,
+    };
+
+    /// The spectrum of the ICM and truncation tests and benches on an
+    /// n × n map of `pixel_m` pixels: H = 0.8, rms 10 µm, power from the
+    /// map's side down to two pixels.
+    pub fn whole_band(n: usize, pixel_m: f64) -> SelfAffine {
+        SelfAffine {
+            hurst: 0.8,
+            rms_m: 1e-5,
+            lambda_min_m: 2.0 * pixel_m,
+            lambda_max_m: n as f64 * pixel_m,
+        }
+    }
+
+    /// A T1-like rubber sample at 20 µm pixels (H = 0.65, rms 15 µm, power
+    /// from 5 mm down to 40 µm): what the bem and synth-contact benches solve.
+    pub const T1_LIKE: SelfAffine = SelfAffine {
+        hurst: 0.65,
+        rms_m: 15e-6,
+        lambda_min_m: 40e-6,
+        lambda_max_m: 5e-3,
+    };
+
     /// The spectrum's shape at |q| (rad/m), without the prefactor C0.
     pub fn shape(&self, q_per_m: f64) -> f64 {
         let q_roll = std::f64::consts::TAU / self.lambda_max_m;
