@@ -305,30 +305,23 @@ mod tests {
     #[test]
     fn bad_curves_and_ranges_are_named() {
         let a = [0.1, 0.2];
-        let f = [1.0];
-        let e = LogCurve::new(
-            Curve {
-                area_fraction: &a,
-                load_n: &f,
-            },
-            "icm",
-        )
-        .unwrap_err()
-        .to_string();
+        let refused = |load_n: &[f64]| {
+            LogCurve::new(
+                Curve {
+                    area_fraction: &a,
+                    load_n,
+                },
+                "icm",
+            )
+            .unwrap_err()
+            .to_string()
+        };
+        let e = refused(&[1.0]);
         assert!(
             e.contains("icm") && e.contains("2 area fractions but 1 loads"),
             "{e}"
         );
-        let f = [0.0, 1.0];
-        let e = LogCurve::new(
-            Curve {
-                area_fraction: &a,
-                load_n: &f,
-            },
-            "icm",
-        )
-        .unwrap_err()
-        .to_string();
+        let e = refused(&[0.0, 1.0]);
         assert!(e.contains("1 points"), "{e}");
         let model_f = [1.0, 2.0];
         let model = model(&a, &model_f);

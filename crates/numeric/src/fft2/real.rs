@@ -109,7 +109,7 @@ impl RealFft2 {
         self.check_spectrum(spectrum.len())?;
         work.rows.resize(map_size.0 * self.half, Complex64::ZERO);
         self.rows_forward(map, map_size.1, &mut work.rows);
-        self.columns_forward(&work.rows, spectrum, |_, _, _| {});
+        self.columns_forward(Some(&work.rows), spectrum, |_, _, _| {});
         Ok(())
     }
 
@@ -153,10 +153,14 @@ impl RealFft2 {
         work.rows.resize(map_size.0 * self.half, Complex64::ZERO);
         work.columns.resize(self.spectrum_len(), Complex64::ZERO);
         self.rows_forward(input, map_size.1, &mut work.rows);
-        self.columns_forward(&work.rows, &mut work.columns, |offset, strip, scratch| {
-            apply(offset, strip);
-            self.inverse.process_with_scratch(strip, scratch);
-        });
+        self.columns_forward(
+            Some(&work.rows),
+            &mut work.columns,
+            |offset, strip, scratch| {
+                apply(offset, strip);
+                self.inverse.process_with_scratch(strip, scratch);
+            },
+        );
         self.rows_back(&work.columns, map_size, output, scale);
         Ok(())
     }
@@ -187,26 +191,15 @@ impl RealFft2 {
                 }
             }
         }
-        let scratch_len = self
-            .forward
-            .get_inplace_scratch_len()
-            .max(self.inverse.get_inplace_scratch_len());
-        columns
-            .par_chunks_mut(BLOCK * self.rows)
-            .enumerate()
-            .for_each_init(
-                || vec![Complex64::ZERO; scratch_len],
-                |scratch, (block, strip)| {
-                    self.forward.process_with_scratch(strip, scratch);
-                    for (c, column) in strip.chunks_exact_mut(self.rows).enumerate() {
-                        let l = block * BLOCK + c;
-                        for (k, v) in column.iter_mut().enumerate() {
-                            *v *= gain(k, l);
-                        }
-                    }
-                    self.inverse.process_with_scratch(strip, scratch);
-                },
-            );
+        self.columns_forward(None, &mut columns, |offset, strip, scratch| {
+            for (c, column) in strip.chunks_exact_mut(self.rows).enumerate() {
+                let l = offset / self.rows + c;
+                for (k, v) in column.iter_mut().enumerate() {
+                    *v *= gain(k, l);
+                }
+            }
+            self.inverse.process_with_scratch(strip, scratch);
+        });
         self.rows_back(&columns, size, map, 1.0);
         Ok(())
     }
@@ -273,11 +266,12 @@ impl RealFft2 {
     }
 
     /// Gathers the columns of the row transforms `rows` into `columns`
-    /// (zero below the map's rows), transforms them, and hands each strip
-    /// to `then` with its offset and a scratch fit for either direction.
+    /// (zero below the map's rows; `None`: `columns` holds them already),
+    /// transforms them, and hands each strip to `then` with its offset and
+    /// a scratch fit for either direction.
     fn columns_forward(
         &self,
-        rows: &[Complex64],
+        rows: Option<&[Complex64]>,
         columns: &mut [Complex64],
         then: impl Fn(usize, &mut [Complex64], &mut [Complex64]) + Sync,
     ) {
@@ -291,7 +285,9 @@ impl RealFft2 {
             .for_each_init(
                 || vec![Complex64::ZERO; scratch_len],
                 |scratch, (block, strip)| {
-                    gather_columns(rows, self.half, block * BLOCK, self.rows, strip);
+                    if let Some(rows) = rows {
+                        gather_columns(rows, self.half, block * BLOCK, self.rows, strip);
+                    }
                     self.forward.process_with_scratch(strip, scratch);
                     then(block * BLOCK * self.rows, strip, scratch);
                 },
