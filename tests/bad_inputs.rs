@@ -694,6 +694,37 @@ cases! {
     cache_gc_days_negative: Case::new(&["cache", "gc", "--cache", "<dir>/cache", "--older-than-days=-1"]).exit(2);
     cache_gc_days_huge: Case::new(&["cache", "gc", "--cache", "<dir>/cache", "--older-than-days", "1e300"]).exit(2);
     cache_gc_days_text: Case::new(&["cache", "gc", "--cache", "<dir>/cache", "--older-than-days", "ten"]).exit(2);
+    cache_gc_days_negative_apart: Case::new(&["cache", "gc", "--cache", "<dir>/cache", "--older-than-days", "-3"])
+        .exit(2)
+        .mentions(&["-3 days", "from 0 to 36525"])
+        .lacks("unexpected argument");
+    // `cache clean` removes a cache only: a folder of other files is named
+    // and kept (#31, 1); a cache a run made is removed whole.
+    cache_clean_not_a_cache: Case::new(&["cache", "clean", "--cache", "<dir>/x"])
+        .file("x/ch/a.tex", "notes")
+        .mentions(&["not a hypercontact cache", "ch/"]);
+    cache_clean_removes_a_cache: Case::new(&["cache", "clean", "--cache", "<dir>/cache"])
+        .file("p.yaml", TENSILE)
+        .file("t.csv", CSV)
+        .before(&["run", "<dir>/p.yaml", "--out", "<dir>/out", "--cache", "<dir>/cache", "-q"])
+        .absent("cache")
+        .exit(0);
+    run_cache_in_a_folder_of_other_files: Case::new(&["run", "<dir>/p.yaml", "--out", "<dir>/out", "--cache", "<dir>/x", "-q"])
+        .file("p.yaml", TENSILE)
+        .file("t.csv", CSV)
+        .file("x/thesis.tex", "chapter 1")
+        .mentions(&["not a hypercontact cache", "thesis.tex"]);
+    // Outputs inside the cache, or the cache inside the outputs, are refused
+    // before anything is written (#31, 2).
+    run_out_inside_the_cache: Case::new(&["run", "<dir>/p.yaml", "--out", "<dir>/cache/entries", "--cache", "<dir>/cache", "-q"])
+        .file("p.yaml", TENSILE)
+        .file("t.csv", CSV)
+        .mentions(&["overlap", "inside the cache"]);
+    run_cache_inside_the_out: Case::new(&["run", "<dir>/p.yaml", "--out", "<dir>/out", "--cache", "<dir>/out/../out/c", "-q"])
+        .file("p.yaml", TENSILE)
+        .file("t.csv", CSV)
+        .absent("out")
+        .mentions(&["overlap", "inside the outputs"]);
     // Listing a cache that is not there says so and creates nothing.
     cache_ls_missing_dir: Case::new(&["cache", "ls", "--cache", "<dir>/missing/dir"])
         .exit(0)

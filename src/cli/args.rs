@@ -135,7 +135,9 @@ pub enum CacheAction {
         #[arg(long, value_name = "PIPELINE")]
         keep: Vec<PathBuf>,
         /// Remove entries unused for this many days (default 30 without --keep).
-        #[arg(long, value_parser = parse_days)]
+        // A negative number reaches parse_days, which names the range,
+        // rather than clap's "unexpected argument '-3'" (#31, 15).
+        #[arg(long, value_parser = parse_days, allow_negative_numbers = true)]
         older_than_days: Option<f64>,
     },
     /// Hash every file of every entry against its manifest; list corrupt

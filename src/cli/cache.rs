@@ -7,7 +7,7 @@ use std::time::{Duration, SystemTime};
 
 use anyhow::{Context as _, Result, bail};
 use hypercontact_core::Registry;
-use hypercontact_runner::cache::{Cache, EntryInfo, EntryState};
+use hypercontact_runner::cache::{Cache, EntryInfo, EntryState, not_a_cache};
 use hypercontact_runner::exec::default_cache_dir;
 use hypercontact_runner::{Pipeline, Plan, PlanOptions};
 
@@ -160,9 +160,14 @@ fn verify(dir: &Path) -> Result<()> {
 }
 
 fn clean(dir: &Path) -> Result<()> {
-    if dir.exists() {
-        Cache::open(dir)?.clean()?;
+    if let Some(why) = not_a_cache(dir)? {
+        bail!("{}: {why}", dir.display());
     }
+    if !dir.exists() {
+        say!("no cache at {}", dir.display());
+        return Ok(());
+    }
+    Cache::open(dir)?.clean()?;
     say!("removed {}", dir.display());
     Ok(())
 }

@@ -90,10 +90,28 @@ fn unique_suffix() -> String {
     format!("{}.{nanos}", std::process::id())
 }
 
+/// The file that marks a folder as a hypercontact cache: `cache clean`
+/// removes a folder only when it holds this file (or the bare layout of a
+/// cache made before the marker), never a folder that merely was named.
+pub const MARKER: &str = "HYPERCONTACT_CACHE";
+
+/// The folders of a cache.
+const LAYOUT: [&str; 4] = ["entries", "tmp", "locks", "stamps"];
+
 impl Cache {
+    /// The cache at `root`, made if `root` is absent or empty. A folder that
+    /// holds anything else and no [`MARKER`] is refused (it is not a cache,
+    /// and a cache written into it would be cleaned with it).
     pub fn open(root: &Path) -> io::Result<Self> {
-        for sub in ["entries", "tmp", "locks", "stamps"] {
+        if let Some(why) = not_a_cache(root)? {
+            return Err(io::Error::new(io::ErrorKind::InvalidInput, why));
+        }
+        for sub in LAYOUT {
             fs::create_dir_all(root.join(sub))?;
+        }
+        let marker = root.join(MARKER);
+        if !marker.exists() {
+            fs::write(&marker, "hypercontact cache, layout 1\n")?;
         }
         Ok(Self {
             root: root.to_owned(),
@@ -412,10 +430,54 @@ impl Cache {
         Ok(n)
     }
 
-    /// Removes the whole cache.
+    /// Removes the whole cache (checked again: the folder may have gained
+    /// other files since it was opened).
     pub fn clean(&self) -> io::Result<()> {
+        if let Some(why) = not_a_cache(&self.root)? {
+            return Err(io::Error::new(io::ErrorKind::InvalidInput, why));
+        }
         remove_tree(&self.root)
     }
+}
+
+/// Why `root` is not a hypercontact cache, or `None` when it is one (it
+/// holds [`MARKER`], or only the cache's own folders: a cache made before
+/// the marker) or may become one (absent or empty).
+pub fn not_a_cache(root: &Path) -> io::Result<Option<String>> {
+    let listing = match fs::read_dir(root) {
+        Ok(listing) => listing,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(None),
+        Err(e) if e.kind() == io::ErrorKind::NotADirectory => {
+            return Ok(Some("it is a file, not a folder".to_owned()));
+        }
+        Err(e) => return Err(e),
+    };
+    let mut foreign = Vec::new();
+    for entry in listing {
+        let entry = entry?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if name == MARKER {
+            return Ok(None);
+        }
+        let is_dir = entry.file_type()?.is_dir();
+        if !(is_dir && LAYOUT.contains(&name.as_str())) {
+            foreign.push(if is_dir { format!("{name}/") } else { name });
+        }
+    }
+    if foreign.is_empty() {
+        return Ok(None);
+    }
+    foreign.sort();
+    let shown = foreign.len().min(5);
+    let more = match foreign.len() - shown {
+        0 => String::new(),
+        n => format!(" and {n} more"),
+    };
+    Ok(Some(format!(
+        "not a hypercontact cache: it holds {}{more} and no {MARKER} file; \
+         refusing to use or remove it (give --cache an empty or new folder)",
+        foreign[..shown].join(", ")
+    )))
 }
 
 /// The key a `tmp/` name belongs to: `<key>.<pid>.<ns>` or
@@ -499,5 +561,57 @@ mod tests {
         assert_eq!(short_key(""), "");
         // Byte 12 falls inside the seventh `é`: slicing bytes panicked there.
         assert_eq!(short_key("aééééééééééééé"), "aééééééééééé");
+    }
+
+    #[test]
+    fn only_a_cache_is_taken_for_one() {
+        let t = tempfile::tempdir().unwrap();
+        let dir = t.path();
+        // Absent or empty: may become a cache.
+        assert_eq!(not_a_cache(&dir.join("new")).unwrap(), None);
+        assert_eq!(not_a_cache(dir).unwrap(), None);
+        // A cache made before the marker: only its own folders.
+        for sub in LAYOUT {
+            fs::create_dir(dir.join(sub)).unwrap();
+        }
+        assert_eq!(not_a_cache(dir).unwrap(), None);
+        // Anything else, without the marker, is named; seven strangers
+        // show as five and a count.
+        for k in 0..6 {
+            fs::write(dir.join(format!("note{k}.txt")), "x").unwrap();
+        }
+        fs::create_dir(dir.join("chapter")).unwrap();
+        let why = not_a_cache(dir).unwrap().unwrap();
+        assert!(
+            why.contains("chapter/, note0.txt, note1.txt, note2.txt, note3.txt and 2 more"),
+            "{why}"
+        );
+        let e = Cache::open(dir).err().unwrap();
+        assert!(e.to_string().contains("not a hypercontact cache"), "{e}");
+        // A file where the folder should be.
+        assert!(
+            not_a_cache(&dir.join("note0.txt"))
+                .unwrap()
+                .unwrap()
+                .contains("a file")
+        );
+        // The marker makes it a cache (a user's file inside one is the
+        // cache's to remove).
+        fs::write(dir.join(MARKER), "").unwrap();
+        assert_eq!(not_a_cache(dir).unwrap(), None);
+    }
+
+    #[test]
+    fn a_new_cache_carries_the_marker_and_an_old_one_gains_it() {
+        let t = tempfile::tempdir().unwrap();
+        let fresh = t.path().join("fresh");
+        Cache::open(&fresh).unwrap();
+        assert!(fresh.join(MARKER).is_file());
+        let old = t.path().join("old");
+        for sub in LAYOUT {
+            fs::create_dir_all(old.join(sub)).unwrap();
+        }
+        Cache::open(&old).unwrap();
+        assert!(old.join(MARKER).is_file());
     }
 }

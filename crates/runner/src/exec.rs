@@ -102,6 +102,16 @@ pub enum RunError {
     /// failed (the message names the stage, job and log).
     #[error("{0}")]
     Job(String),
+    /// The output folder and the cache overlap: exporting would write into
+    /// cache entries, or cleaning the cache would take the outputs.
+    #[error(
+        "the output folder {} and the cache {} overlap ({}): give --out and --cache \
+         folders apart from each other",
+        out.display(),
+        cache.display(),
+        if out.starts_with(cache) { "the outputs would sit inside the cache" } else { "the cache would sit inside the outputs" }
+    )]
+    Overlap { out: PathBuf, cache: PathBuf },
     /// The entry of a temporary stage this run planned to read was dropped
     /// by a concurrent run; [`run`] plans again and regenerates it.
     #[error("the entry of temporary stage `{stage}` was removed by another run")]
@@ -208,6 +218,9 @@ fn run_once(
 ) -> Result<RunReport, RunError> {
     let started = Instant::now();
     let started_unix_s = unix_now();
+    if options.export {
+        check_apart(&options.out_dir, &options.cache_dir)?;
+    }
     let cache = open_cache(&options.cache_dir)?;
     let provenance_path = options.out_dir.join("provenance.json");
     let previous = Provenance::read(&provenance_path);
@@ -250,6 +263,52 @@ fn run_once(
             })?;
     }
     Ok(RunReport { plan, provenance })
+}
+
+/// Refuses an output folder inside the cache or a cache inside the output
+/// folder (compared as absolute paths with `.` and `..` resolved by name,
+/// and again through symbolic links where the folders exist).
+fn check_apart(out: &Path, cache: &Path) -> Result<(), RunError> {
+    let overlap = |a: &Path, b: &Path| a.starts_with(b) || b.starts_with(a);
+    let (out_abs, cache_abs) = (lexical_absolute(out), lexical_absolute(cache));
+    let resolved = |p: &Path| nearest_existing(p).unwrap_or_else(|| p.to_owned());
+    if overlap(&out_abs, &cache_abs) || overlap(&resolved(&out_abs), &resolved(&cache_abs)) {
+        return Err(RunError::Overlap {
+            out: out.to_owned(),
+            cache: cache.to_owned(),
+        });
+    }
+    Ok(())
+}
+
+/// `path` made absolute, `.` dropped and `..` taken back by name.
+fn lexical_absolute(path: &Path) -> PathBuf {
+    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_owned());
+    let mut out = PathBuf::new();
+    for part in absolute.components() {
+        match part {
+            std::path::Component::CurDir => {}
+            std::path::Component::ParentDir => {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+/// `path` with its longest existing ancestor resolved through symbolic
+/// links, the rest appended as named.
+fn nearest_existing(path: &Path) -> Option<PathBuf> {
+    let mut rest = Vec::new();
+    let mut head = path;
+    loop {
+        if let Ok(real) = head.canonicalize() {
+            return Some(rest.iter().rev().fold(real, |p, part| p.join(part)));
+        }
+        rest.push(head.file_name()?.to_owned());
+        head = head.parent()?;
+    }
 }
 
 /// The cache in `dir`, created if there is none.
