@@ -14,7 +14,7 @@ use hypercontact_core::{
     Arity, Checked, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs, Schema, Stage,
     StageError, StageInfo, params,
 };
-use hypercontact_runner::{Pipeline, PlanOptions, RunOptions, run};
+use hypercontact_runner::{Pipeline, RunOptions, run};
 
 /// Parameters of the throwaway `flat-punch` model.
 #[params]
@@ -174,17 +174,7 @@ fn registry() -> hypercontact_core::Registry {
 }
 
 fn options(dir: &Path) -> RunOptions {
-    RunOptions {
-        out_dir: dir.join("out"),
-        cache_dir: dir.join("cache"),
-        plan: PlanOptions::default(),
-        dry_run: false,
-        quiet: true,
-        overrides: vec![],
-        export: true,
-        keep_temps: false,
-        remote: Default::default(),
-    }
+    RunOptions::in_folders(dir.join("out"), dir.join("cache"))
 }
 
 fn load(dir: &Path, text: &str) -> Result<Pipeline, String> {

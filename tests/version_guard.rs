@@ -25,6 +25,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
+use hypercontact_runner::hash::canonical_json;
 use serde_json::{Value, json};
 
 mod common;
@@ -48,7 +49,7 @@ impl Entry {
         let checkout = format!("{}/", repo().display());
         let mut hasher = blake3::Hasher::new();
         for part in ["params", "files", "inputs"] {
-            let text = canonical(&record[part]).replace(&checkout, "<repo>/");
+            let text = canonical_json(&record[part]).replace(&checkout, "<repo>/");
             hasher.update(text.as_bytes());
             hasher.update(b"\0");
         }
@@ -86,26 +87,6 @@ fn strings(value: &Value) -> BTreeMap<String, String> {
         .iter()
         .map(|(k, v)| (k.clone(), v.as_str().unwrap().to_owned()))
         .collect()
-}
-
-/// JSON with sorted keys, so the hash does not depend on key order.
-fn canonical(value: &Value) -> String {
-    match value {
-        Value::Object(map) => {
-            let sorted: BTreeMap<&String, String> =
-                map.iter().map(|(k, v)| (k, canonical(v))).collect();
-            let items: Vec<String> = sorted
-                .iter()
-                .map(|(k, v)| format!("{}:{v}", Value::String((*k).clone())))
-                .collect();
-            format!("{{{}}}", items.join(","))
-        }
-        Value::Array(items) => {
-            let items: Vec<String> = items.iter().map(canonical).collect();
-            format!("[{}]", items.join(","))
-        }
-        other => other.to_string(),
-    }
 }
 
 /// What is wrong with one fixture stage against its recorded entry: a

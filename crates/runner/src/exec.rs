@@ -46,9 +46,17 @@ impl RunOptions {
     /// Defaults for a pipeline: `runs/<name>/` and the cache next to the
     /// pipeline file.
     pub fn for_pipeline(pipeline: &Pipeline) -> Self {
+        Self::in_folders(
+            PathBuf::from("runs").join(&pipeline.name),
+            default_cache_dir(pipeline),
+        )
+    }
+
+    /// Defaults with the outputs in `out_dir` and the cache in `cache_dir`.
+    pub fn in_folders(out_dir: PathBuf, cache_dir: PathBuf) -> Self {
         Self {
-            out_dir: PathBuf::from("runs").join(&pipeline.name),
-            cache_dir: default_cache_dir(pipeline),
+            out_dir,
+            cache_dir,
             plan: PlanOptions::default(),
             dry_run: false,
             quiet: true,

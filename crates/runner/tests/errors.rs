@@ -437,15 +437,8 @@ fn pipeline_refusals() {
 fn study_and_run_refusals() {
     let t = tempfile::tempdir().unwrap();
     let options = RunOptions {
-        out_dir: t.path().join("out"),
-        cache_dir: t.path().join("cache"),
-        plan: PlanOptions::default(),
         dry_run: true,
-        quiet: true,
-        overrides: vec![],
-        export: true,
-        keep_temps: false,
-        remote: Default::default(),
+        ..RunOptions::in_folders(t.path().join("out"), t.path().join("cache"))
     };
     let study = |name: &str, text: &str| {
         let path = write(t.path(), &format!("{name}.yaml"), text);

@@ -13,17 +13,7 @@ use hypercontact_runner::provenance::CacheUse;
 use hypercontact_runner::{Pipeline, RunOptions, run};
 
 fn options(dir: &Path) -> RunOptions {
-    RunOptions {
-        out_dir: dir.join("out"),
-        cache_dir: dir.join("cache"),
-        plan: PlanOptions::default(),
-        dry_run: false,
-        quiet: true,
-        overrides: vec![],
-        export: true,
-        keep_temps: false,
-        remote: Default::default(),
-    }
+    RunOptions::in_folders(dir.join("out"), dir.join("cache"))
 }
 
 /// What a dry run of `p` with options `o` would do.
