@@ -116,7 +116,7 @@ impl<S: Stage> DynStage for S {
         let mut params: S::Params =
             serde_path_to_error::deserialize(value).map_err(|e| ParamsError {
                 param: dotted(e.path()),
-                message: e.inner().to_string(),
+                message: crate::param::explain_quoted_number(&e.inner().to_string()),
                 failed_check: false,
             })?;
         params.visit_paths("", &mut |_, path: &mut InputPath| path.resolve_against(dir));

@@ -111,10 +111,13 @@ impl Visitor<'_> for LevelsVisitor {
         if s.eq_ignore_ascii_case("all") {
             return Ok(Levels::All);
         }
-        // Command-line overrides may arrive as strings.
-        match s.parse::<u64>() {
-            Ok(n) => Self::count(n),
-            Err(_) => Err(E::custom(format!(
+        // `levels: "10"` is text in YAML: refused, not read as the number
+        // (`--set trunc.levels=10` is read as YAML, so it arrives as 10).
+        match hypercontact_core::param::quoted_number_advice(s) {
+            Some(advice) => Err(E::custom(format!(
+                "levels must be a number or `all`; {advice}"
+            ))),
+            None => Err(E::custom(format!(
                 "levels must be a whole number or `all`, got `{s}`"
             ))),
         }
@@ -188,8 +191,11 @@ mod tests {
         assert_eq!(l, Levels::Count(250));
         let l: Levels = serde_json::from_str("\"all\"").unwrap();
         assert_eq!(l, Levels::All);
-        let l: Levels = serde_json::from_str("\"64\"").unwrap();
-        assert_eq!(l, Levels::Count(64));
+        // A quoted number is text (#31, 11): refused, saying how to write it.
+        let e = serde_json::from_str::<Levels>("\"64\"")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("write 64, not \"64\""), "{e}");
         assert_eq!(serde_json::to_string(&Levels::All).unwrap(), "\"all\"");
         assert_eq!(serde_json::to_string(&Levels::Count(7)).unwrap(), "7");
         for bad in ["0", "-3", "2.5", "\"some\""] {

@@ -10,6 +10,7 @@
 mod choice;
 pub mod flatten;
 mod path;
+mod quoted;
 mod range;
 mod value;
 
@@ -21,6 +22,7 @@ use serde::Serialize;
 pub use choice::{Choice, ChoiceDoc, UnknownChoice, deserialize_choice, parse_choice};
 pub use flatten::Flatten;
 pub use path::InputPath;
+pub use quoted::{explain_quoted_number, quoted_number_advice};
 pub use range::{ParamRange, RangeCheck, check_range};
 pub use value::{ParamValue, TypeDoc};
 

@@ -445,3 +445,35 @@ fn a_flattened_blocks_errors_read_as_a_plain_structs_do() {
     let (_, e) = read_error::<WithBlock>(json!([1.0, 2]));
     assert_eq!(e, "invalid type: sequence, expected struct WithBlock");
 }
+
+#[test]
+fn a_quoted_number_is_refused_with_how_to_write_it() {
+    use crate::param::{explain_quoted_number, quoted_number_advice};
+    // YAML types "10" as text: serde refuses it for a number, and the
+    // message gains the advice (before #31 it ended at `expected usize`).
+    let (path, e) = read_error::<Demo>(json!({ "pixel_m": 1e-5, "subset_px": "31" }));
+    assert_eq!(path, "subset_px");
+    assert_eq!(
+        explain_quoted_number(&e),
+        "invalid type: string \"31\", expected usize; a number is written without quotes: \
+         write 31, not \"31\""
+    );
+    let (_, e) = read_error::<Demo>(json!({ "pixel_m": "1e-5" }));
+    assert!(
+        explain_quoted_number(&e).ends_with("write 1e-5, not \"1e-5\""),
+        "{e}"
+    );
+    // Text that is no number, or a string where text is expected, keeps
+    // serde's message.
+    let (_, e) = read_error::<Demo>(json!({ "pixel_m": 1e-5, "subset_px": "many" }));
+    assert_eq!(explain_quoted_number(&e), e);
+    assert_eq!(
+        explain_quoted_number("invalid type: string \"10\", expected a boolean"),
+        "invalid type: string \"10\", expected a boolean"
+    );
+    assert_eq!(
+        quoted_number_advice(" 10 ").as_deref(),
+        Some("a number is written without quotes: write 10, not \" 10 \"")
+    );
+    assert_eq!(quoted_number_advice("ten"), None);
+}
