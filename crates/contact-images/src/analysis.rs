@@ -10,6 +10,7 @@ use hypercontact_core::{Context, StageError};
 use hypercontact_labfiles::sequence::{GrayFrame, Sequence};
 
 use crate::calibrated::{Calibrated, Level, segment_calibrated};
+use crate::listing::{check_given_offset, check_listing};
 use crate::stage::{ContactImagesParams, ContactTable, Method, SyncTable};
 use crate::sync::{contact_onset_s, force_onset_s, trigger_offset_s};
 use crate::{Frame, ImageError, Mask, MultiOtsu, label, multi_otsu, otsu};
@@ -28,6 +29,7 @@ pub(crate) fn analyse(
     ctx: &Context,
 ) -> Result<Analysis, StageError> {
     let n = sequence.frames.len();
+    check_listing(&sequence.frames).map_err(|e| listing_error(sequence, e))?;
     // The reference frame: the calibrated method's flat field, and what
     // the first contact is found against when the clock offset is
     // estimated (a global threshold finds "contact" in every frame).
@@ -160,6 +162,15 @@ fn segment_frames(
     Ok(frames)
 }
 
+/// A listing error, placed in frames.csv when the frames came from it.
+fn listing_error(sequence: &Sequence, message: String) -> StageError {
+    if sequence.frames.iter().any(|f| f.listed.is_some()) {
+        StageError::file(sequence.display("frames.csv"), message)
+    } else {
+        StageError::invalid(message)
+    }
+}
+
 /// Frame `k` decoded as the camera's frame (errors name its file).
 fn read_frame(sequence: &Sequence, k: usize, bits: Option<u8>) -> Result<Frame, StageError> {
     let raw = sequence.frame(k)?;
@@ -185,7 +196,13 @@ fn sync_table(
         };
     let force_csv_error = |e: String| StageError::file(sequence.display("force.csv"), e);
     match (p.clock_offset_s, &sequence.trigger) {
-        (Some(offset), _) => Ok(sync(offset, 0, "given", (f64::NAN, f64::NAN))),
+        (Some(offset), _) => {
+            if let (Some(first), Some(last)) = (sequence.force.first(), sequence.force.last()) {
+                check_given_offset(offset, &sequence.frames, times_s, (first.0, last.0))
+                    .map_err(force_csv_error)?;
+            }
+            Ok(sync(offset, 0, "given", (f64::NAN, f64::NAN)))
+        }
         (None, Some(trigger)) => {
             let log_s: Vec<f64> = sequence.force.iter().map(|(t, _)| *t).collect();
             let offset = trigger_offset_s(&log_s, trigger, times_s)

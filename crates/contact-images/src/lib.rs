@@ -25,6 +25,7 @@
 //!   and background levels, hysteresis and a minimum patch size (the lab's);
 //! - [`mod@label`]: 8-connected components, ordered by first pixel;
 //! - [`sync`]: the camera-to-force-log clock offset from first contact;
+//! - `listing`: each frame and file listed once, a given offset inside the log;
 //! - [`stage`]: the `contact-images` stage, and `analysis`: its run over the
 //!   frames and the clock.
 //!
@@ -37,6 +38,7 @@ mod error;
 mod exact;
 pub mod frame;
 pub mod label;
+mod listing;
 pub mod mask;
 pub mod multi_otsu;
 pub mod otsu;
