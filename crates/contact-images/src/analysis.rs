@@ -11,6 +11,7 @@ use hypercontact_labfiles::sequence::{GrayFrame, Sequence};
 
 use crate::calibrated::{Calibrated, Level, segment_calibrated};
 use crate::listing::{check_given_offset, check_listing};
+use crate::reference::{FrameName, judge_reference};
 use crate::stage::{ContactImagesParams, ContactTable, Method, SyncTable};
 use crate::sync::{contact_onset_s, force_onset_s, trigger_offset_s};
 use crate::{Frame, ImageError, Mask, MultiOtsu, label, multi_otsu, otsu};
@@ -47,6 +48,9 @@ pub(crate) fn analyse(
         _ => None,
     };
     let frames = segment_frames(sequence, p, reference.as_ref(), estimate_offset, ctx)?;
+    if reference.is_some() {
+        check_reference(sequence, p.reference_frame, &frames.rows, ctx)?;
+    }
     let times_s: Vec<f64> = (0..n)
         .map(|k| sequence.frames[k].time_s + 0.5 * p.exposure_s)
         .collect();
@@ -89,6 +93,39 @@ struct Row {
     patches: usize,
     threshold: f64,
     contact_pixels: usize,
+    /// Mean count above dark_level, to judge the reference frame.
+    mean_signal: f64,
+}
+
+/// Refuses a reference frame in contact and warns of a dim one
+/// ([`judge_reference`]).
+fn check_reference(
+    sequence: &Sequence,
+    k: usize,
+    rows: &[Row],
+    ctx: &Context,
+) -> Result<(), StageError> {
+    let names: Vec<FrameName> = sequence
+        .frames
+        .iter()
+        .map(|f| FrameName {
+            frame: f.frame,
+            file: &f.file,
+        })
+        .collect();
+    let mean_signal: Vec<f64> = rows.iter().map(|r| r.mean_signal).collect();
+    match judge_reference(k, &names, &mean_signal) {
+        Ok(Some(warning)) => ctx.note(&warning),
+        Ok(None) => {}
+        Err(refusal) => return Err(StageError::invalid(refusal)),
+    }
+    Ok(())
+}
+
+/// The mean count above `dark_level` (summed in integers: exact, in any order).
+fn mean_signal(image: &Frame, dark_level: f64) -> f64 {
+    let sum: u64 = image.data().iter().map(|&v| u64::from(v)).sum();
+    sum as f64 / image.data().len() as f64 - dark_level
 }
 
 /// What the pass over the frames found.
@@ -155,6 +192,7 @@ fn segment_frames(
             patches: s.patches,
             threshold: s.threshold,
             contact_pixels: s.mask.count(),
+            mean_signal: mean_signal(&image, p.dark_level),
         });
         frames.onset_fractions.push(onset_fraction);
         progress.inc(1);

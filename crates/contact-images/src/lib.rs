@@ -26,6 +26,7 @@
 //! - [`mod@label`]: 8-connected components, ordered by first pixel;
 //! - [`sync`]: the camera-to-force-log clock offset from first contact;
 //! - `listing`: each frame and file listed once, a given offset inside the log;
+//! - `reference`: whether the calibrated method's reference frame is in contact;
 //! - [`stage`]: the `contact-images` stage, and `analysis`: its run over the
 //!   frames and the clock.
 //!
@@ -43,6 +44,7 @@ pub mod mask;
 pub mod multi_otsu;
 pub mod otsu;
 mod percentile;
+mod reference;
 pub mod stage;
 pub mod sync;
 

@@ -55,13 +55,13 @@ pub struct ContactImagesParams {
     /// exposure time; force is read at mid-exposure (0: the frame times are mid-exposure)
     #[param(default = 0.0, unit = "s", range = 0.0..)]
     pub exposure_s: f64,
-    /// force-log time minus camera time (default: estimated from first contact)
+    /// force-log time minus camera time (default: estimated from first contact); must keep every frame inside force.csv's times
     #[param(unit = "s")]
     pub clock_offset_s: Option<f64>,
     /// force-log resolution, for the onset of the force in the offset estimate
     #[param(default = 0.01, unit = "N", range = 0.0..)]
     pub force_resolution_n: f64,
-    /// calibrated: index (in time order, from 0) of a frame without contact, the flat field
+    /// calibrated: index (in time order, from 0) of a frame without contact, the flat field (refused below half the brightest frame's mean signal: in contact; a warning below 90 %)
     #[param(default = 0)]
     pub reference_frame: usize,
     /// calibrated: camera dark offset in counts
@@ -179,7 +179,8 @@ static INFO: StageInfo = StageInfo {
           TIFF, 8 or 16 bit; \
           `bits` for a camera shallower than its files, e.g. 12-bit data in 16-bit files, which \
           are then NOT rescaled, and values at or above 2^bits are refused) and force.csv \
-          (time_s, force_n), from the `sequence` input (the synthetic lab's files) or `dir`. \
+          (time_s, force_n), from the `sequence` input (the synthetic lab's files) or `dir`; \
+          a frame number or a file listed twice is refused. \
           Contact regions are dark (the half-wave loss at the rubber). METHODS: `calibrated` \
           (default): each frame divided by the reference frame (a frame without contact: the \
           flat field, vignetting and illumination cancel), contact where the ratio is below \

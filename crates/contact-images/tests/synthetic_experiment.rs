@@ -219,3 +219,35 @@ fn patches_equal_the_true_components_on_noise_free_frames() {
     }
     assert_eq!(compared, 4);
 }
+
+/// A reference frame in contact (#31, 9): before, the last frame as the
+/// reference gave A/A0 = 0 in every frame and no word. It is refused,
+/// naming the parameter; the default reference (the first frame, before
+/// contact) passes without a warning.
+#[test]
+fn a_reference_frame_in_contact_is_refused_and_the_first_frame_passes() {
+    use hypercontact_contact_images::stage::ContactImages;
+    let lab = lab(&format!("{{{CAMERA}}}"));
+    let last = lab.truth.frame.len() - 1;
+    assert!(
+        lab.truth.view_area_fraction[last] > 0.5,
+        "the last frame must be in contact"
+    );
+    let p = common::params(&format!(r#"{{{ANALYSIS}, "reference_frame": {last}}}"#));
+    let e = common::run(&p, lab.sequence.clone()).unwrap_err();
+    assert!(
+        e.starts_with(&format!("parameter `reference_frame` = {last} (frame ")),
+        "{e}"
+    );
+    assert!(e.contains("it is in contact"), "{e}");
+    let ctx = Context::new("contact-images");
+    let inputs = Inputs::new().with("sequence", Product::Files(lab.sequence));
+    ContactImages
+        .run(&common::params(&format!("{{{ANALYSIS}}}")), &inputs, &ctx)
+        .unwrap();
+    let notes = ctx.notes();
+    assert!(
+        notes.iter().all(|n| !n.contains("reference_frame")),
+        "{notes:?}"
+    );
+}
