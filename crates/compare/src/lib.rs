@@ -10,11 +10,12 @@
 //! - [`agreement`]: a model's load at the measured contact areas against the
 //!   measured load;
 //! - [`stage`]: the `contact-compare` stage, whose `run` reads the maps
-//!   (`maps`), registers the observed ones (`registration`), lays every
+//!   (`maps`), checks that they belong together (`belong`), registers the observed ones (`registration`), lays every
 //!   prediction over them (`overlays`, with the figures' [`stage::FigureIndex`])
 //!   and scores the responses (`scoring`, on the camera's view: `view`).
 
 pub mod agreement;
+mod belong;
 pub mod error;
 mod maps;
 pub mod overlap;

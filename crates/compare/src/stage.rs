@@ -14,6 +14,9 @@ use hypercontact_core::{
 };
 use hypercontact_interference::CameraGrid;
 
+use crate::belong::{
+    check_labels, check_model_grids, check_observed_in_table, check_view_within_scan, quality_notes,
+};
 pub use crate::maps::TRUNCATION;
 use crate::maps::{Predictions, Truncation, read_model_maps, read_observed};
 pub use crate::overlays::FigureIndex;
@@ -63,7 +66,7 @@ pub struct ContactCompareParams {
     /// agreement: the models' A/A0 over the camera's view (`view`: from each model's own maps in the registered view) or over the whole scan (`whole`)
     #[param(default = AreaBasis::View)]
     pub area_basis: AreaBasis,
-    /// agreement on the view: whose maps give a response's view area (response label: model_maps label or `truncation`); by default its own label's maps, else the truncation
+    /// agreement on the view: whose maps give a response's view area (response label: model_maps label or `truncation`; other keys or values are refused); by default its own label's maps, else the truncation
     #[param(default = BTreeMap::new())]
     pub view_maps: BTreeMap<String, String>,
     /// A/A0 at which the load ratio F_model / F_experiment is reported
@@ -208,7 +211,15 @@ static INFO: StageInfo = StageInfo {
     version: 4,
     summary: "Models against the contact experiment: registration of the observed contact \
               maps, overlap per frame and agreement of the load-area curves (Figs. 6, 7)",
-    doc: "REGISTRATION: the observed map (contact-images' contact_maps) nearest \
+    doc: "CHECKS (the index tables name no sample or run, so belonging is judged from \
+          grids and values): model maps on another grid than `surface`, a camera view larger \
+          than the scan, observed maps of different cameras, observed maps whose frame is not \
+          in `contact` or whose A/A0 is more than 0.01 + 25 % off the table's, a model_maps \
+          label `truncation` (reserved), and view_maps keys or values that are not wired are \
+          refused. Noted as warnings: the adopted turn or scale within 2 % of its search \
+          range from a bound, ZNCC below 0.5 (the paper pipeline's reach 0.78-0.81), and \
+          even the best model's rms log ratio above 1 (the paper pipeline's best: \
+          0.08-0.10). REGISTRATION: the observed map (contact-images' contact_maps) nearest \
           register_at is registered onto the prediction register_with, on the scan's grid: \
           `truncation` (the height map `surface` cut at the observed A/A0: contact where the \
           height is at or above the level that leaves that fraction above it, profile theory) \
@@ -296,10 +307,15 @@ impl Stage for ContactCompare {
     ) -> Result<Outputs, StageError> {
         let contact: ContactTable = inputs.read("contact")?;
         let observed = read_observed(inputs)?;
+        let surface = inputs.field("surface")?;
         let predictions = Predictions {
-            truncation: Truncation::new(inputs.field("surface")?),
+            truncation: Truncation::new(surface),
             models: read_model_maps(inputs)?,
         };
+        check_labels(p, inputs, &predictions)?;
+        check_model_grids(surface, &predictions.models)?;
+        check_view_within_scan(surface, &observed)?;
+        check_observed_in_table(&observed, &contact)?;
         let against = p
             .register_with
             .as_deref()
@@ -317,6 +333,9 @@ impl Stage for ContactCompare {
         let (agreement, ratios) =
             score_responses(p, inputs, &contact, &predictions, &registration, camera)?;
         ctx.note(&note(against, &registered.transform, &agreement));
+        for warning in quality_notes(p, &registered.transform, &agreement) {
+            ctx.note(&warning);
+        }
         Ok(Outputs::new()
             .table("transform", registered.transform.into_table())
             .table("registrations", registered.registrations.into_table())
