@@ -824,4 +824,48 @@ cases! {
         .once("Permission denied");
     out_dir_is_a_file: Case::run(TENSILE, &[]).file("t.csv", CSV).file("out", "a file, not a folder\n")
         .mentions(&["<dir>/out"]);
+
+    // #31 stages
+    // A quoted number is text in YAML (#31, 11): refused, saying how to
+    // write it; `--set` reads its value as YAML, so 12 stays a number.
+    param_quoted_number: Case::run(&MAP.replace("levels: 10", "levels: \"10\""), &[]).file("map.npy", small_map())
+        .mentions(&["`trunc`", "`levels`", "write 10, not \"10\""]);
+    param_quoted_number_for_an_integer: Case::run(&TENSILE.replace("starts: 1", "starts: \"3\""), &[]).file("t.csv", CSV)
+        .mentions(&["`fit`", "`starts`", "write 3, not \"3\""]);
+    set_levels_number_is_a_number: Case::run(MAP, &["--set", "trunc.levels=12"]).file("map.npy", small_map())
+        .exit(0);
+    set_levels_quoted_is_text: Case::run(MAP, &["--set", "trunc.levels=\"12\""]).file("map.npy", small_map())
+        .mentions(&["--set", "`levels`", "write 12, not \"12\""]);
+    // frames.csv listing a frame twice, or one file at two times (#31, 9).
+    contact_images_frame_listed_twice: Case::run(CONTACT_IMAGES, &[])
+        .file("seq/frames.csv", "frame,time_s,file\n0,0.0,a.png\n0,1.0,b.png\n")
+        .file("seq/a.png", png())
+        .file("seq/b.png", png())
+        .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n1.0,1.0\n2.0,2.0\n")
+        .mentions(&["<dir>/seq/frames.csv", "`c`", "frame 0 is listed twice", "line 2", "line 3"]);
+    contact_images_file_at_two_times: Case::run(CONTACT_IMAGES, &[])
+        .file("seq/frames.csv", "frame,time_s,file\n0,0.0,a.png\n1,1.0,a.png\n")
+        .file("seq/a.png", png())
+        .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n1.0,1.0\n2.0,2.0\n")
+        .mentions(&["<dir>/seq/frames.csv", "`c`", "a.png is listed for two frames", "line 2", "line 3"]);
+    // A reference frame in contact gave A/A0 = 0 in every frame (#31, 9).
+    contact_images_reference_in_contact: Case::run(&CONTACT_IMAGES.replace("{ dir: seq }", "{ dir: seq, reference_frame: 1, clock_offset_s: 0 }"), &[])
+        .file("seq/frames.csv", "frame,time_s,file\n0,0.0,a.png\n1,1.0,b.png\n")
+        .file("seq/a.png", png())
+        .file("seq/b.png", {
+            let img = image::GrayImage::from_pixel(64, 64, image::Luma([20u8]));
+            let mut bytes = Vec::new();
+            img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png).unwrap();
+            bytes
+        })
+        .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n1.0,1.0\n2.0,2.0\n")
+        .mentions(&["`c`", "`reference_frame` = 1", "b.png", "in contact"]);
+    // An offset far beyond the log named no parameter (#31, 15).
+    contact_images_clock_offset_beyond_the_log: Case::run(&CONTACT_IMAGES.replace("{ dir: seq }", "{ dir: seq, clock_offset_s: 1e9 }"), &[])
+        .file("seq/frames.csv", "frame,time_s,file\n0,0.0,a.png\n1,1.0,b.png\n")
+        .file("seq/a.png", png())
+        .file("seq/b.png", png())
+        .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n1.0,1.0\n2.0,2.0\n")
+        .mentions(&["`c`", "`clock_offset_s` = 1000000000 s", "upper bound 1 s", "between 0 and 1 s"])
+        .lacks("was taken at");
 }
