@@ -32,7 +32,8 @@ pub const LOW_ZNCC: f64 = 0.5;
 pub const FAR_RMS_LOG_RATIO: f64 = 1.0;
 
 /// A registration parameter within this share of its search range from a
-/// bound of the range is noted as sitting on it (the search stopped there).
+/// bound of the range, or beyond it (the refinement may step past the
+/// coarse search's range), is noted as sitting on it.
 pub const ON_BOUND_SHARE: f64 = 0.02;
 
 /// Refuses model_maps labels that are reserved, `view_maps` keys that are
@@ -212,9 +213,9 @@ pub(crate) fn quality_notes(
         && p.angle_range_deg - off_deg.abs() <= ON_BOUND_SHARE * p.angle_range_deg
     {
         notes.push(format!(
-            "warning: the turn found on frame {frame}, {angle_deg:.3}°, lies on the bound of \
-             its search (angle_deg {} ± angle_range_deg {}): the fit stopped there; widen the \
-             range, or check that the maps are of this sample",
+            "warning: the turn found on frame {frame}, {angle_deg:.3}°, lies on or beyond the \
+             bound of its search (angle_deg {} ± angle_range_deg {}): the fit stopped there; \
+             widen the range, or check that the maps are of this sample",
             p.angle_deg, p.angle_range_deg
         ));
     }
@@ -224,9 +225,9 @@ pub(crate) fn quality_notes(
         && p.scale_range - (scale - 1.0).abs() <= ON_BOUND_SHARE * p.scale_range
     {
         notes.push(format!(
-            "warning: the scale found on frame {frame}, {scale:.4}, lies on the bound of its \
-             search (1 ± scale_range {}): the fit stopped there; check pixel_m, or that the \
-             maps are of this sample",
+            "warning: the scale found on frame {frame}, {scale:.4}, lies on or beyond the bound \
+             of its search (1 ± scale_range {}): the fit stopped there; check pixel_m, or that \
+             the maps are of this sample",
             p.scale_range
         ));
     }

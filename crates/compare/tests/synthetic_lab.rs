@@ -72,9 +72,24 @@ struct Run {
     agreement: AgreementTable,
     load_ratio: LoadRatioTable,
     figures: Files,
+    /// The comparison's notes (its summary line and any warnings).
+    notes: Vec<String>,
 }
 
 fn run(surface: Field, compare: &str, responses: &[(&str, f64)], bem_response: bool) -> Run {
+    let scanned = surface.clone();
+    run_on_scan(surface, scanned, compare, responses, bem_response)
+}
+
+/// [`run`] with the comparison given the scan of `scanned`, which may be
+/// another sample than the lab's `surface`.
+fn run_on_scan(
+    surface: Field,
+    scanned: Field,
+    compare: &str,
+    responses: &[(&str, f64)],
+    bem_response: bool,
+) -> Run {
     let material = hypercontact_material::presets::preset("paper-epdm").unwrap();
     let lab_params = serde_json::from_str::<SynthContactParams>(
         r#"{"width_px": 512, "height_px": 512, "magnification": 1.5, "frames": 12}"#,
@@ -111,9 +126,9 @@ fn run(surface: Field, compare: &str, responses: &[(&str, f64)], bem_response: b
     let contact = ContactTable::from_table(&table(&images, "contact")).unwrap();
     // The scan the comparison sees: the truth on synth-contact's solve grid.
     let filtered = hypercontact_surface::filter::gaussian_resample(
-        &surface.values,
-        surface.dx_m,
-        surface.dy_m,
+        &scanned.values,
+        scanned.dx_m,
+        scanned.dy_m,
         2e-5,
     );
     let scan = Field::new(filtered, 2e-5, 2e-5).unwrap();
@@ -167,10 +182,10 @@ fn run(surface: Field, compare: &str, responses: &[(&str, f64)], bem_response: b
         .unwrap()
         .check()
         .unwrap();
-    let out = ContactCompare
-        .run(&p, &inputs, &Context::new("contact-compare"))
-        .unwrap();
+    let ctx = Context::new("contact-compare");
+    let out = ContactCompare.run(&p, &inputs, &ctx).unwrap();
     Run {
+        notes: ctx.notes(),
         rig,
         contact,
         transform: TransformTable::from_table(&table(&out, "transform")).unwrap(),
@@ -333,4 +348,35 @@ fn on_the_view_the_labs_own_physics_agrees_better_than_on_the_whole_map() {
         ("view (bem)", "whole")
     );
     assert!(view < 0.6 * whole, "view {view} whole {whole}");
+}
+
+/// A scan of another sample (#31, 8): before, it gave a transform and
+/// scores with no word. The lab's own scan registers without a warning;
+/// T2's scan under T1's experiment is noted: ZNCC below 0.5, named with
+/// its value.
+#[test]
+fn a_scan_of_another_sample_is_noted_and_the_right_one_is_not() {
+    let (_, h1, r1, s1) = RECIPES[0];
+    let (_, h2, r2, s2) = RECIPES[1];
+    let right = run(sample(h1, r1, s1), "{}", &[], true);
+    let warnings: Vec<&String> = right
+        .notes
+        .iter()
+        .filter(|n| n.starts_with("warning"))
+        .collect();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let wrong = run_on_scan(sample(h1, r1, s1), sample(h2, r2, s2), "{}", &[], true);
+    eprintln!(
+        "wrong scan: ZNCC {:.3}; notes {:#?}",
+        wrong.transform.zncc[0], wrong.notes
+    );
+    assert!(wrong.transform.zncc[0] < 0.5, "{}", wrong.transform.zncc[0]);
+    assert!(
+        wrong
+            .notes
+            .iter()
+            .any(|n| n.starts_with("warning: the registration of frame") && n.contains("below 0.5")),
+        "{:#?}",
+        wrong.notes
+    );
 }

@@ -152,7 +152,10 @@ mod tests {
         let file_twice = [entry(0, 0.0, "a.png", 2), entry(1, 1.0, "a.png", 3)];
         let e = check_listing(&file_twice).unwrap_err();
         assert!(
-            e.starts_with("file a.png is listed for two frames (frames.csv line 2: frame 0 at 0 s; frames.csv line 3: frame 1 at 1 s)"),
+            e.starts_with(
+                "file a.png is listed for two frames (frames.csv line 2: frame 0 at 0 s; \
+                 frames.csv line 3: frame 1 at 1 s)"
+            ),
             "{e}"
         );
     }
