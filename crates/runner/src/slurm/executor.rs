@@ -21,6 +21,7 @@ use std::process::Command;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
+use hypercontact_core::regular_file::{MIB, read_checked};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
@@ -57,10 +58,16 @@ pub struct JobSpec {
 
 pub const JOB_FORMAT: u32 = 1;
 
+/// The largest job file read: a job names a pipeline and a few settings.
+const JOB_LIMIT_BYTES: u64 = 16 * MIB;
+
+/// The largest `submission.json` read: a line per job, thousands of jobs.
+const SUBMISSION_LIMIT_BYTES: u64 = 64 * MIB;
+
 impl JobSpec {
     pub fn read(path: &Path) -> Result<Self, RunError> {
         let bad = |why: String| RunError::Job(format!("job file {}: {why}", path.display()));
-        let bytes = std::fs::read(path).map_err(|e| bad(e.to_string()))?;
+        let bytes = read_checked(path, "job files", JOB_LIMIT_BYTES).map_err(|e| bad(e.why))?;
         let spec: JobSpec = serde_json::from_slice(&bytes).map_err(|e| bad(e.to_string()))?;
         if spec.format != JOB_FORMAT {
             return Err(bad(format!(
@@ -107,9 +114,9 @@ impl Submission {
 
     pub fn read(log_dir: &Path) -> Result<Option<Self>, RunError> {
         let path = Self::path(log_dir);
-        match std::fs::read(&path) {
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-            Err(e) => Err(RunError::Job(format!("{}: {e}", path.display()))),
+        match read_checked(&path, "submission records", SUBMISSION_LIMIT_BYTES) {
+            Err(e) if e.not_found => Ok(None),
+            Err(e) => Err(RunError::Job(e.to_string())),
             Ok(bytes) => serde_json::from_slice(&bytes)
                 .map(Some)
                 .map_err(|e| RunError::Job(format!("{}: {e}", path.display()))),
