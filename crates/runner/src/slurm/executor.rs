@@ -25,6 +25,7 @@ use hypercontact_core::regular_file::{MIB, read_checked};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
+use super::partition;
 use super::settings::{JobResources, SiteProfile};
 use crate::cache::{Cache, EntryState, unix_now};
 use crate::exec::{RunError, StageJob, open_cache};
@@ -198,12 +199,36 @@ pub fn submit(variants: &[PipelineRun], run: &SlurmRun) -> Result<Submission, Ru
         }
         return Ok(submission);
     }
+    check_nodes_hold(&pending)?;
     let queued = still_queued(&log_dir, &cache_dir)?;
     submission.jobs = send(pending, queued, &run.command()?, &log_dir, &run.profile)?;
     let bytes = serde_json::to_vec_pretty(&submission).expect("a submission serialises");
     let path = Submission::path(&log_dir);
     crate::write_atomic(&path, &bytes).map_err(|cause| RunError::Output { path, cause })?;
     Ok(submission)
+}
+
+/// Refuses, before anything is submitted, a job whose request no node of
+/// its partition can hold: Slurm would keep it pending for ever.
+fn check_nodes_hold(pending: &[Pending]) -> Result<(), RunError> {
+    let mut partitions: HashMap<Option<String>, Option<partition::PartitionNodes>> = HashMap::new();
+    for p in pending {
+        let wanted = p.resources.partition.clone();
+        let nodes = partitions
+            .entry(wanted.clone())
+            .or_insert_with(|| partition::query(wanted.as_deref()));
+        if let Some(nodes) = nodes
+            && !nodes.holds(p.resources.cpus, p.resources.mem_mb)
+        {
+            return Err(RunError::Job(partition::refusal(
+                &p.stage,
+                &p.kind,
+                &p.resources,
+                nodes,
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// The jobs the variants' plans need, one per entry, in an order where
