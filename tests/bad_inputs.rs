@@ -38,6 +38,14 @@ struct Case {
     mentions: Vec<&'static str>,
     /// Text the message must not hold (a misleading cause).
     lacks: Vec<&'static str>,
+    /// Named pipes (FIFOs) made under the case's folder: nothing ever
+    /// writes to them, so a reader that opens one hangs.
+    fifos: Vec<&'static str>,
+    /// Symlinks made under the case's folder: (link, target), `<dir>` in
+    /// the target standing for the case's folder.
+    symlinks: Vec<(&'static str, &'static str)>,
+    /// Sparse files: (name, size in bytes), all holes.
+    sparse: Vec<(&'static str, u64)>,
 }
 
 impl Case {
@@ -53,6 +61,9 @@ impl Case {
             once: Vec::new(),
             mentions: Vec::new(),
             lacks: Vec::new(),
+            fifos: Vec::new(),
+            symlinks: Vec::new(),
+            sparse: Vec::new(),
         }
     }
 
@@ -125,6 +136,21 @@ impl Case {
 
     fn lacks(mut self, text: &'static str) -> Self {
         self.lacks.push(text);
+        self
+    }
+
+    fn fifo(mut self, name: &'static str) -> Self {
+        self.fifos.push(name);
+        self
+    }
+
+    fn symlink(mut self, link: &'static str, target: &'static str) -> Self {
+        self.symlinks.push((link, target));
+        self
+    }
+
+    fn sparse(mut self, name: &'static str, bytes: u64) -> Self {
+        self.sparse.push((name, bytes));
         self
     }
 }
@@ -213,6 +239,17 @@ fn describe(case: &Case) -> String {
     for b in &case.before {
         out.push_str(&format!("(after `hypercontact {}`)\n", b.join(" ")));
     }
+    for name in &case.fifos {
+        out.push_str(&format!(
+            "--- {name}: a named pipe (FIFO) nothing writes to\n"
+        ));
+    }
+    for (link, target) in &case.symlinks {
+        out.push_str(&format!("--- {link} -> {target}\n"));
+    }
+    for (name, bytes) in &case.sparse {
+        out.push_str(&format!("--- {name}: {bytes} bytes, sparse (all holes)\n"));
+    }
     for (name, bytes) in &case.files {
         match std::str::from_utf8(bytes) {
             Ok(text) if !text.contains('\0') => {
@@ -270,6 +307,7 @@ fn check(name: &str, case: Case) {
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(path, bytes).unwrap();
     }
+    make_special_files(&case, dir);
     let cwd = case.cwd.map_or(dir.to_path_buf(), |c| dir.join(c));
     std::fs::create_dir_all(&cwd).unwrap();
     for before in &case.before {
@@ -295,11 +333,9 @@ fn check(name: &str, case: Case) {
             return;
         }
     }
-    let output = bin()
-        .args(args_in(&case.args, dir))
-        .current_dir(&cwd)
-        .output()
-        .unwrap();
+    let mut command = bin();
+    command.args(args_in(&case.args, dir)).current_dir(&cwd);
+    let output = output_within(command, name);
     for ro in &case.read_only {
         set_mode(&dir.join(ro), 0o755);
     }
@@ -359,6 +395,75 @@ fn check(name: &str, case: Case) {
             !dir.join(path).exists(),
             "case `{name}`: `{path}` was created"
         );
+    }
+}
+
+/// How long a case may take before it counts as a hang: far above any
+/// case's run time, far below a test runner's patience.
+const HANG_S: u64 = 20;
+
+/// The command's output, or a failure naming the case if it runs longer
+/// than [`HANG_S`] (it is killed first): a reader that blocks on a pipe or
+/// reads `/dev/zero` fails its case instead of hanging the suite.
+fn output_within(mut command: Command, name: &str) -> std::process::Output {
+    use std::io::Read;
+    use std::process::Stdio;
+    let mut child = command
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let drain = |mut pipe: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut bytes = Vec::new();
+            let _ = pipe.read_to_end(&mut bytes);
+            bytes
+        })
+    };
+    let stdout = drain(Box::new(child.stdout.take().unwrap()));
+    let stderr = drain(Box::new(child.stderr.take().unwrap()));
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(HANG_S);
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("case `{name}`: still running after {HANG_S} s (a hang); killed");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    std::process::Output {
+        status,
+        stdout: stdout.join().unwrap(),
+        stderr: stderr.join().unwrap(),
+    }
+}
+
+/// The case's FIFOs, symlinks and sparse files.
+fn make_special_files(case: &Case, dir: &Path) {
+    let parent = |path: &Path| std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    for name in &case.fifos {
+        let path = dir.join(name);
+        parent(&path);
+        let made = Command::new("mkfifo").arg(&path).status().unwrap();
+        assert!(made.success(), "mkfifo {}", path.display());
+    }
+    for (link, target) in &case.symlinks {
+        let path = dir.join(link);
+        parent(&path);
+        let target = target.replace("<dir>", &dir.display().to_string());
+        std::os::unix::fs::symlink(target, path).unwrap();
+    }
+    for (name, bytes) in &case.sparse {
+        let path = dir.join(name);
+        parent(&path);
+        std::fs::File::create(path)
+            .unwrap()
+            .set_len(*bytes)
+            .unwrap();
     }
 }
 
@@ -885,4 +990,79 @@ cases! {
         .file("seq/b.png", png())
         .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n1.0,1.0\n2.0,2.0\n")
         .mentions(&["`cmp`", "`view_maps`", "`ghost`", "none connected"]);
+
+    // #31 cliread
+    // Every file the command line names is refused unopened unless it is a
+    // regular file (item 5): before, each FIFO hung for ever and each
+    // `/dev/zero` read until memory ran out (4.1 GB+).
+    run_pipeline_fifo: Case::new(&["run", "<dir>/p.yaml", "--out", "<dir>/out", "-q"]).fifo("p.yaml")
+        .mentions(&["<dir>/p.yaml", "not a regular file (a pipe)"]);
+    run_pipeline_dev_zero: Case::new(&["run", "<dir>/p.yaml", "--out", "<dir>/out", "-q"]).symlink("p.yaml", "/dev/zero")
+        .mentions(&["<dir>/p.yaml", "character device"]);
+    // A pipeline is hand-written YAML: 20 MiB is refused by its size, unread.
+    run_pipeline_too_large: Case::new(&["run", "<dir>/p.yaml", "--out", "<dir>/out", "-q"]).sparse("p.yaml", 20 << 20)
+        .mentions(&["<dir>/p.yaml", "20 MiB", "pipeline files are at most 16 MiB"]);
+    exec_stage_job_fifo: Case::new(&["exec-stage", "<dir>/job.json"]).fifo("job.json")
+        .mentions(&["<dir>/job.json", "not a regular file (a pipe)"]);
+    exec_stage_job_dev_zero: Case::new(&["exec-stage", "<dir>/job.json"]).symlink("job.json", "/dev/zero")
+        .mentions(&["<dir>/job.json", "character device"]);
+    status_pipeline_fifo: Case::new(&["status", "<dir>/p.yaml", "--out", "<dir>/out"]).fifo("p.yaml")
+        .mentions(&["<dir>/p.yaml", "not a regular file (a pipe)"]);
+    status_pipeline_dev_zero: Case::new(&["status", "<dir>/p.yaml", "--out", "<dir>/out"]).symlink("p.yaml", "/dev/zero")
+        .mentions(&["<dir>/p.yaml", "character device"]);
+    status_submission_fifo: Case::new(&["status", "<dir>/p.yaml", "--out", "<dir>/out"]).file("p.yaml", TENSILE).fifo("out/slurm/submission.json")
+        .mentions(&["<dir>/out/slurm/submission.json", "not a regular file (a pipe)"]);
+    status_submission_dev_zero: Case::new(&["status", "<dir>/p.yaml", "--out", "<dir>/out"]).file("p.yaml", TENSILE).symlink("out/slurm/submission.json", "/dev/zero")
+        .mentions(&["<dir>/out/slurm/submission.json", "character device"]);
+    slurm_profile_fifo: Case::run(TENSILE, &["--executor", "slurm", "--slurm-profile", "<dir>/site.yaml"]).file("t.csv", CSV).fifo("site.yaml")
+        .mentions(&["<dir>/site.yaml", "Slurm site profile", "not a regular file (a pipe)"]);
+    slurm_profile_dev_zero: Case::run(TENSILE, &["--executor", "slurm", "--slurm-profile", "<dir>/site.yaml"]).file("t.csv", CSV).symlink("site.yaml", "/dev/zero")
+        .mentions(&["<dir>/site.yaml", "Slurm site profile", "character device"]);
+    cache_gc_keep_fifo: Case::new(&["cache", "gc", "--cache", "<dir>/cache", "--keep", "<dir>/k.yaml"])
+        .file("p.yaml", TENSILE).file("t.csv", CSV)
+        .before(&["run", "<dir>/p.yaml", "--out", "<dir>/out", "--cache", "<dir>/cache", "-q"])
+        .fifo("k.yaml")
+        .mentions(&["<dir>/k.yaml", "not a regular file (a pipe)"]);
+    cache_gc_keep_dev_zero: Case::new(&["cache", "gc", "--cache", "<dir>/cache", "--keep", "<dir>/k.yaml"])
+        .file("p.yaml", TENSILE).file("t.csv", CSV)
+        .before(&["run", "<dir>/p.yaml", "--out", "<dir>/out", "--cache", "<dir>/cache", "-q"])
+        .symlink("k.yaml", "/dev/zero")
+        .mentions(&["<dir>/k.yaml", "character device"]);
+    // The previous run's record: a run that cannot read it fails before
+    // any stage (before, the FIFO hung and `/dev/zero` was swallowed, exit 0).
+    provenance_fifo: Case::run(TENSILE, &[]).file("t.csv", CSV).fifo("out/provenance.json")
+        .mentions(&["<dir>/out/provenance.json", "not a regular file (a pipe)", "--out"]);
+    provenance_dev_zero: Case::run(TENSILE, &[]).file("t.csv", CSV).symlink("out/provenance.json", "/dev/zero")
+        .mentions(&["<dir>/out/provenance.json", "character device", "--out"]);
+    // A with_file recipe (item 6): 3 GiB of holes is refused by its size
+    // (before: 6.2 GB RSS), a pipe unopened.
+    with_file_sparse_3_gib: Case::run(&TENSILE.replace("with: { path: t.csv }", "with_file: recipe.yaml"), &[]).sparse("recipe.yaml", 3 << 30)
+        .mentions(&["<dir>/recipe.yaml", "3.0 GiB", "with_file recipes are at most 16 MiB"]);
+    with_file_fifo: Case::run(&TENSILE.replace("with: { path: t.csv }", "with_file: recipe.yaml"), &[]).fifo("recipe.yaml")
+        .mentions(&["<dir>/recipe.yaml", "not a regular file (a pipe)"]);
+    // A profile written as a list (item 10): before, read by position and
+    // its first item reported as key `0`.
+    slurm_profile_a_list: Case::run(TENSILE, &["--executor", "slurm", "--slurm-profile", "<dir>/site.yaml"]).file("t.csv", CSV)
+        .file("site.yaml", "- partition: compute\n- limits: { cpus: 2 }\n")
+        .mentions(&["<dir>/site.yaml", "must be a map of settings", "found a list"])
+        .lacks("`0`");
+    // An entry of a data folder that is no file is named, not the folder
+    // (item 14).
+    dic_folder_fifo_entry: dic_folder(Case::run(DIC, &[])).file("seq/frame_000.png", png()).file("seq/frame_001.png", png())
+        .fifo("seq/frame_002.png")
+        .mentions(&["<dir>/seq/frame_002.png", "not a regular file (a pipe)"]);
+    dic_folder_dev_zero_entry: dic_folder(Case::run(DIC, &[])).file("seq/frame_000.png", png()).file("seq/frame_001.png", png())
+        .symlink("seq/zero.png", "/dev/zero")
+        .mentions(&["<dir>/seq/zero.png", "character device"]);
+    contact_images_symlink_loop_entry: Case::run(CONTACT_IMAGES, &[])
+        .file("seq/img_1_t1s.png", png())
+        .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n0.5,1.0\n")
+        .symlink("seq/img_2_t2s.png", "<dir>/seq/img_2_t2s.png")
+        .mentions(&["<dir>/seq/img_2_t2s.png", "symlink loop"]);
+    contact_images_symlinked_folder_entry: Case::run(CONTACT_IMAGES, &[])
+        .file("seq/img_1_t1s.png", png())
+        .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n0.5,1.0\n")
+        .file("elsewhere/img_2_t2s.png", png())
+        .symlink("seq/more", "<dir>/elsewhere")
+        .mentions(&["<dir>/seq/more", "symlink to a folder, which is not followed"]);
 }

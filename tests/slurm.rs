@@ -699,3 +699,67 @@ fn the_slurm_executor_gives_the_local_bytes_with_one_job_per_entry() {
     assert!(jobs(&t.path().join("detached")).is_empty());
     assert!(t.path().join("detached/contact/response.parquet").exists());
 }
+
+/// Without `limits:`, the `dic` kind's 4 CPUs / 8 GB fit no node of the
+/// one-node test partition (1024 MB): before, the job was submitted and
+/// pended for ever (Reason=PartitionConfig) while the submitter waited
+/// without a word. Now the run fails before submitting anything, naming the
+/// stage, its request, the partition's limits and the profile's `limits:`.
+#[test]
+fn a_request_no_node_can_hold_fails_before_submission() {
+    let Some(cluster) = Cluster::start() else {
+        return;
+    };
+    let t = tempfile::tempdir().unwrap();
+    let profile = t.path().join("site.yaml");
+    std::fs::write(&profile, "poll_s: 0.2\n").unwrap();
+    let started = Instant::now();
+    let mut run = cluster.hypercontact();
+    run.arg("run")
+        .arg(pipeline("quick.yaml"))
+        .arg("--quiet")
+        .arg("--cache")
+        .arg(t.path().join("cache"))
+        .arg("--out")
+        .arg(t.path().join("out"))
+        .args(["--executor", "slurm", "--slurm-profile"])
+        .arg(&profile)
+        .stdin(Stdio::null());
+    let mut child = run
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // A regression waits for ever: kill it after a minute and fail.
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if started.elapsed() > Duration::from_secs(60) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("still waiting after 60 s for a job no node can hold");
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(status.code(), Some(1), "{stderr}");
+    for part in [
+        "stage `",
+        "CPUs and",
+        "no node of the Slurm partition `hctest`",
+        "Reason=PartitionConfig",
+        "limits:",
+    ] {
+        assert!(stderr.contains(part), "{part}: {stderr}");
+    }
+    // Nothing was submitted: no submission record, no job in the queue.
+    assert!(!t.path().join("out/slurm/submission.json").exists());
+    let queue = cluster
+        .client("squeue")
+        .args(["-h", "-o", "%i"])
+        .output()
+        .unwrap();
+    assert!(queue.stdout.trim_ascii().is_empty(), "{}", text(&queue));
+}

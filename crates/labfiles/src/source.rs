@@ -7,7 +7,9 @@ use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use crate::csv_table::CsvTable;
-use hypercontact_core::regular_file::read_regular_file;
+use hypercontact_core::regular_file::{
+    is_symlink_loop, not_regular, not_regular_kind, read_regular_file,
+};
 use hypercontact_core::{Files, InputPath, Inputs, StageError, Table};
 
 /// Whether `name` stays inside the folder it is joined to: relative, no
@@ -22,6 +24,30 @@ fn inside(name: &str) -> bool {
                 std::path::Component::Normal(_) | std::path::Component::CurDir
             )
         })
+}
+
+/// Whether a folder entry is one of its files (`true`), a real subfolder,
+/// which is not entered (`false`), or something refused by its name.
+fn listed(entry: &std::fs::DirEntry) -> Result<bool, StageError> {
+    let path = entry.path();
+    let own = entry
+        .file_type()
+        .map_err(|e| StageError::file(&path, e.to_string()))?;
+    if own.is_dir() {
+        return Ok(false);
+    }
+    let meta = std::fs::metadata(&path).map_err(|e| match is_symlink_loop(&e) {
+        true => StageError::file(&path, "is a symlink loop"),
+        false => StageError::file(&path, e.to_string()),
+    })?;
+    match not_regular_kind(&meta) {
+        None => Ok(true),
+        Some(_) if meta.is_dir() => Err(StageError::file(
+            &path,
+            "is a symlink to a folder, which is not followed: put the files in the folder itself",
+        )),
+        Some(kind) => Err(StageError::file(&path, format!("is {}", not_regular(kind)))),
+    }
 }
 
 /// A set of named files.
@@ -101,18 +127,23 @@ impl<'a> FileSource<'a> {
     }
 
     /// The file names, sorted (files directly in a folder; subfolders are
-    /// not entered).
+    /// not entered). An entry that is neither is refused by its own name,
+    /// not skipped: a pipe, a device, a symlink loop, or a symlink to a
+    /// folder (not followed, as subfolders are not entered).
     pub fn names(&self) -> Result<Vec<String>, StageError> {
         match self {
             FileSource::Files { files, .. } => Ok(files.files.keys().cloned().collect()),
             FileSource::Dir(dir) => {
                 let entries = std::fs::read_dir(dir)
                     .map_err(|e| StageError::file(dir.as_path(), e.to_string()))?;
-                let mut names: Vec<String> = entries
-                    .flatten()
-                    .filter(|e| e.path().is_file())
-                    .map(|e| e.file_name().to_string_lossy().into_owned())
-                    .collect();
+                let mut names = Vec::new();
+                for entry in entries {
+                    let entry =
+                        entry.map_err(|e| StageError::file(dir.as_path(), e.to_string()))?;
+                    if listed(&entry)? {
+                        names.push(entry.file_name().to_string_lossy().into_owned());
+                    }
+                }
                 names.sort();
                 Ok(names)
             }
@@ -181,5 +212,38 @@ mod tests {
         }
         std::fs::remove_file(dir.join("../hc-outside.csv")).unwrap();
         std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    // Before, `names` skipped these silently (a later step then blamed the
+    // folder); now each is refused by its own name.
+    #[test]
+    fn a_folder_entry_that_is_no_file_is_named() {
+        let cases: [(&str, &str); 3] = [
+            ("zero.npy", "not a regular file (a character device"),
+            ("loop.npy", "is a symlink loop"),
+            ("linked", "symlink to a folder, which is not followed"),
+        ];
+        for (name, says) in cases {
+            let dir =
+                std::env::temp_dir().join(format!("hc-entries-{}-{name}", std::process::id()));
+            let _ = std::fs::remove_dir_all(&dir);
+            std::fs::create_dir_all(dir.join("real_subfolder")).unwrap();
+            std::fs::write(dir.join("tile_000.npy"), "x").unwrap();
+            let entry = dir.join(name);
+            let target = match name {
+                "zero.npy" => PathBuf::from("/dev/zero"),
+                "loop.npy" => entry.clone(),
+                _ => dir.join("real_subfolder"),
+            };
+            std::os::unix::fs::symlink(&target, &entry).unwrap();
+            let source = FileSource::Dir(dir.clone());
+            let e = source.names().unwrap_err().to_string();
+            let shown = entry.display().to_string();
+            assert!(e.starts_with(&shown) && e.contains(says), "{name}: {e}");
+            std::fs::remove_file(&entry).unwrap();
+            // A real subfolder is not entered, and not an error.
+            assert_eq!(source.names().unwrap(), ["tile_000.npy"]);
+            std::fs::remove_dir_all(dir).unwrap();
+        }
     }
 }

@@ -231,7 +231,7 @@ fn run_once(
     }
     let cache = open_cache(&options.cache_dir)?;
     let provenance_path = options.out_dir.join("provenance.json");
-    let previous = Provenance::read(&provenance_path);
+    let previous = Provenance::read(&provenance_path)?;
     let plan = Plan::build(pipeline, &cache, &options.plan, previous.as_ref())?;
     let mut provenance = new_provenance(pipeline, options, started_unix_s);
     if options.dry_run {

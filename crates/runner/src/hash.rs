@@ -4,11 +4,20 @@ use std::fs;
 use std::io;
 use std::path::Path;
 
+use hypercontact_core::regular_file::{is_symlink_loop, not_regular, not_regular_kind};
+
 /// BLAKE3 of a file's bytes, hex. Anything but a regular file (a device
 /// such as `/dev/zero`, a pipe) is refused: reading one may never end.
 pub fn file_hash(path: &Path) -> io::Result<String> {
-    if !fs::metadata(path)?.is_file() {
-        return Err(not_regular());
+    let meta = fs::metadata(path).map_err(|e| match is_symlink_loop(&e) {
+        true => io::Error::new(e.kind(), "is a symlink loop"),
+        false => e,
+    })?;
+    if let Some(kind) = not_regular_kind(&meta) {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("is {}", not_regular(kind)),
+        ));
     }
     let mut hasher = blake3::Hasher::new();
     hasher.update_mmap_rayon(path)?;
@@ -27,25 +36,35 @@ pub fn path_hash(path: &Path) -> io::Result<String> {
     }
 }
 
-/// The error for a path that is neither a regular file nor a folder.
-pub fn not_regular() -> io::Error {
-    io::Error::new(
-        io::ErrorKind::InvalidInput,
-        "not a regular file or folder (a device or a pipe cannot be read to its end)",
-    )
-}
-
+/// Walks real subfolders; an entry that cannot be hashed is named in the
+/// error (`<folder>/tile_003.npy is not a regular file (a pipe)`), not
+/// left to be blamed on the folder. A symlink to a folder is refused rather
+/// than followed: it may lead back up the tree, and the stages that read a
+/// folder's files do not enter subfolders.
 fn hash_dir(root: &Path, rel: &Path, hasher: &mut blake3::Hasher) -> io::Result<()> {
     let mut entries: Vec<_> = fs::read_dir(root.join(rel))?.collect::<Result<_, _>>()?;
     entries.sort_by_key(|e| e.file_name());
     for entry in entries {
         let name = rel.join(entry.file_name());
-        if entry.file_type()?.is_dir() {
+        let path = root.join(&name);
+        let named = |e: io::Error| {
+            let reason = e.to_string();
+            io::Error::new(e.kind(), format!("`{}` {reason}", path.display()))
+        };
+        let kind = entry.file_type().map_err(named)?;
+        if kind.is_dir() {
             hash_dir(root, &name, hasher)?;
+        } else if kind.is_symlink() && path.is_dir() {
+            return Err(named(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                "is a symlink to a folder, which is not followed: put the files in the folder \
+                 itself",
+            )));
         } else {
+            let hash = file_hash(&path).map_err(named)?;
             hasher.update(name.to_string_lossy().as_bytes());
             hasher.update(&[0]);
-            hasher.update(file_hash(&root.join(&name))?.as_bytes());
+            hasher.update(hash.as_bytes());
             hasher.update(&[0]);
         }
     }
@@ -116,6 +135,49 @@ mod tests {
             assert_eq!(e.kind(), io::ErrorKind::InvalidInput, "{path}");
             assert!(e.to_string().contains("not a regular file"), "{e}");
         }
+    }
+
+    // Before, each of these failed as "cannot read `<folder>`" with a
+    // cause that did not say which entry.
+    #[test]
+    fn a_folder_names_the_entry_it_cannot_hash() {
+        let bad: [(&str, MakeEntry, &str); 4] = [
+            ("tile_003.npy", make_fifo, "is not a regular file (a pipe)"),
+            (
+                "zero.npy",
+                |p| std::os::unix::fs::symlink("/dev/zero", p).is_ok(),
+                "character device",
+            ),
+            (
+                "loop.npy",
+                |p| std::os::unix::fs::symlink(p, p).is_ok(),
+                "is a symlink loop",
+            ),
+            (
+                "linked",
+                |p| std::os::unix::fs::symlink("/tmp", p).is_ok(),
+                "symlink to a folder, which is not followed",
+            ),
+        ];
+        for (name, make, says) in bad {
+            let t = tempfile::tempdir().unwrap();
+            std::fs::write(t.path().join("a.npy"), "x").unwrap();
+            let entry = t.path().join(name);
+            assert!(make(&entry), "{name}");
+            let e = path_hash(t.path()).unwrap_err().to_string();
+            let shown = format!("`{}`", entry.display());
+            assert!(e.starts_with(&shown) && e.contains(says), "{name}: {e}");
+        }
+    }
+
+    /// Makes one odd folder entry; whether it could.
+    type MakeEntry = fn(&Path) -> bool;
+
+    fn make_fifo(path: &Path) -> bool {
+        std::process::Command::new("mkfifo")
+            .arg(path)
+            .status()
+            .is_ok_and(|s| s.success())
     }
 
     #[test]

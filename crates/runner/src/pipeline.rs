@@ -7,6 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use hypercontact_core::regular_file::{MIB, read_checked_text};
 use hypercontact_core::{AnyParams, DynStage, Registry};
 use indexmap::IndexMap;
 use serde::Deserialize;
@@ -15,6 +16,10 @@ pub use crate::error::PipelineError;
 use crate::slurm::SlurmKeys;
 use crate::stage_params::ParamSources;
 use crate::yaml::{Located, Location};
+
+/// The largest pipeline or `with_file` recipe read: hand-written YAML is a
+/// few kilobytes; a file of this size is a mistake, not a pipeline.
+pub const PIPELINE_LIMIT_BYTES: u64 = 16 * MIB;
 
 /// One input of a stage bound to an upstream product.
 #[derive(Clone, Debug, PartialEq)]
@@ -196,8 +201,10 @@ pub(crate) fn segment(s: &serde_path_to_error::Segment) -> Option<String> {
 impl Pipeline {
     /// Reads and checks a pipeline file against the registry.
     pub fn load(file: &Path, registry: &Registry) -> Result<Self, PipelineError> {
-        let source = std::fs::read_to_string(file)
-            .map_err(|e| PipelineError::new(file, format!("cannot read the pipeline: {e}")))?;
+        let source =
+            read_checked_text(file, "pipeline files", PIPELINE_LIMIT_BYTES).map_err(|e| {
+                PipelineError::new(file, format!("cannot read the pipeline: it {}", e.why))
+            })?;
         Self::parse(file, &source, registry)
     }
 
@@ -423,14 +430,10 @@ impl StageSite<'_> {
     /// The `with_file:` recipe, a YAML map of parameters, with its path.
     fn read_with_file(&self, with_file: &Path) -> Result<(PathBuf, Located), PipelineError> {
         let path = self.dir.join(with_file);
-        let text = std::fs::metadata(&path)
-            .and_then(|m| match m.is_file() {
-                true => std::fs::read_to_string(&path),
-                false => Err(crate::hash::not_regular()),
-            })
-            .map_err(|e| {
+        let text =
+            read_checked_text(&path, "with_file recipes", PIPELINE_LIMIT_BYTES).map_err(|e| {
                 self.error(
-                    format!("with_file: cannot read {}: {e}", path.display()),
+                    format!("with_file: cannot read {}: it {}", path.display(), e.why),
                     self.at(&["with_file"]),
                 )
             })?;

@@ -3,7 +3,14 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use hypercontact_core::regular_file::{MIB, read_checked};
 use serde::{Deserialize, Serialize};
+
+use crate::error::PipelineError;
+
+/// The largest `provenance.json` read: a record per stage, with the
+/// parameters and file hashes of each; far below this for any pipeline.
+pub const RECORD_LIMIT_BYTES: u64 = 64 * MIB;
 
 /// Where a stage's output came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -72,15 +79,70 @@ pub struct Provenance {
 }
 
 impl Provenance {
-    /// Reads a previous run's record, if there is a readable one.
-    pub fn read(path: &Path) -> Option<Self> {
-        let bytes = std::fs::read(path).ok()?;
-        serde_json::from_slice(&bytes).ok()
+    /// Reads a previous run's record: `None` when there is none, or when
+    /// the file is one this version does not parse (an older format; it is
+    /// replaced atomically at the end of the run). What cannot be read
+    /// safely — a pipe, a device, a file over [`RECORD_LIMIT_BYTES`] — fails
+    /// the run: opening a pipe would hang it, and writing over a thing this
+    /// run did not make would hide whoever put it there.
+    pub fn read(path: &Path) -> Result<Option<Self>, PipelineError> {
+        // An output "folder" that is a file holds no record; exporting
+        // into it fails later, naming it.
+        if path
+            .parent()
+            .is_some_and(|dir| dir.exists() && !dir.is_dir())
+        {
+            return Ok(None);
+        }
+        let bytes = match read_checked(path, "provenance records", RECORD_LIMIT_BYTES) {
+            Err(e) if e.not_found => return Ok(None),
+            read => read,
+        };
+        let bytes = bytes.map_err(|e| {
+            PipelineError::new(
+                path,
+                format!(
+                    "cannot read the previous run's record: it {}; remove it or give another --out",
+                    e.why
+                ),
+            )
+        })?;
+        Ok(serde_json::from_slice(&bytes).ok())
     }
 
     /// Writes the record atomically (temporary file, then rename).
     pub fn write(&self, path: &Path) -> std::io::Result<()> {
         let bytes = serde_json::to_vec_pretty(self).map_err(std::io::Error::other)?;
         crate::write_atomic(path, &bytes)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Before, `read` swallowed every failure: a pipe hung the run and
+    // `/dev/zero` read until memory ran out, then counted as "no record".
+    #[test]
+    fn a_record_that_cannot_be_read_safely_fails_instead_of_being_none() {
+        let t = tempfile::tempdir().unwrap();
+        let path = t.path().join("provenance.json");
+        assert_eq!(Provenance::read(&path).unwrap(), None);
+        std::fs::write(&path, "{ not json").unwrap();
+        assert_eq!(Provenance::read(&path).unwrap(), None);
+        std::fs::remove_file(&path).unwrap();
+        std::os::unix::fs::symlink("/dev/zero", &path).unwrap();
+        let e = Provenance::read(&path).unwrap_err().to_string();
+        assert!(
+            e.starts_with(&path.display().to_string())
+                && e.contains("character device")
+                && e.contains("--out"),
+            "{e}"
+        );
+        std::fs::remove_file(&path).unwrap();
+        let made = std::process::Command::new("mkfifo").arg(&path).status();
+        assert!(made.is_ok_and(|s| s.success()), "mkfifo");
+        let e = Provenance::read(&path).unwrap_err().to_string();
+        assert!(e.contains("not a regular file (a pipe)"), "{e}");
     }
 }

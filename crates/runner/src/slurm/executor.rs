@@ -21,9 +21,11 @@ use std::process::Command;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
+use hypercontact_core::regular_file::{MIB, read_checked};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
+use super::partition;
 use super::settings::{JobResources, SiteProfile};
 use crate::cache::{Cache, EntryState, unix_now};
 use crate::exec::{RunError, StageJob, open_cache};
@@ -57,10 +59,16 @@ pub struct JobSpec {
 
 pub const JOB_FORMAT: u32 = 1;
 
+/// The largest job file read: a job names a pipeline and a few settings.
+const JOB_LIMIT_BYTES: u64 = 16 * MIB;
+
+/// The largest `submission.json` read: a line per job, thousands of jobs.
+const SUBMISSION_LIMIT_BYTES: u64 = 64 * MIB;
+
 impl JobSpec {
     pub fn read(path: &Path) -> Result<Self, RunError> {
         let bad = |why: String| RunError::Job(format!("job file {}: {why}", path.display()));
-        let bytes = std::fs::read(path).map_err(|e| bad(e.to_string()))?;
+        let bytes = read_checked(path, "job files", JOB_LIMIT_BYTES).map_err(|e| bad(e.why))?;
         let spec: JobSpec = serde_json::from_slice(&bytes).map_err(|e| bad(e.to_string()))?;
         if spec.format != JOB_FORMAT {
             return Err(bad(format!(
@@ -107,9 +115,9 @@ impl Submission {
 
     pub fn read(log_dir: &Path) -> Result<Option<Self>, RunError> {
         let path = Self::path(log_dir);
-        match std::fs::read(&path) {
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-            Err(e) => Err(RunError::Job(format!("{}: {e}", path.display()))),
+        match read_checked(&path, "submission records", SUBMISSION_LIMIT_BYTES) {
+            Err(e) if e.not_found => Ok(None),
+            Err(e) => Err(RunError::Job(e.to_string())),
             Ok(bytes) => serde_json::from_slice(&bytes)
                 .map(Some)
                 .map_err(|e| RunError::Job(format!("{}: {e}", path.display()))),
@@ -191,12 +199,36 @@ pub fn submit(variants: &[PipelineRun], run: &SlurmRun) -> Result<Submission, Ru
         }
         return Ok(submission);
     }
+    check_nodes_hold(&pending)?;
     let queued = still_queued(&log_dir, &cache_dir)?;
     submission.jobs = send(pending, queued, &run.command()?, &log_dir, &run.profile)?;
     let bytes = serde_json::to_vec_pretty(&submission).expect("a submission serialises");
     let path = Submission::path(&log_dir);
     crate::write_atomic(&path, &bytes).map_err(|cause| RunError::Output { path, cause })?;
     Ok(submission)
+}
+
+/// Refuses, before anything is submitted, a job whose request no node of
+/// its partition can hold: Slurm would keep it pending for ever.
+fn check_nodes_hold(pending: &[Pending]) -> Result<(), RunError> {
+    let mut partitions: HashMap<Option<String>, Option<partition::PartitionNodes>> = HashMap::new();
+    for p in pending {
+        let wanted = p.resources.partition.clone();
+        let nodes = partitions
+            .entry(wanted.clone())
+            .or_insert_with(|| partition::query(wanted.as_deref()));
+        if let Some(nodes) = nodes
+            && !nodes.holds(p.resources.cpus, p.resources.mem_mb)
+        {
+            return Err(RunError::Job(partition::refusal(
+                &p.stage,
+                &p.kind,
+                &p.resources,
+                nodes,
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// The jobs the variants' plans need, one per entry, in an order where

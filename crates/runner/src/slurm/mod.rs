@@ -1,6 +1,7 @@
 //! The Slurm executor (`--executor slurm`): every stage a plan must run
 //! becomes a batch job chained to its inputs' jobs; see [`executor`].
 pub mod executor;
+mod partition;
 mod settings;
 
 pub use executor::{

@@ -11,6 +11,7 @@
 use std::path::{Path, PathBuf};
 
 use hypercontact_core::Resources;
+use hypercontact_core::regular_file::{MIB, read_checked_text};
 use serde::Deserialize;
 
 use crate::error::PipelineError;
@@ -201,16 +202,42 @@ pub struct Limits {
     pub time: Option<TimeMin>,
 }
 
+/// What a YAML value that is not a map is, for the refusal.
+fn yaml_kind(value: &serde_json::Value) -> &'static str {
+    match value {
+        serde_json::Value::Array(_) => "a list",
+        serde_json::Value::String(_) => "a text",
+        serde_json::Value::Number(_) => "a number",
+        serde_json::Value::Bool(_) => "a yes/no value",
+        serde_json::Value::Null | serde_json::Value::Object(_) => "nothing usable",
+    }
+}
+
 impl SiteProfile {
     /// Reads and checks a profile file; errors name the file and line.
     pub fn load(path: &Path) -> Result<Self, PipelineError> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            PipelineError::new(path, format!("cannot read the Slurm site profile: {e}"))
+        let text = read_checked_text(path, "Slurm site profiles", MIB).map_err(|e| {
+            PipelineError::new(
+                path,
+                format!("cannot read the Slurm site profile: it {}", e.why),
+            )
         })?;
         let doc =
             Located::parse(&text).map_err(|e| PipelineError::new(path, e.message).located(e.at))?;
         if doc.value.is_null() {
             return Ok(Self::default());
+        }
+        // A list would be read by position, its items reported as keys `0`, `1`.
+        if !doc.value.is_object() {
+            return Err(PipelineError::new(
+                path,
+                format!(
+                    "the Slurm site profile must be a map of settings (partition:, limits:, ...); \
+                     found {}",
+                    yaml_kind(&doc.value)
+                ),
+            )
+            .located(doc.locate::<&str>(&[])));
         }
         let profile: SiteProfile =
             crate::pipeline::located_deserialize(path, &doc, doc.value.clone())?;
@@ -485,6 +512,29 @@ mod tests {
         }
         let e = SiteProfile::load(&t.path().join("none.yaml")).unwrap_err();
         assert!(e.to_string().contains("cannot read the Slurm site profile"));
+    }
+
+    // Before, a list was read by position: its first item was reported as
+    // a setting named `0`.
+    #[test]
+    fn a_profile_that_is_not_a_map_is_refused_as_such() {
+        let t = tempfile::tempdir().unwrap();
+        let path = t.path().join("site.yaml");
+        for (text, found) in [
+            (
+                "- partition: compute\n- limits: { cpus: 2 }\n",
+                "found a list",
+            ),
+            ("compute\n", "found a text"),
+        ] {
+            std::fs::write(&path, text).unwrap();
+            let e = SiteProfile::load(&path).unwrap_err().to_string();
+            assert!(
+                e.contains("must be a map of settings") && e.contains(found),
+                "{e}"
+            );
+            assert!(!e.contains("`0`"), "{e}");
+        }
     }
 
     proptest::proptest! {
