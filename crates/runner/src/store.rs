@@ -304,4 +304,28 @@ mod tests {
         assert_eq!(text.matches("denied").count(), 1, "{text}");
         assert!(text.starts_with("ro/surf: "), "{text}");
     }
+
+    #[test]
+    fn an_output_exported_by_an_older_build_as_a_hard_link_becomes_its_own_copy() {
+        // #31, 3: a run folder exported before by hard link is unlinked
+        // from the cache on the next export; failed before (place kept the
+        // link, `same_file`), an append then reached the cached file.
+        let t = tempfile::tempdir().unwrap();
+        let cached = t.path().join("cache.bin");
+        let out = t.path().join("run/out.bin");
+        fs::write(&cached, b"product").unwrap();
+        fs::create_dir_all(out.parent().unwrap()).unwrap();
+        fs::hard_link(&cached, &out).unwrap();
+        place(&cached, &out).unwrap();
+        fs::File::options()
+            .append(true)
+            .open(&out)
+            .unwrap()
+            .write_all(b" edited")
+            .unwrap();
+        assert_eq!(fs::read(&cached).unwrap(), b"product");
+        assert_eq!(fs::read(&out).unwrap(), b"product edited");
+        let names: Vec<_> = fs::read_dir(out.parent().unwrap()).unwrap().collect();
+        assert_eq!(names.len(), 1, "no temporary file left beside the output");
+    }
 }
