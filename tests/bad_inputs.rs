@@ -623,6 +623,19 @@ fn study_over(grid: &str) -> String {
 
 // ----------------------------------------------------------------- cases
 
+/// A cache manifest with no outputs, naming `producer` if given (one
+/// written before manifests named their build has none).
+fn old_manifest(key: &str, producer: Option<&str>) -> String {
+    let mut m = serde_json::json!({
+        "format": 1, "key": key, "kind": "tensile", "version": 1, "stage": "t",
+        "created_unix_s": 0, "compute_s": 0.0, "params": {}, "outputs": {}
+    });
+    if let Some(p) = producer {
+        m["producer"] = p.into();
+    }
+    m.to_string()
+}
+
 macro_rules! cases {
     ($($(#[$attr:meta])* $name:ident: $case:expr;)*) => {
         $( $(#[$attr])* #[test] fn $name() { check(stringify!($name), $case); } )*
@@ -1065,4 +1078,14 @@ cases! {
         .file("elsewhere/img_2_t2s.png", png())
         .symlink("seq/more", "<dir>/elsewhere")
         .mentions(&["<dir>/seq/more", "symlink to a folder, which is not followed"]);
+
+    // #31 cache
+    // Entries made by another build, or written before manifests named
+    // their build, are listed by `verify --producer`, not taken silently
+    // (#31, 4); the listing is no failure.
+    cache_verify_producer_lists_other_and_unknown_builds: Case::new(&["cache", "verify", "--producer", "--cache", "<dir>/cache"])
+        .file("cache/HYPERCONTACT_CACHE", "")
+        .file("cache/entries/aaaa/manifest.json", old_manifest("aaaa", None))
+        .file("cache/entries/bbbb/manifest.json", old_manifest("bbbb", Some("0.0.1+src.0123456789abcdef")))
+        .exit(0);
 }

@@ -868,3 +868,130 @@ fn a_closed_stdout_pipe_ends_the_command_quietly() {
         assert_eq!(o.status.code(), Some(0), "{args:?}: {err}");
     }
 }
+
+/// `hypercontact cache ARGS --cache DIR`.
+fn cache_cmd(cache: &Path, args: &[&str]) -> Output {
+    bin()
+        .arg("cache")
+        .args(args)
+        .arg("--cache")
+        .arg(cache)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn writing_to_an_exported_output_reaches_neither_the_cache_nor_another_run() {
+    // #31, 3: outputs were hard links into the cache, so as root (past
+    // the read-only mode) appending to one run's output changed the cache
+    // entry and every other run's output. Failed before at `cache verify`
+    // ("1 corrupt") and at the second run's bytes.
+    let t = tempfile::tempdir().unwrap();
+    assert!(run(t.path(), &["-q"]).status.success());
+    let second = t.path().join("out2");
+    let again = bin()
+        .arg("run")
+        .arg(t.path().join("demo.yaml"))
+        .arg("--out")
+        .arg(&second)
+        .output()
+        .unwrap();
+    assert!(text(&again).contains("0 ran, 5 cached"), "{}", text(&again));
+    let file = "contact/response.parquet";
+    let untouched = std::fs::read(second.join(file)).unwrap();
+    use std::io::Write as _;
+    std::fs::File::options()
+        .append(true)
+        .open(t.path().join("out").join(file))
+        .expect("a run's output is its own, writable file")
+        .write_all(b"appended by hand")
+        .unwrap();
+    assert_eq!(std::fs::read(second.join(file)).unwrap(), untouched);
+    let verify = cache_cmd(&t.path().join(".hypercontact/cache"), &["verify"]);
+    assert!(verify.status.success(), "{}", text(&verify));
+    assert!(text(&verify).contains(", 0 corrupt"), "{}", text(&verify));
+}
+
+/// Each entry's `manifest.json` under `cache`, parsed.
+fn manifests(cache: &Path) -> Vec<(PathBuf, serde_json::Value)> {
+    let mut out: Vec<_> = std::fs::read_dir(cache.join("entries"))
+        .unwrap()
+        .map(|e| {
+            let path = e.unwrap().path().join("manifest.json");
+            let json = serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+            (path, json)
+        })
+        .collect();
+    out.sort_by(|a, b| a.0.cmp(&b.0));
+    out
+}
+
+/// Writes `json` over a (read-only) cache file.
+fn rewrite(path: &Path, json: &serde_json::Value) {
+    let mut perms = std::fs::metadata(path).unwrap().permissions();
+    #[allow(clippy::permissions_set_readonly_false)]
+    perms.set_readonly(false);
+    std::fs::set_permissions(path, perms).unwrap();
+    std::fs::write(path, serde_json::to_vec(json).unwrap()).unwrap();
+}
+
+#[test]
+fn every_entry_names_the_build_that_made_it_and_verify_lists_other_builds() {
+    // #31, 4: a cache key holds no trace of the code; the manifest, the
+    // provenance and `cache ls` name the build, and `verify --producer`
+    // lists entries made by another (or an unknown) build.
+    let t = tempfile::tempdir().unwrap();
+    assert!(run(t.path(), &["-q"]).status.success());
+    let version = text(&bin().arg("--version").output().unwrap());
+    let build = version
+        .trim()
+        .trim_start_matches("hypercontact ")
+        .to_owned();
+    assert!(
+        build.starts_with(env!("CARGO_PKG_VERSION")) && build.contains("+src."),
+        "{version}"
+    );
+    let cache = t.path().join(".hypercontact/cache");
+    let entries = manifests(&cache);
+    assert_eq!(entries.len(), 5);
+    for (path, m) in &entries {
+        assert_eq!(m["producer"], build.as_str(), "{}", path.display());
+    }
+    let prov: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(t.path().join("out/provenance.json")).unwrap())
+            .unwrap();
+    assert_eq!(prov["producer"], build.as_str());
+    assert_eq!(prov["stages"]["trunc"]["producer"], build.as_str());
+    let ls = text(&cache_cmd(&cache, &["ls"]));
+    assert_eq!(ls.matches(build.as_str()).count(), 5, "{ls}");
+    let listed = cache_cmd(&cache, &["verify", "--producer"]);
+    assert!(text(&listed).contains("5 entries, 0 made by another build"));
+
+    // One entry from another build, one from before builds were recorded.
+    let (other, mut m) = entries[0].clone();
+    m["producer"] = "0.0.1+src.0123456789abcdef".into();
+    rewrite(&other, &m);
+    let (old, mut m) = entries[1].clone();
+    m.as_object_mut().unwrap().remove("producer");
+    rewrite(&old, &m);
+    let listed = cache_cmd(&cache, &["verify", "--producer"]);
+    let said = text(&listed);
+    assert!(listed.status.success(), "{said}");
+    assert!(
+        said.contains("5 entries, 2 made by another build"),
+        "{said}"
+    );
+    assert!(
+        said.contains("made by 0.0.1+src.0123456789abcdef"),
+        "{said}"
+    );
+    assert!(said.contains("made by unknown build"), "{said}");
+    let ls = text(&cache_cmd(&cache, &["ls"]));
+    assert!(
+        ls.contains("unknown build") && !ls.contains("(unreadable)"),
+        "{ls}"
+    );
+    // The producer is not part of the key: the entries are still reused.
+    let again = run(t.path(), &[]);
+    assert!(text(&again).contains("0 ran, 5 cached"), "{}", text(&again));
+}

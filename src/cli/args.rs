@@ -8,7 +8,9 @@ use clap::{Parser, Subcommand};
 #[derive(Parser)]
 #[command(
     name = "hypercontact",
-    version,
+    // The build (version and source hash, see build.rs), as cache entries
+    // record it.
+    version = env!("HYPERCONTACT_BUILD"),
     about = "Reruns a rough-surface contact study of hyperelastic rubber end to end",
     long_about = "Reruns a rough-surface contact study of hyperelastic rubber end to end: \
                   tensile tests → hyperelastic fit, interferometer tiles → height map → PSD → \
@@ -122,7 +124,7 @@ pub struct CacheWhere {
 
 #[derive(Subcommand)]
 pub enum CacheAction {
-    /// List entries: key, kind, stage, size, last use.
+    /// List entries: key, kind, stage, size, the build that made it, last use.
     Ls {
         #[command(flatten)]
         at: CacheWhere,
@@ -146,6 +148,10 @@ pub enum CacheAction {
     Verify {
         #[command(flatten)]
         at: CacheWhere,
+        /// Instead, list the entries another build of hypercontact made
+        /// (or one too old to say), without hashing anything; exit 0.
+        #[arg(long)]
+        producer: bool,
     },
     /// Remove the whole cache.
     Clean {

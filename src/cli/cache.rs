@@ -9,6 +9,7 @@ use anyhow::{Context as _, Result, bail};
 use hypercontact_core::Registry;
 use hypercontact_runner::cache::{Cache, EntryInfo, EntryState, not_a_cache};
 use hypercontact_runner::exec::default_cache_dir;
+use hypercontact_runner::producer;
 use hypercontact_runner::{Pipeline, Plan, PlanOptions};
 
 use super::args::{CacheAction, CacheWhere};
@@ -21,7 +22,11 @@ pub fn cache_command(action: CacheAction, registry: &Registry) -> Result<()> {
             keep,
             older_than_days,
         } => gc(&cache_dir(&at, registry)?, &keep, older_than_days, registry),
-        CacheAction::Verify { at } => verify(&cache_dir(&at, registry)?),
+        CacheAction::Verify {
+            at,
+            producer: false,
+        } => verify(&cache_dir(&at, registry)?),
+        CacheAction::Verify { at, producer: true } => other_producers(&cache_dir(&at, registry)?),
         CacheAction::Clean { at } => clean(&cache_dir(&at, registry)?),
     }
 }
@@ -44,7 +49,8 @@ fn open_or_say(dir: &Path, then: &str) -> std::io::Result<Option<Cache>> {
     Ok(cache)
 }
 
-/// One line per entry: key, kind, stage, size, last use; then the total.
+/// One line per entry: key, kind, stage, size, producer, last use; then
+/// the total.
 fn ls(dir: &Path) -> Result<()> {
     let Some(cache) = open_or_say(dir, "").with_context(|| format!("opening {}", dir.display()))?
     else {
@@ -54,15 +60,20 @@ fn ls(dir: &Path) -> Result<()> {
     let mut total = 0;
     for e in &entries {
         total += e.bytes;
-        let (kind, stage) = e.manifest.as_ref().map_or(("(unreadable)", ""), |m| {
-            (m.kind.as_str(), m.stage.as_str())
+        let (kind, stage, made_by) = e.manifest.as_ref().map_or(("(unreadable)", "", ""), |m| {
+            (
+                m.kind.as_str(),
+                m.stage.as_str(),
+                producer::shown(m.producer.as_deref()),
+            )
         });
         say!(
-            "{}  {:<16} {:<16} {:>10}  {}",
+            "{}  {:<16} {:<16} {:>10}  {:<26} {}",
             &e.key,
             kind,
             stage,
             human_bytes(e.bytes),
+            made_by,
             e.last_used.map_or("-".into(), ago)
         );
     }
@@ -156,6 +167,40 @@ fn verify(dir: &Path) -> Result<()> {
     if corrupt > 0 {
         bail!("{corrupt} corrupt cache entries in {}", dir.display());
     }
+    Ok(())
+}
+
+/// Lists the entries whose manifest names another build than this one
+/// (#31, 4): their key holds no trace of the code, so a stage whose
+/// `version` was not bumped would reuse them. Exit 0: a listing, not a
+/// failure; `gc` or `clean` removes them if wanted.
+fn other_producers(dir: &Path) -> Result<()> {
+    let Some(cache) = open_or_say(dir, "")? else {
+        return Ok(());
+    };
+    let entries = cache.list()?;
+    let running = producer::running();
+    let mut other = 0;
+    for e in &entries {
+        let Some(m) = &e.manifest else {
+            continue;
+        };
+        if m.producer.as_deref() != Some(running) {
+            other += 1;
+            say!(
+                "{}  {:<16} {:<16} made by {}",
+                e.key,
+                m.kind,
+                m.stage,
+                producer::shown(m.producer.as_deref())
+            );
+        }
+    }
+    say!(
+        "{} entries, {other} made by another build than this one (see --version), in {}",
+        entries.len(),
+        dir.display()
+    );
     Ok(())
 }
 

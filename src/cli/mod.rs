@@ -19,6 +19,7 @@ use args::Command;
 
 /// Runs the command the user gave.
 pub fn dispatch(cli: Cli) -> Result<()> {
+    hypercontact_runner::producer::set_running(env!("HYPERCONTACT_BUILD"));
     let registry = hypercontact::registry();
     match cli.command {
         Command::Run { args, force, only } => run::run(&args, force, only, &registry),

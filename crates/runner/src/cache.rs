@@ -54,6 +54,10 @@ pub struct Manifest {
     /// a cache hit still reports it.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub notes: Vec<String>,
+    /// The build that computed the entry (`crate::producer`); None in a
+    /// manifest written before builds were recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub producer: Option<String>,
 }
 
 pub const MANIFEST_FORMAT: u32 = 1;
@@ -138,8 +142,8 @@ impl Cache {
 
     /// Records the current stat stamps of an entry's files. Only for an
     /// entry this run has just verified or written (its files hashed in
-    /// this run), after exporting it: the hard links of the export change
-    /// the files' ctime, which would otherwise cost the next run a full hash.
+    /// this run), after exporting it, so the next run trusts their stat
+    /// data instead of hashing them again.
     pub fn restamp(&self, key: &str, manifest: &Manifest) {
         let dir = self.entry_dir(key);
         let mut stamps = BTreeMap::new();

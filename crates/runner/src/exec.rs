@@ -339,6 +339,7 @@ fn new_provenance(pipeline: &Pipeline, options: &RunOptions, started_unix_s: u64
         pipeline_file: pipeline.file.display().to_string(),
         pipeline_blake3: crate::hash::text_hash(pipeline.source()),
         hypercontact_version: env!("CARGO_PKG_VERSION").to_owned(),
+        producer: Some(crate::producer::running().to_owned()),
         overrides: options.overrides.clone(),
         started_unix_s,
         wall_s: 0.0,
@@ -489,6 +490,7 @@ fn run_stage(
         temp: planned.temp,
         notes: manifest.notes.clone(),
         job,
+        producer: Some(crate::producer::shown(manifest.producer.as_deref()).to_owned()),
     };
     scope.cache.restamp(&planned.key, &manifest);
     state.manifests.insert(planned.name.clone(), manifest);
@@ -884,6 +886,7 @@ fn write_entry(
         params: planned.params.clone(),
         outputs: records,
         notes,
+        producer: Some(crate::producer::running().to_owned()),
     };
     cache.commit(&staging, &manifest).map_err(cache_err)?;
     Ok(manifest)

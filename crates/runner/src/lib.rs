@@ -7,6 +7,7 @@ pub mod exec;
 pub mod hash;
 pub mod pipeline;
 pub mod plan;
+pub mod producer;
 mod progress;
 pub mod provenance;
 pub mod slurm;

@@ -63,6 +63,10 @@ pub struct StageRecord {
     /// The cluster job that computed the entry in this run (`slurm 1234`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub job: Option<String>,
+    /// The build that computed the entry (`unknown build` for an entry
+    /// older than the record); None in a record written before.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub producer: Option<String>,
 }
 
 /// The record of one run.
@@ -72,6 +76,9 @@ pub struct Provenance {
     pub pipeline_file: String,
     pub pipeline_blake3: String,
     pub hypercontact_version: String,
+    /// The build that ran this run; None in a record written before.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub producer: Option<String>,
     pub overrides: Vec<String>,
     pub started_unix_s: u64,
     pub wall_s: f64,

@@ -198,14 +198,20 @@ pub fn export_name(output: &str, record: &OutputRecord, rel: &str) -> String {
     }
 }
 
-/// Places `src` at `dst` atomically: hard link (or copy across devices) to a
-/// temporary name beside `dst`, then rename over it.
+/// Places a copy of `src` at `dst` atomically: copy to a temporary name
+/// beside `dst`, then rename over it.
+///
+/// A copy, never a hard link: a linked output shares its inode with the
+/// cache entry and every other run's output, so appending to one (as root,
+/// past the read-only mode) changed them all (#31, 3). `fs::copy` asks the
+/// kernel to clone where the filesystem can (`copy_file_range` on Linux,
+/// which Btrfs and XFS answer with a reflink; `fclonefileat` on macOS), so
+/// there the copy shares blocks copy-on-write and costs no space; elsewhere
+/// it writes the bytes. The copy is made writable by its owner: it is the
+/// run's own file now, and nothing else sees a change to it.
 pub fn place(src: &Path, dst: &Path) -> Result<(), StoreError> {
     if let Some(parent) = dst.parent() {
         fs::create_dir_all(parent).map_err(io_err(parent))?;
-    }
-    if same_file(src, dst) {
-        return Ok(());
     }
     let tmp = dst.with_file_name(format!(
         ".{}.{}.tmp",
@@ -215,24 +221,22 @@ pub fn place(src: &Path, dst: &Path) -> Result<(), StoreError> {
         std::process::id()
     ));
     let _ = fs::remove_file(&tmp);
-    if fs::hard_link(src, &tmp).is_err() {
-        fs::copy(src, &tmp).map_err(io_err(&tmp))?;
-    }
+    fs::copy(src, &tmp).map_err(io_err(&tmp))?;
+    let mut permissions = fs::metadata(&tmp).map_err(io_err(&tmp))?.permissions();
+    owner_writable(&mut permissions);
+    fs::set_permissions(&tmp, permissions).map_err(io_err(&tmp))?;
     fs::rename(&tmp, dst).map_err(io_err(dst))
 }
 
 #[cfg(unix)]
-fn same_file(a: &Path, b: &Path) -> bool {
-    use std::os::unix::fs::MetadataExt;
-    match (fs::metadata(a), fs::metadata(b)) {
-        (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
-        _ => false,
-    }
+fn owner_writable(permissions: &mut fs::Permissions) {
+    use std::os::unix::fs::PermissionsExt;
+    permissions.set_mode(permissions.mode() | 0o200);
 }
 
 #[cfg(not(unix))]
-fn same_file(_: &Path, _: &Path) -> bool {
-    false
+fn owner_writable(permissions: &mut fs::Permissions) {
+    permissions.set_readonly(false);
 }
 
 #[cfg(test)]
@@ -299,5 +303,29 @@ mod tests {
         let text = chain(&e);
         assert_eq!(text.matches("denied").count(), 1, "{text}");
         assert!(text.starts_with("ro/surf: "), "{text}");
+    }
+
+    #[test]
+    fn an_output_exported_by_an_older_build_as_a_hard_link_becomes_its_own_copy() {
+        // #31, 3: a run folder exported before by hard link is unlinked
+        // from the cache on the next export; failed before (place kept the
+        // link, `same_file`), an append then reached the cached file.
+        let t = tempfile::tempdir().unwrap();
+        let cached = t.path().join("cache.bin");
+        let out = t.path().join("run/out.bin");
+        fs::write(&cached, b"product").unwrap();
+        fs::create_dir_all(out.parent().unwrap()).unwrap();
+        fs::hard_link(&cached, &out).unwrap();
+        place(&cached, &out).unwrap();
+        fs::File::options()
+            .append(true)
+            .open(&out)
+            .unwrap()
+            .write_all(b" edited")
+            .unwrap();
+        assert_eq!(fs::read(&cached).unwrap(), b"product");
+        assert_eq!(fs::read(&out).unwrap(), b"product edited");
+        let names: Vec<_> = fs::read_dir(out.parent().unwrap()).unwrap().collect();
+        assert_eq!(names.len(), 1, "no temporary file left beside the output");
     }
 }

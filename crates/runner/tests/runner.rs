@@ -901,3 +901,90 @@ fn a_cluster_job_computes_one_entry_from_cached_inputs() {
         );
     }
 }
+
+#[test]
+fn writing_to_an_exported_output_reaches_neither_the_cache_nor_another_run() {
+    // #31, 3: exports were hard links, so appending to one run's output (as
+    // root, past the read-only mode) changed the cache entry and every
+    // other run's copy. Failed before with the entry reported corrupt.
+    let t = tempfile::tempdir().unwrap();
+    let p = load(t.path(), "p.yaml", BASIC);
+    let first = options(t.path());
+    let second = RunOptions {
+        out_dir: t.path().join("out2"),
+        ..first.clone()
+    };
+    run(&p, &first).unwrap();
+    assert_eq!(run(&p, &second).unwrap().hits(), 2, "the second run reuses");
+    let file = "double/note.txt";
+    let untouched = std::fs::read(second.out_dir.join(file)).unwrap();
+    use std::io::Write;
+    std::fs::File::options()
+        .append(true)
+        .open(first.out_dir.join(file))
+        .expect("an exported output is its run's own file, writable")
+        .write_all(b"an edit")
+        .unwrap();
+    assert_eq!(
+        std::fs::read(second.out_dir.join(file)).unwrap(),
+        untouched,
+        "the other run's output is unchanged"
+    );
+    let cache = Cache::open(&first.cache_dir).unwrap();
+    for key in keys(&p, t.path()) {
+        let state = cache.verify(&key);
+        assert!(
+            matches!(state, EntryState::Valid(_)),
+            "entry {key}: {state:?}"
+        );
+    }
+}
+
+#[test]
+fn an_entry_names_the_build_that_made_it_and_an_old_manifest_still_reads() {
+    // #31, 4: failed before for want of the field.
+    let t = tempfile::tempdir().unwrap();
+    let p = load(t.path(), "p.yaml", BASIC);
+    let o = options(t.path());
+    run(&p, &o).unwrap();
+    let cache = Cache::open(&o.cache_dir).unwrap();
+    let key = &keys(&p, t.path())[0];
+    let EntryState::Valid(m) = cache.check(key) else {
+        panic!("entry {key} not valid");
+    };
+    let running = hypercontact_runner::producer::running();
+    assert_eq!(m.producer.as_deref(), Some(running));
+    let prov: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(o.out_dir.join("provenance.json")).unwrap()).unwrap();
+    assert_eq!(prov["producer"], running);
+    assert_eq!(prov["stages"]["src"]["producer"], running);
+    // A manifest written before the field: still a valid entry, listed
+    // as made by an unknown build, and reused.
+    let path = o.cache_dir.join("entries").join(key).join("manifest.json");
+    let mut json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+    json.as_object_mut().unwrap().remove("producer");
+    let mut perms = std::fs::metadata(&path).unwrap().permissions();
+    #[allow(clippy::permissions_set_readonly_false)]
+    perms.set_readonly(false);
+    std::fs::set_permissions(&path, perms).unwrap();
+    std::fs::write(&path, serde_json::to_vec(&json).unwrap()).unwrap();
+    let EntryState::Valid(old) = cache.verify(key) else {
+        panic!("an old manifest is still valid");
+    };
+    assert_eq!(
+        hypercontact_runner::producer::shown(old.producer.as_deref()),
+        "unknown build"
+    );
+    let listed = cache.list().unwrap();
+    assert!(
+        listed
+            .iter()
+            .any(|e| &e.key == key && e.manifest.as_ref().is_some_and(|m| m.producer.is_none()))
+    );
+    let again = run(&p, &o).unwrap();
+    assert_eq!(again.hits(), 2, "the producer is not part of the key");
+    let prov: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(o.out_dir.join("provenance.json")).unwrap()).unwrap();
+    assert_eq!(prov["stages"]["src"]["producer"], "unknown build");
+}
