@@ -314,6 +314,38 @@ pub fn detect(bytes: &[u8], path: Option<&Path>) -> Option<Format> {
     }
 }
 
+/// What a file no reader recognises is, for messages: "an empty file",
+/// "a PNG image (first bytes …)", or its first bytes (and text).
+pub fn describe(bytes: &[u8]) -> String {
+    channel::describe_start(bytes)
+}
+
+/// The format a file's extension names, if any (what the user meant the
+/// file to be, for a message when its bytes say otherwise).
+pub fn format_of_extension(path: &Path) -> Option<Format> {
+    let extension = path.extension()?.to_str()?.to_ascii_lowercase();
+    let format = match extension.as_str() {
+        "npy" => Format::Npy,
+        "x3p" => Format::X3p,
+        "sur" => Format::Sur,
+        "plu" | "apx" => Format::Plu,
+        "datx" => Format::Datx,
+        "opd" => Format::Opd,
+        "al3d" => Format::Al3d,
+        "di" | "spm" => Format::Nanoscope,
+        "frt" => Format::Frt,
+        "mnt" => Format::Mnt,
+        "nid" | "ezd" => Format::Nid,
+        "ibw" => Format::Ibw,
+        "mi" => Format::Mi,
+        "tmd" => Format::Tmd,
+        "nc" => Format::NetCdf,
+        "dat" => Format::MetroPro,
+        _ => return None,
+    };
+    Some(format)
+}
+
 /// Reads a height map from a file's bytes, the default channel of a
 /// multi-channel file; `path` only helps [`detect`]. Never panics, whatever
 /// the bytes.
