@@ -76,13 +76,18 @@ fn directory(bytes: &Bytes) -> Result<Vec<Block>, FormatError> {
         let name = bytes.text(entry, NAME_LEN, "a block name")?;
         let kind = bytes.read::<i16>(entry + NAME_LEN, "a block type")?;
         let len = bytes.read::<i32>(entry + NAME_LEN + 2, "a block length")?;
-        // blocks of length ≤ 0 have no contents
-        let Ok(len) = usize::try_from(len) else {
-            continue;
+        // blocks of length ≤ 0 have no contents; a height array without
+        // them is named here, not later as a missing array
+        let len = match usize::try_from(len) {
+            Ok(len) if len > 0 => len,
+            _ if kind == TYPE_ARRAY && HEIGHT_ARRAYS.contains(&name.as_str()) => {
+                return Err(FORMAT.invalid(format!(
+                    "the height array block \"{name}\" (directory entry at byte {entry}) has the \
+                     length {len}: it holds no heights"
+                )));
+            }
+            _ => continue,
         };
-        if len == 0 {
-            continue;
-        }
         if at.checked_add(len).is_none_or(|end| end > bytes.len()) {
             return Err(FORMAT.invalid(format!(
                 "block \"{name}\" (directory entry at byte {entry}) needs bytes {at}..{} but the \
