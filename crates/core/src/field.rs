@@ -56,8 +56,17 @@ pub enum FieldError {
         item_bytes: usize,
         /// The byte count the shape implies.
         claimed: String,
-        /// The bytes after the header.
-        held: usize,
+        /// The bytes after the header (`more than N` when reading stopped).
+        held: String,
+    },
+    #[error(
+        "the .npy header claims shape {shape} = {points} points, above the limit of \
+         {max_points} (max_points); raise `max_points` if the map is real"
+    )]
+    TooManyPoints {
+        shape: String,
+        points: String,
+        max_points: String,
     },
     #[error("bad grid sidecar: {0}")]
     Grid(String),
@@ -138,9 +147,24 @@ impl Field {
             .map_err(|e| FieldError::Npy(e.to_string()))
     }
 
-    /// Reads a `.npy` array and attaches the grid spacing.
+    /// Reads a `.npy` array and attaches the grid spacing; never reads
+    /// more data than the header promises.
     pub fn read_npy<R: Read>(reader: R, dx_m: f64, dy_m: f64) -> Result<Self, FieldError> {
-        let values = read_npy_2d(reader)?;
+        let values = read_npy_2d(reader, None, usize::MAX)?;
+        Self::new(values, dx_m, dy_m)
+    }
+
+    /// Reads a `.npy` file a user named: its size (`file_bytes`) must be
+    /// what the header promises and its points at most `max_points`, both
+    /// judged from the header before the data is read.
+    pub fn read_npy_file<R: Read>(
+        reader: R,
+        file_bytes: u64,
+        dx_m: f64,
+        dy_m: f64,
+        max_points: usize,
+    ) -> Result<Self, FieldError> {
+        let values = read_npy_2d(reader, Some(file_bytes), max_points)?;
         Self::new(values, dx_m, dy_m)
     }
 
@@ -171,17 +195,22 @@ impl Field {
 /// Reads a 2-D `.npy` array of float64, or of float32 (widened), both common
 /// in instrument exports, either byte order and either memory order.
 ///
-/// The header is checked against the bytes before anything is allocated:
-/// ndarray-npy allocates the header's and the data's claimed lengths before
-/// reading them, so a 12-byte file claiming 10¹² values aborted the process
-/// on an 8 TB allocation.
-fn read_npy_2d<R: Read>(mut reader: R) -> Result<Array2<f64>, FieldError> {
-    let mut bytes = Vec::new();
-    reader
-        .read_to_end(&mut bytes)
-        .map_err(|e| FieldError::Npy(e.to_string()))?;
-    let data_start = header_end(&bytes)?;
-    let header = Header::from_reader(&mut &bytes[..data_start]).map_err(npy_error)?;
+/// The header is read and judged before the data: ndarray-npy allocates the
+/// header's and the data's claimed lengths before reading them, so a
+/// 12-byte file claiming 10¹² values aborted the process on an 8 TB
+/// allocation, and a sparse 6 GB file whose header says 1 × 1 was read
+/// whole. Now a shape above `max_points`, or a file (of `file_bytes`, when
+/// the caller knows it) whose size is not the header's promise, is refused
+/// before any data is read, and no more than the promised bytes (and one
+/// over, to see there are more) are ever read.
+fn read_npy_2d<R: Read>(
+    mut reader: R,
+    file_bytes: Option<u64>,
+    max_points: usize,
+) -> Result<Array2<f64>, FieldError> {
+    let mut bytes = read_header(&mut reader)?;
+    let data_start = bytes.len();
+    let header = Header::from_reader(&mut bytes.as_slice()).map_err(npy_error)?;
     let descr = header
         .type_descriptor
         .as_string()
@@ -202,18 +231,44 @@ fn read_npy_2d<R: Read>(mut reader: R) -> Result<Array2<f64>, FieldError> {
             "the array has shape {shape}, not 2-D"
         )));
     }
-    let held = bytes.len() - data_start;
-    let claimed = header
+    let points = header
         .shape
         .iter()
-        .try_fold(item_bytes, |n, &side| n.checked_mul(side));
-    if claimed != Some(held) {
-        return Err(FieldError::Size {
+        .try_fold(1usize, |n, &side| n.checked_mul(side));
+    if let Some(points) = points.filter(|&n| n > max_points) {
+        return Err(FieldError::TooManyPoints {
             shape,
-            item_bytes,
-            claimed: claimed.map_or_else(|| "more than a usize counts".into(), |n| n.to_string()),
-            held,
+            points: grouped(points),
+            max_points: grouped(max_points),
         });
+    }
+    let claimed = points.and_then(|n| n.checked_mul(item_bytes));
+    let size_error = |held: String| FieldError::Size {
+        shape: shape.clone(),
+        item_bytes,
+        claimed: claimed.map_or_else(|| "more than a usize counts".into(), |n| n.to_string()),
+        held,
+    };
+    if let Some(file_bytes) = file_bytes {
+        let held = file_bytes.saturating_sub(data_start as u64);
+        if claimed.is_none_or(|n| held != n as u64) {
+            return Err(size_error(held.to_string()));
+        }
+    }
+    // a claim beyond a usize is refused whatever follows; read what an
+    // in-memory caller holds only to say how much that is
+    let promised = claimed.map_or(u64::MAX, |n| n as u64 + 1);
+    reader
+        .take(promised)
+        .read_to_end(&mut bytes)
+        .map_err(|e| FieldError::Npy(e.to_string()))?;
+    let held = bytes.len() - data_start;
+    match claimed {
+        Some(claimed) if held > claimed => {
+            return Err(size_error(format!("at least {held}")));
+        }
+        Some(claimed) if held == claimed => {}
+        _ => return Err(size_error(held.to_string())),
     }
     let values = if item_bytes == 8 {
         Array2::<f64>::read_npy(bytes.as_slice())
@@ -221,6 +276,19 @@ fn read_npy_2d<R: Read>(mut reader: R) -> Result<Array2<f64>, FieldError> {
         Array2::<f32>::read_npy(bytes.as_slice()).map(|a| a.mapv(f64::from))
     };
     values.map_err(npy_error)
+}
+
+/// A count with its digits in groups of three (`268 435 456`).
+fn grouped(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, digit) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(' ');
+        }
+        out.push(digit);
+    }
+    out
 }
 
 /// ndarray-npy's message, cut short: a parse error quotes the header line,
@@ -235,38 +303,70 @@ fn npy_error(e: impl std::fmt::Display) -> FieldError {
     FieldError::Npy(message)
 }
 
-/// Where a `.npy` file's header ends (and its data starts), once the magic
-/// string, the version and a header length the file can hold are checked.
-fn header_end(bytes: &[u8]) -> Result<usize, FieldError> {
+/// The largest header a `.npy` file may have: NumPy writes a few hundred
+/// bytes; format 2.0 could claim 4 GiB, which would be read before judging.
+const LONGEST_HEADER: u64 = 1 << 20;
+
+/// A `.npy` file's magic string, version, header length and header, once
+/// each is checked; the data is left unread.
+fn read_header<R: Read>(reader: &mut R) -> Result<Vec<u8>, FieldError> {
     const MAGIC: &[u8] = b"\x93NUMPY";
-    let bad = |message: String| Err(FieldError::Npy(message));
-    if !bytes.starts_with(MAGIC) {
-        return bad("no .npy magic string (\\x93NUMPY) at the start".into());
-    }
-    let Some(&[major, minor]) = bytes.get(6..8) else {
-        return bad("the file ends inside the header".into());
+    let bad = FieldError::Npy;
+    let mut bytes = Vec::new();
+    let mut read_upto = |bytes: &mut Vec<u8>, len: u64| -> Result<(), FieldError> {
+        let want = bytes.len() + len as usize;
+        reader
+            .by_ref()
+            .take(len)
+            .read_to_end(bytes)
+            .map_err(|e| FieldError::Npy(e.to_string()))?;
+        if bytes.len() < want {
+            return Err(FieldError::Npy(if bytes.is_empty() {
+                "the file is empty".into()
+            } else {
+                format!(
+                    "the file ends inside the header (after {} bytes)",
+                    bytes.len()
+                )
+            }));
+        }
+        Ok(())
     };
+    let magic_or_empty = read_upto(&mut bytes, 8);
+    if !bytes.is_empty() && !bytes.starts_with(&MAGIC[..bytes.len().min(MAGIC.len())]) {
+        return Err(bad("no .npy magic string (\\x93NUMPY) at the start".into()));
+    }
+    magic_or_empty?;
+    let (major, minor) = (bytes[6], bytes[7]);
     // Format 1.0 counts the header in 2 bytes, 2.0 and 3.0 in 4.
-    let ends = || bad("the file ends inside the header".into());
-    let (start, header_len) = match major {
-        1 => match bytes.get(8..10) {
-            Some(&[a, b]) => (10, u64::from(u16::from_le_bytes([a, b]))),
-            _ => return ends(),
-        },
-        2 | 3 => match bytes.get(8..12) {
-            Some(&[a, b, c, d]) => (12, u64::from(u32::from_le_bytes([a, b, c, d]))),
-            _ => return ends(),
-        },
-        _ => return bad(format!("unknown .npy format version {major}.{minor}")),
+    let header_len = match major {
+        1 => {
+            read_upto(&mut bytes, 2)?;
+            u64::from(u16::from_le_bytes([bytes[8], bytes[9]]))
+        }
+        2 | 3 => {
+            read_upto(&mut bytes, 4)?;
+            u64::from(u32::from_le_bytes([
+                bytes[8], bytes[9], bytes[10], bytes[11],
+            ]))
+        }
+        _ => return Err(bad(format!("unknown .npy format version {major}.{minor}"))),
     };
-    let held = (bytes.len() - start) as u64;
-    if header_len > held {
-        return bad(format!(
-            "the header claims {header_len} bytes of header, the file holds {held} after its \
-             {start}-byte preamble"
-        ));
+    if header_len > LONGEST_HEADER {
+        return Err(bad(format!(
+            "the header claims {header_len} bytes of header, more than the {LONGEST_HEADER} \
+             a .npy header may take"
+        )));
     }
-    Ok(start + header_len as usize)
+    let preamble = bytes.len();
+    read_upto(&mut bytes, header_len).map_err(|_| {
+        FieldError::Npy(format!(
+            "the header claims {header_len} bytes of header, the file holds {} after its \
+             {preamble}-byte preamble",
+            bytes.len() - preamble
+        ))
+    })?;
+    Ok(bytes)
 }
 
 /// `(1000, 2000)`, as NumPy writes a shape.
@@ -340,6 +440,52 @@ mod tests {
         bytes
     }
 
+    /// The issue's sparse file: a 1 × 1 header followed by 6 GB of holes is
+    /// refused from its size, before the data is read (reading it took
+    /// seconds and 6 GB of memory); a header above `max_points` is refused
+    /// with the limit named; an honest file reads.
+    #[test]
+    fn a_file_whose_size_is_not_the_promise_is_refused_unread() {
+        let header = "{'descr': '<f8', 'fortran_order': False, 'shape': (1, 1), }";
+        let path = std::env::temp_dir().join(format!("hc-sparse-{}.npy", std::process::id()));
+        let mut file = std::fs::File::create(&path).unwrap();
+        file.write_all(&npy_file(header, &[0; 8])).unwrap();
+        file.set_len(6_000_000_000).unwrap();
+        let file_bytes = file.metadata().unwrap().len();
+        let started = std::time::Instant::now();
+        let e = Field::read_npy_file(
+            std::fs::File::open(&path).unwrap(),
+            file_bytes,
+            1.0,
+            1.0,
+            1 << 26,
+        )
+        .unwrap_err()
+        .to_string();
+        std::fs::remove_file(&path).unwrap();
+        assert!(
+            e.contains("shape (1, 1)")
+                && e.contains("8 bytes of data")
+                && e.contains("holds 5999999872"),
+            "{e}"
+        );
+        assert!(started.elapsed().as_secs() < 2, "{:?}", started.elapsed());
+        let big = "{'descr': '<f8', 'fortran_order': False, 'shape': (16384, 16384), }";
+        let bytes = npy_file(big, &[]);
+        let e = Field::read_npy_file(bytes.as_slice(), bytes.len() as u64, 1.0, 1.0, 1 << 26)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "the .npy header claims shape (16384, 16384) = 268 435 456 points, above the limit \
+             of 67 108 864 (max_points); raise `max_points` if the map is real"
+        );
+        let bytes = npy_file(header, &2.5f64.to_le_bytes());
+        let field =
+            Field::read_npy_file(bytes.as_slice(), bytes.len() as u64, 1.0, 1.0, 1).unwrap();
+        assert_eq!(field.values[[0, 0]], 2.5);
+    }
+
     fn message_of(bytes: &[u8]) -> String {
         Field::read_npy(bytes, 1.0, 1.0).unwrap_err().to_string()
     }
@@ -372,7 +518,8 @@ mod tests {
         // Too few and too many bytes for an honest shape.
         let header = "{'descr': '<f8', 'fortran_order': False, 'shape': (2, 2), }";
         assert!(message_of(&npy_file(header, &[0; 31])).contains("holds 31"));
-        assert!(message_of(&npy_file(header, &[0; 33])).contains("holds 33"));
+        // the reader stops one byte past the promise
+        assert!(message_of(&npy_file(header, &[0; 33])).contains("holds at least 33"));
         assert!(Field::read_npy(npy_file(header, &[0; 32]).as_slice(), 1.0, 1.0).is_ok());
         // A v2 header length of 4 GB in a 12-byte file.
         let e = message_of(b"\x93NUMPY\x02\x00\xff\xff\xff\xff");

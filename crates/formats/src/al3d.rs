@@ -66,7 +66,7 @@ fn tags(bytes: &Bytes) -> Result<Vec<(String, String, usize)>, FormatError> {
 }
 
 /// Reads the depth image as heights in metres, axis 0 = x.
-pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
+pub(crate) fn read(data: &[u8], max_points: usize) -> Result<Topography, FormatError> {
     let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Little);
     let tags = tags(&bytes)?;
     let tag = |key: &str| -> Result<(&str, usize), FormatError> {
@@ -88,7 +88,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
             .map_err(|_| FORMAT.invalid(format!("byte {at}: {key} \"{value}\" is not a number")))
     };
     let (nx, ny) = (count("Cols")?, count("Rows")?);
-    grid_points(FORMAT.name(), nx, ny, "the tags Cols and Rows")?;
+    grid_points(FORMAT.name(), nx, ny, "the tags Cols and Rows", max_points)?;
     let offset = count("DepthImageOffset")?;
     let invalid = real("InvalidPixelValue")?;
     let (dx_m, dy_m) = (real("PixelSizeXMeter")?, real("PixelSizeYMeter")?);
@@ -161,7 +161,7 @@ mod tests {
 
     #[test]
     fn padded_rows_and_invalid_points() {
-        let map = read(&file()).unwrap();
+        let map = read(&file(), crate::DEFAULT_MAX_POINTS).unwrap();
         assert_eq!(map.heights_m.dim(), (3, 2));
         assert_eq!(map.heights_m[[1, 0]], 2.0);
         assert_eq!(map.heights_m[[0, 1]], 4.0);
@@ -178,13 +178,20 @@ mod tests {
     fn broken_tags_are_named() {
         let mut f = file();
         f[MAGIC.len() + TAG_LEN + KEY_LEN] = b'x';
-        let err = read(&f).unwrap_err().to_string();
+        let err = read(&f, crate::DEFAULT_MAX_POINTS).unwrap_err().to_string();
         assert!(err.contains("TagCount \"x\" is not a count"), "{err}");
         let mut f = file();
         f[MAGIC.len() + 2 * TAG_LEN - 1] = b'?';
-        assert!(read(&f).unwrap_err().to_string().contains("CR LF"));
+        assert!(
+            read(&f, crate::DEFAULT_MAX_POINTS)
+                .unwrap_err()
+                .to_string()
+                .contains("CR LF")
+        );
         let f = file();
-        let err = read(&f[..f.len() - 5]).unwrap_err().to_string();
+        let err = read(&f[..f.len() - 5], crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("the depth image"), "{err}");
     }
 }

@@ -18,6 +18,7 @@ use std::sync::OnceLock;
 use ndarray::Array2;
 use regex::Regex;
 
+use crate::bytes::grid_points;
 use crate::channel::{self, Channel};
 use crate::text::{decode, lines, looks_like_text, number};
 use crate::units::metres_per;
@@ -190,7 +191,11 @@ fn unit_m(unit: &str, key: &str) -> Result<f64, FormatError> {
 }
 
 /// Reads the channel `asked` for.
-pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatError> {
+pub(crate) fn read(
+    data: &[u8],
+    asked: &Channel,
+    max_points: usize,
+) -> Result<Topography, FormatError> {
     if !looks_like_text(data, data.len()) {
         return Err(FORMAT.invalid("the file holds bytes that are not text"));
     }
@@ -224,6 +229,9 @@ pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatErr
             )));
         }
     }
+    // text takes at least two bytes a value, so the rows parsed are bounded
+    // by the file; the limit still holds for the map built from them
+    grid_points(FORMAT.name(), nx, ny, "the rows and columns", max_points)?;
     let (dx_m, dy_m, z_m) = calibration(&header, nx, ny, line_scan)?;
     let heights_m = if line_scan {
         Array2::from_shape_fn((nx, 1), |(i, _)| block.rows[i][0] * z_m)
@@ -296,7 +304,12 @@ mod tests {
         let file = "# Channel: Topo\n# Width: 3 µm\n# Height: 2 µm\n# Value units: nm\n\
                     1 2 3\n4 nan 6\n";
         assert!(matches(file.as_bytes()));
-        let map = read(file.as_bytes(), &Channel::Default).unwrap();
+        let map = read(
+            file.as_bytes(),
+            &Channel::Default,
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap();
         assert_eq!(map.heights_m.dim(), (3, 2));
         assert_eq!(map.heights_m[[2, 0]], 3.0 * 1e-9);
         assert_eq!(map.heights_m[[0, 1]], 4.0 * 1e-9);
@@ -309,28 +322,47 @@ mod tests {
     fn channels_follow_their_header_line() {
         let file = "# Value units: m\n# Width: 2 m\n# Height: 2 m\n# Channel: A\n1 2\n3 4\n\
                     # Channel: B\n5 6\n7 8\n";
-        let b = read(file.as_bytes(), &Channel::Name("b".into())).unwrap();
+        let b = read(
+            file.as_bytes(),
+            &Channel::Name("b".into()),
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap();
         assert_eq!(b.heights_m[[0, 0]], 5.0);
-        let err = read(file.as_bytes(), &Channel::Index(2)).unwrap_err();
+        let err = read(
+            file.as_bytes(),
+            &Channel::Index(2),
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap_err();
         assert!(err.to_string().contains("0: A; 1: B"), "{err}");
     }
 
     #[test]
     fn one_value_a_line_is_a_line_scan_and_ragged_rows_are_named() {
         let file = "# Value units: um\n# Width: 4 um\n1\n2\n3\n4\n";
-        let map = read(file.as_bytes(), &Channel::Default).unwrap();
+        let map = read(
+            file.as_bytes(),
+            &Channel::Default,
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap();
         assert_eq!(map.heights_m.dim(), (4, 1));
         assert_eq!((map.dx_m, map.dy_m), (1e-6, 1e-6));
         let ragged = "# Value units: m\n# Width: 2 m\n# Height: 2 m\n1 2\n3\n";
-        let err = read(ragged.as_bytes(), &Channel::Default)
-            .unwrap_err()
-            .to_string();
+        let err = read(
+            ragged.as_bytes(),
+            &Channel::Default,
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(err.contains("row 2 has 1 values"), "{err}");
     }
 
     #[test]
     fn a_matrix_without_units_is_refused_with_the_reason() {
-        let err = read(b"1 2\n3 4\n", &Channel::Default)
+        let err = read(b"1 2\n3 4\n", &Channel::Default, crate::DEFAULT_MAX_POINTS)
             .unwrap_err()
             .to_string();
         assert!(err.contains("no height unit"), "{err}");

@@ -9,9 +9,10 @@ use ndarray::Array2;
 
 use crate::FormatError;
 
-/// Largest height map a reader accepts (2^28 points, 2 GiB of f64): a file
-/// claiming more is refused before anything is allocated.
-pub(crate) const MAX_POINTS: usize = 1 << 28;
+/// Largest height map a reader accepts whatever `max_points` says (2^32
+/// points, 32 GiB of f64): the ceiling of the caller's limit, and the bound
+/// of buffers sized before the grid is known.
+pub(crate) const MAX_POINTS: usize = 1 << 32;
 
 /// The byte order of a file's numbers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -183,12 +184,14 @@ pub(crate) fn latin1(bytes: &[u8]) -> String {
 }
 
 /// The number of points of an `nx` × `ny` grid, refused when empty or above
-/// [`MAX_POINTS`]; `what` says where the sizes were read.
+/// `max_points` (the caller's limit, itself at most [`MAX_POINTS`]), before
+/// anything is allocated; `what` says where the sizes were read.
 pub(crate) fn grid_points(
     format: &'static str,
     nx: usize,
     ny: usize,
     what: &str,
+    max_points: usize,
 ) -> Result<usize, FormatError> {
     if nx == 0 || ny == 0 {
         return Err(invalid(
@@ -196,15 +199,33 @@ pub(crate) fn grid_points(
             format!("{what}: an empty {nx} × {ny} grid"),
         ));
     }
+    let limit = max_points.min(MAX_POINTS);
     match nx.checked_mul(ny) {
-        Some(n) if n <= MAX_POINTS => Ok(n),
-        _ => Err(invalid(
+        Some(n) if n <= limit => Ok(n),
+        claimed => Err(invalid(
             format,
             format!(
-                "{what}: a {nx} × {ny} grid is more than the {MAX_POINTS} points a height map may have"
+                "{what}: the header claims {nx} × {ny} = {} points, above the limit of {} (max_points); \
+                 raise `max_points` if the map is real",
+                claimed.map_or_else(|| "more than a usize counts".into(), grouped),
+                grouped(limit)
             ),
         )),
     }
+}
+
+/// A count with its digits in groups of three (`268 435 456`), as messages
+/// quote sizes a reader must compare at a glance.
+pub(crate) fn grouped(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::with_capacity(digits.len() * 4 / 3);
+    for (i, digit) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(' ');
+        }
+        out.push(digit);
+    }
+    out
 }
 
 /// A grid stored as `ny` rows of `nx` values (rows of constant y, the layout
@@ -298,10 +319,19 @@ mod tests {
 
     #[test]
     fn grids_are_bounded_before_allocation() {
-        assert_eq!(grid_points("t", 640, 480, "h").unwrap(), 307_200);
-        assert!(grid_points("t", 0, 480, "h").is_err());
-        assert!(grid_points("t", 1 << 15, 1 << 14, "h").is_err());
-        assert!(grid_points("t", usize::MAX, 2, "h").is_err());
-        assert!(grid_points("t", 1 << 14, 1 << 14, "h").is_ok());
+        let default = crate::DEFAULT_MAX_POINTS;
+        assert_eq!(grid_points("t", 640, 480, "h", default).unwrap(), 307_200);
+        assert!(grid_points("t", 0, 480, "h", default).is_err());
+        assert!(grid_points("t", usize::MAX, 2, "h", usize::MAX).is_err());
+        // the issue's bomb: 16384² is refused by default, read when raised
+        let e = grid_points("t", 1 << 14, 1 << 14, "bytes 4–7", default).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "t: bytes 4–7: the header claims 16384 × 16384 = 268 435 456 points, above the limit of \
+             67 108 864 (max_points); raise `max_points` if the map is real"
+        );
+        assert!(grid_points("t", 1 << 14, 1 << 14, "h", 1 << 28).is_ok());
+        // never beyond the ceiling, whatever the caller asks
+        assert!(grid_points("t", 1 << 17, 1 << 16, "h", usize::MAX).is_err());
     }
 }

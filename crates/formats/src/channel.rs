@@ -104,6 +104,19 @@ pub(crate) fn describe_start(bytes: &[u8]) -> String {
         return "an empty file".into();
     }
     let shown: Vec<String> = bytes.iter().take(8).map(|b| format!("{b:02x}")).collect();
+    // files users mistake for height maps, by their magic numbers
+    let kinds: [(&[u8], &str); 7] = [
+        (b"\x89PNG\r\n\x1a\n", "a PNG image"),
+        (b"\xff\xd8\xff", "a JPEG image"),
+        (b"GIF8", "a GIF image"),
+        (b"%PDF", "a PDF document"),
+        (b"\x1f\x8b", "gzip-compressed data"),
+        (b"PK\x03\x04", "a zip archive without an X3P's main.xml"),
+        (b"II*\0", "a TIFF image"),
+    ];
+    if let Some((_, kind)) = kinds.iter().find(|(magic, _)| bytes.starts_with(magic)) {
+        return format!("{kind} (first bytes {})", shown.join(" "));
+    }
     let head = &bytes[..bytes.len().min(24)];
     let printable = head
         .iter()
@@ -164,5 +177,9 @@ mod tests {
             "first bytes 68 65 6c 6c 6f 20 77 6f, text \"hello world\""
         );
         assert_eq!(describe_start(&[0, 1, 2]), "first bytes 00 01 02");
+        assert_eq!(
+            describe_start(b"\x89PNG\r\n\x1a\n\0\0"),
+            "a PNG image (first bytes 89 50 4e 47 0d 0a 1a 0a)"
+        );
     }
 }

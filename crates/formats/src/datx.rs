@@ -262,11 +262,11 @@ fn metadata_rows(metadata: &hdf5_reader::Dataset, vlen_size: usize) -> Option<Ve
 
 /// Reads the surface dataset as heights in metres, axis 0 = x, NaN where
 /// the file has no data.
-pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
+pub(crate) fn read(bytes: &[u8], max_points: usize) -> Result<Topography, FormatError> {
     let options = OpenOptions {
         chunk_cache_bytes: 0,
-        // the heights are the largest read: at most MAX_POINTS f64 values
-        max_read_bytes: MAX_POINTS * 8,
+        // the heights are the largest read: at most max_points f64 values
+        max_read_bytes: max_points.min(MAX_POINTS).saturating_mul(8),
         ..OpenOptions::default()
     };
     let file = Hdf5File::from_bytes_with_options(bytes, options)
@@ -295,7 +295,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
         .ok()
         .and_then(|a| number(&a.datatype, &a.raw_data));
 
-    let heights_m = heights(&surface, &path, unit_m, no_data)?;
+    let heights_m = heights(&surface, &path, unit_m, no_data, max_points)?;
 
     let mut metadata = vec![
         ("vendor".to_string(), "Zygo".to_string()),
@@ -376,6 +376,7 @@ fn heights(
     path: &str,
     unit_m: f64,
     no_data: Option<f64>,
+    max_points: usize,
 ) -> Result<ndarray::Array2<f64>, FormatError> {
     let &[ny, nx] = surface.shape() else {
         return Err(FORMAT.invalid(format!(
@@ -387,7 +388,7 @@ fn heights(
         usize::try_from(nx).unwrap_or(usize::MAX),
         usize::try_from(ny).unwrap_or(usize::MAX),
     );
-    let points = grid_points(FORMAT.name(), nx, ny, path)?;
+    let points = grid_points(FORMAT.name(), nx, ny, path, max_points)?;
     let dtype = surface.dtype().clone();
     let size = match dtype {
         Datatype::FloatingPoint {

@@ -16,6 +16,7 @@
 
 use ndarray::Array2;
 
+use crate::bytes::grid_points;
 use crate::text::{decode, lines, number};
 use crate::units::metres_per;
 use crate::{Format, FormatError, Topography};
@@ -43,7 +44,7 @@ fn column_unit_m(title: &str, line: usize) -> Result<f64, FormatError> {
 }
 
 /// Reads the profile as an n × 1 map in metres.
-pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
+pub(crate) fn read(data: &[u8], max_points: usize) -> Result<Topography, FormatError> {
     let text = decode(data);
     let mut lines = lines(&text).enumerate().map(|(i, l)| (i + 1, l));
     let mut metadata = Vec::new();
@@ -82,6 +83,13 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
         positions.push(value("position")?);
         heights.push(value("height")?);
     }
+    grid_points(
+        FORMAT.name(),
+        heights.len(),
+        1,
+        "the Scan Data rows",
+        max_points,
+    )?;
     let dx_m = slope(&positions) * x_m;
     if !(dx_m.is_finite() && dx_m > 0.0) {
         return Err(FORMAT.invalid(format!(
@@ -125,7 +133,7 @@ mod tests {
         let file = b"Scan Parameters\r\r\nLength,0.5 um\r\r\nScan Data\r\r\n\
                      Lateral um,Raw Micrometer,\r\n0.0,1.0,,\r\n0.2,2.0,,\r\n0.3,-1.0,,\r\n0.5,0,,\r\n";
         assert!(matches(file));
-        let map = read(file).unwrap();
+        let map = read(file, crate::DEFAULT_MAX_POINTS).unwrap();
         assert_eq!(map.heights_m.dim(), (4, 1));
         assert_eq!(map.heights_m[[2, 0]], -1e-6);
         // positions 0.15625 i rounded to 0.1: the fit recovers the spacing
@@ -141,18 +149,27 @@ mod tests {
 
     #[test]
     fn broken_files_say_where() {
-        let err = read(b"Scan Parameters\nScan Data\n\nLateral um,Raw V,\n")
-            .unwrap_err()
-            .to_string();
+        let err = read(
+            b"Scan Parameters\nScan Data\n\nLateral um,Raw V,\n",
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(err.contains("line 4") && err.contains("Raw V"), "{err}");
-        let err = read(b"Scan Parameters\nScan Data\n\nLateral um,Raw um,\n1,x\n")
-            .unwrap_err()
-            .to_string();
+        let err = read(
+            b"Scan Parameters\nScan Data\n\nLateral um,Raw um,\n1,x\n",
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(err.contains("line 5: no height"), "{err}");
-        assert!(read(b"Scan Parameters\n").is_err());
-        let err = read(b"Scan Parameters\nScan Data\n\nLateral um,Raw um,\n1,2\n")
-            .unwrap_err()
-            .to_string();
+        assert!(read(b"Scan Parameters\n", crate::DEFAULT_MAX_POINTS).is_err());
+        let err = read(
+            b"Scan Parameters\nScan Data\n\nLateral um,Raw um,\n1,2\n",
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(err.contains("no positive spacing"), "{err}");
     }
 }

@@ -78,7 +78,7 @@ fn blocks(bytes: &Bytes) -> Result<Vec<(u16, usize, usize)>, FormatError> {
 }
 
 /// Reads the heights (block 0x0b) in metres, axis 0 = x.
-pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
+pub(crate) fn read(data: &[u8], max_points: usize) -> Result<Topography, FormatError> {
     let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Little);
     let blocks = blocks(&bytes)?;
     let block = |id: u16, needed: usize| -> Result<usize, FormatError> {
@@ -100,6 +100,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
         nx,
         ny,
         &format!("block 0x0066 at byte {grid}"),
+        max_points,
     )?;
     let size = block(SIZE, 16)?;
     let size_x_m = bytes.read::<f64>(size, "the x size")?;
@@ -189,7 +190,7 @@ mod tests {
 
     #[test]
     fn counts_in_rows_of_constant_y_flipped_and_one_is_missing() {
-        let map = read(&file()).unwrap();
+        let map = read(&file(), crate::DEFAULT_MAX_POINTS).unwrap();
         assert_eq!(map.heights_m.dim(), (3, 2));
         assert_eq!(map.heights_m[[0, 1]], 0.0);
         assert!(map.heights_m[[1, 1]].is_nan());
@@ -200,12 +201,14 @@ mod tests {
     #[test]
     fn broken_blocks_are_named() {
         let f = file();
-        let err = read(&f[..f.len() - 1]).unwrap_err().to_string();
+        let err = read(&f[..f.len() - 1], crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("block 0x000b"), "{err}");
         let mut f = file();
         f[12..16].copy_from_slice(b"2.00");
         assert!(
-            read(&f)
+            read(&f, crate::DEFAULT_MAX_POINTS)
                 .unwrap_err()
                 .to_string()
                 .contains("version \"2.00\"")

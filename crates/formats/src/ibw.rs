@@ -89,7 +89,7 @@ fn value_size(kind: u16) -> Result<usize, FormatError> {
     }
 }
 
-fn wave(bytes: &Bytes) -> Result<Wave, FormatError> {
+fn wave(bytes: &Bytes, max_points: usize) -> Result<Wave, FormatError> {
     let size = |at: usize, what: &str| -> Result<usize, FormatError> {
         let value = bytes.read::<i32>(at, what)?;
         usize::try_from(value)
@@ -107,7 +107,7 @@ fn wave(bytes: &Bytes) -> Result<Wave, FormatError> {
     }
     let [nx, ny, layers, _] = dims;
     let layers = layers.max(1);
-    let points = grid_points(FORMAT.name(), nx, ny, "nDim")?;
+    let points = grid_points(FORMAT.name(), nx, ny, "nDim", max_points)?;
     let values = points.saturating_mul(layers).saturating_mul(item);
     let data_end = BIN_HEADER + size(WFM_SIZE, "the wave size")?;
     if BIN_HEADER + WAVE_HEADER + values > data_end {
@@ -213,12 +213,16 @@ fn layer(bytes: &Bytes, wave: &Wave, index: usize) -> Result<Vec<f64>, FormatErr
 }
 
 /// Reads the channel `asked` for.
-pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatError> {
+pub(crate) fn read(
+    data: &[u8],
+    asked: &Channel,
+    max_points: usize,
+) -> Result<Topography, FormatError> {
     let order = order(data).ok_or_else(|| {
         FORMAT.invalid("the headers' checksum or version (5) is wrong: not an Igor wave read here")
     })?;
     let bytes = Bytes::new(data, FORMAT.name(), order);
-    let wave = wave(&bytes)?;
+    let wave = wave(&bytes, max_points)?;
     let index = channel::pick(FORMAT, &wave.names, 0, asked)?;
     let unit_m = wave.unit_m.ok_or_else(|| {
         FORMAT.unsupported(format!(
@@ -290,11 +294,16 @@ mod tests {
     fn layers_are_channels_x_fastest_y_flipped() {
         let f = wave_file();
         assert!(matches(&f));
-        let map = read(&f, &Channel::Default).unwrap();
+        let map = read(&f, &Channel::Default, crate::DEFAULT_MAX_POINTS).unwrap();
         assert_eq!(map.heights_m[[0, 0]], 3.0);
         assert_eq!(map.heights_m[[1, 1]], 2.0);
         assert_eq!(map.metadata[1].1, "0: HeightTrace; 1: Amplitude");
-        let second = read(&f, &Channel::Name("amplitude".into())).unwrap();
+        let second = read(
+            &f,
+            &Channel::Name("amplitude".into()),
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap();
         assert_eq!(second.heights_m[[0, 0]], 7.0);
     }
 
@@ -303,6 +312,6 @@ mod tests {
         let mut f = wave_file();
         f[100] ^= 1;
         assert!(!matches(&f));
-        assert!(read(&f, &Channel::Default).is_err());
+        assert!(read(&f, &Channel::Default, crate::DEFAULT_MAX_POINTS).is_err());
     }
 }

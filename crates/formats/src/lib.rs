@@ -46,6 +46,15 @@ mod x3p;
 pub use channel::Channel;
 pub use x3p::write_x3p;
 
+/// The most points a reader accepts unless the caller raises it
+/// (2^26 = 67 108 864 points, 512 MiB of f64): a header claiming more is
+/// refused before anything is allocated or inflated, whatever the file's
+/// size, so a small compressed file cannot expand into gigabytes.
+pub const DEFAULT_MAX_POINTS: usize = 1 << 26;
+
+/// The most `max_points` may be raised to (2^32 points, 32 GiB of f64).
+pub const MAX_POINTS_CEILING: usize = bytes::MAX_POINTS;
+
 /// The formats read here.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Format {
@@ -305,6 +314,38 @@ pub fn detect(bytes: &[u8], path: Option<&Path>) -> Option<Format> {
     }
 }
 
+/// What a file no reader recognises is, for messages: "an empty file",
+/// "a PNG image (first bytes …)", or its first bytes (and text).
+pub fn describe(bytes: &[u8]) -> String {
+    channel::describe_start(bytes)
+}
+
+/// The format a file's extension names, if any (what the user meant the
+/// file to be, for a message when its bytes say otherwise).
+pub fn format_of_extension(path: &Path) -> Option<Format> {
+    let extension = path.extension()?.to_str()?.to_ascii_lowercase();
+    let format = match extension.as_str() {
+        "npy" => Format::Npy,
+        "x3p" => Format::X3p,
+        "sur" => Format::Sur,
+        "plu" | "apx" => Format::Plu,
+        "datx" => Format::Datx,
+        "opd" => Format::Opd,
+        "al3d" => Format::Al3d,
+        "di" | "spm" => Format::Nanoscope,
+        "frt" => Format::Frt,
+        "mnt" => Format::Mnt,
+        "nid" | "ezd" => Format::Nid,
+        "ibw" => Format::Ibw,
+        "mi" => Format::Mi,
+        "tmd" => Format::Tmd,
+        "nc" => Format::NetCdf,
+        "dat" => Format::MetroPro,
+        _ => return None,
+    };
+    Some(format)
+}
+
 /// Reads a height map from a file's bytes, the default channel of a
 /// multi-channel file; `path` only helps [`detect`]. Never panics, whatever
 /// the bytes.
@@ -312,20 +353,32 @@ pub fn read_bytes(bytes: &[u8], path: Option<&Path>) -> Result<Topography, Forma
     read_bytes_channel(bytes, path, &Channel::Default)
 }
 
-/// Reads one channel of a file's bytes (by name or index; see [`Channel`]);
-/// a single-channel file takes [`Channel::Default`], index 0 or its one
-/// channel's name. Never panics, whatever the bytes.
+/// [`read_bytes_channel`] with the points limit [`DEFAULT_MAX_POINTS`].
 pub fn read_bytes_channel(
     bytes: &[u8],
     path: Option<&Path>,
     channel: &Channel,
 ) -> Result<Topography, FormatError> {
+    read_bytes_limited(bytes, path, channel, DEFAULT_MAX_POINTS)
+}
+
+/// Reads one channel of a file's bytes (by name or index; see [`Channel`]);
+/// a single-channel file takes [`Channel::Default`], index 0 or its one
+/// channel's name. A header claiming more than `max_points` points (at most
+/// [`MAX_POINTS_CEILING`]) is refused before its points are allocated or
+/// inflated. Never panics, whatever the bytes.
+pub fn read_bytes_limited(
+    bytes: &[u8],
+    path: Option<&Path>,
+    channel: &Channel,
+    max_points: usize,
+) -> Result<Topography, FormatError> {
     let Some(format) = detect(bytes, path) else {
         return Err(FormatError::Unknown(channel::describe_start(bytes)));
     };
-    let single = |name: &str, read: fn(&[u8]) -> Result<Topography, FormatError>| {
+    let single = |name: &str, read: fn(&[u8], usize) -> Result<Topography, FormatError>| {
         channel::single(format, name, channel)?;
-        read(bytes).map(|map| channel::named(map, name))
+        read(bytes, max_points).map(|map| channel::named(map, name))
     };
     match format {
         Format::Npy => Err(FormatError::Unsupported {
@@ -344,10 +397,10 @@ pub fn read_bytes_channel(
         Format::Tmd => single("Default", tmd::read),
         Format::NetCdf => single("heights", netcdf::read),
         Format::DektakCsv => single("default", dektak::read),
-        Format::Nanoscope => nanoscope::read(bytes, channel),
-        Format::Nid => nid::read(bytes, channel),
-        Format::Ibw => ibw::read(bytes, channel),
-        Format::Mi => mi::read(bytes, channel),
-        Format::AsciiMatrix => ascii::read(bytes, channel),
+        Format::Nanoscope => nanoscope::read(bytes, channel, max_points),
+        Format::Nid => nid::read(bytes, channel, max_points),
+        Format::Ibw => ibw::read(bytes, channel, max_points),
+        Format::Mi => mi::read(bytes, channel, max_points),
+        Format::AsciiMatrix => ascii::read(bytes, channel, max_points),
     }
 }

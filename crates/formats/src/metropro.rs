@@ -86,7 +86,7 @@ fn metres_per_count(
 }
 
 /// Reads the phase map as heights in metres, axis 0 = x, NaN where invalid.
-pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
+pub(crate) fn read(data: &[u8], max_points: usize) -> Result<Topography, FormatError> {
     let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Big);
     let magic = bytes.read::<u32>(0, "the magic number")?;
     let Some(kind) = MAGIC.iter().position(|&m| m == magic) else {
@@ -114,7 +114,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
             PHASE_HEIGHT + 2
         )));
     }
-    let points = grid_points(FORMAT.name(), nx, ny, "the phase map")?;
+    let points = grid_points(FORMAT.name(), nx, ny, "the phase map", max_points)?;
     // u16 sizes: these products cannot overflow
     let intensity_bytes = 2 * buckets * intensity_width * intensity_height;
     let phase_at = header_size as usize + intensity_bytes;
@@ -284,7 +284,7 @@ mod tests {
         // reflection: one fringe (4096 counts at resolution 0, S = 0.5) is λ/2
         let file = dat_file(2, 2, &[4096, -4096, INVALID_PHASE, 0], 0, 0);
         assert!(matches(&file));
-        let t = read(&file).unwrap();
+        let t = read(&file, crate::DEFAULT_MAX_POINTS).unwrap();
         let half_wave_m = f64::from(600e-9f32) / 2.0;
         assert_eq!(t.heights_m[[0, 0]], half_wave_m);
         assert_eq!(t.heights_m[[1, 0]], -half_wave_m);
@@ -292,7 +292,11 @@ mod tests {
         assert_eq!(t.heights_m[[1, 1]], 0.0);
         assert_eq!(t.dx_m, f64::from(2e-6f32));
         // the sign flag inverts, resolution 1 divides by 32768
-        let t = read(&dat_file(2, 2, &[32768, 0, 0, 0], 1, 1)).unwrap();
+        let t = read(
+            &dat_file(2, 2, &[32768, 0, 0, 0], 1, 1),
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap();
         assert_eq!(t.heights_m[[0, 0]], -half_wave_m);
     }
 
@@ -301,18 +305,30 @@ mod tests {
         let good = dat_file(2, 1, &[0, 0], 0, 0);
         let mut size = good.clone();
         size[HEADER_SIZE_AT + 3] = 0;
-        assert!(read(&size).unwrap_err().to_string().contains("at byte 6"));
+        assert!(
+            read(&size, crate::DEFAULT_MAX_POINTS)
+                .unwrap_err()
+                .to_string()
+                .contains("at byte 6")
+        );
         let mut res = good.clone();
         res[PHASE_RES + 1] = 5;
-        assert!(read(&res).unwrap_err().to_string().contains("at byte 218"));
+        assert!(
+            read(&res, crate::DEFAULT_MAX_POINTS)
+                .unwrap_err()
+                .to_string()
+                .contains("at byte 218")
+        );
         let mut lateral = good.clone();
         lateral[LATERAL_RES_M..LATERAL_RES_M + 4].copy_from_slice(&0f32.to_be_bytes());
         assert!(matches!(
-            read(&lateral),
+            read(&lateral, crate::DEFAULT_MAX_POINTS),
             Err(FormatError::Unsupported { .. })
         ));
         let short = &good[..good.len() - 1];
-        let err = read(short).unwrap_err().to_string();
+        let err = read(short, crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("the phase map needs bytes 838..846"), "{err}");
         assert!(!matches(b"\x88\x1b\x03\x72"));
     }

@@ -117,7 +117,11 @@ fn parse(data: &[u8]) -> Result<Header, FormatError> {
 }
 
 /// Reads the channel `asked` for.
-pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatError> {
+pub(crate) fn read(
+    data: &[u8],
+    asked: &Channel,
+    max_points: usize,
+) -> Result<Topography, FormatError> {
     let header = parse(data)?;
     let names: Vec<String> = header.buffers.iter().map(|b| b.name.clone()).collect();
     let index = channel::pick(FORMAT, &names, 0, asked)?;
@@ -138,7 +142,7 @@ pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatErr
             .ok_or_else(|| FORMAT.invalid(format!("{key} {value} is not a grid size")))
     };
     let (nx, ny) = (count("xPixels")?, count("yPixels")?);
-    let points = grid_points(FORMAT.name(), nx, ny, "xPixels and yPixels")?;
+    let points = grid_points(FORMAT.name(), nx, ny, "xPixels and yPixels", max_points)?;
     let (dx_m, dy_m) = (
         header.number("xLength")? / nx as f64,
         header.number("yLength")? / ny as f64,
@@ -197,24 +201,40 @@ mod tests {
 
     #[test]
     fn counts_scale_by_the_range_and_scan_up_flips_y() {
-        let map = read(&file(false), &Channel::Default).unwrap();
+        let map = read(&file(false), &Channel::Default, crate::DEFAULT_MAX_POINTS).unwrap();
         assert_eq!(map.heights_m[[0, 0]], 1e-6);
         assert_eq!(map.heights_m[[1, 0]], -1e-6);
         assert_eq!(map.heights_m[[1, 1]], 0.5e-6);
         assert_eq!((map.dx_m, map.dy_m), (2e-6, 1e-6));
-        let up = read(&file(true), &Channel::Default).unwrap();
+        let up = read(&file(true), &Channel::Default, crate::DEFAULT_MAX_POINTS).unwrap();
         assert_eq!(up.heights_m[[1, 0]], 0.5e-6);
     }
 
     #[test]
     fn volts_are_not_heights_and_truncations_are_named() {
-        let err = read(&file(false), &Channel::Name("deflection".into())).unwrap_err();
+        let err = read(
+            &file(false),
+            &Channel::Name("deflection".into()),
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap_err();
         assert!(err.to_string().contains("\"V\", not a length"), "{err}");
         let f = file(false);
-        let err = read(&f[..f.len() - 9], &Channel::Default)
-            .unwrap_err()
-            .to_string();
+        let err = read(
+            &f[..f.len() - 9],
+            &Channel::Default,
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(err.contains("channel Topography"), "{err}");
-        assert!(read(b"fileType      Image\n", &Channel::Default).is_err());
+        assert!(
+            read(
+                b"fileType      Image\n",
+                &Channel::Default,
+                crate::DEFAULT_MAX_POINTS
+            )
+            .is_err()
+        );
     }
 }

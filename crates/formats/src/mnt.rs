@@ -27,7 +27,7 @@ use std::io::Read;
 use flate2::read::ZlibDecoder;
 use ndarray::Array2;
 
-use crate::bytes::{ByteOrder, Bytes, MAX_POINTS, grid_points};
+use crate::bytes::{ByteOrder, Bytes, grid_points};
 use crate::cfb::{self, Compound};
 use crate::units::metres_per;
 use crate::{Format, FormatError, Topography};
@@ -174,7 +174,8 @@ fn layer(blocks: Vec<(usize, Vec<u8>)>, n: usize) -> Option<Vec<i32>> {
     }
     layers.into_iter().find_map(|mut layer| {
         layer.sort_by_key(|(first, _)| *first);
-        let mut counts = Vec::with_capacity(n.min(MAX_POINTS));
+        // n was checked against the caller's limit before the blocks were inflated
+        let mut counts = Vec::with_capacity(n);
         for (first, data) in &layer {
             if *first != counts.len() {
                 return None;
@@ -189,7 +190,7 @@ fn layer(blocks: Vec<(usize, Vec<u8>)>, n: usize) -> Option<Vec<i32>> {
 }
 
 /// Reads the document's surface as heights in metres, axis 0 = x.
-pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
+pub(crate) fn read(data: &[u8], max_points: usize) -> Result<Topography, FormatError> {
     let contents = Compound::open(data, FORMAT)?.stream("ScopedContents")?;
     let (main, main_len) = child(&contents, 8, contents.len(), MAIN)
         .ok_or_else(|| FORMAT.invalid("ScopedContents has no main container (tag 0x0001)"))?;
@@ -209,7 +210,13 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
         x.points.unwrap_or(0) as usize,
         y.points.unwrap_or(0) as usize,
     );
-    let n = grid_points(FORMAT.name(), nx, ny, "the X and Y axis records")?;
+    let n = grid_points(
+        FORMAT.name(),
+        nx,
+        ny,
+        "the X and Y axis records",
+        max_points,
+    )?;
     let counts =
         layer(count_blocks(&contents[blocks..blocks + blocks_len], n), n).ok_or_else(|| {
             FORMAT.invalid(format!(

@@ -114,7 +114,11 @@ fn parse<T: std::str::FromStr>(value: Option<&str>, key: &str) -> Result<T, Form
         .map_err(|_| FORMAT.invalid(format!("\"{key}: {value}\" is not a number")))
 }
 
-fn image(section: &Section, scanner: &[(String, String)]) -> Result<Image, FormatError> {
+fn image(
+    section: &Section,
+    scanner: &[(String, String)],
+    max_points: usize,
+) -> Result<Image, FormatError> {
     let data_key = section.get("@2:image data").unwrap_or_default();
     static NAME: OnceLock<Option<Regex>> = OnceLock::new();
     let name = NAME
@@ -124,7 +128,7 @@ fn image(section: &Section, scanner: &[(String, String)]) -> Result<Image, Forma
         .ok_or_else(|| FORMAT.invalid(format!("\"@2:Image Data: {data_key}\" names no image")))?;
     let nx: usize = parse(section.get("samps/line"), "Samps/line")?;
     let ny: usize = parse(section.get("number of lines"), "Number of lines")?;
-    grid_points(FORMAT.name(), nx, ny, &format!("image {name}"))?;
+    grid_points(FORMAT.name(), nx, ny, &format!("image {name}"), max_points)?;
     let size = section.get("scan size").unwrap_or_default();
     let mut words = size.splitn(3, ' ');
     let sx: f64 = parse(words.next(), "Scan Size")?;
@@ -220,7 +224,11 @@ fn volts(unit: &str) -> Option<f64> {
 }
 
 /// Reads the channel `asked` for.
-pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatError> {
+pub(crate) fn read(
+    data: &[u8],
+    asked: &Channel,
+    max_points: usize,
+) -> Result<Topography, FormatError> {
     let sections = sections(data)?;
     if sections.first().map(|s| s.name.as_str()) != Some("file list") {
         return Err(FORMAT.invalid("the header does not start with \\*File list"));
@@ -233,7 +241,7 @@ pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatErr
     let images = sections
         .iter()
         .filter(|s| s.name == "ciao image list")
-        .map(|s| image(s, &scanner))
+        .map(|s| image(s, &scanner, max_points))
         .collect::<Result<Vec<Image>, FormatError>>()?;
     let names: Vec<String> = images.iter().map(|i| i.name.clone()).collect();
     let index = channel::pick(FORMAT, &names, 0, asked)?;
@@ -318,7 +326,7 @@ mod tests {
     fn counts_times_hard_and_soft_scale_with_y_flipped() {
         let f = file([1, 2, 3, 4]);
         assert!(matches(&f));
-        let map = read(&f, &Channel::Default).unwrap();
+        let map = read(&f, &Channel::Default, crate::DEFAULT_MAX_POINTS).unwrap();
         // 65536 V / 65536 per count × 2 nm/V = 2 nm per count
         assert_eq!(map.heights_m[[0, 0]], 3.0 * 2e-9);
         assert_eq!(map.heights_m[[1, 1]], 2.0 * 2e-9);
@@ -331,15 +339,24 @@ mod tests {
 
     #[test]
     fn phase_is_listed_but_not_a_height_map() {
-        let err = read(&file([0; 4]), &Channel::Name("phase".into())).unwrap_err();
+        let err = read(
+            &file([0; 4]),
+            &Channel::Name("phase".into()),
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap_err();
         assert!(
             err.to_string().contains("has no unit: not a length"),
             "{err}"
         );
         let f = file([0; 4]);
-        let err = read(&f[..f.len() - 1], &Channel::Default)
-            .unwrap_err()
-            .to_string();
+        let err = read(
+            &f[..f.len() - 1],
+            &Channel::Default,
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(err.contains("image Height at byte 1024"), "{err}");
     }
 }

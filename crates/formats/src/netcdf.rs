@@ -225,7 +225,7 @@ fn parse(bytes: Bytes) -> Result<(Dimensions, Vec<Variable>), FormatError> {
 }
 
 /// Reads `heights` as a map in metres, axis 0 = x.
-pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
+pub(crate) fn read(data: &[u8], max_points: usize) -> Result<Topography, FormatError> {
     let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Big);
     let (dims, variables) = parse(bytes)?;
     let variable = |name: &str| variables.iter().find(|v| v.name == name);
@@ -246,7 +246,13 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
     if sizes.contains(&0) {
         return Err(FORMAT.unsupported("\"heights\" is a record variable (unlimited dimension)"));
     }
-    let points = grid_points(FORMAT.name(), nx, ny, "the dimensions of \"heights\"")?;
+    let points = grid_points(
+        FORMAT.name(),
+        nx,
+        ny,
+        "the dimensions of \"heights\"",
+        max_points,
+    )?;
     let axes: Vec<&str> = heights.dims.iter().map(|&d| dims[d].0.as_str()).collect();
     let axis = |k: usize| axes.get(k).and_then(|name| variable(name));
     let unit = axis(0)
@@ -408,24 +414,26 @@ mod tests {
 
     #[test]
     fn heights_x_y_in_the_unit_of_x() {
-        let map = read(&file(None)).unwrap();
+        let map = read(&file(None), crate::DEFAULT_MAX_POINTS).unwrap();
         assert!(matches(&file(None)));
         assert_eq!(map.heights_m.dim(), (2, 3));
         assert_eq!(map.heights_m[[0, 2]], 3e-6);
         assert_eq!(map.heights_m[[1, 0]], 4e-6);
         assert_eq!((map.dx_m, map.dy_m), (2e-6, 1e-6));
-        let map = read(&file(Some(-9.0))).unwrap();
+        let map = read(&file(Some(-9.0)), crate::DEFAULT_MAX_POINTS).unwrap();
         assert!(map.heights_m[[1, 2]].is_nan());
     }
 
     #[test]
     fn broken_headers_are_named() {
         let f = file(None);
-        let err = read(&f[..f.len() - 1]).unwrap_err().to_string();
+        let err = read(&f[..f.len() - 1], crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("the values of \"heights\""), "{err}");
         let mut f = file(None);
         f[15] = 0xff; // 255 dimensions
-        let err = read(&f).unwrap_err().to_string();
+        let err = read(&f, crate::DEFAULT_MAX_POINTS).unwrap_err().to_string();
         assert!(err.contains("does not fit"), "{err}");
         assert!(!matches(b"CDF\x03"));
     }

@@ -78,7 +78,7 @@ struct Image {
 }
 
 /// The images in storage order, offsets from the start of the data.
-fn images(sections: &Sections) -> Result<Vec<Image>, FormatError> {
+fn images(sections: &Sections, max_points: usize) -> Result<Vec<Image>, FormatError> {
     let section = |name: &str| crate::lookup(sections, name);
     let get = |entries: &Vec<(String, String)>, key: &str| {
         crate::lookup(entries, key).map(|v| v.trim().to_string())
@@ -101,7 +101,13 @@ fn images(sections: &Sections) -> Result<Vec<Image>, FormatError> {
             let Some(entries) = section(&name) else {
                 continue;
             };
-            let image = image(entries, &name, offset, &|key| number(entries, &name, key))?;
+            let image = image(
+                entries,
+                &name,
+                offset,
+                &|key| number(entries, &name, key),
+                max_points,
+            )?;
             let bytes = image.nx * image.ny * (image.bits / 8) as usize;
             offset = offset
                 .checked_add(bytes)
@@ -118,6 +124,7 @@ fn image(
     name: &str,
     offset: usize,
     number: &dyn Fn(&str) -> Result<f64, FormatError>,
+    max_points: usize,
 ) -> Result<Image, FormatError> {
     let text = |key: &str| crate::lookup(entries, key).map_or("", |v| v.trim());
     if text("SaveMode") != "Binary" {
@@ -127,7 +134,7 @@ fn image(
         )));
     }
     let (nx, ny) = (number("Points")? as usize, number("Lines")? as usize);
-    grid_points(FORMAT.name(), nx, ny, &format!("[{name}]"))?;
+    grid_points(FORMAT.name(), nx, ny, &format!("[{name}]"), max_points)?;
     let bits = number("SaveBits")? as u32;
     if ![8, 16, 32].contains(&bits) {
         return Err(FORMAT.unsupported(format!("[{name}]: SaveBits {bits} (8, 16, 32 are read)")));
@@ -208,9 +215,13 @@ fn counts(bytes: &Bytes, image: &Image, at: usize) -> Result<Vec<f64>, FormatErr
 }
 
 /// Reads the channel `asked` for.
-pub(crate) fn read(data: &[u8], asked: &Channel) -> Result<Topography, FormatError> {
+pub(crate) fn read(
+    data: &[u8],
+    asked: &Channel,
+    max_points: usize,
+) -> Result<Topography, FormatError> {
     let (sections, data_start) = header(data)?;
-    let images = images(&sections)?;
+    let images = images(&sections, max_points)?;
     let heights: Vec<&Image> = images.iter().filter(|i| i.scale.is_some()).collect();
     let names: Vec<String> = heights.iter().map(|i| i.name.clone()).collect();
     let index = channel::pick(FORMAT, &names, 0, asked)?;
@@ -277,7 +288,7 @@ mod tests {
     fn only_length_channels_are_listed_and_y_is_flipped() {
         let f = file();
         assert!(matches(&f));
-        let map = read(&f, &Channel::Default).unwrap();
+        let map = read(&f, &Channel::Default, crate::DEFAULT_MAX_POINTS).unwrap();
         assert_eq!(
             map.metadata[1],
             ("channels".into(), "0: Scan forward (Z)".into())
@@ -292,11 +303,20 @@ mod tests {
     #[test]
     fn broken_files_say_where() {
         let f = file();
-        let err = read(&f[..f.len() - 1], &Channel::Default)
-            .unwrap_err()
-            .to_string();
+        let err = read(
+            &f[..f.len() - 1],
+            &Channel::Default,
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(err.contains("channel Scan forward (Z) at byte"), "{err}");
-        let err = read(b"[DataSet]\r\nGroupCount=1\r\n", &Channel::Default).unwrap_err();
+        let err = read(
+            b"[DataSet]\r\nGroupCount=1\r\n",
+            &Channel::Default,
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap_err();
         assert!(err.to_string().contains("#!"), "{err}");
     }
 }

@@ -76,13 +76,18 @@ fn directory(bytes: &Bytes) -> Result<Vec<Block>, FormatError> {
         let name = bytes.text(entry, NAME_LEN, "a block name")?;
         let kind = bytes.read::<i16>(entry + NAME_LEN, "a block type")?;
         let len = bytes.read::<i32>(entry + NAME_LEN + 2, "a block length")?;
-        // blocks of length ≤ 0 have no contents
-        let Ok(len) = usize::try_from(len) else {
-            continue;
+        // blocks of length ≤ 0 have no contents; a height array without
+        // them is named here, not later as a missing array
+        let len = match usize::try_from(len) {
+            Ok(len) if len > 0 => len,
+            _ if kind == TYPE_ARRAY && HEIGHT_ARRAYS.contains(&name.as_str()) => {
+                return Err(FORMAT.invalid(format!(
+                    "the height array block \"{name}\" (directory entry at byte {entry}) has the \
+                     length {len}: it holds no heights"
+                )));
+            }
+            _ => continue,
         };
-        if len == 0 {
-            continue;
-        }
         if at.checked_add(len).is_none_or(|end| end > bytes.len()) {
             return Err(FORMAT.invalid(format!(
                 "block \"{name}\" (directory entry at byte {entry}) needs bytes {at}..{} but the \
@@ -140,6 +145,7 @@ impl Values {
 fn height_array<'b>(
     bytes: &Bytes,
     blocks: &'b [Block],
+    max_points: usize,
 ) -> Result<(&'b Block, usize, usize, Values), FormatError> {
     let Some(array) = blocks
         .iter()
@@ -153,7 +159,7 @@ fn height_array<'b>(
     let nx = usize::from(bytes.read::<u16>(array.at, &what)?);
     let ny = usize::from(bytes.read::<u16>(array.at + 2, &what)?);
     let item = bytes.read::<u16>(array.at + 4, &what)?;
-    let points = grid_points(FORMAT.name(), nx, ny, &what)?;
+    let points = grid_points(FORMAT.name(), nx, ny, &what, max_points)?;
     let item_len = match item {
         1 | 2 | 4 => usize::from(item),
         _ => {
@@ -219,7 +225,7 @@ fn metadata(
 }
 
 /// Reads the first height array as heights in metres, axis 0 = x, NaN at bad points.
-pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
+pub(crate) fn read(data: &[u8], max_points: usize) -> Result<Topography, FormatError> {
     let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Little);
     let blocks = directory(&bytes)?;
     let scalar = |name: &str| -> Result<Option<f64>, FormatError> {
@@ -251,7 +257,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
         )));
     }
 
-    let (array, nx, ny, values) = height_array(&bytes, &blocks)?;
+    let (array, nx, ny, values) = height_array(&bytes, &blocks, max_points)?;
     // stored x-major with y downwards: flip y (as Gwyddion and SurfaceTopography do)
     let heights_m = ndarray::Array2::from_shape_fn((nx, ny), |(i, j)| {
         values.get(i * ny + (ny - 1 - j)) * mm_per_value * 1e-3
@@ -333,7 +339,7 @@ mod tests {
             .collect();
         let file = opd_file(2, 3, &stored, 2, Some(4));
         assert!(matches(&file));
-        let t = read(&file).unwrap();
+        let t = read(&file, crate::DEFAULT_MAX_POINTS).unwrap();
         assert_eq!(t.heights_m.dim(), (2, 3));
         // 600 nm / 4 per count = 150 nm; y = 0 is the last stored value
         let nm = 1e-9;
@@ -354,7 +360,7 @@ mod tests {
             .iter()
             .flat_map(|v| v.to_le_bytes())
             .collect();
-        let t = read(&opd_file(2, 2, &stored, 4, None)).unwrap();
+        let t = read(&opd_file(2, 2, &stored, 4, None), crate::DEFAULT_MAX_POINTS).unwrap();
         assert!((t.heights_m[[0, 1]] - 600e-9).abs() < 1e-20);
         assert!(t.heights_m[[0, 0]].is_nan());
         assert!(t.heights_m[[1, 1]].is_nan());
@@ -366,15 +372,25 @@ mod tests {
         let stored = [0u8; 8];
         let good = opd_file(2, 2, &stored, 2, None);
         let short = &good[..good.len() - 1];
-        let err = read(short).unwrap_err().to_string();
+        let err = read(short, crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("block \"Raw\""), "{err}");
         let mut item = good.clone();
         let raw_at = good.len() - 8 - 6;
         item[raw_at + 4] = 3;
-        assert!(matches!(read(&item), Err(FormatError::Unsupported { .. })));
+        assert!(matches!(
+            read(&item, crate::DEFAULT_MAX_POINTS),
+            Err(FormatError::Unsupported { .. })
+        ));
         let mut huge = good.clone();
         huge[raw_at] = 0xff; // 255 × 2 values in 8 bytes
-        assert!(read(&huge).unwrap_err().to_string().contains("do not fit"));
+        assert!(
+            read(&huge, crate::DEFAULT_MAX_POINTS)
+                .unwrap_err()
+                .to_string()
+                .contains("do not fit")
+        );
         assert!(!matches(b"\x01\x00Directorx"));
     }
 }

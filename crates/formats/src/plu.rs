@@ -13,7 +13,7 @@
 //! pixel size, a known measurement type, the layer inside the file) so that
 //! `detect` can trust the `.plu` extension only when the bytes agree.
 
-use crate::bytes::{ByteOrder, Bytes, grid_points, utc_text, x_major};
+use crate::bytes::{ByteOrder, Bytes, MAX_POINTS, grid_points, utc_text, x_major};
 use crate::{Format, FormatError, Topography};
 
 const FORMAT: Format = Format::Plu;
@@ -93,7 +93,7 @@ impl Header {
 
     /// Everything that must hold before the heights are read, with the
     /// first layer's own grid size; the first failure as an error.
-    fn check(&self, bytes: &Bytes) -> Result<usize, FormatError> {
+    fn check(&self, bytes: &Bytes, max_points: usize) -> Result<usize, FormatError> {
         if self.measurement_type > TYPE_LAST {
             return Err(FORMAT.invalid(format!(
                 "measurement type {} at byte {MEASUREMENT_TYPE} is not one of 0…{TYPE_LAST}",
@@ -131,7 +131,7 @@ impl Header {
                 self.columns, self.rows
             )));
         }
-        let points = grid_points(FORMAT.name(), columns, rows, "the layer's grid")?;
+        let points = grid_points(FORMAT.name(), columns, rows, "the layer's grid", max_points)?;
         let needed = LAYER_DATA + 4 * points + 8;
         if bytes.len() < needed {
             return Err(FORMAT.invalid(format!(
@@ -158,15 +158,18 @@ pub(crate) fn plausible(bytes: &[u8]) -> bool {
             .take_while(|&&b| b != 0)
             .all(|b| b.is_ascii_graphic() || *b == b' ')
     });
-    date_is_text && Header::read(&bytes).and_then(|h| h.check(&bytes)).is_ok()
+    date_is_text
+        && Header::read(&bytes)
+            .and_then(|h| h.check(&bytes, MAX_POINTS))
+            .is_ok()
 }
 
 /// Reads the first layer of a topography: heights in metres (µm in the file),
 /// axis 0 = x, NaN where the instrument measured nothing.
-pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
+pub(crate) fn read(data: &[u8], max_points: usize) -> Result<Topography, FormatError> {
     let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Little);
     let header = Header::read(&bytes)?;
-    let points = header.check(&bytes)?;
+    let points = header.check(&bytes, max_points)?;
     let (nx, ny) = (header.columns, header.rows);
     let heights_um = bytes.values::<f32>(LAYER_DATA, points, "the layer's heights")?;
     let heights_m = x_major(nx, ny, &heights_um, |h_um| {
@@ -264,7 +267,7 @@ mod tests {
         // 3 × 2: row y = 0 then y = 1
         let file = plu_file(3, 2, 0.5, &[1.0, -2.5, NOT_MEASURED, 0.25, 4.0, 8.0]);
         assert!(plausible(&file));
-        let t = read(&file).unwrap();
+        let t = read(&file, crate::DEFAULT_MAX_POINTS).unwrap();
         assert_eq!(t.heights_m.dim(), (3, 2));
         let close = |a: f64, b: f64| (a - b).abs() < 1e-20;
         assert!(close(t.heights_m[[0, 0]], 1e-6));
@@ -288,14 +291,19 @@ mod tests {
         let short = good[..good.len() - 9].to_vec();
         for bad in [&columns, &pixel, &kind, &short] {
             assert!(!plausible(bad));
-            assert!(matches!(read(bad), Err(FormatError::Invalid { .. })));
+            assert!(matches!(
+                read(bad, crate::DEFAULT_MAX_POINTS),
+                Err(FormatError::Invalid { .. })
+            ));
         }
-        let err = read(&columns).unwrap_err().to_string();
+        let err = read(&columns, crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("calibration at byte 388 says 4 × 2"), "{err}");
         let mut profile = good;
         profile[MEASUREMENT_TYPE] = 1;
         assert!(matches!(
-            read(&profile),
+            read(&profile, crate::DEFAULT_MAX_POINTS),
             Err(FormatError::Unsupported { .. })
         ));
     }
@@ -310,12 +318,12 @@ mod tests {
             data in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..1200),
             edits in hypercontact_fuzz::byte_edits(),
         ) {
-            let _ = read(&data);
+            let _ = read(&data, crate::DEFAULT_MAX_POINTS);
             let heights: Vec<f32> = (0..12).map(|k| k as f32 - 3.0).collect();
             let edited = hypercontact_fuzz::splice(plu_file(4, 3, 0.5, &heights), &edits);
             // what `detect` trusts the extension for, the reader reads
             if plausible(&edited) {
-                proptest::prop_assert!(read(&edited).is_ok());
+                proptest::prop_assert!(read(&edited, crate::DEFAULT_MAX_POINTS).is_ok());
             }
         }
     }
@@ -326,7 +334,12 @@ mod tests {
         for offset in [CAL_ROWS, CAL_COLUMNS, LAYER, LAYER + 4] {
             file[offset..offset + 4].copy_from_slice(&1_000_000u32.to_le_bytes());
         }
-        let err = read(&file).unwrap_err().to_string();
-        assert!(err.contains("more than the"), "{err}");
+        let err = read(&file, crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("1000000 × 1000000 = 1 000 000 000 000 points, above the limit of"),
+            "{err}"
+        );
     }
 }

@@ -42,9 +42,9 @@ pub(crate) fn matches(bytes: &[u8]) -> bool {
 }
 
 /// Reads the file's bytes.
-pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
+pub(crate) fn read(data: &[u8], max_points: usize) -> Result<Topography, FormatError> {
     let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Little);
-    let header = Header::parse(bytes)?;
+    let header = Header::parse(bytes, max_points)?;
     let (nx, ny) = (header.nx, header.ny);
     let n = nx * ny;
     let point_bytes = header.point_bits / 8;
@@ -202,7 +202,7 @@ struct Fields {
 
 impl Fields {
     /// Reads the 512 bytes field by field (offsets in Gwyddion's surffile.c).
-    fn read(bytes: Bytes) -> Result<Self, FormatError> {
+    fn read(bytes: Bytes, max_points: usize) -> Result<Self, FormatError> {
         let mut c = bytes.cursor(0);
         let magic = c.take(12, "the magic")?;
         let compressed = magic == MAGIC_COMPRESSED;
@@ -238,7 +238,7 @@ impl Fields {
             "points per line",
         )?;
         let ny = grid_size(c.read::<i32>("the number of lines")?, 112, "lines")?;
-        let n = grid_points(FORMAT.name(), nx, ny, "bytes 108–115")?;
+        let n = grid_points(FORMAT.name(), nx, ny, "bytes 108–115", max_points)?;
         let total = c.read::<u32>("the total number of points")? as usize;
         if total != n {
             return Err(FORMAT.invalid(format!(
@@ -350,14 +350,14 @@ impl Fields {
 }
 
 impl Header {
-    fn parse(bytes: Bytes) -> Result<Self, FormatError> {
+    fn parse(bytes: Bytes, max_points: usize) -> Result<Self, FormatError> {
         if bytes.len() < HEADER_BYTES {
             return Err(FORMAT.invalid(format!(
                 "the file ends at byte {}, inside the {HEADER_BYTES}-byte header",
                 bytes.len()
             )));
         }
-        let f = Fields::read(bytes)?;
+        let f = Fields::read(bytes, max_points)?;
         let x_unit_m = unit_m(&f.step_units[0], 180, "x step unit")?;
         let y_unit_m = unit_m(&f.step_units[1], 196, "y step unit")?;
         let z_unit_m = unit_m(&f.step_units[2], 212, "z step unit")?;
@@ -598,7 +598,7 @@ mod tests {
         // 3 points per line, 2 lines: the file's rows are constant y
         let mut file = header(3, 2, -5);
         file.extend(counts16(&[1, 2, 3, -4, -5, 6]));
-        let map = read(&file).unwrap();
+        let map = read(&file, crate::DEFAULT_MAX_POINTS).unwrap();
         assert_eq!(map.heights_m.dim(), (3, 2));
         let expected_nm = ndarray::array![[0.5, -2.0], [1.0, -2.5], [1.5, 3.0]];
         for (h, e) in map.heights_m.iter().zip(&expected_nm) {
@@ -614,10 +614,10 @@ mod tests {
         let mut file = header(2, 2, -5);
         file.extend(counts16(&values));
         // without the special-points flag -7 is a height like any other
-        let map = read(&file).unwrap();
+        let map = read(&file, crate::DEFAULT_MAX_POINTS).unwrap();
         assert_eq!(map.heights_m.iter().filter(|h| h.is_nan()).count(), 0);
         file[86] = 1;
-        let map = read(&file).unwrap();
+        let map = read(&file, crate::DEFAULT_MAX_POINTS).unwrap();
         assert!(map.heights_m[[0, 0]].is_nan());
         assert!(map.heights_m[[1, 1]].is_nan());
         assert_eq!(map.heights_m[[1, 0]], -2.5e-9);
@@ -629,7 +629,7 @@ mod tests {
         let mut file = header(2, 1, 0);
         file[474..478].copy_from_slice(&100f32.to_le_bytes());
         file.extend(counts16(&[0, 4]));
-        let map = read(&file).unwrap();
+        let map = read(&file, crate::DEFAULT_MAX_POINTS).unwrap();
         assert!((map.heights_m[[0, 0]] - 100e-9).abs() < 1e-22);
         assert!((map.heights_m[[1, 0]] - 102e-9).abs() < 1e-22);
     }
@@ -641,7 +641,10 @@ mod tests {
             let mut file = header(2, 2, 0);
             file[290..292].copy_from_slice(&flag.to_le_bytes());
             file.extend(counts16(&[2, 4, 6, 8]));
-            read(&file).unwrap().heights_m.mapv(|h| (h / 1e-9).round())
+            read(&file, crate::DEFAULT_MAX_POINTS)
+                .unwrap()
+                .heights_m
+                .mapv(|h| (h / 1e-9).round())
         };
         let plain = ndarray::array![[1.0, 3.0], [2.0, 4.0]];
         assert_eq!(read_with(0), plain);
@@ -651,7 +654,12 @@ mod tests {
         let mut file = header(2, 2, 0);
         file[290] = 9;
         file.extend(counts16(&[2, 4, 6, 8]));
-        assert!(read(&file).unwrap_err().to_string().contains("byte 290"));
+        assert!(
+            read(&file, crate::DEFAULT_MAX_POINTS)
+                .unwrap_err()
+                .to_string()
+                .contains("byte 290")
+        );
     }
 
     #[test]
@@ -662,7 +670,7 @@ mod tests {
         file.extend(b"hello");
         file.extend([0xaa; 3]);
         file.extend(counts16(&[2, 4]));
-        let map = read(&file).unwrap();
+        let map = read(&file, crate::DEFAULT_MAX_POINTS).unwrap();
         assert_eq!(map.heights_m[[1, 0]], 2e-9);
         assert!(map.metadata.contains(&("comment".into(), "hello".into())));
     }
@@ -672,10 +680,10 @@ mod tests {
         let values: Vec<i16> = (0..12).map(|v| v * 3 - 7).collect();
         let mut plain = header(4, 3, 0);
         plain.extend(counts16(&values));
-        let expected = read(&plain).unwrap().heights_m;
+        let expected = read(&plain, crate::DEFAULT_MAX_POINTS).unwrap().heights_m;
         for chunk in [24, 10, 3] {
             let file = compressed_sur(&header(4, 3, 0), &counts16(&values), chunk);
-            let map = read(&file).unwrap();
+            let map = read(&file, crate::DEFAULT_MAX_POINTS).unwrap();
             assert_eq!(map.heights_m, expected, "streams of {chunk} bytes");
             assert!(
                 map.metadata
@@ -684,13 +692,40 @@ mod tests {
         }
     }
 
+    /// The issue's bomb: a DSCOMPRESSED header claiming 16384² points of
+    /// 16 bits (512 MiB) beside 1 MiB of deflated zeros. Refused from the
+    /// header by default; with the limit raised, the directory, which
+    /// promises less than the header, is refused before any inflation.
+    #[test]
+    fn a_compressed_bomb_is_refused_before_inflating() {
+        let file = compressed_sur(&header(16384, 16384, 0), &vec![0u8; 1 << 20], 1 << 20);
+        assert!(file.len() < 1 << 16, "{} bytes", file.len());
+        let message = read(&file, crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains(
+                "bytes 108–115: the header claims 16384 × 16384 = 268 435 456 points, \
+                 above the limit of 67 108 864 (max_points); raise `max_points`"
+            ),
+            "{message}"
+        );
+        let message = read(&file, 1 << 28).unwrap_err().to_string();
+        assert!(
+            message.contains("hold 1048576 bytes, but the header's points take 536870912"),
+            "{message}"
+        );
+    }
+
     #[test]
     fn a_compressed_directory_that_disagrees_is_refused() {
         let values: Vec<i16> = (0..12).collect();
         let mut file = compressed_sur(&header(4, 3, 0), &counts16(&values), 24);
         // the directory's raw length (byte 516) claims one more byte
         file[516] += 1;
-        let message = read(&file).unwrap_err().to_string();
+        let message = read(&file, crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
         assert!(
             message.contains("byte 512") && message.contains("take 24"),
             "{message}"
@@ -698,7 +733,7 @@ mod tests {
         let mut file = compressed_sur(&header(4, 3, 0), &counts16(&values), 24);
         file[512..516].copy_from_slice(&u32::MAX.to_le_bytes());
         assert!(
-            read(&file)
+            read(&file, crate::DEFAULT_MAX_POINTS)
                 .unwrap_err()
                 .to_string()
                 .contains("compressed streams")
@@ -708,16 +743,30 @@ mod tests {
     #[test]
     fn absurd_sizes_are_refused_before_allocating() {
         let file = header(1_000_000_000, 1_000_000_000, 0);
-        let message = read(&file).unwrap_err().to_string();
-        assert!(message.contains("more than the 268435456"), "{message}");
-        let file = header(-3, 2, 0);
-        assert!(read(&file).unwrap_err().to_string().contains("byte 108"));
-        // a plausible size the file is too short for
-        let mut file = header(10_000, 10_000, 0);
-        file.extend([0u8; 100]);
-        let message = read(&file).unwrap_err().to_string();
+        let message = read(&file, crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
         assert!(
-            message.contains("byte 512") && message.contains("200000000 bytes"),
+            message.contains(
+                "bytes 108–115: the header claims 1000000000 × 1000000000 = 1 000 000 000 000 000 000 points"
+            ),
+            "{message}"
+        );
+        let file = header(-3, 2, 0);
+        assert!(
+            read(&file, crate::DEFAULT_MAX_POINTS)
+                .unwrap_err()
+                .to_string()
+                .contains("byte 108")
+        );
+        // a plausible size the file is too short for
+        let mut file = header(5_000, 5_000, 0);
+        file.extend([0u8; 100]);
+        let message = read(&file, crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("byte 512") && message.contains("50000000 bytes"),
             "{message}"
         );
     }
@@ -727,7 +776,9 @@ mod tests {
         let mut file = header(2, 1, 0);
         file[18] = 1;
         file.extend(counts16(&[0, 0]));
-        let message = read(&file).unwrap_err().to_string();
+        let message = read(&file, crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
         assert!(message.contains("a profile"), "{message}");
     }
 

@@ -27,7 +27,7 @@ pub(crate) fn matches(bytes: &[u8]) -> bool {
 }
 
 /// Reads the map, heights in metres with axis 0 = x.
-pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
+pub(crate) fn read(data: &[u8], max_points: usize) -> Result<Topography, FormatError> {
     let bytes = Bytes::new(data, FORMAT.name(), ByteOrder::Little);
     let comment = bytes.text(MAGIC_LEN, COMMENT_LEN, "the comment")?;
     let mut c = bytes.cursor(MAGIC_LEN + COMMENT_LEN);
@@ -37,7 +37,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Topography, FormatError> {
     let length_y = c.read::<f32>("the length along y (mm)")?;
     let offset_x = c.read::<f32>("the x offset (mm)")?;
     let offset_y = c.read::<f32>("the y offset (mm)")?;
-    let points = grid_points(FORMAT.name(), nx, ny, "bytes 56–63")?;
+    let points = grid_points(FORMAT.name(), nx, ny, "bytes 56–63", max_points)?;
     for (length, at) in [(length_x, 64), (length_y, 68)] {
         if !(length.is_finite() && length > 0.0) {
             return Err(FORMAT.invalid(format!(
@@ -90,7 +90,11 @@ mod tests {
 
     #[test]
     fn rows_of_constant_y_in_millimetres() {
-        let map = read(&file(3, 2, &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0])).unwrap();
+        let map = read(
+            &file(3, 2, &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]),
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap();
         assert_eq!(map.heights_m.dim(), (3, 2));
         assert_eq!(map.heights_m[[2, 0]], 3e-3);
         assert_eq!(map.heights_m[[0, 1]], 4e-3);
@@ -104,12 +108,21 @@ mod tests {
 
     #[test]
     fn broken_headers_are_named() {
-        let err = read(&file(3, 2, &[1.0; 5])).unwrap_err().to_string();
+        let err = read(&file(3, 2, &[1.0; 5]), crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("the heights needs bytes 80..104"), "{err}");
-        let err = read(&file(0, 2, &[])).unwrap_err().to_string();
+        let err = read(&file(0, 2, &[]), crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("empty 0 × 2 grid"), "{err}");
         let mut f = file(1, 1, &[1.0]);
         f[64..68].copy_from_slice(&(-1.0f32).to_le_bytes());
-        assert!(read(&f).unwrap_err().to_string().contains("byte 64"));
+        assert!(
+            read(&f, crate::DEFAULT_MAX_POINTS)
+                .unwrap_err()
+                .to_string()
+                .contains("byte 64")
+        );
     }
 }

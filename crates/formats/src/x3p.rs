@@ -46,7 +46,7 @@ pub(crate) fn matches(bytes: &[u8]) -> bool {
 }
 
 /// Reads the file's bytes.
-pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
+pub(crate) fn read(bytes: &[u8], max_points: usize) -> Result<Topography, FormatError> {
     let mut archive = ZipArchive::new(Cursor::new(bytes))
         .map_err(|e| FORMAT.invalid(format!("not a readable zip archive: {e}")))?;
     let main_xml = read_member(&mut archive, "main.xml", MAX_XML_BYTES)?
@@ -74,7 +74,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<Topography, FormatError> {
 
     let header = Header::parse(root, &mut metadata)?;
     let record3 = child(root, "Record3", "Record3")?;
-    let (nx, ny) = matrix_size(record3)?;
+    let (nx, ny) = matrix_size(record3, max_points)?;
     let n = nx * ny;
     let raw = if let Some(link) = first_child(record3, "DataLink") {
         read_linked(&mut archive, link, &header, n, &mut metadata)?
@@ -408,8 +408,8 @@ fn instrument_metadata(record2: Node, metadata: &mut Vec<(String, String)>) {
 }
 
 /// `Record3/MatrixDimension`: SizeX × SizeY points, one layer, at most
-/// [`crate::bytes::MAX_POINTS`].
-fn matrix_size(record3: Node) -> Result<(usize, usize), FormatError> {
+/// `max_points`.
+fn matrix_size(record3: Node, max_points: usize) -> Result<(usize, usize), FormatError> {
     let Some(matrix) = first_child(record3, "MatrixDimension") else {
         if first_child(record3, "ListDimension").is_some() {
             return Err(FORMAT.unsupported("Record3/ListDimension: a list of points, not a matrix"));
@@ -439,7 +439,7 @@ fn matrix_size(record3: Node) -> Result<(usize, usize), FormatError> {
             "Record3/MatrixDimension/SizeZ = {nz}: several layers per point"
         )));
     }
-    grid_points(FORMAT.name(), nx, ny, "Record3/MatrixDimension")?;
+    grid_points(FORMAT.name(), nx, ny, "Record3/MatrixDimension", max_points)?;
     Ok((nx, ny))
 }
 
@@ -710,7 +710,7 @@ mod tests {
             .collect();
         let float64: Vec<u8> = values.iter().flat_map(|&v| v.to_le_bytes()).collect();
         for (code, raw) in [("I", int16), ("L", int32), ("F", float32), ("D", float64)] {
-            let map = read(&synthetic(code, &raw, None)).unwrap();
+            let map = read(&synthetic(code, &raw, None), crate::DEFAULT_MAX_POINTS).unwrap();
             // negative raw values: I and L are signed (openGPS short/int)
             assert_same(&map.heights_m, &expected(&values));
             assert_eq!((map.dx_m, map.dy_m), (0.25, 0.5));
@@ -724,7 +724,11 @@ mod tests {
         // point 8 measured, point 9 not (the six spare bits are set)
         let values: Vec<f64> = (0..10).map(f64::from).collect();
         let raw: Vec<u8> = (0i32..10).flat_map(i32::to_le_bytes).collect();
-        let map = read(&synthetic("L", &raw, Some(&[0x95, 0xfd]))).unwrap();
+        let map = read(
+            &synthetic("L", &raw, Some(&[0x95, 0xfd])),
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap();
         let measured = [0, 2, 4, 7, 8];
         let masked: Vec<f64> = values
             .iter()
@@ -739,7 +743,7 @@ mod tests {
         let mut values: Vec<f64> = (0..10).map(f64::from).collect();
         values[3] = f64::NAN;
         let raw: Vec<u8> = values.iter().flat_map(|&v| v.to_le_bytes()).collect();
-        let map = read(&synthetic("D", &raw, None)).unwrap();
+        let map = read(&synthetic("D", &raw, None), crate::DEFAULT_MAX_POINTS).unwrap();
         assert_same(&map.heights_m, &expected(&values));
         assert!(map.heights_m[[3, 0]].is_nan());
     }
@@ -758,7 +762,11 @@ mod tests {
         list += "</DataList>";
         let cz = "<AxisType>A</AxisType><DataType>D</DataType><Increment>0.5</Increment><Offset>100</Offset>";
         let xml = main_xml(cz, 5, 2, &list);
-        let map = read(&zip_of(&[("main.xml", xml.as_bytes())])).unwrap();
+        let map = read(
+            &zip_of(&[("main.xml", xml.as_bytes())]),
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap();
         let mut with_gap = values.to_vec();
         with_gap[6] = f64::NAN;
         assert_same(&map.heights_m, &expected(&with_gap));
@@ -767,7 +775,7 @@ mod tests {
     #[test]
     fn record2_becomes_metadata() {
         let raw: Vec<u8> = (0..10).flat_map(|v| f64::from(v).to_le_bytes()).collect();
-        let map = read(&synthetic("D", &raw, None)).unwrap();
+        let map = read(&synthetic("D", &raw, None), crate::DEFAULT_MAX_POINTS).unwrap();
         let get = |key: &str| map.meta(key);
         assert_eq!(get("date"), Some("2024-05-01T10:00:00"));
         assert_eq!(get("instrument"), Some("ACME Profiler"));
@@ -782,7 +790,9 @@ mod tests {
         let mut changed = raw.clone();
         changed[0] ^= 1;
         let file = synthetic_with_checksum("D", &changed, &md5_hex(&raw), None);
-        let message = read(&file).unwrap_err().to_string();
+        let message = read(&file, crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
         assert!(message.contains(&md5_hex(&changed)), "{message}");
         assert!(message.contains(&md5_hex(&raw)), "{message}");
         assert!(message.contains("corrupt"), "{message}");
@@ -801,7 +811,7 @@ mod tests {
             ("main.xml", xml.as_bytes()),
             ("md5checksum.hex", good.as_bytes()),
         ]);
-        let map = read(&file).unwrap();
+        let map = read(&file, crate::DEFAULT_MAX_POINTS).unwrap();
         assert!(
             map.metadata
                 .contains(&("md5_main_xml".into(), "verified".into()))
@@ -811,7 +821,12 @@ mod tests {
             ("main.xml", xml.as_bytes()),
             ("md5checksum.hex", bad.as_bytes()),
         ]);
-        assert!(read(&file).unwrap_err().to_string().contains("main.xml"));
+        assert!(
+            read(&file, crate::DEFAULT_MAX_POINTS)
+                .unwrap_err()
+                .to_string()
+                .contains("main.xml")
+        );
     }
 
     #[test]
@@ -819,16 +834,65 @@ mod tests {
         let cz = "<AxisType>A</AxisType><DataType>D</DataType>";
         let link = "<DataLink><PointDataLink>bindata/data.bin</PointDataLink></DataLink>";
         let xml = main_xml(cz, 1_000_000_000, 1_000_000_000, link);
-        let message = read(&zip_of(&[("main.xml", xml.as_bytes())]))
+        let message = read(
+            &zip_of(&[("main.xml", xml.as_bytes())]),
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            message.contains(
+                "1000000000 × 1000000000 = 1 000 000 000 000 000 000 points, above the limit of 67 108 864"
+            ),
+            "{message}"
+        );
+    }
+
+    /// The issue's bomb: main.xml claims 16384² doubles (2 GiB) beside a
+    /// member of deflated zeros. Refused from the header by default; with
+    /// the limit raised, the member is inflated no further than promised.
+    #[test]
+    fn a_deflated_bomb_is_refused_before_inflating() {
+        use std::io::Write;
+        let cz = "<AxisType>A</AxisType><DataType>D</DataType>";
+        let link = "<DataLink><PointDataLink>bindata/data.bin</PointDataLink></DataLink>";
+        let xml = main_xml(cz, 16384, 16384, link);
+        let mut zip = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+        let deflated = zip::write::SimpleFileOptions::default()
+            .compression_method(zip::CompressionMethod::Deflated);
+        zip.start_file("main.xml", deflated).unwrap();
+        zip.write_all(xml.as_bytes()).unwrap();
+        zip.start_file("bindata/data.bin", deflated).unwrap();
+        // 64 MiB of zeros deflate to about 64 kB; the header claims 32 times more
+        let zeros = vec![0u8; 1 << 20];
+        for _ in 0..64 {
+            zip.write_all(&zeros).unwrap();
+        }
+        let file = zip.finish().unwrap().into_inner();
+        assert!(file.len() < 1 << 20, "{} bytes", file.len());
+        let message = read(&file, crate::DEFAULT_MAX_POINTS)
             .unwrap_err()
             .to_string();
-        assert!(message.contains("more than the 268435456"), "{message}");
+        assert!(
+            message.contains(
+                "Record3/MatrixDimension: the header claims 16384 × 16384 = 268 435 456 points, \
+                 above the limit of 67 108 864 (max_points)"
+            ),
+            "{message}"
+        );
+        let message = read(&file, 1 << 28).unwrap_err().to_string();
+        assert!(
+            message.contains("bindata/data.bin holds 67108864 bytes"),
+            "{message}"
+        );
     }
 
     #[test]
     fn a_data_member_of_the_wrong_length_is_refused() {
         let raw: Vec<u8> = (0..9).flat_map(|v| f64::from(v).to_le_bytes()).collect();
-        let message = read(&synthetic("D", &raw, None)).unwrap_err().to_string();
+        let message = read(&synthetic("D", &raw, None), crate::DEFAULT_MAX_POINTS)
+            .unwrap_err()
+            .to_string();
         assert!(message.contains("holds 72 bytes"), "{message}");
         assert!(message.contains("take 80"), "{message}");
     }
@@ -837,14 +901,20 @@ mod tests {
     fn errors_name_the_element_and_its_line() {
         let cz = "<AxisType>A</AxisType><DataType>Q</DataType>";
         let xml = main_xml(cz, 5, 2, "<DataList/>");
-        let message = read(&zip_of(&[("main.xml", xml.as_bytes())]))
-            .unwrap_err()
-            .to_string();
+        let message = read(
+            &zip_of(&[("main.xml", xml.as_bytes())]),
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(message.contains("Record1/Axes/CZ/DataType"), "{message}");
         assert!(message.contains("line 7"), "{message}");
-        let message = read(&zip_of(&[("other.xml", b"<a/>")]))
-            .unwrap_err()
-            .to_string();
+        let message = read(
+            &zip_of(&[("other.xml", b"<a/>")]),
+            crate::DEFAULT_MAX_POINTS,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(message.contains("no main.xml"), "{message}");
     }
 }

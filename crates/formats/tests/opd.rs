@@ -42,6 +42,28 @@ fn opd_1_equals_surface_topography() {
     assert!((magnification - 50.322).abs() < 1e-3, "{magnification}");
 }
 
+/// #31, 15: a negative length on the "Raw" array's directory entry was
+/// told "no height array"; the block and its length are named now.
+#[test]
+fn a_height_array_of_negative_length_is_named() {
+    let mut file = opd_1().to_vec();
+    // directory entries are 24 bytes from byte 2: a 16-byte name, an i16
+    // type, an i32 length
+    let entry = (2..file.len().min(24_000))
+        .step_by(24)
+        .find(|&at| file[at..at + 16].starts_with(b"Raw\0"))
+        .expect("opd-1 has a Raw entry");
+    file[entry + 18..entry + 22].copy_from_slice(&(-5i32).to_le_bytes());
+    let err = read_bytes(&file, None).unwrap_err().to_string();
+    assert_eq!(
+        err,
+        format!(
+            "Wyko .opd: the height array block \"Raw\" (directory entry at byte {entry}) has \
+             the length -5: it holds no heights"
+        )
+    );
+}
+
 #[test]
 fn absurd_arrays_are_refused_before_allocation() {
     // the "Raw" array's width and height (u16 at byte 24020): 65535² points
@@ -49,7 +71,10 @@ fn absurd_arrays_are_refused_before_allocation() {
     file[24020..24024].copy_from_slice(&[0xff; 4]);
     let err = read_bytes(&file, None).unwrap_err().to_string();
     assert!(err.contains("array \"Raw\" at byte 24020"), "{err}");
-    assert!(err.contains("more than the 268435456 points"), "{err}");
+    assert!(
+        err.contains("65535 × 65535 = 4 294 836 225 points, above the limit of 67 108 864"),
+        "{err}"
+    );
     // a directory longer than the file
     let mut file = opd_1().to_vec();
     file[20..24].copy_from_slice(&0x7fff_fff8i32.to_le_bytes());

@@ -7,6 +7,8 @@ use hypercontact_core::{
     Checked, Context, Field, InputPath, Inputs, OutputSpec, Outputs, Stage, StageError, StageInfo,
     params,
 };
+use std::io::{Read, Seek, SeekFrom};
+
 use hypercontact_formats::{Format, Topography};
 
 /// Parameters of `height-map`.
@@ -23,6 +25,9 @@ pub struct HeightMapParams {
     /// factor from .npy units to metres (1e-6 for micrometres; instrument files state their units)
     #[param(default = 1.0, unit = "m/unit", positive)]
     pub scale_to_m: f64,
+    /// the most points a map may have (default 2^26 = 67 108 864, 512 MiB of heights); a file whose header claims more is refused before its data is read or inflated
+    #[param(default = 67_108_864, range = 1..=2_147_483_647)]
+    pub max_points: usize,
 }
 
 /// The `height-map` stage.
@@ -61,11 +66,7 @@ impl Stage for HeightMap {
         _: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let bytes = hypercontact_core::regular_file::read_regular_file(&p.path)?;
-        let field = match hypercontact_formats::detect(&bytes, Some(&p.path)) {
-            None | Some(Format::Npy) => read_npy(p, &bytes)?,
-            Some(_) => read_instrument_file(p, &bytes, ctx)?,
-        };
+        let field = read_map(p, ctx)?;
         if field.values.iter().all(|h| h.is_nan()) {
             return Err(StageError::file(&p.path, "every point is NaN"));
         }
@@ -79,9 +80,60 @@ impl Stage for HeightMap {
     }
 }
 
-/// A `.npy` map (or a file no reader recognises, which the npy reader then
-/// names): spacing and units from the parameters.
-fn read_npy(p: &HeightMapParams, bytes: &[u8]) -> Result<Field, StageError> {
+/// The map, its format told by the file's first bytes: a `.npy` array is
+/// judged by its header before its data is read; an instrument file by its
+/// reader, with the points limit; anything else is named for what it is.
+fn read_map(p: &HeightMapParams, ctx: &Context) -> Result<Field, StageError> {
+    let path: &std::path::Path = &p.path;
+    hypercontact_core::regular_file::check_regular_file(path)?;
+    let io_error = |e: std::io::Error| StageError::file(path, e.to_string());
+    let mut file = std::fs::File::open(path).map_err(io_error)?;
+    let file_bytes = file.metadata().map_err(io_error)?.len();
+    let mut magic = Vec::new();
+    (&mut file)
+        .take(6)
+        .read_to_end(&mut magic)
+        .map_err(io_error)?;
+    if magic == b"\x93NUMPY" {
+        file.seek(SeekFrom::Start(0)).map_err(io_error)?;
+        return read_npy(p, file, file_bytes);
+    }
+    let bytes = hypercontact_core::regular_file::read_regular_file(path)?;
+    match hypercontact_formats::detect(&bytes, Some(path)) {
+        None | Some(Format::Npy) => Err(StageError::file(path, unrecognised(path, &bytes))),
+        Some(_) => read_instrument_file(p, &bytes, ctx),
+    }
+}
+
+/// Why a file no reader recognises is not read: what its bytes are, what
+/// its extension promised, and the formats read.
+fn unrecognised(path: &std::path::Path, bytes: &[u8]) -> String {
+    let is = hypercontact_formats::describe(bytes);
+    let expected = hypercontact_formats::format_of_extension(path).map_or_else(
+        || "a height map".to_string(),
+        |f| {
+            let article = if f.name().starts_with(['A', 'E', 'I', 'O', 'U']) {
+                "an"
+            } else {
+                "a"
+            };
+            format!("{article} {} file", f.name())
+        },
+    );
+    let formats = Format::all_names();
+    if is.starts_with("first bytes") {
+        format!("is not {expected} ({is}); the formats read are {formats}")
+    } else {
+        format!("is {is}, not {expected}; the formats read are {formats}")
+    }
+}
+
+/// A `.npy` map: spacing and units from the parameters.
+fn read_npy(
+    p: &HeightMapParams,
+    file: std::fs::File,
+    file_bytes: u64,
+) -> Result<Field, StageError> {
     let Some(dx_m) = p.pixel_m else {
         return Err(StageError::file(
             &p.path,
@@ -90,15 +142,9 @@ fn read_npy(p: &HeightMapParams, bytes: &[u8]) -> Result<Field, StageError> {
         ));
     };
     let dy_m = p.pixel_y_m.unwrap_or(dx_m);
-    let mut field = Field::read_npy(bytes, dx_m, dy_m).map_err(|e| {
-        StageError::file(
-            &p.path,
-            format!(
-                "{e} (hypercontact reads .npy and the instrument formats X3P, .sur, .plu, \
-                 MetroPro .dat, .datx and .opd, told by their first bytes)"
-            ),
-        )
-    })?;
+    let reader = std::io::BufReader::new(file);
+    let mut field = Field::read_npy_file(reader, file_bytes, dx_m, dy_m, p.max_points)
+        .map_err(|e| StageError::file(&p.path, e.to_string()))?;
     if p.scale_to_m != 1.0 {
         field.values.mapv_inplace(|h| h * p.scale_to_m);
     }
@@ -112,8 +158,10 @@ fn read_instrument_file(
     bytes: &[u8],
     ctx: &Context,
 ) -> Result<Field, StageError> {
-    let map: Topography = hypercontact_formats::read_bytes(bytes, Some(&p.path))
-        .map_err(|e| StageError::file(&p.path, e.to_string()))?;
+    let channel = hypercontact_formats::Channel::Default;
+    let map: Topography =
+        hypercontact_formats::read_bytes_limited(bytes, Some(&p.path), &channel, p.max_points)
+            .map_err(|e| StageError::file(&p.path, e.to_string()))?;
     if p.scale_to_m != 1.0 {
         return Err(StageError::file(
             &p.path,
@@ -178,6 +226,7 @@ mod tests {
             pixel_m: Some(2e-5),
             pixel_y_m: None,
             scale_to_m: 1e-6,
+            max_points: 1 << 26,
         }
         .check()
         .unwrap();
@@ -227,6 +276,7 @@ mod tests {
                 pixel_m,
                 pixel_y_m: None,
                 scale_to_m,
+                max_points: 1 << 26,
             }
             .check()
             .unwrap();
@@ -270,6 +320,7 @@ mod tests {
             pixel_m: None,
             pixel_y_m: None,
             scale_to_m: 1.0,
+            max_points: 1 << 26,
         }
         .check()
         .unwrap();
@@ -278,6 +329,74 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("holds no grid spacing: give `pixel_m`"), "{e}");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// Item 13 of #31: files no reader recognises were all told "a .npy
+    /// array holds no grid spacing"; now each is named for what it is, and
+    /// only a real .npy without `pixel_m` hears about the spacing.
+    #[test]
+    fn unrecognised_files_are_named_for_what_they_are() {
+        let dir = std::env::temp_dir().join(format!("hc-hm-what-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let run = |name: &str, bytes: &[u8], max_points: usize| {
+            let path = dir.join(name);
+            std::fs::write(&path, bytes).unwrap();
+            let params = HeightMapParams {
+                path: path.into(),
+                pixel_m: None,
+                pixel_y_m: None,
+                scale_to_m: 1.0,
+                max_points,
+            }
+            .check()
+            .unwrap();
+            let e = HeightMap
+                .run(&params, &Inputs::new(), &Context::new("t"))
+                .unwrap_err()
+                .to_string();
+            assert!(!e.contains("grid spacing"), "{name}: {e}");
+            e
+        };
+        let e = run("f.x3p", b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 1 << 26);
+        assert!(
+            e.contains(
+                "is a PNG image (first bytes 89 50 4e 47 0d 0a 1a 0a), not an ISO 25178-72 X3P file"
+            ) && e.contains("the formats read are NumPy .npy, ISO 25178-72 X3P"),
+            "{e}"
+        );
+        let e = run("f.sur", b"", 1 << 26);
+        assert!(
+            e.contains("is an empty file, not a Digital Surf .sur file"),
+            "{e}"
+        );
+        let e = run("f.plu", b"a text file, not a plu\n", 1 << 26);
+        assert!(
+            e.contains(
+                "is not a Sensofar .plu file (first bytes 61 20 74 65 78 74 20 66, text \"a text"
+            ),
+            "{e}"
+        );
+        let e = run("f.sur", b"DIGITAL SURF\0\0", 1 << 26);
+        assert!(
+            e.contains("Digital Surf .sur: the file ends at byte 14"),
+            "{e}"
+        );
+        // an X3P whose header claims more points than the limit
+        let map = Topography {
+            heights_m: ndarray::Array2::zeros((4, 3)),
+            dx_m: 1e-6,
+            dy_m: 1e-6,
+            format: Format::X3p,
+            position_m: None,
+            metadata: Vec::new(),
+        };
+        let x3p = hypercontact_formats::write_x3p(&map).unwrap();
+        let e = run("f.x3p", &x3p, 11);
+        assert!(
+            e.contains("the header claims 4 × 3 = 12 points, above the limit of 11 (max_points)"),
+            "{e}"
+        );
         std::fs::remove_dir_all(dir).unwrap();
     }
 }
