@@ -44,7 +44,8 @@ struct Case {
     /// Symlinks made under the case's folder: (link, target), `<dir>` in
     /// the target standing for the case's folder.
     symlinks: Vec<(&'static str, &'static str)>,
-    /// Sparse files: (name, size in bytes), all holes.
+    /// Sparse files: (name, size in bytes), holes after the file's written
+    /// content if `file` gave it some (a real header, say), else all holes.
     sparse: Vec<(&'static str, u64)>,
 }
 
@@ -248,7 +249,9 @@ fn describe(case: &Case) -> String {
         out.push_str(&format!("--- {link} -> {target}\n"));
     }
     for (name, bytes) in &case.sparse {
-        out.push_str(&format!("--- {name}: {bytes} bytes, sparse (all holes)\n"));
+        out.push_str(&format!(
+            "--- {name}: {bytes} bytes, sparse (holes after any content below)\n"
+        ));
     }
     for (name, bytes) in &case.files {
         match std::str::from_utf8(bytes) {
@@ -460,7 +463,13 @@ fn make_special_files(case: &Case, dir: &Path) {
     for (name, bytes) in &case.sparse {
         let path = dir.join(name);
         parent(&path);
-        std::fs::File::create(path)
+        // Extends what `file` wrote there, so a real header can stand
+        // before gigabytes of holes.
+        std::fs::OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(path)
             .unwrap()
             .set_len(*bytes)
             .unwrap();
@@ -1088,4 +1097,25 @@ cases! {
         .file("cache/entries/aaaa/manifest.json", old_manifest("aaaa", None))
         .file("cache/entries/bbbb/manifest.json", old_manifest("bbbb", Some("0.0.1+src.0123456789abcdef")))
         .exit(0);
+
+    // #31 formats
+    // A file no reader recognises is named for what its bytes are, not told
+    // that a .npy holds no grid spacing (item 13).
+    height_map_png_named_x3p: Case::run(&MAP.replace("path: map.npy, pixel_m: 20.0e-6", "path: map.x3p"), &[]).file("map.x3p", png())
+        .mentions(&["map.x3p", "PNG image"])
+        .lacks("holds no grid spacing");
+    height_map_empty_sur: Case::run(&MAP.replace("path: map.npy, pixel_m: 20.0e-6", "path: map.sur"), &[]).file("map.sur", "")
+        .mentions(&["map.sur", "empty"])
+        .lacks("holds no grid spacing");
+    height_map_text_named_plu: Case::run(&MAP.replace("path: map.npy, pixel_m: 20.0e-6", "path: map.plu"), &[]).file("map.plu", "x,y,z\n0,0,1\n")
+        .mentions(&["map.plu", "not a Sensofar"])
+        .lacks("holds no grid spacing");
+    // A .npy is judged by its header before its data is read (item 6): a
+    // 6 GB file whose header says 1 × 1 was read whole (6.2 GB RSS).
+    height_map_npy_6_gb_promising_1x1: Case::run(MAP, &[]).file("map.npy", npy("<f8", "(1, 1)", &f64_bytes([1e-6]))).sparse("map.npy", 6_000_000_000)
+        .mentions(&["map.npy", "shape (1, 1)", "the file holds 5999999872"]);
+    // A header past the points limit is refused before allocation, saying
+    // how to raise it (item 7).
+    height_map_npy_beyond_max_points: Case::run(MAP, &[]).file("map.npy", npy("<f8", "(16384, 16384)", &f64_bytes([1e-6])))
+        .mentions(&["map.npy", "(16384, 16384) = 268 435 456 points", "max_points"]);
 }
