@@ -572,4 +572,29 @@ mod tests {
         let f = Field::read_npy(npy.as_slice(), 1.0, 1.0).unwrap();
         assert_eq!(f.values[[0, 0]], 1.5);
     }
+
+    proptest::proptest! {
+        #![proptest_config(hypercontact_fuzz::config(512))]
+
+        /// Byte edits of a real 6 × 5 .npy (header and data), read as a
+        /// user's file of that length: never a panic, and whatever is
+        /// accepted holds no more points than the file has room for and
+        /// at most `max_points` (#31, 6, 7).
+        #[test]
+        fn an_edited_npy_file_is_read_or_refused_within_its_size(
+            edits in hypercontact_fuzz::byte_edits(),
+            max_points in 1usize..64,
+        ) {
+            let values = Array2::from_shape_fn((6, 5), |(i, j)| (i * 5 + j) as f64);
+            let mut npy = Vec::new();
+            values.write_npy(&mut npy).unwrap();
+            let bytes = hypercontact_fuzz::splice(npy, &edits);
+            let len = bytes.len() as u64;
+            if let Ok(field) = Field::read_npy_file(bytes.as_slice(), len, 1.0, 1.0, max_points) {
+                let points = field.nx() * field.ny();
+                proptest::prop_assert!(points <= max_points);
+                proptest::prop_assert!(4 * points as u64 <= len, "{points} points in {len} bytes");
+            }
+        }
+    }
 }
