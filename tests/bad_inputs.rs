@@ -998,14 +998,14 @@ cases! {
     // contact-compare on inputs that do not belong together (#31, 8): a
     // 4 × 4 px scan of 20 µm against a 64 px camera view of 6.5 µm (416 µm)
     // gave a result; a view_maps key that is no response was ignored.
-    compare_view_larger_than_the_scan: Case::run(&format!("name: cmp\nstages:\n  surf:\n    uses: height-map\n    with: {{ path: map.npy, pixel_m: 20.0e-6 }}\n  c:\n    uses: contact-images\n    with: {{ dir: seq, clock_offset_s: 0 }}\n  cmp:\n    uses: contact-compare\n    inputs: {{ contact: c.contact, observed_maps: c.contact_maps, surface: surf }}\n    with: {{ view_maps: {{}} }}\n"), &[])
+    compare_view_larger_than_the_scan: Case::run("name: cmp\nstages:\n  surf:\n    uses: height-map\n    with: { path: map.npy, pixel_m: 20.0e-6 }\n  c:\n    uses: contact-images\n    with: { dir: seq, clock_offset_s: 0 }\n  cmp:\n    uses: contact-compare\n    inputs: { contact: c.contact, observed_maps: c.contact_maps, surface: surf }\n    with: { view_maps: {} }\n", &[])
         .file("map.npy", npy("<f8", "(4, 4)", &f64_bytes((0..16).map(|k| f64::from(k % 5) * 1e-6))))
         .file("seq/frames.csv", "frame,time_s,file\n0,0.0,a.png\n1,1.0,b.png\n")
         .file("seq/a.png", png())
         .file("seq/b.png", png())
         .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n1.0,1.0\n2.0,2.0\n")
         .mentions(&["`cmp`", "416 × 416 µm", "80 × 80 µm", "larger than the scan"]);
-    compare_view_maps_key_not_a_response: Case::run(&format!("name: cmp\nstages:\n  surf:\n    uses: height-map\n    with: {{ path: map.npy, pixel_m: 20.0e-6 }}\n  c:\n    uses: contact-images\n    with: {{ dir: seq, clock_offset_s: 0 }}\n  cmp:\n    uses: contact-compare\n    inputs: {{ contact: c.contact, observed_maps: c.contact_maps, surface: surf }}\n    with: {{ view_maps: {{ ghost: truncation }} }}\n"), &[])
+    compare_view_maps_key_not_a_response: Case::run("name: cmp\nstages:\n  surf:\n    uses: height-map\n    with: { path: map.npy, pixel_m: 20.0e-6 }\n  c:\n    uses: contact-images\n    with: { dir: seq, clock_offset_s: 0 }\n  cmp:\n    uses: contact-compare\n    inputs: { contact: c.contact, observed_maps: c.contact_maps, surface: surf }\n    with: { view_maps: { ghost: truncation } }\n", &[])
         .file("map.npy", uneven_map(128, 1e-6))
         .file("seq/frames.csv", "frame,time_s,file\n0,0.0,a.png\n1,1.0,b.png\n")
         .file("seq/a.png", png())
