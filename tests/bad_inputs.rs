@@ -512,6 +512,15 @@ fn f64_bytes(values: impl IntoIterator<Item = f64>) -> Vec<u8> {
     values.into_iter().flat_map(f64::to_le_bytes).collect()
 }
 
+/// The real Sensofar file of the reference data (its header is real).
+fn reference_plu() -> Vec<u8> {
+    std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/reference/topography/plu-1.plu"
+    ))
+    .unwrap()
+}
+
 /// An `n` × `n` map of uneven heights up to 10 `scale`.
 fn uneven_map(n: u32, scale: f64) -> Vec<u8> {
     npy(
@@ -1118,4 +1127,10 @@ cases! {
     // how to raise it (item 7).
     height_map_npy_beyond_max_points: Case::run(MAP, &[]).file("map.npy", npy("<f8", "(16384, 16384)", &f64_bytes([1e-6])))
         .mentions(&["map.npy", "(16384, 16384) = 268 435 456 points", "max_points"]);
+    // A real .plu header before 4 GiB of holes is judged by its size
+    // against the most a .plu of max_points points can be, unread (item
+    // 6; before, read whole and accepted).
+    height_map_plu_header_before_4_gib: Case::run(&MAP.replace("path: map.npy, pixel_m: 20.0e-6", "path: map.plu"), &[])
+        .file("map.plu", &reference_plu()[..65536]).sparse("map.plu", 4 << 30)
+        .mentions(&["map.plu", "is 4294967296 bytes", "max_points"]);
 }

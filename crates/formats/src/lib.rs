@@ -37,11 +37,14 @@ mod netcdf;
 mod nid;
 mod opd;
 mod plu;
+mod size_bound;
 mod sur;
 mod text;
 mod tmd;
 mod units;
 mod x3p;
+
+pub use size_bound::{HEADER_ALLOWANCE_BYTES, max_file_bytes};
 
 pub use channel::Channel;
 pub use x3p::write_x3p;

@@ -98,11 +98,56 @@ fn read_map(p: &HeightMapParams, ctx: &Context) -> Result<Field, StageError> {
         file.seek(SeekFrom::Start(0)).map_err(io_error)?;
         return read_npy(p, file, file_bytes);
     }
-    let bytes = hypercontact_core::regular_file::read_regular_file(path)?;
+    let bytes = read_bounded(p, file, file_bytes)?;
     match hypercontact_formats::detect(&bytes, Some(path)) {
         None | Some(Format::Npy) => Err(StageError::file(path, unrecognised(path, &bytes))),
         Some(_) => read_instrument_file(p, &bytes, ctx),
     }
+}
+
+/// An instrument's file, whole, once its size is judged against the largest
+/// its format (by extension; the loosest format's when unknown) could be
+/// with at most `max_points` points: a real header before gigabytes of
+/// zeros is refused unread (#31, 6), and no more than the bound is read
+/// even from a file that grows meanwhile.
+fn read_bounded(
+    p: &HeightMapParams,
+    mut file: std::fs::File,
+    file_bytes: u64,
+) -> Result<Vec<u8>, StageError> {
+    let path: &std::path::Path = &p.path;
+    let format = hypercontact_formats::format_of_extension(path);
+    let bound = hypercontact_formats::max_file_bytes(format, p.max_points);
+    if file_bytes > bound {
+        let per_point = format.map_or(128, Format::max_bytes_per_point);
+        return Err(StageError::file(
+            path,
+            format!(
+                "is {file_bytes} bytes, more than {what} of at most {} points (max_points) can \
+                 be: {bound} bytes ({per_point} bytes a point with every channel it may hold, \
+                 plus {} MiB of header); raise `max_points` if the map is real",
+                p.max_points,
+                hypercontact_formats::HEADER_ALLOWANCE_BYTES >> 20,
+                what = format.map_or_else(
+                    || "a height map of any format read".to_string(),
+                    |f| format!("a {} file", f.name())
+                ),
+            ),
+        ));
+    }
+    let io_error = |e: std::io::Error| StageError::file(path, e.to_string());
+    file.seek(SeekFrom::Start(0)).map_err(io_error)?;
+    let mut bytes = Vec::new();
+    file.take(bound.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(io_error)?;
+    if bytes.len() as u64 > bound {
+        return Err(StageError::file(
+            path,
+            format!("grew past {bound} bytes while it was read"),
+        ));
+    }
+    Ok(bytes)
 }
 
 /// Why a file no reader recognises is not read: what its bytes are, what
@@ -397,6 +442,66 @@ mod tests {
             e.contains("the header claims 4 × 3 = 12 points, above the limit of 11 (max_points)"),
             "{e}"
         );
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// A real .plu header before 4 GiB of holes (#31, 6) is refused from
+    /// its size, unread (before, the stage read all 4 GiB); the real file
+    /// beside it still reads; a file one byte past the bound is refused.
+    #[test]
+    fn a_vendor_file_beyond_its_formats_bound_is_refused_unread() {
+        let reference = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../../shared/reference/topography/plu-1.plu");
+        let real = std::fs::read(&reference).unwrap();
+        let dir = std::env::temp_dir().join(format!("hc-hm-bound-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let run = |path: &std::path::Path, max_points: usize| {
+            let params = HeightMapParams {
+                path: path.to_owned().into(),
+                pixel_m: None,
+                pixel_y_m: None,
+                scale_to_m: 1.0,
+                max_points,
+            }
+            .check()
+            .unwrap();
+            HeightMap.run(&params, &Inputs::new(), &Context::new("t"))
+        };
+        let huge = dir.join("huge.plu");
+        std::fs::write(&huge, &real[..65536]).unwrap();
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open(&huge)
+            .unwrap()
+            .set_len(4 << 30)
+            .unwrap();
+        let started = std::time::Instant::now();
+        let e = run(&huge, 1 << 26).unwrap_err().to_string();
+        assert!(
+            started.elapsed().as_secs_f64() < 1.0,
+            "{:?}",
+            started.elapsed()
+        );
+        assert!(
+            e.contains(
+                "is 4294967296 bytes, more than a Sensofar .plu file of at most 67108864 points"
+            ) && e.contains("raise `max_points`"),
+            "{e}"
+        );
+        assert!(run(&reference, 1 << 26).is_ok());
+        // At the bound (1 point: 16 bytes + the header allowance) the size
+        // passes and the points limit speaks; one byte more, the size.
+        let bound = hypercontact_formats::max_file_bytes(Some(Format::Plu), 1);
+        for (len, by_size) in [(bound, false), (bound + 1, true)] {
+            std::fs::OpenOptions::new()
+                .write(true)
+                .open(&huge)
+                .unwrap()
+                .set_len(len)
+                .unwrap();
+            let e = run(&huge, 1).unwrap_err().to_string();
+            assert_eq!(e.contains("bytes, more than"), by_size, "{len}: {e}");
+        }
         std::fs::remove_dir_all(dir).unwrap();
     }
 }
