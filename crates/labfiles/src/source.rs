@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use crate::csv_table::CsvTable;
 use hypercontact_core::regular_file::{
-    is_symlink_loop, not_regular, not_regular_kind, read_regular_file,
+    is_symlink_loop, not_regular, not_regular_kind, read_checked, read_regular_file,
 };
 use hypercontact_core::{Files, InputPath, Inputs, StageError, Table};
 
@@ -112,6 +112,34 @@ impl<'a> FileSource<'a> {
                  positions.csv) must be relative paths without `..`",
             )),
             FileSource::Dir(dir) => read_regular_file(&dir.join(name)).map(Cow::Owned),
+        }
+    }
+
+    /// [`FileSource::read`], refusing a file larger than `limit_bytes`
+    /// before it is read (a folder's file by its size on disk); `what`
+    /// names such files, plural, in the refusal ("X3P tiles of at most …").
+    pub fn read_at_most(
+        &self,
+        name: &str,
+        what: &str,
+        limit_bytes: u64,
+    ) -> Result<Cow<'a, [u8]>, StageError> {
+        match self {
+            FileSource::Dir(dir) if inside(name) => {
+                read_checked(&dir.join(name), what, limit_bytes)
+                    .map(Cow::Owned)
+                    .map_err(|e| StageError::file(&e.path, e.why))
+            }
+            _ => {
+                let bytes = self.read(name)?;
+                match bytes.len() as u64 > limit_bytes {
+                    true => Err(StageError::file(
+                        self.display(name),
+                        format!("is {} bytes; {what} are at most {limit_bytes}", bytes.len()),
+                    )),
+                    false => Ok(bytes),
+                }
+            }
         }
     }
 

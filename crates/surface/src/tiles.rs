@@ -213,6 +213,22 @@ pub struct TileSet {
     pub pixel_m: f64,
 }
 
+/// A tile's bytes, refused unread when larger than a map of its format
+/// (by extension) with the readers' default points limit can be (#31, 6).
+fn read_tile_bytes<'a>(
+    source: &FileSource<'a>,
+    name: &str,
+) -> Result<std::borrow::Cow<'a, [u8]>, SurfaceError> {
+    let format = hypercontact_formats::format_of_extension(std::path::Path::new(name));
+    let max_points = hypercontact_formats::DEFAULT_MAX_POINTS;
+    let limit_bytes = hypercontact_formats::max_file_bytes(format, max_points);
+    let what = format!(
+        "{} tiles of at most {max_points} points",
+        format.map_or("height-map", Format::name)
+    );
+    Ok(source.read_at_most(name, &what, limit_bytes)?)
+}
+
 /// Reads and checks a tile set: the positions file matches the tile files
 /// (every listed file exists, no tile file is unlisted, no duplicates),
 /// tiles share one shape and one square spacing, no tile is all NaN.
@@ -250,9 +266,13 @@ pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
             file: shown.clone(),
             message,
         };
-        let bytes = source
-            .read(&p.file)
-            .map_err(|_| mismatch(format!("{} is listed but not in the tile set", p.file)))?;
+        if !source.exists(&p.file) {
+            return Err(mismatch(format!(
+                "{} is listed but not in the tile set",
+                p.file
+            )));
+        }
+        let bytes = read_tile_bytes(source, &p.file)?;
         let tile = decode_tile(&p.file, &bytes).map_err(&tile_err)?;
         let position_m = if listed {
             (p.x_m, p.y_m)
@@ -550,5 +570,32 @@ mod tests {
         // An unknown format.
         let m = message(&format!("{head}0,a.x3p,0,0,1e-6\n"), &[]);
         assert!(m.contains("a.x3p") && m.contains(".x3p"), "{m}");
+    }
+
+    /// A 4 GiB tile (holes) in a folder is refused from its size before it
+    /// is read (#31, 6; before, read whole into memory).
+    #[test]
+    fn a_tile_beyond_its_formats_bound_is_refused_unread() {
+        let dir = std::env::temp_dir().join(format!("hc-tiles-bound-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::File::create(dir.join("tile_000.npy"))
+            .unwrap()
+            .set_len(4 << 30)
+            .unwrap();
+        let started = std::time::Instant::now();
+        let e = read_tiles(&FileSource::Dir(dir.clone()))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            started.elapsed().as_secs_f64() < 1.0,
+            "{:?}",
+            started.elapsed()
+        );
+        assert!(
+            e.contains("tile_000.npy")
+                && e.contains("NumPy .npy tiles of at most 67108864 points are at most"),
+            "{e}"
+        );
+        std::fs::remove_dir_all(dir).unwrap();
     }
 }
