@@ -44,7 +44,7 @@ mod tmd;
 mod units;
 mod x3p;
 
-pub use size_bound::{HEADER_ALLOWANCE_BYTES, max_file_bytes};
+pub use size_bound::{HEADER_ALLOWANCE_BYTES, bytes_per_point, max_file_bytes};
 
 pub use channel::Channel;
 pub use x3p::write_x3p;

@@ -40,10 +40,16 @@ impl Format {
     }
 }
 
+/// The bytes a point of `format` may take; the loosest format's budget
+/// when it is not known.
+pub fn bytes_per_point(format: Option<Format>) -> u64 {
+    format.map_or(128, Format::max_bytes_per_point)
+}
+
 /// The largest file of `format` (the loosest format's budget when it is not
 /// known) holding at most `max_points` points per channel.
 pub fn max_file_bytes(format: Option<Format>, max_points: usize) -> u64 {
-    let per_point = format.map_or(128, Format::max_bytes_per_point);
+    let per_point = bytes_per_point(format);
     (max_points as u64)
         .saturating_mul(per_point)
         .saturating_add(HEADER_ALLOWANCE_BYTES)

@@ -119,7 +119,7 @@ fn read_bounded(
     let format = hypercontact_formats::format_of_extension(path);
     let bound = hypercontact_formats::max_file_bytes(format, p.max_points);
     if file_bytes > bound {
-        let per_point = format.map_or(128, Format::max_bytes_per_point);
+        let per_point = hypercontact_formats::bytes_per_point(format);
         return Err(StageError::file(
             path,
             format!(
