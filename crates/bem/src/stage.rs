@@ -6,15 +6,17 @@
 use std::sync::Arc;
 
 use hypercontact_core::contact::{
-    Curve, ModelMapIndex, ResponseTable, area_fraction_label, check_map_fraction,
+    BandTable, Curve, ModelMapIndex, ResponseTable, area_fraction_label, check_map_fraction,
 };
 use hypercontact_core::field::SurfaceProblem;
 use hypercontact_core::{
     Arity, Checked, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs, ParamError,
     Schema, Stage, StageError, StageInfo, params,
 };
-use hypercontact_icm::tangent::integrate;
+use hypercontact_icm::bands::{BandAxes, replicate_bands, wired_replicates};
+use hypercontact_icm::tangent::{TangentError, TangentLoad, integrate};
 use hypercontact_icm::{CompositeModulus, LawParams, Scheme};
+use hypercontact_material::bootstrap::ReplicatesTable;
 use hypercontact_material::table::MaterialTable;
 
 use crate::curve::{CurveOptions, solve_curve};
@@ -92,7 +94,7 @@ pub struct Bem;
 
 static INFO: StageInfo = StageInfo {
     kind: "bem",
-    version: 2,
+    version: 3,
     summary: "Boundary elements: load against contact area of a height map on an elastic \
               half-space",
     doc: "The rough surface as a linearly elastic half-space pressed onto a rigid plane, solved \
@@ -129,6 +131,12 @@ static INFO: StageInfo = StageInfo {
           E_t*/E0* = 2 at first contact for nu = 1/2) and `scheme` (euler: the paper's explicit \
           step; heun: trapezoid); tangent_ratio = E_t*/E0*. The contact set, A and the gap are \
           the linear solution's; the pressure map is the linear one scaled to the load (F/f). \
+          BANDS: with `replicates` (material-fit's bootstrap) each replicate material's law is \
+          integrated over the same linear solve (its contact set and unit-modulus load do not \
+          depend on the modulus), so a replicate costs an integral, not a solve; `bands` gives \
+          per step the 5th, 50th and 95th percentiles of load_norm (over the main material's \
+          E0* A0) and of tangent_ratio (over the replicate's own E0*), as `icm` does; a \
+          replicate whose law gives out is left out with a note. \
           CONTACT_MAPS: for each of map_fractions, the step whose A/A0 is nearest: \
           pressure_a<fraction>.npy (Pa) and gap_a<fraction>.npy (m, NaN where not measured), \
           axis 0 = x as in the input, indexed by the table contact_maps.parquet (one row per \
@@ -144,6 +152,12 @@ static INFO: StageInfo = StageInfo {
             Arity::One,
             "the material table (a preset or a fit)",
         ),
+        InputSpec::table::<ReplicatesTable>(
+            "replicates",
+            Arity::Optional,
+            "material-fit's bootstrap replicates: each replicate's law is integrated over the \
+             same linear solve, for `bands`",
+        ),
     ],
     outputs: &[
         OutputSpec::table::<BemResponseTable>(
@@ -153,6 +167,11 @@ static INFO: StageInfo = StageInfo {
         OutputSpec::files_indexed::<BemMapIndex>(
             "contact_maps",
             "pressure and gap maps (.npy) at map_fractions, indexed",
+        ),
+        OutputSpec::table::<BandTable>(
+            "bands",
+            "5–95 % bands over the material's bootstrap replicates, one row per step (no rows \
+             without `replicates`)",
         ),
     ],
 };
@@ -222,6 +241,20 @@ impl Stage for Bem {
             ..Curve::default()
         };
         let unit_load_m2: Vec<f64> = rows.iter().map(|r| r.mean_pressure * a0_m2).collect();
+        let bands = replicate_bands(
+            wired_replicates(inputs)?,
+            &p.law,
+            BandAxes {
+                area_fraction: &curve.area_fraction,
+                e0_star_pa: modulus.e0_star_pa(),
+                nominal_area_m2: a0_m2,
+            },
+            &|m| {
+                tangent_load(&unit_load_m2, &curve.area_m2, m, p.law.scheme)
+                    .map_err(|e| e.to_string())
+            },
+            ctx,
+        );
         let response = respond(curve, &unit_load_m2, &modulus, p.law.scheme, a0_m2)?;
         let slope = hypercontact_surface::stats::rms_slope(&surface.values, grid.2, grid.3);
         let table = BemResponseTable {
@@ -233,7 +266,8 @@ impl Stage for Bem {
         let files = map_files(maps, &table.response, &unit_load_m2, grid)?;
         Ok(Outputs::new()
             .table("response", table.into_table())
-            .files("contact_maps", files))
+            .files("contact_maps", files)
+            .table("bands", bands.into_table()))
     }
 }
 
@@ -287,10 +321,8 @@ fn respond(
     scheme: Scheme,
     a0_m2: f64,
 ) -> Result<ResponseTable, StageError> {
-    let tangent = integrate(unit_load_m2, &curve.area_m2, scheme, &mut |s| {
-        modulus.at_stress_pa(s).map_err(|e| e.to_string())
-    })
-    .map_err(|e| StageError::other(BemError::Tangent(e)))?;
+    let tangent = tangent_load(unit_load_m2, &curve.area_m2, modulus, scheme)
+        .map_err(|e| StageError::other(BemError::Tangent(e)))?;
     curve.load_n = tangent.load_n;
     curve.modulus_pa = tangent.modulus_pa;
     Ok(ResponseTable::from_curve(
@@ -298,6 +330,19 @@ fn respond(
         modulus.e0_star_pa(),
         a0_m2,
     ))
+}
+
+/// The tangent-modulus load over the unit-modulus loads `unit_load_m2` on
+/// the contact areas `area_m2` under one law.
+fn tangent_load(
+    unit_load_m2: &[f64],
+    area_m2: &[f64],
+    modulus: &CompositeModulus,
+    scheme: Scheme,
+) -> Result<TangentLoad, TangentError> {
+    integrate(unit_load_m2, area_m2, scheme, &mut |s| {
+        modulus.at_stress_pa(s).map_err(|e| e.to_string())
+    })
 }
 
 /// The heights as a row-major vector (axis 0 = x), refused if they cannot be

@@ -356,3 +356,53 @@ fn tangent_model_with_a_constant_modulus_is_the_linear_model() {
         }
     }
 }
+
+/// The bands of two replicate materials, each integrated over the main
+/// material's one linear solve, equal the quantiles of two full solves on
+/// those materials (type 7 of two values: p05 = a + 0.05 (b − a)), on the
+/// main material's axes.
+#[test]
+fn replicate_bands_equal_separate_solves_on_each_material() {
+    use hypercontact_core::contact::BandTable;
+    use hypercontact_material::bootstrap::ReplicatesTable;
+    let p = params(r#"{"steps": 4, "max_area_fraction": 0.2, "map_fractions": [0.2]}"#);
+    let main = paper_epdm();
+    let (soft, stiff) = (
+        NeoHookean::new(0.8e6).unwrap(),
+        NeoHookean::new(1.1e6).unwrap(),
+    );
+    let replicates: [&dyn Hyperelastic; 2] = [&stiff, &soft];
+    let inputs = Inputs::new()
+        .with("surface", Product::Field(small_map(40, 40)))
+        .with("material", Product::Table(to_table(&main)))
+        .with(
+            "replicates",
+            Product::Table(ReplicatesTable::new((1..).zip(replicates)).into_table()),
+        );
+    let out = Bem.run(&p, &inputs, &Context::new("bem")).unwrap();
+    let bands = match out.get("bands") {
+        Some(Product::Table(t)) => BandTable::from_table(t).unwrap(),
+        _ => panic!("no bands"),
+    };
+    let main_response = response(&out).response;
+    let scale = main_response.load_n[1] / main_response.load_norm[1];
+    let alone = |m: &dyn Hyperelastic| response(&run(&p, small_map(40, 40), m)).response;
+    let (a, b) = (alone(&soft), alone(&stiff));
+    assert_eq!(bands.area_fraction, main_response.area_fraction);
+    assert_eq!(bands.replicates, vec![2; main_response.load_n.len()]);
+    for k in 1..a.load_n.len() {
+        let (lo, hi) = (a.load_n[k] / scale, b.load_n[k] / scale);
+        for (band, q) in [(&bands.load_norm_p05, 0.05), (&bands.load_norm_p95, 0.95)] {
+            let expected = lo + q * (hi - lo);
+            assert!((band[k] - expected).abs() <= 1e-12 * expected, "step {k}");
+        }
+        let expected = a.tangent_ratio[k] + 0.5 * (b.tangent_ratio[k] - a.tangent_ratio[k]);
+        assert!((bands.tangent_ratio_p50[k] - expected).abs() <= 1e-12 * expected);
+    }
+    // Without replicates the table has its columns and no rows.
+    let bare = run(&p, small_map(40, 40), &main);
+    match bare.get("bands") {
+        Some(Product::Table(t)) => assert_eq!(t.n_rows(), 0),
+        _ => panic!("no bands"),
+    }
+}

@@ -5,13 +5,15 @@
 
 use std::sync::Arc;
 
-use hypercontact_core::contact::{Curve, ResponseTable};
+use hypercontact_core::contact::{BandTable, Curve, ResponseTable};
 use hypercontact_core::{
     Arity, Checked, Choice, Context, InputSpec, Inputs, OutputSpec, Outputs, ParamError, Schema,
     Stage, StageError, StageInfo, params,
 };
+use hypercontact_icm::bands::{BandAxes, replicate_bands, wired_replicates};
 use hypercontact_icm::tangent::TangentError;
 use hypercontact_icm::{CompositeModulus, LawParams, Scheme};
+use hypercontact_material::bootstrap::ReplicatesTable;
 use hypercontact_material::table::MaterialTable;
 use hypercontact_surface::surface_stage::{PsdTable, StatsTable};
 
@@ -223,17 +225,43 @@ static INPUTS: &[InputSpec] = &[
         Arity::One,
         "the material table (a preset or a fit)",
     ),
+    InputSpec::table::<ReplicatesTable>(
+        "replicates",
+        Arity::Optional,
+        "material-fit's bootstrap replicates: each replicate's law is integrated over the same \
+         theory curve, for `bands`",
+    ),
 ];
+
+/// The `bands` output of both stages.
+const BANDS: OutputSpec = OutputSpec::table::<BandTable>(
+    "bands",
+    "5–95 % bands over the material's bootstrap replicates, one row per load (no rows without \
+     `replicates`)",
+);
+
+/// What both stages' docs say about `replicates`.
+macro_rules! bands_doc {
+    () => {
+        " BANDS: with `replicates` (material-fit's bootstrap) each replicate material's law is \
+         integrated over the same theory curve (the curve for E* = 1 does not depend on the \
+         material), a few microseconds each; `bands` gives per row the 5th, 50th and 95th \
+         percentiles of load_norm (over the main material's E0* A0) and of tangent_ratio (over \
+         the replicate's own E0*), as `icm` does; a replicate whose law gives out is left out \
+         with a note."
+    };
+}
 
 /// The `persson` stage.
 pub struct PerssonStage;
 
 static PERSSON: StageInfo = StageInfo {
     kind: "persson",
-    version: 1,
+    version: 2,
     summary: "Persson's theory (2001; Yang & Persson 2008): load against contact area and mean \
               separation from the height spectrum",
-    doc: "The rough surface as a rigid, randomly rough (Gaussian, isotropic) surface on an \
+    doc: concat!(
+        "The rough surface as a rigid, randomly rough (Gaussian, isotropic) surface on an \
           elastic half-space, described by its spectrum alone. SPECTRUM: input `psd` (stage \
           surface's radial rows, SurfaceTopography's normalisation) or `surface` (a height map; \
           its radial PSD computed as surface does: mean removed, NaN at the mean, Hann window \
@@ -264,6 +292,8 @@ static PERSSON: StageInfo = StageInfo {
           so the first row starts from the self-consistent F = f E_t*(-F/A) instead of F = 0 \
           (a material that stiffens faster than that has no such load and is refused). \
           tangent_ratio = E_t*/E0*; kappa = (A/A0)/(p/(E0* h'rms)) with the spectral h'rms.",
+        bands_doc!()
+    ),
     inputs: INPUTS,
     outputs: &[
         OutputSpec::table::<PerssonResponseTable>(
@@ -274,6 +304,7 @@ static PERSSON: StageInfo = StageInfo {
             "summary",
             "one row: variant, q range, h_rms, h'rms, small-load kappa, A0",
         ),
+        BANDS,
     ],
 };
 
@@ -304,6 +335,15 @@ impl Stage for PerssonStage {
         drop(progress);
         let area_fraction: Vec<f64> = points.iter().map(|q| q.area_fraction).collect();
         let separation: Vec<f64> = points.iter().map(|q| q.mean_separation_m).collect();
+        let law = &p.spectrum.law;
+        let bands = bands(
+            inputs,
+            law,
+            (&unit_pressure, &area_fraction),
+            &source,
+            &modulus,
+            ctx,
+        )?;
         let response = respond(
             &unit_pressure,
             (area_fraction, separation.clone()),
@@ -344,7 +384,8 @@ impl Stage for PerssonStage {
         ));
         Ok(Outputs::new()
             .table("response", response.into_table())
-            .table("summary", summary.into_table()))
+            .table("summary", summary.into_table())
+            .table("bands", bands.into_table()))
     }
 }
 
@@ -353,10 +394,11 @@ pub struct GreenwoodWilliamson;
 
 static GW: StageInfo = StageInfo {
     kind: "greenwood-williamson",
-    version: 1,
+    version: 2,
     summary: "Greenwood-Williamson asperity model with its summits from the spectral moments: \
               load against contact area",
-    doc: "Independent Hertzian summits of one radius with Gaussian heights, no elastic \
+    doc: concat!(
+        "Independent Hertzian summits of one radius with Gaussian heights, no elastic \
           interaction between them (Greenwood & Williamson, Proc. R. Soc. A 295, 300, 1966). \
           SPECTRUM: as in `persson` (input `psd` or `surface`, Persson's normalisation, q range \
           default the whole spectrum with the 20 um filter's roll-off in it). PARAMETERS from the \
@@ -376,6 +418,8 @@ static GW: StageInfo = StageInfo {
           on the theory's curve, starting from the self-consistent small load) as in `persson`. \
           GW counts each summit's Hertz area alone, so A/A0 may pass 1 at large load; the model \
           is meant for small loads.",
+        bands_doc!()
+    ),
     inputs: INPUTS,
     outputs: &[
         OutputSpec::table::<GwResponseTable>("response", "one row per load, icm's columns first"),
@@ -383,6 +427,7 @@ static GW: StageInfo = StageInfo {
             "summary",
             "one row: q range, moments, Nayak's alpha, summit density, radius and heights, A0",
         ),
+        BANDS,
     ],
 };
 
@@ -412,12 +457,19 @@ impl Stage for GreenwoodWilliamson {
                 (d, asperities.at_separation(d))
             })
             .collect();
+        let area_fraction: Vec<f64> = points.iter().map(|(_, q)| q.area_fraction).collect();
+        let law = &p.spectrum.law;
+        let bands = bands(
+            inputs,
+            law,
+            (&unit_pressure, &area_fraction),
+            &source,
+            &modulus,
+            ctx,
+        )?;
         let response = respond(
             &unit_pressure,
-            (
-                points.iter().map(|(_, q)| q.area_fraction).collect(),
-                points.iter().map(|(d, _)| *d).collect(),
-            ),
+            (area_fraction, points.iter().map(|(d, _)| *d).collect()),
             &source,
             &modulus,
             p.spectrum.law.scheme,
@@ -456,7 +508,8 @@ impl Stage for GreenwoodWilliamson {
         ));
         Ok(Outputs::new()
             .table("response", response.into_table())
-            .table("summary", summary.into_table()))
+            .table("summary", summary.into_table())
+            .table("bands", bands.into_table()))
     }
 }
 
@@ -479,6 +532,33 @@ fn setup(inputs: &Inputs, p: &SpectrumParams) -> Result<(Source, CompositeModulu
         .modulus(Arc::from(material))
         .map_err(ClassicalError::Material)?;
     Ok((source, modulus))
+}
+
+/// The bootstrap bands of a theory's rows (`unit_pressure` = p̄/E*, A/A0)
+/// when `replicates` is wired.
+fn bands(
+    inputs: &Inputs,
+    law: &LawParams,
+    (unit_pressure, area_fraction): (&[f64], &[f64]),
+    source: &Source,
+    modulus: &CompositeModulus,
+    ctx: &Context,
+) -> Result<BandTable, StageError> {
+    let a0 = source.nominal_area_m2;
+    Ok(replicate_bands(
+        wired_replicates(inputs)?,
+        law,
+        BandAxes {
+            area_fraction,
+            e0_star_pa: modulus.e0_star_pa(),
+            nominal_area_m2: a0,
+        },
+        &|m| {
+            tangent_loads(unit_pressure, area_fraction, a0, m, law.scheme)
+                .map_err(|e| e.to_string())
+        },
+        ctx,
+    ))
 }
 
 /// p̄/E* of the rows: from the load at min to the load at max A/A0.

@@ -251,3 +251,64 @@ fn misuse_is_named() {
     );
     assert!(e.contains("the map is flat"), "{e}");
 }
+
+/// Both theories' bands over two replicate materials equal the quantiles
+/// of two runs on those materials alone (two values, type 7: p05 = a +
+/// 0.05 (b − a)), on the main material's E0* A0.
+#[test]
+fn replicate_bands_equal_separate_runs_on_each_material() {
+    use hypercontact_core::Outputs;
+    use hypercontact_core::contact::BandTable;
+    use hypercontact_material::bootstrap::ReplicatesTable;
+    use hypercontact_material::{Hyperelastic, NeoHookean};
+    let (soft, stiff) = (
+        NeoHookean::new(0.8e6).unwrap(),
+        NeoHookean::new(1.1e6).unwrap(),
+    );
+    let models: [&dyn Hyperelastic; 2] = [&soft, &stiff];
+    let replicates = ReplicatesTable::new((1..).zip(models)).into_table();
+    let with = |m: &dyn Hyperelastic| from_psd().with("material", Product::Table(to_table(m)));
+    let json = r#"{"periodic": true, "steps": 12, "max_area_fraction": 0.3}"#;
+    fn table(out: &Outputs, name: &str) -> Table {
+        match out.get(name) {
+            Some(Product::Table(t)) => t.clone(),
+            _ => panic!("no {name}"),
+        }
+    }
+    let check = |outputs: &dyn Fn(&Inputs) -> Outputs| {
+        let banded = outputs(&from_psd().with("replicates", Product::Table(replicates.clone())));
+        let bands = BandTable::from_table(&table(&banded, "bands")).unwrap();
+        let main = ResponseTable::from_table(&table(&banded, "response")).unwrap();
+        let scale = main.load_n[3] / main.load_norm[3];
+        let alone = |m| ResponseTable::from_table(&table(&outputs(&with(m)), "response")).unwrap();
+        let (a, b) = (alone(&soft), alone(&stiff));
+        assert_eq!(bands.replicates, vec![2; main.load_n.len()]);
+        for k in 0..main.load_n.len() {
+            let (lo, hi) = (a.load_n[k] / scale, b.load_n[k] / scale);
+            let p05 = lo + 0.05 * (hi - lo);
+            let p95 = lo + 0.95 * (hi - lo);
+            assert!(
+                (bands.load_norm_p05[k] - p05).abs() <= 1e-12 * p05,
+                "row {k}"
+            );
+            assert!(
+                (bands.load_norm_p95[k] - p95).abs() <= 1e-12 * p95,
+                "row {k}"
+            );
+        }
+        let bare = outputs(&from_psd());
+        assert_eq!(table(&bare, "bands").n_rows(), 0);
+    };
+    check(&|inputs| {
+        let p: PerssonParams = serde_json::from_str(json).unwrap();
+        let p = p.check().unwrap();
+        PerssonStage.run(&p, inputs, &Context::new("t")).unwrap()
+    });
+    check(&|inputs| {
+        let p: GwParams = serde_json::from_str(json).unwrap();
+        let p = p.check().unwrap();
+        GreenwoodWilliamson
+            .run(&p, inputs, &Context::new("t"))
+            .unwrap()
+    });
+}

@@ -6,9 +6,12 @@
 //! - [`tangent`]: the tangent-modulus load over the steps of any linear contact
 //!   model (boundary elements, Persson, Greenwood–Williamson);
 //! - [`tangent_table`]: E_t(S) tabulated once, so each plane costs nanoseconds;
+//! - [`bands`]: bootstrap bands of any tangent-modulus model over the fit's
+//!   replicate materials;
 //! - [`law_params`]: the contact-law parameters every contact model takes;
 //! - [`stage`]: the `icm` stage.
 
+pub mod bands;
 pub mod law_params;
 pub mod modulus;
 pub mod solver;

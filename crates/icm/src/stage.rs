@@ -4,20 +4,20 @@
 
 use std::sync::Arc;
 
-use rayon::prelude::*;
-
 use hypercontact_core::contact::{BandTable, Curve, ResponseTable};
 use hypercontact_core::{
     Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, Schema, Stage, StageError,
     StageInfo, params,
 };
 use hypercontact_material::Hyperelastic;
-use hypercontact_material::bootstrap::{Replicate, ReplicatesTable, from_replicates_table};
+use hypercontact_material::bootstrap::ReplicatesTable;
 use hypercontact_material::table::MaterialTable;
 use hypercontact_truncation::stage::ProfileTable;
 
+use crate::bands::{BandAxes, replicate_bands, wired_replicates};
 use crate::modulus::CompositeModulus;
 use crate::solver::{ProfileSlices, Solution, solve};
+use crate::tangent::TangentLoad;
 use crate::{IcmError, LawParams};
 
 /// Parameters of `icm`: the contact law.
@@ -102,15 +102,18 @@ impl Stage for Icm {
         };
         let (modulus, solution) = respond(Arc::from(material), slices, p)?;
         let e0_star = modulus.e0_star_pa();
-        let bands = match inputs.get("replicates") {
-            Some(_) => {
-                let replicates = from_replicates_table(inputs.table("replicates")?)
-                    .map_err(|e| StageError::other(IcmError::Material(e)))?;
-                let axes = (e0_star, nominal_area_m2);
-                bands(replicates, slices, &profile.area_fraction, p, axes, ctx)
-            }
-            None => BandTable::from_replicates(&[], &[], &[]),
+        let axes = BandAxes {
+            area_fraction: &profile.area_fraction,
+            e0_star_pa: e0_star,
+            nominal_area_m2,
         };
+        let bands = replicate_bands(
+            wired_replicates(inputs)?,
+            &p.law,
+            axes,
+            &|modulus| solved_load(slices, p, modulus),
+            ctx,
+        );
         let curve = Curve {
             z_m: profile.z_m,
             area_fraction: profile.area_fraction,
@@ -141,53 +144,21 @@ fn respond(material: Arc<dyn Hyperelastic>, slices: ProfileSlices<'_>, p: &IcmPa
     Ok((modulus, solution))
 }
 
-/// Every replicate solved over the same planes (in parallel, collected in
-/// replicate order), as bands: loads over the main fit's E0* A0, tangent
-/// moduli over each replicate's own E0*. A replicate whose law gives out
-/// is left out, with a note.
-fn bands(
-    replicates: Vec<Replicate>,
+/// The ICM's loads and moduli over the profile under one law, for a
+/// replicate's band.
+fn solved_load(
     slices: ProfileSlices<'_>,
-    area_fraction: &[f64],
     p: &IcmParams,
-    (e0_star_pa, nominal_area_m2): (f64, f64),
-    ctx: &Context,
-) -> BandTable {
-    let bar = ctx.progress(replicates.len() as u64, "bootstrap replicates");
-    let solved: Vec<(i64, Solved)> = replicates
-        .into_par_iter()
-        .map(|(r, m)| {
-            let out = respond(Arc::from(m), slices, p);
-            bar.inc(1);
-            (r, out)
-        })
-        .collect();
-    let (mut loads, mut tangents, mut failed) = (Vec::new(), Vec::new(), Vec::new());
-    for (r, out) in solved {
-        match out {
-            Ok((modulus, solution)) => {
-                let own = modulus.e0_star_pa();
-                loads.push(
-                    solution
-                        .load_n
-                        .iter()
-                        .map(|f| f / (e0_star_pa * nominal_area_m2))
-                        .collect(),
-                );
-                tangents.push(solution.modulus_pa.iter().map(|e| e / own).collect());
-            }
-            Err(e) => failed.push(format!("{r}: {e}")),
-        }
-    }
-    if !failed.is_empty() {
-        ctx.note(&format!(
-            "bands: {} of {} replicates left out, e.g. replicate {}",
-            failed.len(),
-            failed.len() + loads.len(),
-            failed[0]
-        ));
-    }
-    BandTable::from_replicates(area_fraction, &loads, &tangents)
+    modulus: &CompositeModulus,
+) -> Result<TangentLoad, String> {
+    let solution = solve(slices, p.law.scheme, &mut |s| {
+        modulus.at_stress_pa(s).map_err(|e| e.to_string())
+    })
+    .map_err(|e| e.to_string())?;
+    Ok(TangentLoad {
+        load_n: solution.load_n,
+        modulus_pa: solution.modulus_pa,
+    })
 }
 
 /// A0 = A / (A/A0) from the row of largest area fraction, checked against

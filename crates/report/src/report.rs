@@ -136,7 +136,7 @@ enum Plot {
     LoadArea,
     /// Fig. 8: every model whose tangent ratio is not 1 throughout.
     Tangent,
-    /// Fig. 9: the chosen models and the experiment, without bands.
+    /// Fig. 9: the chosen models with their bands, and the experiment.
     Comparison,
 }
 
@@ -160,7 +160,6 @@ fn responses<'a>(
                 .collect();
             let bands = models
                 .iter()
-                .filter(|_| plot != Plot::Comparison)
                 .filter_map(|&key| Some((key, s.bands.get(&key.label)?)))
                 .filter(|(key, _)| plot != Plot::Tangent || curves.iter().any(|d| d.key == *key))
                 .collect();
@@ -398,7 +397,7 @@ const CAPTIONS: [(&str, &str, &str); 5] = [
     ),
 ];
 
-/// What Figs. 7 and 8's captions add when a band is drawn.
+/// What Figs. 7, 8 and 9's captions add when a band is drawn.
 const BAND_CAPTION: &str = " Shaded: the 5–95 % band of a model over bootstrap refits of the \
      material (the tensile tests resampled within each mode and refitted, each refit carried \
      through the model): how far the tensile scatter and the fit's freedom move the curve.";
@@ -688,7 +687,7 @@ fn contact_sections(
     }
     if let Some(o) = by_name("fig9").filter(|o| o.status.rendered) {
         body.push_str("<h2>Contact models compared</h2>\n");
-        body.push_str(&figure_html(o, ""));
+        body.push_str(&figure_html(o, band_caption));
         let kappas: Vec<(&str, Vec<crate::models::KappaAt>)> = summary
             .samples
             .iter()

@@ -50,7 +50,7 @@ fn polygons(svg: &str) -> Vec<(String, String)> {
 }
 
 #[test]
-fn bands_are_shaded_under_the_curves_of_figs_7_and_8() {
+fn bands_are_shaded_under_the_curves_of_figs_7_8_and_9() {
     let (files, plain) = (run(&banded()), run(&plain()));
     for fig in ["fig7", "fig8"] {
         let svg = text(&files, &format!("{fig}.svg"));
@@ -84,10 +84,11 @@ fn bands_are_shaded_under_the_curves_of_figs_7_and_8() {
     let tick = ">\n3.5\n</text>";
     assert!(text(&files, "fig8.svg").contains(tick));
     assert!(!text(&plain, "fig8.svg").contains(tick));
-    // The model comparison carries no band.
-    assert!(polygons(&text(&files, "fig9.svg")).is_empty());
+    // The model comparison shades the bands of its models too (#32, 6).
+    assert!(!polygons(&text(&files, "fig9.svg")).is_empty());
+    assert!(polygons(&text(&plain, "fig9.svg")).is_empty());
     let html = text(&files, "index.html");
-    assert_eq!(html.matches("Shaded: the 5–95 % band").count(), 2);
+    assert_eq!(html.matches("Shaded: the 5–95 % band").count(), 3);
     assert!(!text(&plain, "index.html").contains("Shaded:"));
 }
 

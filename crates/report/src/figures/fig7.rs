@@ -19,7 +19,7 @@
 //!
 //! Fig. 9 (`comparison`) is the same plot for the models chosen to be
 //! compared side by side (`fig9_models`), one panel per sample, with the
-//! experiment where wired and without bands.
+//! experiment and the models' bands where wired.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
