@@ -6,12 +6,17 @@
 //! bootstrap interval (`params`) and the objective with and without the
 //! stability constraint (`comparison`).
 
+use hypercontact_core::Mode;
 use hypercontact_core::Table;
 use hypercontact_material::fit_stage::{ComparisonTable, ParamsTable};
-use hypercontact_material::{Family, Parameter, composite_modulus_pa, youngs_modulus_pa};
+use hypercontact_material::quality::quality;
+use hypercontact_material::tensile::{TensileCurve, TensileData};
+use hypercontact_material::{
+    Family, Hyperelastic, Parameter, composite_modulus_pa, youngs_modulus_pa,
+};
 
 use crate::ReportError;
-use crate::gather::Response;
+use crate::gather::{ModeCurve, Response};
 
 /// Relative difference above which two E0* (or two parameter values) are
 /// different numbers: far above rounding (icm's A0 agrees across rows to
@@ -127,27 +132,71 @@ impl MaterialSummary {
 }
 
 /// One row of the `comparison` table: a family under one setting of the
-/// constraint.
+/// constraint (or a published material evaluated on the same data).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitSetting {
-    /// `stable` or `none`, as material-fit's `constraint` names them.
+    /// `none`, `stable` or `in-range`, as material-fit's `constraint` names
+    /// them.
     pub constraint: String,
     /// RMS relative error over all points (NaN when the fit failed).
     pub rms_rel_err: f64,
+    /// RMS relative error over each mode's points: UT, PT, BT (NaN where
+    /// the mode has no data).
+    pub mode_rms_rel_err: [f64; 3],
+    pub max_rel_err: f64,
+    pub mu0_pa: f64,
     pub condition_number: f64,
     /// `ok`, or why the family could not be fitted.
     pub status: String,
 }
 
+impl FitSetting {
+    /// `model` as it meets the measured points of `curves` (the fit's
+    /// `curves` table), labelled `constraint`: what a published material,
+    /// not refitted, gives on these data.
+    pub fn of_model(constraint: &str, model: &dyn Hyperelastic, curves: &[ModeCurve]) -> Self {
+        let data = TensileData {
+            curves: curves
+                .iter()
+                .filter_map(|c| {
+                    Some(TensileCurve {
+                        mode: Mode::from_label(&c.mode)?,
+                        stretch: c.stretch.clone(),
+                        stress_pa: c.measured_pa.clone(),
+                    })
+                })
+                .collect(),
+        };
+        let mut qualities = quality(model, &data);
+        let all = qualities.pop();
+        let mut mode_rms_rel_err = [f64::NAN; 3];
+        for q in &qualities {
+            if let Some(mode) = q.mode {
+                mode_rms_rel_err[mode as usize] = q.rms_rel_err;
+            }
+        }
+        FitSetting {
+            constraint: constraint.to_owned(),
+            rms_rel_err: all.as_ref().map_or(f64::NAN, |q| q.rms_rel_err),
+            mode_rms_rel_err,
+            max_rel_err: all.as_ref().map_or(f64::NAN, |q| q.max_rel_err),
+            mu0_pa: model.shear_modulus_pa(),
+            condition_number: f64::NAN,
+            status: "ok".into(),
+        }
+    }
+}
+
 /// The fit Table 1 shows (the `selected` row of `comparison`) and the same
-/// family under the other setting of the constraint, so the page states
-/// the objective both ways.
+/// family under the other settings of the constraint, so the page states
+/// what each choice costs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FitChoice {
     /// The family as `comparison` names it (`ogden-6`).
     pub model: String,
     pub chosen: FitSetting,
-    pub other: Option<FitSetting>,
+    /// The same family under every other setting, in the table's order.
+    pub others: Vec<FitSetting>,
 }
 
 impl FitChoice {
@@ -156,18 +205,26 @@ impl FitChoice {
         let setting = |i: usize| FitSetting {
             constraint: c.constraint[i].clone(),
             rms_rel_err: c.rms_rel_err[i],
+            mode_rms_rel_err: [
+                c.ut_rms_rel_err[i],
+                c.pt_rms_rel_err[i],
+                c.bt_rms_rel_err[i],
+            ],
+            max_rel_err: c.max_rel_err[i],
+            mu0_pa: c.mu0_pa[i],
             condition_number: c.condition_number[i],
             status: c.status[i].clone(),
         };
         let chosen = c.selected.iter().position(|&s| s == 1)?;
         let model = c.model[chosen].clone();
-        let other = (0..c.model.len())
-            .find(|&i| c.model[i] == model && c.constraint[i] != c.constraint[chosen])
-            .map(setting);
+        let others = (0..c.model.len())
+            .filter(|&i| c.model[i] == model && c.constraint[i] != c.constraint[chosen])
+            .map(setting)
+            .collect();
         Some(FitChoice {
             model,
             chosen: setting(chosen),
-            other,
+            others,
         })
     }
 }
@@ -283,7 +340,7 @@ mod tests {
     }
 
     #[test]
-    fn the_fit_choice_is_the_selected_row_and_its_family_under_the_other_setting() {
+    fn the_fit_choice_is_the_selected_row_and_its_family_under_the_other_settings() {
         let rows = [
             ("yeoh", "none", 0.010, 0),
             ("ogden-3", "none", 0.005, 0),
@@ -300,6 +357,10 @@ mod tests {
             condition_number: vec![2.0, 7e6, 3.0, 4.0],
             rms_rel_err: rows.iter().map(|r| r.2).collect(),
             max_rel_err: nan.clone(),
+            ut_rms_rel_err: nan.clone(),
+            pt_rms_rel_err: nan.clone(),
+            bt_rms_rel_err: nan.clone(),
+            mu0_pa: vec![1.0e6, 1.1e6, 1.2e6, 1.3e6],
             ut_lambda_min: nan.clone(),
             ut_lambda_max: nan.clone(),
             pt_lambda_min: nan.clone(),
@@ -314,12 +375,15 @@ mod tests {
         assert_eq!(choice.chosen.constraint, "stable");
         assert_eq!(choice.chosen.rms_rel_err, 0.020);
         assert_eq!(choice.chosen.condition_number, 3.0);
-        let other = choice.other.unwrap();
+        assert_eq!(choice.chosen.mu0_pa, 1.2e6);
+        let [other] = &choice.others[..] else {
+            panic!("{:?}", choice.others)
+        };
         assert_eq!(
             (other.constraint.as_str(), other.rms_rel_err),
             ("none", 0.005)
         );
-        assert_eq!(other.condition_number, 7e6);
+        assert_eq!((other.condition_number, other.mu0_pa), (7e6, 1.1e6));
         let none_selected = ComparisonTable {
             selected: vec![0; 4],
             ..c

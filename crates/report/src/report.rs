@@ -2,7 +2,10 @@
 //! figures can be drawn (and notes why the others cannot), renders them,
 //! and writes `index.html`, `figN.png`, `figN.svg` and `summary.json`.
 
+use hypercontact_core::param::Choice;
 use hypercontact_core::{Files, Inputs};
+use hypercontact_material::presets::Preset;
+use hypercontact_material::table::to_table;
 use serde_json::Value;
 
 use crate::ReportError;
@@ -13,6 +16,7 @@ use crate::figures::fig8::Fig8;
 use crate::figures::{Rendered, render};
 use crate::gather::{ReportData, Response, Sample};
 use crate::html::{escape, fmt_sig, generic_table, page, provenance_section, simple_table};
+use crate::material::{FitSetting, MaterialSummary};
 use crate::roster::{ModelKey, is_linear};
 use crate::summary::{FigureStatus, Summary};
 
@@ -27,6 +31,9 @@ pub struct ReportOptions {
     pub poisson: f64,
     /// Which contact models go where, by their labels in `responses`.
     pub models: ModelChoice,
+    /// A published material set beside the fit in Table 1, with its error
+    /// on the same tensile data.
+    pub published_material: Option<Preset>,
 }
 
 /// The contact models' order and which of them each figure and table
@@ -85,6 +92,7 @@ impl Default for ReportOptions {
             // Incompressible rubber, as the paper takes it.
             poisson: hypercontact_material::Poisson::INCOMPRESSIBLE.0,
             models: ModelChoice::default(),
+            published_material: None,
         }
     }
 }
@@ -355,9 +363,11 @@ const CAPTIONS: [(&str, &str, &str); 5] = [
         "fig2",
         "Fig. 2",
         "Nominal stress against stretch in uniaxial (UT), planar (PT) and equibiaxial (BT) \
-         tension: measured (symbols) and fitted model (lines), with the fit's R² per mode. \
-         Dashed vertical lines (listed in the legend) mark where the fitted model stops \
-         being Drucker stable.",
+         tension as the paper draws it: measured data as lines, the fitted model at the \
+         measured stretches as symbols, with the fit's R² per mode. Dashed vertical lines \
+         (listed in the legend) mark where the fitted model stops being Drucker stable, \
+         where that falls inside the plotted stretches; the stability table gives every \
+         limit, and the windows the fit was held stable on.",
     ),
     (
         "fig4",
@@ -433,16 +443,35 @@ fn figure_html(outcome: &Outcome, extra: &str) -> String {
     }
 }
 
-fn material_tables(data: &ReportData<'_>) -> String {
+/// Table 1 with what each constraint costs, and the published material
+/// beside it when the options name one.
+fn table1_html(data: &ReportData<'_>, m: &MaterialSummary, published: Option<Preset>) -> String {
+    let mut html = crate::table1::parameter_table(m, "Table 1. Fitted");
+    html.push_str(&crate::table1::moduli_table(m));
+    let published = published.and_then(|preset| {
+        let model = preset.model();
+        let name = format!("<code>{}</code> (the paper's Table 1)", preset.name());
+        let setting = FitSetting::of_model("published", model.as_ref(), data.curves.as_ref()?);
+        let summary = MaterialSummary::read(&to_table(model.as_ref()), m.poisson, None).ok()?;
+        Some((name, setting, summary))
+    });
+    if let Some(choice) = &data.fit_choice {
+        let row = published.as_ref().map(|(name, s, _)| (name.as_str(), s));
+        html.push_str(&crate::table1::constraint_table(choice, row));
+    }
+    if let Some((_, _, summary)) = &published {
+        html.push_str(&crate::table1::parameter_table(
+            summary,
+            "The paper's Table 1 as published (preset paper-epdm):",
+        ));
+    }
+    html
+}
+
+fn material_tables(data: &ReportData<'_>, published: Option<Preset>) -> String {
     let mut html = String::new();
     match &data.material {
-        Some(m) => {
-            html.push_str(&crate::table1::parameter_table(m));
-            if let Some(choice) = &data.fit_choice {
-                html.push_str(&crate::table1::constraint_line(choice));
-            }
-            html.push_str(&crate::table1::moduli_table(m));
-        }
+        Some(m) => html.push_str(&table1_html(data, m, published)),
         None => html.push_str(
             "<p class=\"skipped\"><b>Table 1</b> skipped: input `material` is not wired.</p>\n",
         ),
@@ -730,7 +759,7 @@ pub fn build_report(
     if let Some(o) = by_name("fig2") {
         body.push_str(&figure_html(o, ""));
     }
-    body.push_str(&material_tables(data));
+    body.push_str(&material_tables(data, options.published_material));
     body.push_str("<h2>Rough surfaces</h2>\n");
     if let Some(o) = by_name("fig4") {
         body.push_str(&figure_html(o, ""));

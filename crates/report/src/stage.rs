@@ -17,6 +17,7 @@ use hypercontact_surface::surface_stage::{PsdTable, StatsTable};
 use hypercontact_truncation::stage::ProfileTable;
 
 use hypercontact_material::Poisson;
+use hypercontact_material::presets::Preset;
 
 use crate::report::{ModelChoice, ReportOptions, render_report};
 
@@ -47,6 +48,8 @@ pub struct ReportParams {
     pub summary_models: Vec<String>,
     /// the model every other model's load is divided by at equal A/A0 in the load-ratio table (unset: no table)
     pub reference_model: Option<String>,
+    /// a published material set beside the fit in Table 1 with its error on the same tensile data, not refitted (`paper-epdm`: the paper's Table 1; unset: none)
+    pub published_material: Option<Preset>,
 }
 
 fn not_blank(title: &str) -> Result<(), String> {
@@ -100,14 +103,19 @@ static INFO: StageInfo = StageInfo {
           (one row: what it was given) as it is. A label in a model parameter that no \
           response is wired under stops the stage, naming the parameter, the label and the \
           wired ones. `bands` (a model's bootstrap bands; a table without rows is no band) \
-          shades the 5–95 % band of F/(E0* A0) under Fig. 7's curves and of E_t*/E0* under \
-          Fig. 8's (opacity 0.2; sample colour in single panels, the model's in per-sample \
+          shades the 5–95 % band of F/(E0* A0) under the curves of Figs. 7 and 9 and of \
+          E_t*/E0* under Fig. 8's (opacity 0.2; sample colour in single panels, the model's in per-sample \
           panels; points at or below zero left off the log axis), with a legend entry. \
           Table 1 decodes `material` and gives its initial moduli μ0, E0 and E0* at \
           Poisson's ratio `poisson`; with `params` wired, each parameter and modulus with its \
-          5–95 % bootstrap interval where finite; with `comparison` wired, a line under it \
-          states the fit's constraint and RMS relative error (and condition number) beside \
-          the same family's under the other setting. One E0* on the page: each wired \
+          5–95 % bootstrap interval where finite (none for an Ogden term held at μ_i = 0, \
+          which moves nothing); with `comparison` wired, a table of what each constraint \
+          costs: the same family under every setting of material-fit's `constraint` (the \
+          adopted one first) with its RMS relative error over all points and per mode, the \
+          largest, μ0 and the condition number; with `published_material`, that material \
+          (not refitted) on the same measured curves as a last row, and its parameters as a \
+          table of their own. Fig. 2 draws the measured curves as lines and the fitted model \
+          as symbols, as the paper's caption says. One E0* on the page: each wired \
           response must have been normalised by Table 1's (its E0* is mean_stress_pa · \
           area_fraction / load_norm, from the response alone), and a wired `params` must be \
           the fit of `material` at the same ν; otherwise the stage stops and names the \
@@ -224,6 +232,7 @@ impl Stage for Report {
                 summary: p.summary_models.clone(),
                 reference: p.reference_model.clone(),
             },
+            published_material: p.published_material,
         };
         let progress = ctx.progress(1, "figures and page");
         let files = render_report(inputs, &options, ctx.upstream())?;

@@ -24,10 +24,13 @@ fn interval_cell(interval: Option<(f64, f64)>, unit: ParamUnit) -> String {
     })
 }
 
-/// The fitted parameters, one row per Ogden term when every parameter
-/// belongs to a term, otherwise one row per parameter (SI). An interval
-/// column follows each value column when any parameter has an interval.
-pub fn parameter_table(m: &MaterialSummary) -> String {
+/// The parameters, one row per Ogden term when every parameter belongs to
+/// a term, otherwise one row per parameter (SI), under the caption
+/// `{title} {model} parameters (...)`. An interval column follows each
+/// value column when any parameter has an interval; a term whose modulus
+/// is zero (held there by a constraint) moves nothing, so its parameters
+/// get no interval.
+pub fn parameter_table(m: &MaterialSummary, title: &str) -> String {
     let with_intervals = m.parameters.iter().any(|p| m.interval(&p.name()).is_some());
     let by_term = !m.parameters.is_empty() && m.parameters.iter().all(|p| p.term.is_some());
     if !by_term {
@@ -48,7 +51,7 @@ pub fn parameter_table(m: &MaterialSummary) -> String {
             header.push(INTERVAL.into());
         }
         return simple_table(
-            &format!("Table 1. Fitted {} parameters (SI units)", m.model),
+            &format!("{title} {} parameters (SI units)", m.model),
             &header,
             &rows,
         );
@@ -76,6 +79,10 @@ pub fn parameter_table(m: &MaterialSummary) -> String {
     let rows: Vec<Vec<String>> = terms
         .iter()
         .map(|&i| {
+            let unused = m
+                .parameters
+                .iter()
+                .any(|p| p.term == Some(i) && p.unit == ParamUnit::Pa && p.value == 0.0);
             let mut row = vec![i.to_string()];
             for &(symbol, unit) in &columns {
                 let parameter = m
@@ -87,7 +94,9 @@ pub fn parameter_table(m: &MaterialSummary) -> String {
                     (Some(v), ParamUnit::Pa) => fmt_sig(v / 1e6, 6),
                     (Some(v), ParamUnit::One) => fmt_sig(v, 4),
                 });
-                if with_intervals {
+                if with_intervals && unused {
+                    row.push("— (term unused)".into());
+                } else if with_intervals {
                     let interval = parameter.and_then(|p| m.interval(&p.name()));
                     row.push(interval_cell(interval, unit));
                 }
@@ -96,7 +105,7 @@ pub fn parameter_table(m: &MaterialSummary) -> String {
         })
         .collect();
     simple_table(
-        &format!("Table 1. Fitted {} parameters (Abaqus convention)", m.model),
+        &format!("{title} {} parameters (Abaqus convention)", m.model),
         &header,
         &rows,
     )
@@ -146,61 +155,100 @@ pub fn moduli_table(m: &MaterialSummary) -> String {
 }
 
 /// How a setting of material-fit's `constraint` was fitted, in words
-/// (lower case; the sentence capitalises it where it starts one).
+/// (lower case, to follow the setting's name).
 fn setting_words(constraint: &str, model: &str) -> String {
     match constraint {
-        "stable" if model.starts_with("ogden") => "with the stable constraint (every \
-             μ<sub>i</sub> ≥ 0 in the Abaqus convention: Drucker-stable at every stretch)"
+        "stable" if model.starts_with("ogden") => {
+            "every μ<sub>i</sub> ≥ 0 (Abaqus convention): Drucker-stable at every stretch".into()
+        }
+        "stable" => "every modulus ≥ 0: Drucker-stable at every stretch".into(),
+        "none" => "plain least squares, as the paper's Abaqus fit".into(),
+        "in-range" => "Drucker-stable inside the stretch windows of the stability table, \
+             imposed in the fit"
             .into(),
-        "stable" => {
-            "with the stable constraint (every modulus ≥ 0: Drucker-stable at every stretch)".into()
-        }
-        "none" => "without the constraint (plain least squares, the paper's Abaqus fit)".into(),
-        other => format!("with constraint “{}”", escape(other)),
+        _ => String::new(),
     }
 }
 
-/// "RMS relative error 9.16 %, condition number 1.5", or why there is none.
-fn objective_words(s: &FitSetting) -> String {
-    if !s.rms_rel_err.is_finite() {
-        return format!("not fitted ({})", escape(&s.status));
+/// A relative error as a percentage cell.
+fn percent(value: f64) -> String {
+    if value.is_finite() {
+        fmt_sig(100.0 * value, 3)
+    } else {
+        "n/a".into()
     }
-    let mut words = format!("RMS relative error {} %", fmt_sig(100.0 * s.rms_rel_err, 3));
-    let condition = s.condition_number;
-    if condition.is_finite() {
-        // Powers of ten are what matters: 4.5e5, not 450000.
-        let shown = if condition.abs() >= 1e4 {
-            format!("{condition:.1e}")
-        } else {
-            fmt_sig(condition, 2)
-        };
-        words.push_str(&format!(", condition number {shown}"));
-    }
-    words
 }
 
-/// The line under Table 1: the fit's constraint and objective, then the
-/// same family's under the other setting.
-pub fn constraint_line(choice: &FitChoice) -> String {
+/// A condition number: powers of ten are what matters (4.5e5, not 450000).
+fn condition_cell(condition: f64) -> String {
+    match condition {
+        c if !c.is_finite() => "n/a".into(),
+        c if c.abs() >= 1e4 => format!("{c:.1e}"),
+        c => fmt_sig(c, 2),
+    }
+}
+
+/// What each setting of the constraint costs on the same data, the adopted
+/// one first, then (when given) a published material (its name as HTML)
+/// evaluated on these data without refitting: RMS relative error over all points and per
+/// mode, the largest, μ0 and the fit's condition number.
+pub fn constraint_table(choice: &FitChoice, published: Option<(&str, &FitSetting)>) -> String {
     let model = escape(&choice.model);
-    let mut line = format!(
-        "{model} fitted {}: {}.",
-        setting_words(&choice.chosen.constraint, &choice.model),
-        objective_words(&choice.chosen)
-    );
-    match &choice.other {
-        Some(other) => {
-            let words = setting_words(&other.constraint, &choice.model);
-            let mut chars = words.chars();
-            let capitalised: String = chars
-                .next()
-                .map(|c| c.to_uppercase().chain(chars).collect())
-                .unwrap_or_default();
-            line.push_str(&format!(" {capitalised}: {}.", objective_words(other)));
+    let row = |label: String, s: &FitSetting| -> Vec<String> {
+        if !s.rms_rel_err.is_finite() {
+            let mut row = vec![label, format!("not fitted ({})", escape(&s.status))];
+            row.extend(std::iter::repeat_n(String::new(), 6));
+            return row;
         }
-        None => line.push_str(" The model comparison holds no fit of it under the other setting."),
+        let mut row = vec![label, percent(s.rms_rel_err)];
+        row.extend(s.mode_rms_rel_err.iter().map(|&e| percent(e)));
+        row.push(percent(s.max_rel_err));
+        row.push(fmt_sig(s.mu0_pa / 1e6, 4));
+        row.push(condition_cell(s.condition_number));
+        row
+    };
+    let setting_label = |s: &FitSetting, adopted: bool| {
+        let words = setting_words(&s.constraint, &choice.model);
+        format!(
+            "{model}, <code>{}</code>{}{}",
+            escape(&s.constraint),
+            if adopted { " (adopted)" } else { "" },
+            if words.is_empty() {
+                String::new()
+            } else {
+                format!(": {words}")
+            }
+        )
+    };
+    let mut rows = vec![row(setting_label(&choice.chosen, true), &choice.chosen)];
+    rows.extend(
+        choice
+            .others
+            .iter()
+            .map(|s| row(setting_label(s, false), s)),
+    );
+    if let Some((name, s)) = published {
+        rows.push(row(format!("{name}, as published (not refitted)"), s));
     }
-    format!("<p class=\"note\" id=\"fit-constraint\">{line}</p>\n")
+    let header: Vec<String> = [
+        "fit",
+        "RMS (%)",
+        "UT RMS (%)",
+        "PT RMS (%)",
+        "BT RMS (%)",
+        "max (%)",
+        "μ<sub>0</sub> (MPa)",
+        "condition number",
+    ]
+    .iter()
+    .map(|h| (*h).to_owned())
+    .collect();
+    simple_table(
+        "What each constraint costs: the same family fitted to the same data under each \
+         setting of material-fit's constraint (relative errors)",
+        &header,
+        &rows,
+    )
 }
 
 #[cfg(test)]
@@ -213,7 +261,7 @@ mod tests {
     fn table_1_has_a_row_per_ogden_term_and_a_row_per_other_parameter() {
         let ogden = Ogden::new(vec![0.55e6, 0.02e6], vec![1.8, -2.5]).unwrap();
         let m = MaterialSummary::read(&to_table(&ogden), 0.5, None).unwrap();
-        let html = parameter_table(&m);
+        let html = parameter_table(&m, "Table 1. Fitted");
         assert!(
             html.contains(
                 "<th>i</th><th>μ<sub>i</sub> (MPa)</th><th>α<sub>i</sub></th></tr></thead>"
@@ -225,7 +273,7 @@ mod tests {
         assert!(!html.contains("bootstrap"));
         let yeoh = Yeoh::new(0.2e6, -0.01e6, 0.001e6).unwrap();
         let m = MaterialSummary::read(&to_table(&yeoh), 0.5, None).unwrap();
-        let html = parameter_table(&m);
+        let html = parameter_table(&m, "Table 1. Fitted");
         assert!(
             html.contains("(SI units)") && html.contains("<tr><td>c20</td><td>-10000</td></tr>")
         );
@@ -240,7 +288,7 @@ mod tests {
             ("alpha_1".into(), 1.7, 1.95),
             ("e0_star".into(), 2.2e6, 2.4e6),
         ];
-        let html = parameter_table(&m);
+        let html = parameter_table(&m, "Table 1. Fitted");
         assert!(
             html.contains(
                 "<th>i</th><th>μ<sub>i</sub> (MPa)</th><th>5–95 % (bootstrap)</th>\
@@ -271,46 +319,111 @@ mod tests {
         FitSetting {
             constraint: constraint.into(),
             rms_rel_err: rms,
+            mode_rms_rel_err: [rms / 2.0, rms, 2.0 * rms],
+            max_rel_err: 3.0 * rms,
+            mu0_pa: 1.5e6,
             condition_number: condition,
             status: "ok".into(),
         }
     }
 
     #[test]
-    fn the_constraint_line_gives_both_objectives() {
+    fn the_constraint_table_gives_every_setting_and_the_published_material() {
         let choice = FitChoice {
             model: "ogden-6".into(),
-            chosen: setting("stable", 0.0916, 1.5),
-            other: Some(setting("none", 0.005, 6.1e7)),
+            chosen: setting("in-range", 0.0013, 6.1e7),
+            others: vec![
+                setting("none", 0.0012, 8.0e7),
+                FitSetting {
+                    status: "no start converged".into(),
+                    ..setting("stable", f64::NAN, f64::NAN)
+                },
+            ],
         };
-        let line = constraint_line(&choice);
+        let published = FitSetting {
+            mu0_pa: 1.79e6,
+            ..setting("published", 0.004, f64::NAN)
+        };
+        let html = constraint_table(&choice, Some(("<code>paper-epdm</code>", &published)));
         assert!(
-            line.contains(
-                "ogden-6 fitted with the stable constraint (every μ<sub>i</sub> ≥ 0 in the Abaqus \
-                 convention: Drucker-stable at every stretch): RMS relative error 9.16 %, \
-                 condition number 1.5. Without the constraint (plain least squares, the paper's \
-                 Abaqus fit): RMS relative error 0.5 %, condition number 6.1e7."
+            html.contains(
+                "<tr><td>ogden-6, <code>in-range</code> (adopted): Drucker-stable inside the \
+                 stretch windows of the stability table, imposed in the fit</td><td>0.13</td>\
+                 <td>0.065</td><td>0.13</td><td>0.26</td><td>0.39</td><td>1.5</td>\
+                 <td>6.1e7</td></tr>"
             ),
-            "{line}"
+            "{html}"
         );
-        let failed = FitChoice {
-            model: "yeoh".into(),
-            chosen: setting("none", 0.02, f64::NAN),
-            other: Some(FitSetting {
-                status: "no start converged".into(),
-                ..setting("stable", f64::NAN, f64::NAN)
-            }),
-        };
-        let line = constraint_line(&failed);
+        assert!(html.contains(
+            "<td>ogden-6, <code>none</code>: plain least squares, as the paper's Abaqus \
+             fit</td><td>0.12</td>"
+        ));
         assert!(
-            line.contains("yeoh fitted without the constraint"),
-            "{line}"
+            html.contains("<td>not fitted (no start converged)</td>"),
+            "{html}"
         );
-        assert!(line.contains("RMS relative error 2 %."), "{line}");
         assert!(
-            line.contains("With the stable constraint (every modulus ≥ 0"),
-            "{line}"
+            html.contains(
+                "<tr><td><code>paper-epdm</code>, as published (not refitted)</td><td>0.4</td><td>0.2</td>\
+                 <td>0.4</td><td>0.8</td><td>1.2</td><td>1.79</td><td>n/a</td></tr>"
+            ),
+            "{html}"
         );
-        assert!(line.contains("not fitted (no start converged)"), "{line}");
+        // The adopted row leads.
+        assert!(html.find("(adopted)").unwrap() < html.find("<code>none</code>").unwrap());
+    }
+
+    #[test]
+    fn a_term_held_at_zero_gets_no_interval() {
+        let ogden = Ogden::new(vec![0.55e6, 0.0], vec![1.8, 9.0]).unwrap();
+        let mut m = MaterialSummary::read(&to_table(&ogden), 0.5, None).unwrap();
+        m.intervals = vec![
+            ("mu_1".into(), 0.5e6, 0.61e6),
+            ("alpha_2".into(), 3.7, 11.6),
+        ];
+        let html = parameter_table(&m, "Table 1. Fitted");
+        assert!(
+            html.contains(
+                "<tr><td>2</td><td>0</td><td>— (term unused)</td><td>9</td>\
+                 <td>— (term unused)</td></tr>"
+            ),
+            "{html}"
+        );
+        assert!(html.contains("<td>[0.5, 0.61]</td>"), "{html}");
+    }
+
+    /// A published material's errors come from the same relative residuals
+    /// as the fit's quality table: Table 1's own parameters on data made
+    /// from them are exact.
+    #[test]
+    fn a_published_material_on_its_own_curves_has_no_error() {
+        use crate::gather::ModeCurve;
+        use hypercontact_core::Mode;
+        use hypercontact_material::Hyperelastic;
+        use hypercontact_material::presets::paper_epdm;
+        let paper = paper_epdm();
+        let curves: Vec<ModeCurve> = Mode::ALL
+            .iter()
+            .map(|&mode| {
+                let stretch: Vec<f64> = (1..=20).map(|k| 1.0 + 0.05 * f64::from(k)).collect();
+                let stress: Vec<f64> = stretch
+                    .iter()
+                    .map(|&l| paper.nominal_stress_pa(mode, l))
+                    .collect();
+                ModeCurve {
+                    mode: mode.label().to_owned(),
+                    stretch,
+                    measured_pa: stress.clone(),
+                    fitted_pa: stress,
+                }
+            })
+            .collect();
+        let s = FitSetting::of_model("published", &paper, &curves);
+        assert_eq!(s.rms_rel_err, 0.0);
+        assert_eq!(s.mode_rms_rel_err, [0.0; 3]);
+        assert!((s.mu0_pa / 1.79e6 - 1.0).abs() < 1e-12);
+        let off = hypercontact_material::NeoHookean::new(0.895e6).unwrap();
+        let s = FitSetting::of_model("published", &off, &curves);
+        assert!(s.mode_rms_rel_err.iter().all(|&e| e > 0.01), "{s:?}");
     }
 }

@@ -1,12 +1,12 @@
 //! The bootstrap's uncertainty on the page: icm's `bands` shaded under the
 //! curves of Figs. 7 and 8 and read into the summary, the fit's `params`
-//! intervals in Table 1, and the line stating the fit's constraint beside
-//! the unconstrained objective. A report without bands is the same to the
-//! byte as before.
+//! intervals in Table 1, and the table of what each setting of the fit's
+//! constraint costs (with a published material beside it when named). A
+//! report without bands is the same to the byte as before.
 
 mod common;
 
-use common::{ALL, SAMPLES, run, run_with, text};
+use common::{ALL, SAMPLES, run, run_with, text, wired_params};
 use hypercontact_core::contact::BandTable;
 use hypercontact_core::{Inputs, Product, Schema, Table};
 use hypercontact_report::ReportParams;
@@ -199,7 +199,7 @@ fn between<'h>(html: &'h str, start: &str, end: &str) -> &'h str {
 }
 
 #[test]
-fn table_1_gives_the_intervals_and_the_fit_constraint_beside_the_unconstrained_one() {
+fn table_1_gives_the_intervals_and_what_each_constraint_costs() {
     let html = text(&run(&banded()), "index.html");
     // μ_i and α_i ∓ 10 % (common::params_with_intervals), μ in MPa.
     let table1 = between(&html, "Table 1.", "</table>");
@@ -216,37 +216,41 @@ fn table_1_gives_the_intervals_and_the_fit_constraint_beside_the_unconstrained_o
         moduli.contains("<td>2.28</td><td>[2.05, 2.51]</td>"),
         "{moduli}"
     );
-    // The line under Table 1 gives both settings' RMS errors and
-    // condition numbers from the synthetic comparison (common::STABLE_RMS,
-    // FREE_RMS, STABLE_CONDITION, FREE_CONDITION).
-    let line = between(&html, "<p class=\"note\" id=\"fit-constraint\">", "</p>");
+    // The cost table under Table 1 gives both settings' RMS errors, per
+    // mode, μ0 and condition numbers from the synthetic comparison
+    // (common::STABLE_RMS, FREE_RMS, STABLE_CONDITION, FREE_CONDITION).
+    let costs = between(&html, "What each constraint costs", "</table>");
     for words in [
-        "ogden-2 fitted with the stable constraint (every μ<sub>i</sub> ≥ 0",
-        "RMS relative error 1.8 %, condition number 3.2.",
-        "Without the constraint (plain least squares, the paper's Abaqus fit): \
-         RMS relative error 1.2 %, condition number 4.5e5.",
+        "<tr><td>ogden-2, <code>stable</code> (adopted): every μ<sub>i</sub> ≥ 0 (Abaqus \
+         convention): Drucker-stable at every stretch</td><td>1.8</td><td>1.5</td><td>1.7</td>\
+         <td>2.2</td><td>5</td><td>0.56</td><td>3.2</td></tr>",
+        "<tr><td>ogden-2, <code>none</code>: plain least squares, as the paper's Abaqus \
+         fit</td><td>1.2</td><td>1</td><td>1.1</td><td>1.5</td><td>4</td><td>0.57</td>\
+         <td>4.5e5</td></tr>",
     ] {
-        assert!(line.contains(words), "no {words:?} in {line}");
+        assert!(costs.contains(words), "no {words:?} in {costs}");
     }
-    let (table_at, line_at, moduli_at) = (
+    // No published material unless the report names one.
+    assert!(!html.contains("as published"));
+    let (table_at, moduli_at, costs_at) = (
         html.find("Table 1.").unwrap(),
-        html.find("id=\"fit-constraint\"").unwrap(),
         html.find("Initial moduli").unwrap(),
+        html.find("What each constraint costs").unwrap(),
     );
-    assert!(table_at < line_at && line_at < moduli_at);
+    assert!(table_at < moduli_at && moduli_at < costs_at);
 
     // Without intervals the columns are not there; without the comparison
     // neither is the line.
     let inputs = plain();
     let html = text(&run(&inputs), "index.html");
     assert!(!between(&html, "Table 1.", "</table>").contains("bootstrap"));
-    assert!(html.contains("id=\"fit-constraint\""));
+    assert!(html.contains("What each constraint costs"));
     let mut without = Inputs::new();
     for name in inputs.names().filter(|&n| n != "comparison") {
         without.insert(name, std::sync::Arc::new(inputs.get(name).unwrap().clone()));
     }
     let html = text(&run(&without), "index.html");
-    assert!(html.contains("Table 1.") && !html.contains("fit-constraint"));
+    assert!(html.contains("Table 1.") && !html.contains("What each constraint costs"));
 }
 
 #[test]
@@ -291,4 +295,33 @@ fn a_band_table_without_rows_changes_nothing_and_a_bad_one_is_named() {
     );
     let e = run_with(&ReportParams::default(), &inputs).unwrap_err();
     assert!(e.contains("bands.T2.icm") && e.contains("above"), "{e}");
+}
+
+/// With `published_material: paper-epdm` Table 1's cost table gains the
+/// paper's own parameters evaluated on the same curves (not refitted,
+/// μ0 = 1.79 MPa), and the published parameters follow as a table of
+/// their own in the paper's order.
+#[test]
+fn the_published_material_stands_beside_the_fit() {
+    use hypercontact_material::presets::Preset;
+    let inputs = plain();
+    let params = ReportParams {
+        published_material: Some(Preset::PaperEpdm),
+        ..wired_params(&inputs)
+    };
+    let html = text(&run_with(&params, &inputs).unwrap(), "index.html");
+    let costs = between(&html, "What each constraint costs", "</table>");
+    let row = between(
+        costs,
+        "<code>paper-epdm</code> (the paper's Table 1), as published",
+        "</tr>",
+    );
+    assert!(row.contains("<td>1.79</td><td>n/a</td>"), "{row}");
+    let published = between(&html, "The paper&#39;s Table 1 as published", "</table>");
+    for term in [
+        "<tr><td>1</td><td>5025.77</td><td>0.635</td></tr>",
+        "<tr><td>6</td><td>-1079.81</td><td>-0.219</td></tr>",
+    ] {
+        assert!(published.contains(term), "no {term} in {published}");
+    }
 }

@@ -1,7 +1,10 @@
-//! Fig. 2 of the paper: measured (symbols) and fitted (lines) nominal stress
-//! against stretch for the UT, PT and BT tests, with each mode's R² in the
-//! legend and the fitted model's Drucker stability limits marked (dashed
-//! vertical line in the mode's colour, listed in the legend).
+//! Fig. 2 of the paper: measured and fitted nominal stress against stretch
+//! for the UT, PT and BT tests, drawn as the paper's caption says ("the
+//! experimental data are shown as lines and the fitting data as symbols"):
+//! the measured curve a line, the model at the measured stretches symbols.
+//! Each mode's R² is in the legend, and the fitted model's Drucker stability
+//! limits inside the plotted range are marked (dashed vertical line in the
+//! mode's colour, listed in the legend).
 
 use std::collections::BTreeMap;
 
@@ -15,7 +18,8 @@ use super::plotting::{
 use crate::ReportError;
 use crate::gather::{ModeCurve, StabilityRange};
 
-/// At most this many symbols per mode; denser data would hide the line.
+/// At most this many fitted symbols per mode; denser ones would hide the
+/// measured line.
 const MAX_SYMBOLS: usize = 30;
 
 pub struct Fig2<'a> {
@@ -54,7 +58,7 @@ impl Fig2<'_> {
         }
     }
 
-    /// One mode: the fitted line, its legend swatch and the measured
+    /// One mode: the measured line, its legend swatch and the fitted
     /// symbols (at most [`MAX_SYMBOLS`]).
     fn draw_mode<'c, DB: DrawingBackend + 'c>(
         &self,
@@ -76,13 +80,13 @@ impl Fig2<'_> {
                 curve
                     .stretch
                     .iter()
-                    .zip(&curve.fitted_pa)
-                    .map(|(&s, &f)| (s, f / 1e6)),
+                    .zip(&curve.measured_pa)
+                    .map(|(&s, &m)| (s, m / 1e6)),
                 line,
             ))
             .map_err(err)?;
         series.label(label);
-        // Swatch: the fitted line with the measured symbol on it.
+        // Swatch: the measured line with the fitted symbol on it.
         let stroke = colour.stroke_width(2);
         let fill = WHITE.filled();
         let swatch = move |(x, y): (i32, i32)| {
@@ -107,9 +111,9 @@ impl Fig2<'_> {
         let symbols: Vec<(f64, f64)> = curve
             .stretch
             .iter()
-            .zip(&curve.measured_pa)
+            .zip(&curve.fitted_pa)
             .step_by(step)
-            .map(|(&s, &m)| (s, m / 1e6))
+            .map(|(&s, &f)| (s, f / 1e6))
             .collect();
         match Symbol::of(&curve.mode) {
             Symbol::Circle => chart.draw_series(symbols.into_iter().map(|at| {
@@ -228,8 +232,8 @@ impl Figure for Fig2<'_> {
     }
 }
 
-/// The measured-data symbol of a mode: UT circle, PT square, BT triangle,
-/// hollow (white-filled) so the fitted line stays visible through them.
+/// The fitted-model symbol of a mode: UT circle, PT square, BT triangle,
+/// hollow (white-filled) so the measured line stays visible through them.
 enum Symbol {
     Circle,
     Square,

@@ -149,6 +149,10 @@ pub fn comparison() -> Table {
             vec![FREE_RMS, STABLE_RMS, 0.03, 0.034, 0.081, 0.12],
         )
         .with("max_rel_err", vec![0.04, 0.05, 0.08, 0.09, 0.2, 0.3])
+        .with("ut_rms_rel_err", vec![0.01, 0.015, 0.02, 0.03, 0.07, 0.1])
+        .with("pt_rms_rel_err", vec![0.011, 0.017, 0.03, 0.03, 0.08, 0.11])
+        .with("bt_rms_rel_err", vec![0.015, 0.022, 0.04, 0.04, 0.09, 0.15])
+        .with("mu0_pa", vec![0.57e6, 0.56e6, 0.5e6, 0.5e6, 0.49e6, 0.48e6])
         .with("ut_lambda_min", vec![0.5, 0.45, 0.5, 0.5, 0.3, nan])
         .with("ut_lambda_max", vec![inf, inf, 5.0, 6.0, 8.0, nan])
         .with("pt_lambda_min", vec![0.6, 0.55, 0.6, 0.6, 0.4, nan])
