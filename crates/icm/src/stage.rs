@@ -11,7 +11,7 @@ use hypercontact_core::{
     Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, Schema, Stage, StageError,
     StageInfo, params,
 };
-use hypercontact_material::Hyperelastic;
+use hypercontact_material::MaterialError;
 use hypercontact_material::bootstrap::{Replicate, ReplicatesTable, from_replicates_table};
 use hypercontact_material::table::MaterialTable;
 use hypercontact_truncation::stage::ProfileTable;
@@ -38,8 +38,15 @@ static INFO: StageInfo = StageInfo {
           profile's planes (the paper's Eqs. 5-7); `z_m` is the plane's height. Hyperelastic: \
           E_t* = E_t(phi^-1(S)) / (1 - nu^2) with phi the equibiaxial nominal stress of the \
           material (Eq. 2), E_t = dphi/deps (Eq. 6), evaluated at the compressive mean stress \
-          S = -F/A (so eps < 0); E_t*/E0* = 2 at first contact for nu = 1/2. Linear (Wang's \
-          original ICM): E_t* = E0* = E0/(1 - nu^2), E0 = 2 mu0 (1 + nu). Schemes: `euler` is \
+          S = -F/A (so eps < 0); E_t*/E0* = 2 at first contact for nu = 1/2, so the curve \
+          starts at twice the linear one. `tangent: equibiaxial` (default) is the paper's phi, \
+          assuming the patch's material is stretched equally in its plane; `tangent: uniaxial` \
+          takes phi from the uniaxial curve in compression (free lateral expansion, the \
+          small-strain limit of Hertz and Boussinesq), E_t*/E0* = 1 at first contact, where \
+          the curve meets the linear one. Linear (Wang's original ICM): E_t* = E0* = E0/(1 - \
+          nu^2), E0 = 2 mu0 (1 + nu). A linear-elastic material (stage `material`, family \
+          `linear`) gives E* = E/(1 - nu^2) with its own nu at every stress, whatever `model`, \
+          `tangent` and `poisson` say (a note says so). Schemes: `euler` is \
           the paper's explicit step; `heun` the explicit trapezoidal rule (second order, using \
           only tabulated planes; exact for a flat punch). Planes with A = 0 or N = 0 add no \
           load. A0 is area_m2 / area_fraction of the profile. If S leaves the range where phi \
@@ -92,7 +99,8 @@ impl Stage for Icm {
         let nominal_area_m2 =
             nominal_area(&profile.area_fraction, &profile.area_m2).map_err(StageError::other)?;
 
-        let material = hypercontact_material::table::from_table(inputs.table("material")?)
+        let modulus = (p.law)
+            .modulus_from_table(inputs.table("material")?, ctx)
             .map_err(|e| StageError::other(IcmError::Material(e)))?;
         let slices = ProfileSlices {
             z_m: &profile.z_m,
@@ -100,7 +108,7 @@ impl Stage for Icm {
             patches: &patches,
             radius_m: &profile.radius_m,
         };
-        let (modulus, solution) = respond(Arc::from(material), slices, p)?;
+        let (modulus, solution) = respond(Ok(modulus), slices, p)?;
         let e0_star = modulus.e0_star_pa();
         let bands = match inputs.get("replicates") {
             Some(_) => {
@@ -128,12 +136,13 @@ impl Stage for Icm {
 /// One material's law and its solution over the profile, or why not.
 type Solved = Result<(CompositeModulus, Solution), StageError>;
 
-/// One material's solve over the profile.
-fn respond(material: Arc<dyn Hyperelastic>, slices: ProfileSlices<'_>, p: &IcmParams) -> Solved {
-    let modulus = p
-        .law
-        .modulus(material)
-        .map_err(|e| StageError::other(IcmError::Material(e)))?;
+/// One material's solve over the profile, given its law (or why it has none).
+fn respond(
+    modulus: Result<CompositeModulus, MaterialError>,
+    slices: ProfileSlices<'_>,
+    p: &IcmParams,
+) -> Solved {
+    let modulus = modulus.map_err(|e| StageError::other(IcmError::Material(e)))?;
     let solution = solve(slices, p.law.scheme, &mut |s| {
         modulus.at_stress_pa(s).map_err(|e| e.to_string())
     })
@@ -157,7 +166,7 @@ fn bands(
     let solved: Vec<(i64, Solved)> = replicates
         .into_par_iter()
         .map(|(r, m)| {
-            let out = respond(Arc::from(m), slices, p);
+            let out = respond(p.law.modulus(Arc::from(m)), slices, p);
             bar.inc(1);
             (r, out)
         })
