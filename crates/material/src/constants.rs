@@ -49,11 +49,52 @@ impl Constants {
 
 /// One number or a list of them (`mu_pa: 6e5`, `mu_pa: [1.2e6, -2e5]`):
 /// Ogden takes lists where the other families take one value.
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 #[serde(untagged)]
 pub enum Numbers {
     One(f64),
     List(Vec<f64>),
+}
+
+/// Read by hand rather than `#[serde(untagged)]`, whose error ("did not
+/// match any variant") would not say what was expected or where.
+impl<'de> serde::Deserialize<'de> for Numbers {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct NumbersVisitor;
+
+        impl<'de> serde::de::Visitor<'de> for NumbersVisitor {
+            type Value = Numbers;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a number or a list of numbers")
+            }
+
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Numbers, E> {
+                Ok(Numbers::One(v))
+            }
+
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Numbers, E> {
+                Ok(Numbers::One(v as f64))
+            }
+
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Numbers, E> {
+                Ok(Numbers::One(v as f64))
+            }
+
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<Numbers, A::Error> {
+                let mut values = Vec::new();
+                while let Some(v) = seq.next_element::<f64>()? {
+                    values.push(v);
+                }
+                Ok(Numbers::List(values))
+            }
+        }
+
+        d.deserialize_any(NumbersVisitor)
+    }
 }
 
 impl Numbers {

@@ -127,6 +127,22 @@ fn bad_parameters_are_named() {
     assert!(message.contains("arruda-boyce"), "{message}");
     let (param, _) = param_error(json!({"family": "linear", "e_pa": 2e6, "shear_pa": 1.0}));
     assert_eq!(param, "shear_pa");
+    let (param, message) = param_error(json!({"family": "neo-hookean", "mu_pa": "6e5"}));
+    assert_eq!(param, "mu_pa");
+    assert!(
+        message.contains("a number or a list of numbers"),
+        "{message}"
+    );
+    let (param, message) =
+        param_error(json!({"family": "ogden", "mu_pa": [1e5, "x"], "alpha": [2, 3]}));
+    assert_eq!(param, "mu_pa.1");
+    assert!(message.contains("f64"), "{message}");
+    // Integers are numbers too.
+    let table = run(json!({"family": "ogden", "mu_pa": [600000], "alpha": 2}));
+    let Material::Hyperelastic(m) = material_from_table(&table).unwrap() else {
+        panic!("ogden")
+    };
+    assert_eq!(m.shear_modulus_pa(), 6e5);
 }
 
 #[test]
