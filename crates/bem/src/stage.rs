@@ -125,10 +125,10 @@ static INFO: StageInfo = StageInfo {
           f'(delta) d delta, i.e. dF = E_t*(-F/A) df over the solved steps, F = 0 at first \
           contact, with the ICM's E_t*(S) (same material law and sign convention: S = -F/A <= 0, \
           E_t*/E0* = 2 at first contact for nu = 1/2 with the paper's `tangent: equibiaxial`, 1 \
-          with `uniaxial`; a linear material's E* throughout) and `scheme` (euler: the paper's explicit \
-          step; heun: trapezoid); tangent_ratio = E_t*/E0*. The contact set, A and the gap are \
-          the linear solution's; the pressure map is the linear one scaled to the load (F/f). \
-          CONTACT_MAPS: for each of map_fractions, the step whose A/A0 is nearest: \
+          with `uniaxial`; a linear material's E* throughout) and `scheme` (euler: the paper's \
+          explicit step; heun: trapezoid); tangent_ratio = E_t*/E0*. The contact set, A and \
+          the gap are the linear solution's; the pressure map is the linear one scaled to the \
+          load (F/f). CONTACT_MAPS: for each of map_fractions, the step whose A/A0 is nearest: \
           pressure_a<fraction>.npy (Pa) and gap_a<fraction>.npy (m, NaN where not measured), \
           axis 0 = x as in the input, indexed by the table contact_maps.parquet (one row per \
           map: requested and kept A/A0, load, files, spacing, step, z_m).",

@@ -259,8 +259,9 @@ static PERSSON: StageInfo = StageInfo {
           = A0 p/E* (E0* = E0/(1 - nu^2), E0 = 2 mu0 (1 + nu), as in icm). `hyperelastic`: the \
           paper's tangent modulus (Eqs. 5-7) on the theory's curve, dF = E_t*(-F/A) df, as bem \
           does (E_t*/E0* = 2 at first contact for nu = 1/2 with the paper's `tangent: \
-          equibiaxial`, 1 with `uniaxial`; a linear material's E* throughout); the theory puts the mean contact stress at about E_t* h'rms/kappa at small load, \
-          so the first row starts from the self-consistent F = f E_t*(-F/A) instead of F = 0 \
+          equibiaxial`, 1 with `uniaxial`; a linear material's E* throughout); the theory puts \
+          the mean contact stress at about E_t* h'rms/kappa at small load, so the first row \
+          starts from the self-consistent F = f E_t*(-F/A) instead of F = 0 \
           (a material that stiffens faster than that has no such load and is refused). \
           tangent_ratio = E_t*/E0*; kappa = (A/A0)/(p/(E0* h'rms)) with the spectral h'rms.",
     inputs: INPUTS,

@@ -36,17 +36,17 @@ static INFO: StageInfo = StageInfo {
     summary: "Incremental contact model: load against contact area from a truncation profile",
     doc: "Integrates dF/d(-z) = 2 E_t*(S) r(z) N(z) from F(z_max) = 0 downward over the \
           profile's planes (the paper's Eqs. 5-7); `z_m` is the plane's height. Hyperelastic: \
-          E_t* = E_t(phi^-1(S)) / (1 - nu^2) with phi the equibiaxial nominal stress of the \
-          material (Eq. 2), E_t = dphi/deps (Eq. 6), evaluated at the compressive mean stress \
-          S = -F/A (so eps < 0); E_t*/E0* = 2 at first contact for nu = 1/2, so the curve \
-          starts at twice the linear one. `tangent: equibiaxial` (default) is the paper's phi, \
-          assuming the patch's material is stretched equally in its plane; `tangent: uniaxial` \
-          takes phi from the uniaxial curve in compression (free lateral expansion, the \
-          small-strain limit of Hertz and Boussinesq), E_t*/E0* = 1 at first contact, where \
-          the curve meets the linear one. Linear (Wang's original ICM): E_t* = E0* = E0/(1 - \
-          nu^2), E0 = 2 mu0 (1 + nu). A linear-elastic material (stage `material`, family \
-          `linear`) gives E* = E/(1 - nu^2) with its own nu at every stress, whatever `model`, \
-          `tangent` and `poisson` say (a note says so). Schemes: `euler` is \
+          E_t* = E_t(phi^-1(S)) / (1 - nu^2) with phi a nominal stress curve of the material \
+          (Eq. 2), E_t = dphi/deps (Eq. 6), evaluated at the compressive mean stress S = -F/A \
+          (so eps < 0). `tangent: equibiaxial` (default) is the paper's phi, the equibiaxial \
+          curve: E_t*/E0* = 2 at first contact for nu = 1/2, so the curve starts at twice the \
+          linear one; it assumes the patch's material is stretched equally in its plane. \
+          `tangent: uniaxial` takes phi from the uniaxial curve in compression (free lateral \
+          expansion, the small-strain limit of Hertz and Boussinesq): E_t*/E0* = 1 at first \
+          contact, where the curve meets the linear one. Linear (Wang's original ICM): E_t* = \
+          E0* = E0/(1 - nu^2), E0 = 2 mu0 (1 + nu). A linear-elastic material (stage \
+          `material`, family `linear`) gives E* = E/(1 - nu^2) with its own nu at every stress, \
+          whatever `model`, `tangent` and `poisson` say (a note says so). Schemes: `euler` is \
           the paper's explicit step; `heun` the explicit trapezoidal rule (second order, using \
           only tabulated planes; exact for a flat punch). Planes with A = 0 or N = 0 add no \
           load. A0 is area_m2 / area_fraction of the profile. If S leaves the range where phi \

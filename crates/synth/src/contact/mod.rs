@@ -262,8 +262,9 @@ static INFO: StageInfo = StageInfo {
           the spacing); the contact with the rigid glass is solved on that grid by the `bem` \
           solver (same boundary, tolerance and law: `hyperelastic` by default, the force by \
           the tangent-modulus integral over the solved frames, E_t*/E0* = 2 at first contact \
-          with the paper's `tangent: equibiaxial` and 1 with `uniaxial`), each frame warm-started from \
-          the previous one. RAMP: the servo advances at `speed_m_per_s` (the paper: 3 µm/s, \
+          with the paper's `tangent: equibiaxial` and 1 with `uniaxial`), each frame \
+          warm-started from the previous one. RAMP: the servo advances at `speed_m_per_s` (the \
+          paper: 3 µm/s, \
           quasi-static); the last frame's penetration is where the solve first reaches \
           `max_area_fraction` (found by the `bem` curve search); frames are evenly spaced in \
           time, `frames_before_contact` of them with an open gap, first contact \
