@@ -149,9 +149,31 @@ impl Stage for MaterialConstants {
         &self,
         p: &Checked<MaterialParams>,
         _: &Inputs,
-        _: &Context,
+        ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        Ok(Outputs::new().table("material", material_to_table(&p.material()?)))
+        let material = p.material()?;
+        ctx.note(&summary(&material));
+        Ok(Outputs::new().table("material", material_to_table(&material)))
+    }
+}
+
+/// The small-strain moduli the contact stages will start from, in words.
+fn summary(material: &Material) -> String {
+    match material {
+        Material::Linear(solid) => format!(
+            "linear: E = {:.6e} Pa, ν = {}, E* = E/(1 − ν²) = {:.6e} Pa at every stress",
+            solid.e_pa,
+            solid.poisson,
+            solid.composite_modulus_pa()
+        ),
+        Material::Hyperelastic(model) => {
+            let mu0_pa = model.shear_modulus_pa();
+            format!(
+                "{}: μ0 = {mu0_pa:.6e} Pa, E0 = 3 μ0 = {:.6e} Pa (ν = ½)",
+                model.family(),
+                3.0 * mu0_pa
+            )
+        }
     }
 }
 

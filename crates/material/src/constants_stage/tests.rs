@@ -6,15 +6,20 @@ use crate::table::{from_table, material_from_table};
 use crate::{ArrudaBoyce, Hyperelastic, MooneyRivlin, NeoHookean, Ogden, Yeoh};
 
 fn run(params: serde_json::Value) -> Table {
+    run_noted(params).0
+}
+
+fn run_noted(params: serde_json::Value) -> (Table, Vec<String>) {
     let p: MaterialParams = serde_json::from_value(params).unwrap();
+    let ctx = Context::new("t");
     let out = MaterialConstants
-        .run(&p.check().unwrap(), &Inputs::new(), &Context::new("t"))
+        .run(&p.check().unwrap(), &Inputs::new(), &ctx)
         .unwrap();
     let Some(Product::Table(t)) = out.get("material") else {
         panic!("no material table")
     };
     t.conform(MaterialTable::COLUMNS).unwrap();
-    t.clone()
+    (t.clone(), ctx.notes())
 }
 
 fn param_error(params: serde_json::Value) -> (String, String) {
@@ -167,5 +172,19 @@ fn a_parameter_file_gives_the_same_table_as_the_parameters() {
     assert!(
         e.contains("ogden.csv: line 3") && e.contains("alpha"),
         "{e}"
+    );
+}
+
+#[test]
+fn the_note_gives_the_small_strain_moduli() {
+    let (_, notes) = run_noted(json!({"family": "mooney-rivlin", "c10_pa": 2e5, "c01_pa": 5e4}));
+    assert_eq!(
+        notes,
+        ["mooney-rivlin: μ0 = 5.000000e5 Pa, E0 = 3 μ0 = 1.500000e6 Pa (ν = ½)"]
+    );
+    let (_, notes) = run_noted(json!({"family": "linear", "e_pa": 2e6, "poisson": 0.5}));
+    assert_eq!(
+        notes,
+        ["linear: E = 2.000000e6 Pa, ν = 0.5, E* = E/(1 − ν²) = 2.666667e6 Pa at every stress"]
     );
 }
