@@ -11,7 +11,6 @@ use hypercontact_core::{
     Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, Schema, Stage, StageError,
     StageInfo, params,
 };
-use hypercontact_material::MaterialError;
 use hypercontact_material::bootstrap::{Replicate, ReplicatesTable, from_replicates_table};
 use hypercontact_material::table::MaterialTable;
 use hypercontact_truncation::stage::ProfileTable;
@@ -108,7 +107,7 @@ impl Stage for Icm {
             patches: &patches,
             radius_m: &profile.radius_m,
         };
-        let (modulus, solution) = respond(Ok(modulus), slices, p)?;
+        let (modulus, solution) = respond(modulus, slices, p)?;
         let e0_star = modulus.e0_star_pa();
         let bands = match inputs.get("replicates") {
             Some(_) => {
@@ -136,13 +135,8 @@ impl Stage for Icm {
 /// One material's law and its solution over the profile, or why not.
 type Solved = Result<(CompositeModulus, Solution), StageError>;
 
-/// One material's solve over the profile, given its law (or why it has none).
-fn respond(
-    modulus: Result<CompositeModulus, MaterialError>,
-    slices: ProfileSlices<'_>,
-    p: &IcmParams,
-) -> Solved {
-    let modulus = modulus.map_err(|e| StageError::other(IcmError::Material(e)))?;
+/// One material's solve over the profile under its law.
+fn respond(modulus: CompositeModulus, slices: ProfileSlices<'_>, p: &IcmParams) -> Solved {
     let solution = solve(slices, p.law.scheme, &mut |s| {
         modulus.at_stress_pa(s).map_err(|e| e.to_string())
     })
@@ -166,7 +160,9 @@ fn bands(
     let solved: Vec<(i64, Solved)> = replicates
         .into_par_iter()
         .map(|(r, m)| {
-            let out = respond(p.law.modulus(Arc::from(m)), slices, p);
+            let out = (p.law.modulus(Arc::from(m)))
+                .map_err(|e| StageError::other(IcmError::Material(e)))
+                .and_then(|modulus| respond(modulus, slices, p));
             bar.inc(1);
             (r, out)
         })
