@@ -141,3 +141,29 @@ fn the_uniaxial_tangent_meets_the_linear_curve_at_zero_load_the_equibiaxial_twic
         );
     }
 }
+
+#[test]
+fn a_stress_beyond_the_uniaxial_range_names_the_plane_and_the_curve() {
+    // A tiny area under a stiff punch: S far beyond either curve's range.
+    let profile = Table::new()
+        .with("z_m", vec![1e-5, 0.0])
+        .with("z_over_sigma", vec![1.0, 0.0])
+        .with("area_fraction", vec![1.0, 1.0])
+        .with("patches", vec![1_i64, 1])
+        .with("radius_m", vec![1.0, 1.0])
+        .with("area_m2", vec![1e-12, 1e-12]);
+    let inputs = Inputs::new()
+        .with("profile", Product::Table(profile))
+        .with("material", Product::Table(to_table(&paper_epdm())));
+    for (tangent, label) in [
+        ("uniaxial", "the UT nominal stress"),
+        ("equibiaxial", "the BT nominal stress"),
+    ] {
+        let p: IcmParams = serde_json::from_value(json!({"tangent": tangent})).unwrap();
+        let e = Icm
+            .run(&p.check().unwrap(), &inputs, &Context::new("icm"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("level 1") && e.contains(label), "{tangent}: {e}");
+    }
+}
