@@ -59,6 +59,8 @@ fn a_linear_material_gives_the_linear_force_with_its_own_composite_modulus() {
     let (reference, _) = forces(json!({"model": "linear", "poisson": nu}), &linear);
     let (hyperelastic, notes) = forces(json!({"model": "hyperelastic"}), &linear);
     assert_eq!(hyperelastic, reference);
+    let (uniaxial, _) = forces(json!({"tangent": "uniaxial"}), &linear);
+    assert_eq!(uniaxial, reference);
     assert_eq!(
         notes
             .iter()
@@ -78,4 +80,23 @@ fn a_linear_material_gives_the_linear_force_with_its_own_composite_modulus() {
             g * scale
         );
     }
+}
+
+#[test]
+fn the_uniaxial_tangent_starts_at_the_linear_force_the_equibiaxial_at_twice_it() {
+    // On a 20 mm cap the mean contact stress stays below 1 % of E0*.
+    let epdm = to_table(&paper_epdm());
+    let (linear, _) = forces(json!({"model": "linear"}), &epdm);
+    let (uniaxial, _) = forces(json!({"tangent": "uniaxial"}), &epdm);
+    let (equibiaxial, _) = forces(json!({}), &epdm);
+    let first = linear.iter().position(|&f| f > 0.0).unwrap();
+    let (u, e) = (
+        uniaxial[first] / linear[first],
+        equibiaxial[first] / linear[first],
+    );
+    assert!((u - 1.0).abs() < 1e-2, "uniaxial/linear = {u}");
+    assert!((e / 2.0 - 1.0).abs() < 1e-2, "equibiaxial/linear = {e}");
+    // Both stiffen as the load grows.
+    let last = linear.len() - 1;
+    assert!(uniaxial[last] / linear[last] > u && equibiaxial[last] / linear[last] > e);
 }
