@@ -1,7 +1,7 @@
 //! `persson` and `greenwood-williamson` on a material given by its
 //! constants (stage `material`): a linear material gives the linear curve
 //! with E0* = E/(1 − ν²) of its own ν, whatever `model`, `tangent` and
-//! `poisson` say.
+//! `poisson` say; and both tangents at small stress.
 
 use hypercontact_classical::stage::{GreenwoodWilliamson, PerssonStage};
 use hypercontact_core::{Context, DynStage, Field, Inputs, Product, Table};
@@ -16,9 +16,14 @@ const N: usize = 64;
 const PIXEL_M: f64 = 20e-6;
 
 fn inputs(material: Table) -> Inputs {
+    inputs_of(material, 10e-6)
+}
+
+/// A periodic self-affine map with heights of `rms_m`, and `material`.
+fn inputs_of(material: Table, rms_m: f64) -> Inputs {
     let surface = SelfAffine {
         hurst: 0.8,
-        rms_m: 10e-6,
+        rms_m,
         lambda_min_m: 4.0 * PIXEL_M,
         lambda_max_m: 0.5 * N as f64 * PIXEL_M,
     };
@@ -121,6 +126,43 @@ fn a_linear_material_gives_linear_persson_and_gw_curves_with_its_own_e0_star() {
                 .filter(|n| n.contains("linear elastic"))
                 .count();
             assert_eq!(noted, 1, "{name} {law}: {notes:?}");
+        }
+    }
+}
+
+#[test]
+fn at_small_stress_the_uniaxial_tangent_gives_the_linear_load_the_equibiaxial_twice_it() {
+    // Slopes of about 1e-4: the theories' mean contact stress, about
+    // E* h'rms / κ, stays near 1e-4 E0* over the rows.
+    let gentle = inputs_of(to_table(&paper_epdm()), 1e-9);
+    let stages: [(&str, &dyn DynStage); 2] = [
+        ("persson", &PerssonStage),
+        ("greenwood-williamson", &GreenwoodWilliamson),
+    ];
+    for (name, stage) in stages {
+        let law = |extra: serde_json::Value| {
+            let mut p = json!({"periodic": true, "steps": 8, "max_area_fraction": 0.3});
+            p.as_object_mut()
+                .unwrap()
+                .extend(extra.as_object().unwrap().clone());
+            run(stage, p, &gentle).0
+        };
+        let linear = law(json!({"model": "linear"}));
+        let uniaxial = law(json!({"tangent": "uniaxial"}));
+        let equibiaxial = law(json!({"tangent": "equibiaxial"}));
+        let loads = |t: &Table| t.f64("load_n").unwrap().to_vec();
+        let (linear, uniaxial, equibiaxial) =
+            (loads(&linear), loads(&uniaxial), loads(&equibiaxial));
+        for k in 0..linear.len() {
+            let (u, e) = (uniaxial[k] / linear[k], equibiaxial[k] / linear[k]);
+            assert!(
+                (u - 1.0).abs() < 1e-3,
+                "{name} row {k}: uniaxial/linear = {u}"
+            );
+            assert!(
+                (e / 2.0 - 1.0).abs() < 1e-3,
+                "{name} row {k}: equibiaxial/linear = {e}"
+            );
         }
     }
 }
