@@ -3,8 +3,6 @@
 //! building here; the physics in [`crate::polonsky_keer`],
 //! [`crate::curve`] and [`hypercontact_icm::tangent`].
 
-use std::sync::Arc;
-
 use hypercontact_core::contact::{
     BandTable, Curve, ModelMapIndex, ResponseTable, area_fraction_label, check_map_fraction,
 };
@@ -128,15 +126,16 @@ static INFO: StageInfo = StageInfo {
           5-7) applied to the coupled contact instead of profile theory: dF = E_t*(-F/A) \
           f'(delta) d delta, i.e. dF = E_t*(-F/A) df over the solved steps, F = 0 at first \
           contact, with the ICM's E_t*(S) (same material law and sign convention: S = -F/A <= 0, \
-          E_t*/E0* = 2 at first contact for nu = 1/2) and `scheme` (euler: the paper's explicit \
-          step; heun: trapezoid); tangent_ratio = E_t*/E0*. The contact set, A and the gap are \
-          the linear solution's; the pressure map is the linear one scaled to the load (F/f). \
-          BANDS: with `replicates` (material-fit's bootstrap) each replicate material's law is \
-          integrated over the same linear solve (its contact set and unit-modulus load do not \
-          depend on the modulus), so a replicate costs an integral, not a solve; `bands` gives \
-          per step the 5th, 50th and 95th percentiles of load_norm (over the main material's \
-          E0* A0) and of tangent_ratio (over the replicate's own E0*), as `icm` does; a \
-          replicate whose law gives out is left out with a note. \
+          E_t*/E0* = 2 at first contact for nu = 1/2 with the paper's `tangent: equibiaxial`, 1 \
+          with `uniaxial`; a linear material's E* throughout) and `scheme` (euler: the paper's \
+          explicit step; heun: trapezoid); tangent_ratio = E_t*/E0*. The contact set, A and \
+          the gap are the linear solution's; the pressure map is the linear one scaled to the \
+          load (F/f). BANDS: with `replicates` (material-fit's bootstrap) each replicate \
+          material's law is integrated over the same linear solve (its contact set and \
+          unit-modulus load do not depend on the modulus), so a replicate costs an integral, \
+          not a solve; `bands` gives per step the 5th, 50th and 95th percentiles of load_norm \
+          (over the main material's E0* A0) and of tangent_ratio (over the replicate's own \
+          E0*), as `icm` does; a replicate whose law gives out is left out with a note. \
           CONTACT_MAPS: for each of map_fractions, the step whose A/A0 is nearest: \
           pressure_a<fraction>.npy (Pa) and gap_a<fraction>.npy (m, NaN where not measured), \
           axis 0 = x as in the input, indexed by the table contact_maps.parquet (one row per \
@@ -202,11 +201,8 @@ impl Stage for Bem {
     ) -> Result<Outputs, StageError> {
         let surface = inputs.field("surface")?;
         let heights_m = checked_heights(surface).map_err(StageError::other)?;
-        let material = hypercontact_material::table::from_table(inputs.table("material")?)
-            .map_err(|e| StageError::other(BemError::Material(e)))?;
-        let modulus = p
-            .law
-            .modulus(Arc::from(material))
+        let modulus = (p.law)
+            .modulus_from_table(inputs.table("material")?, ctx)
             .map_err(|e| StageError::other(BemError::Material(e)))?;
         let grid = (surface.nx(), surface.ny(), surface.dx_m, surface.dy_m);
         let influence = Influence::new(grid.0, grid.1, grid.2, grid.3, p.boundary);

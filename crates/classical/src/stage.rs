@@ -3,8 +3,6 @@
 //! tables here; the theories in [`crate::persson`] and [`crate::gw`], the
 //! load grid and the tangent modulus in [`crate::curve`].
 
-use std::sync::Arc;
-
 use hypercontact_core::contact::{BandTable, Curve, ResponseTable};
 use hypercontact_core::{
     Arity, Checked, Choice, Context, InputSpec, Inputs, OutputSpec, Outputs, ParamError, Schema,
@@ -288,8 +286,10 @@ static PERSSON: StageInfo = StageInfo {
           bem counts it), from input `surface`, or nominal_area_m2. MODEL `linear`: F = E0* f, f \
           = A0 p/E* (E0* = E0/(1 - nu^2), E0 = 2 mu0 (1 + nu), as in icm). `hyperelastic`: the \
           paper's tangent modulus (Eqs. 5-7) on the theory's curve, dF = E_t*(-F/A) df, as bem \
-          does; the theory puts the mean contact stress at about E_t* h'rms/kappa at small load, \
-          so the first row starts from the self-consistent F = f E_t*(-F/A) instead of F = 0 \
+          does (E_t*/E0* = 2 at first contact for nu = 1/2 with the paper's `tangent: \
+          equibiaxial`, 1 with `uniaxial`; a linear material's E* throughout); the theory puts \
+          the mean contact stress at about E_t* h'rms/kappa at small load, so the first row \
+          starts from the self-consistent F = f E_t*(-F/A) instead of F = 0 \
           (a material that stiffens faster than that has no such load and is refused). \
           tangent_ratio = E_t*/E0*; kappa = (A/A0)/(p/(E0* h'rms)) with the spectral h'rms.",
         bands_doc!()
@@ -321,7 +321,7 @@ impl Stage for PerssonStage {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let (source, modulus) = setup(inputs, &p.spectrum)?;
+        let (source, modulus) = setup(inputs, &p.spectrum, ctx)?;
         let variant = match p.variant {
             PerssonVariant::Original => Variant::Original,
             PerssonVariant::YangPersson => Variant::YangPersson { gamma: p.gamma },
@@ -444,7 +444,7 @@ impl Stage for GreenwoodWilliamson {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let (source, modulus) = setup(inputs, &p.spectrum)?;
+        let (source, modulus) = setup(inputs, &p.spectrum, ctx)?;
         let m = source.spectrum.moments();
         let asperities = Asperities::from_moments(m)
             .map_err(|e| ClassicalError::Input(format!("input `{}`: {e}", source.input)))?;
@@ -514,7 +514,11 @@ impl Stage for GreenwoodWilliamson {
 }
 
 /// The spectrum (input `psd` or `surface`) and the contact law of `material`.
-fn setup(inputs: &Inputs, p: &SpectrumParams) -> Result<(Source, CompositeModulus), StageError> {
+fn setup(
+    inputs: &Inputs,
+    p: &SpectrumParams,
+    ctx: &Context,
+) -> Result<(Source, CompositeModulus), StageError> {
     let source = read(
         inputs,
         &SourceOptions {
@@ -525,11 +529,8 @@ fn setup(inputs: &Inputs, p: &SpectrumParams) -> Result<(Source, CompositeModulu
             periodic: p.periodic,
         },
     )?;
-    let material = hypercontact_material::table::from_table(inputs.table("material")?)
-        .map_err(ClassicalError::Material)?;
-    let modulus = p
-        .law
-        .modulus(Arc::from(material))
+    let modulus = (p.law)
+        .modulus_from_table(inputs.table("material")?, ctx)
         .map_err(ClassicalError::Material)?;
     Ok((source, modulus))
 }

@@ -20,7 +20,7 @@ pub mod tangent;
 pub mod tangent_table;
 
 pub use law_params::LawParams;
-pub use modulus::{CompositeModulus, Model};
+pub use modulus::{CompositeModulus, Model, Tangent};
 pub use solver::{ProfileSlices, Scheme, Solution, SolveError, solve};
 
 /// Errors of the ICM stage.

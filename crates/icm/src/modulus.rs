@@ -5,17 +5,30 @@
 //! Conventions (SPEC, "Ogden model" and "Incremental contact model"):
 //! - E0 = 2 μ0 (1 + ν), E0* = E0 / (1 − ν²)
 //!   ([`hypercontact_material::composite_modulus_pa`]).
-//! - Hyperelastic: E_t* = E_t(φ⁻¹(S)) / (1 − ν²) with φ the equibiaxial
-//!   nominal stress (Eq. 2) and E_t = dφ/dε (Eq. 6), at the compressive
-//!   S = −F/A ≤ 0, so ε ≤ 0. E_t(0) = 6 μ0, hence E_t*/E0* = 3 / (1 + ν)
-//!   at first contact: 2 for ν = ½.
+//! - Hyperelastic: E_t* = E_t(φ⁻¹(S)) / (1 − ν²) with φ a nominal stress
+//!   curve (Eq. 2) and E_t = dφ/dε (Eq. 6), at the compressive S = −F/A ≤ 0,
+//!   so ε ≤ 0. Which curve is the [`Tangent`] choice:
+//!   - `equibiaxial` (the paper's): the material under a contact patch is
+//!     stretched equally in its plane. E_t(0) = 6 μ0 = 2 E0, hence
+//!     E_t*/E0* = 3 / (1 + ν) at first contact: a factor 2 for ν = ½, so the
+//!     hyperelastic curve starts at twice the linear one and does not reduce
+//!     to linear elasticity at vanishing load.
+//!   - `uniaxial`: compression along the load axis with free lateral
+//!     expansion, the small-strain limit of Hertz's and Boussinesq's
+//!     solutions. E_t(0) = 3 μ0 = E0, E_t*/E0* = 3 / (2 (1 + ν)) at first
+//!     contact: 1 for ν = ½, where the curve meets the linear one.
 //! - For ν < ½ the material law stays the incompressible one (the Ogden
 //!   form has no bulk term); only E0 and the 1/(1 − ν²) factor use ν.
+//! - A linear-elastic material ([`hypercontact_material::LinearElastic`])
+//!   has E* = E / (1 − ν²) with its own ν at every stress, whatever the
+//!   model, tangent and ν of the stage.
 
 use std::sync::Arc;
 
 use hypercontact_core::Choice;
-use hypercontact_material::{ContactLaw, Hyperelastic, MaterialError, composite_modulus_pa};
+use hypercontact_material::{
+    ContactLaw, Hyperelastic, LinearElastic, Material, MaterialError, Mode, composite_modulus_pa,
+};
 
 use crate::tangent_table::TangentTable;
 
@@ -29,11 +42,32 @@ pub enum Model {
     Linear,
 }
 
-/// E_t*(S) for one material, model and Poisson ratio.
+/// Which nominal stress curve the tangent modulus E_t = dφ/dε is taken from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Choice)]
+pub enum Tangent {
+    /// the paper's: the equibiaxial curve (patch stretched equally in-plane); E_t(0) = 2 E0
+    #[default]
+    Equibiaxial,
+    /// the uniaxial curve in compression (free lateral expansion, Hertz's small-strain limit); E_t(0) = E0
+    Uniaxial,
+}
+
+impl Tangent {
+    /// The test mode whose nominal stress is φ.
+    pub fn mode(self) -> Mode {
+        match self {
+            Tangent::Equibiaxial => Mode::Equibiaxial,
+            Tangent::Uniaxial => Mode::Uniaxial,
+        }
+    }
+}
+
+/// E_t*(S) for one material, model, tangent and Poisson ratio.
 #[derive(Clone, Debug)]
 pub struct CompositeModulus {
     model: Model,
-    law: ContactLaw,
+    /// The hyperelastic law; None for a linear-elastic material.
+    law: Option<ContactLaw>,
     /// The compressive branch of E_t(S), for speed; None for `linear`.
     table: Option<TangentTable>,
     poisson: f64,
@@ -41,9 +75,20 @@ pub struct CompositeModulus {
 }
 
 impl CompositeModulus {
+    /// The paper's law: the equibiaxial tangent ([`Tangent::Equibiaxial`]).
     pub fn new(
         material: Arc<dyn Hyperelastic>,
         model: Model,
+        poisson: f64,
+    ) -> Result<Self, MaterialError> {
+        Self::with_tangent(material, model, Tangent::Equibiaxial, poisson)
+    }
+
+    /// The law with E_t taken from the `tangent` curve.
+    pub fn with_tangent(
+        material: Arc<dyn Hyperelastic>,
+        model: Model,
+        tangent: Tangent,
         poisson: f64,
     ) -> Result<Self, MaterialError> {
         let e0_star_pa = composite_modulus_pa(material.shear_modulus_pa(), poisson);
@@ -52,15 +97,41 @@ impl CompositeModulus {
                 "the initial composite modulus E0* is {e0_star_pa} Pa"
             )));
         }
-        let law = ContactLaw::new(material)?;
+        let law = ContactLaw::in_mode(material, tangent.mode())?;
         let table = (model == Model::Hyperelastic).then(|| TangentTable::new(&law));
         Ok(Self {
             model,
-            law,
+            law: Some(law),
             table,
             poisson,
             e0_star_pa,
         })
+    }
+
+    /// A linear-elastic solid: E* = E / (1 − ν²) with its own ν, at every
+    /// stress.
+    pub fn linear_elastic(solid: LinearElastic) -> Self {
+        Self {
+            model: Model::Linear,
+            law: None,
+            table: None,
+            poisson: solid.poisson,
+            e0_star_pa: solid.composite_modulus_pa(),
+        }
+    }
+
+    /// Any material: a hyperelastic one under `model`, `tangent` and
+    /// `poisson`, a linear one at its own constant E*.
+    pub fn of_material(
+        material: &Material,
+        model: Model,
+        tangent: Tangent,
+        poisson: f64,
+    ) -> Result<Self, MaterialError> {
+        match material {
+            Material::Linear(solid) => Ok(Self::linear_elastic(*solid)),
+            Material::Hyperelastic(m) => Self::with_tangent(m.clone(), model, tangent, poisson),
+        }
     }
 
     /// E0* = E0 / (1 − ν²), Pa.
@@ -68,20 +139,30 @@ impl CompositeModulus {
         self.e0_star_pa
     }
 
+    /// The Poisson ratio in E0* (a linear material's own).
+    pub fn poisson(&self) -> f64 {
+        self.poisson
+    }
+
+    /// The curve E_t is taken from; None when the modulus is constant (a
+    /// linear material).
+    pub fn tangent_mode(&self) -> Option<Mode> {
+        self.law.as_ref().map(ContactLaw::mode)
+    }
+
     /// E_t* at the compressive stress S (≤ 0), Pa.
     pub fn at_stress_pa(&self, stress_pa: f64) -> Result<f64, MaterialError> {
-        match self.model {
-            Model::Linear => Ok(self.e0_star_pa),
-            Model::Hyperelastic => {
-                let tabulated = self.table.as_ref().and_then(|t| t.get(stress_pa));
-                let e_t = match tabulated {
-                    Some(e_t) => e_t,
-                    // Outside the table: the exact inversion, or its error.
-                    None => self.law.tangent_at_stress_pa(stress_pa)?,
-                };
-                Ok(e_t / (1.0 - self.poisson * self.poisson))
-            }
-        }
+        let law = match (&self.law, self.model) {
+            (Some(law), Model::Hyperelastic) => law,
+            _ => return Ok(self.e0_star_pa),
+        };
+        let tabulated = self.table.as_ref().and_then(|t| t.get(stress_pa));
+        let e_t = match tabulated {
+            Some(e_t) => e_t,
+            // Outside the table: the exact inversion, or its error.
+            None => law.tangent_at_stress_pa(stress_pa)?,
+        };
+        Ok(e_t / (1.0 - self.poisson * self.poisson))
     }
 }
 
@@ -114,5 +195,54 @@ mod tests {
         assert!((m.e0_star_pa() / e0_star - 1.0).abs() < 1e-12);
         let ratio = m.at_stress_pa(0.0).unwrap() / m.e0_star_pa();
         assert!((ratio - 3.0 / (1.0 + nu)).abs() < 1e-9, "{ratio}");
+    }
+
+    #[test]
+    fn first_contact_ratio_is_two_equibiaxial_and_one_uniaxial() {
+        let models: [Arc<dyn Hyperelastic>; 2] = [
+            Arc::new(paper_epdm()),
+            Arc::new(hypercontact_material::NeoHookean::new(0.3e6).unwrap()),
+        ];
+        for material in models {
+            for (tangent, expected) in [(Tangent::Equibiaxial, 2.0), (Tangent::Uniaxial, 1.0)] {
+                let m = CompositeModulus::with_tangent(
+                    material.clone(),
+                    Model::Hyperelastic,
+                    tangent,
+                    0.5,
+                )
+                .unwrap();
+                assert_eq!(m.tangent_mode(), Some(tangent.mode()));
+                let ratio = m.at_stress_pa(0.0).unwrap() / m.e0_star_pa();
+                assert!(
+                    (ratio - expected).abs() < 1e-9,
+                    "{} {tangent:?}: E_t*(0)/E0* = {ratio}",
+                    material.family()
+                );
+                // Compression stiffens both.
+                assert!(m.at_stress_pa(-1e6).unwrap() > m.at_stress_pa(0.0).unwrap());
+            }
+        }
+    }
+
+    #[test]
+    fn a_linear_material_is_constant_whatever_the_law_says() {
+        let solid = LinearElastic::new(2e6, 0.49).unwrap();
+        let analytic = 2e6 / (1.0 - 0.49 * 0.49);
+        for tangent in [Tangent::Equibiaxial, Tangent::Uniaxial] {
+            let m = CompositeModulus::of_material(
+                &Material::Linear(solid),
+                Model::Hyperelastic,
+                tangent,
+                0.5,
+            )
+            .unwrap();
+            assert_eq!(m.e0_star_pa(), analytic);
+            assert_eq!(m.poisson(), 0.49);
+            assert_eq!(m.tangent_mode(), None);
+            for s in [0.0, -1e5, -1e9] {
+                assert_eq!(m.at_stress_pa(s).unwrap(), analytic);
+            }
+        }
     }
 }

@@ -1,15 +1,11 @@
 //! Stage `icm`: the truncation profile and a material in, the load–area
 //! response out. A thin wrapper: table checks here, the physics in
 //! [`crate::solver`] and [`crate::modulus`].
-
-use std::sync::Arc;
-
 use hypercontact_core::contact::{BandTable, Curve, ResponseTable};
 use hypercontact_core::{
     Arity, Checked, Context, InputSpec, Inputs, OutputSpec, Outputs, Schema, Stage, StageError,
     StageInfo, params,
 };
-use hypercontact_material::Hyperelastic;
 use hypercontact_material::bootstrap::ReplicatesTable;
 use hypercontact_material::table::MaterialTable;
 use hypercontact_truncation::stage::ProfileTable;
@@ -36,10 +32,17 @@ static INFO: StageInfo = StageInfo {
     summary: "Incremental contact model: load against contact area from a truncation profile",
     doc: "Integrates dF/d(-z) = 2 E_t*(S) r(z) N(z) from F(z_max) = 0 downward over the \
           profile's planes (the paper's Eqs. 5-7); `z_m` is the plane's height. Hyperelastic: \
-          E_t* = E_t(phi^-1(S)) / (1 - nu^2) with phi the equibiaxial nominal stress of the \
-          material (Eq. 2), E_t = dphi/deps (Eq. 6), evaluated at the compressive mean stress \
-          S = -F/A (so eps < 0); E_t*/E0* = 2 at first contact for nu = 1/2. Linear (Wang's \
-          original ICM): E_t* = E0* = E0/(1 - nu^2), E0 = 2 mu0 (1 + nu). Schemes: `euler` is \
+          E_t* = E_t(phi^-1(S)) / (1 - nu^2) with phi a nominal stress curve of the material \
+          (Eq. 2), E_t = dphi/deps (Eq. 6), evaluated at the compressive mean stress S = -F/A \
+          (so eps < 0). `tangent: equibiaxial` (default) is the paper's phi, the equibiaxial \
+          curve: E_t*/E0* = 2 at first contact for nu = 1/2, so the curve starts at twice the \
+          linear one; it assumes the patch's material is stretched equally in its plane. \
+          `tangent: uniaxial` takes phi from the uniaxial curve in compression (free lateral \
+          expansion, the small-strain limit of Hertz and Boussinesq): E_t*/E0* = 1 at first \
+          contact, where the curve meets the linear one. Linear (Wang's original ICM): E_t* = \
+          E0* = E0/(1 - nu^2), E0 = 2 mu0 (1 + nu). A linear-elastic material (stage \
+          `material`, family `linear`) gives E* = E/(1 - nu^2) with its own nu at every stress, \
+          whatever `model`, `tangent` and `poisson` say (a note says so). Schemes: `euler` is \
           the paper's explicit step; `heun` the explicit trapezoidal rule (second order, using \
           only tabulated planes; exact for a flat punch). Planes with A = 0 or N = 0 add no \
           load. A0 is area_m2 / area_fraction of the profile. If S leaves the range where phi \
@@ -92,7 +95,8 @@ impl Stage for Icm {
         let nominal_area_m2 =
             nominal_area(&profile.area_fraction, &profile.area_m2).map_err(StageError::other)?;
 
-        let material = hypercontact_material::table::from_table(inputs.table("material")?)
+        let modulus = (p.law)
+            .modulus_from_table(inputs.table("material")?, ctx)
             .map_err(|e| StageError::other(IcmError::Material(e)))?;
         let slices = ProfileSlices {
             z_m: &profile.z_m,
@@ -100,7 +104,7 @@ impl Stage for Icm {
             patches: &patches,
             radius_m: &profile.radius_m,
         };
-        let (modulus, solution) = respond(Arc::from(material), slices, p)?;
+        let (modulus, solution) = respond(modulus, slices, p)?;
         let e0_star = modulus.e0_star_pa();
         let axes = BandAxes {
             area_fraction: &profile.area_fraction,
@@ -131,12 +135,8 @@ impl Stage for Icm {
 /// One material's law and its solution over the profile, or why not.
 type Solved = Result<(CompositeModulus, Solution), StageError>;
 
-/// One material's solve over the profile.
-fn respond(material: Arc<dyn Hyperelastic>, slices: ProfileSlices<'_>, p: &IcmParams) -> Solved {
-    let modulus = p
-        .law
-        .modulus(material)
-        .map_err(|e| StageError::other(IcmError::Material(e)))?;
+/// One material's solve over the profile under its law.
+fn respond(modulus: CompositeModulus, slices: ProfileSlices<'_>, p: &IcmParams) -> Solved {
     let solution = solve(slices, p.law.scheme, &mut |s| {
         modulus.at_stress_pa(s).map_err(|e| e.to_string())
     })

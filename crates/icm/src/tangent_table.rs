@@ -102,4 +102,27 @@ mod tests {
         assert!(table.get(law.range().stress_min_pa * 1.01).is_none());
         assert!(table.get(1.0e3).is_none(), "tension is not tabulated");
     }
+
+    #[test]
+    fn a_uniaxial_table_matches_its_own_law() {
+        let model = Arc::new(paper_epdm());
+        let law = ContactLaw::in_mode(model, hypercontact_material::Mode::Uniaxial).unwrap();
+        let table = TangentTable::new(&law);
+        let eps_min = law.range().eps_min;
+        let mut worst: f64 = 0.0;
+        for k in 1..2000 {
+            let eps = eps_min * (1.0 - (k as f64 + 0.37) / 2001.0);
+            let exact = law.tangent_modulus_pa(eps);
+            let Some(tabulated) = table.get(law.phi_pa(eps)) else {
+                panic!("ε = {eps} not tabulated")
+            };
+            worst = worst.max((tabulated / exact - 1.0).abs());
+        }
+        assert!(worst < 1e-9, "worst relative error {worst:.3e}");
+        // E_t(0) = E0 = 3 μ0 for the uniaxial curve.
+        use hypercontact_material::Hyperelastic;
+        let e0 = 3.0 * paper_epdm().shear_modulus_pa();
+        let at_zero = table.get(law.phi_pa(0.0)).unwrap();
+        assert!((at_zero / e0 - 1.0).abs() < 1e-9, "{at_zero} vs {e0}");
+    }
 }

@@ -40,6 +40,7 @@ fn sample_map_runs_through_truncation_and_both_icm_models() {
         let params = IcmParams {
             law: LawParams {
                 model,
+                tangent: hypercontact_icm::Tangent::Equibiaxial,
                 scheme: Scheme::Heun,
                 poisson: hypercontact_material::Poisson::INCOMPRESSIBLE,
             },

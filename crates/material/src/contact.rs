@@ -1,10 +1,17 @@
 //! The contact-side functions of the paper: Eq. (2) φ(ε), its inverse, and
 //! Eq. (6) E_t = dφ/dε, for any [`Hyperelastic`] model.
 //!
-//! φ is the equibiaxial nominal stress at λ = 1 + ε. Sign convention: contact
-//! stress is compressive, so the incremental contact model evaluates
-//! ε = φ⁻¹(S) at S = −F/A < 0 (ε < 0), where E_t rises above its initial
-//! value E_t(0) = 6 μ0 = 2 E0.
+//! φ is the nominal stress of one test mode at λ = 1 + ε. The paper's is the
+//! equibiaxial one (BT, [`ContactLaw::new`]): it assumes the material under a
+//! contact patch is stretched equally in its plane, and starts at
+//! E_t(0) = 6 μ0 = 2 E0, twice the small-strain Young's modulus.
+//! [`ContactLaw::in_mode`] takes φ from another mode; uniaxial (UT) is
+//! compression along the load axis with free lateral expansion, the
+//! small-strain limit of Hertz's and Boussinesq's solutions, and starts at
+//! E_t(0) = 3 μ0 = E0 (for an incompressible solid, μ0 the initial shear
+//! modulus). Sign convention: contact stress is compressive, so the
+//! incremental contact model evaluates ε = φ⁻¹(S) at S = −F/A < 0 (ε < 0),
+//! where E_t rises above its initial value.
 
 use std::sync::Arc;
 
@@ -27,19 +34,25 @@ const STRETCH_MIN: f64 = 0.01;
 const STRETCH_MAX: f64 = 10.0;
 const SCAN_POINTS: usize = 4000;
 
-/// φ, φ⁻¹ and E_t of one material.
+/// φ, φ⁻¹ and E_t of one material in one test mode.
 #[derive(Clone, Debug)]
 pub struct ContactLaw {
     model: Arc<dyn Hyperelastic>,
+    mode: Mode,
     range: MonotonicRange,
 }
 
 impl ContactLaw {
-    /// Builds the law and finds φ's monotonic range by scanning dφ/dε on a
-    /// geometric grid from λ = 1 outwards, then bisecting the first sign
-    /// change on each side.
+    /// The paper's law: φ the equibiaxial nominal stress (Eq. 2).
     pub fn new(model: Arc<dyn Hyperelastic>) -> Result<Self, MaterialError> {
-        let slope = |eps: f64| model.nominal_stress_slope_pa(Mode::Equibiaxial, 1.0 + eps);
+        Self::in_mode(model, Mode::Equibiaxial)
+    }
+
+    /// The law with φ the nominal stress of `mode`. Finds φ's monotonic
+    /// range by scanning dφ/dε on a geometric grid from λ = 1 outwards, then
+    /// bisecting the first sign change on each side.
+    pub fn in_mode(model: Arc<dyn Hyperelastic>, mode: Mode) -> Result<Self, MaterialError> {
+        let slope = |eps: f64| model.nominal_stress_slope_pa(mode, 1.0 + eps);
         if slope(0.0) <= 0.0 || !slope(0.0).is_finite() {
             return Err(MaterialError::Invalid(format!(
                 "the initial tangent modulus is {} Pa; the model is unstable at zero strain",
@@ -48,18 +61,23 @@ impl ContactLaw {
         }
         let eps_max = first_unstable(&slope, STRETCH_MAX);
         let eps_min = first_unstable(&slope, STRETCH_MIN);
-        let phi = |eps: f64| model.nominal_stress_pa(Mode::Equibiaxial, 1.0 + eps);
+        let phi = |eps: f64| model.nominal_stress_pa(mode, 1.0 + eps);
         let range = MonotonicRange {
             eps_min,
             eps_max,
             stress_min_pa: phi(eps_min),
             stress_max_pa: phi(eps_max),
         };
-        Ok(Self { model, range })
+        Ok(Self { model, mode, range })
     }
 
     pub fn model(&self) -> &dyn Hyperelastic {
         self.model.as_ref()
+    }
+
+    /// The test mode whose nominal stress is φ.
+    pub fn mode(&self) -> Mode {
+        self.mode
     }
 
     pub fn range(&self) -> MonotonicRange {
@@ -68,13 +86,12 @@ impl ContactLaw {
 
     /// Eq. (2): S = φ(ε), Pa.
     pub fn phi_pa(&self, eps: f64) -> f64 {
-        self.model.nominal_stress_pa(Mode::Equibiaxial, 1.0 + eps)
+        self.model.nominal_stress_pa(self.mode, 1.0 + eps)
     }
 
     /// Eq. (6): E_t = dφ/dε at strain ε, Pa.
     pub fn tangent_modulus_pa(&self, eps: f64) -> f64 {
-        self.model
-            .nominal_stress_slope_pa(Mode::Equibiaxial, 1.0 + eps)
+        self.model.nominal_stress_slope_pa(self.mode, 1.0 + eps)
     }
 
     /// ε = φ⁻¹(S) on the monotonic range: bracketed, safeguarded Newton.
@@ -82,6 +99,7 @@ impl ContactLaw {
         let r = self.range;
         if !(stress_pa >= r.stress_min_pa && stress_pa <= r.stress_max_pa) {
             return Err(MaterialError::OutsideMonotonicRange {
+                mode: self.mode.label(),
                 stress_pa,
                 min_pa: r.stress_min_pa,
                 max_pa: r.stress_max_pa,
@@ -213,5 +231,88 @@ mod tests {
             assert!(e_t > last, "E_t({s_mpa} MPa) = {e_t}");
             last = e_t;
         }
+    }
+
+    fn uniaxial(model: Arc<dyn Hyperelastic>) -> ContactLaw {
+        ContactLaw::in_mode(model, Mode::Uniaxial).unwrap()
+    }
+
+    #[test]
+    fn uniaxial_tangent_starts_at_youngs_modulus_equibiaxial_at_twice_it() {
+        let models: [Arc<dyn Hyperelastic>; 2] = [
+            Arc::new(paper_epdm()),
+            Arc::new(crate::NeoHookean::new(0.3e6).unwrap()),
+        ];
+        for model in models {
+            let e0 = crate::youngs_modulus_pa(model.shear_modulus_pa(), 0.5);
+            let ut = uniaxial(model.clone());
+            let bt = ContactLaw::new(model.clone()).unwrap();
+            assert_eq!(ut.mode(), Mode::Uniaxial);
+            assert_eq!(bt.mode(), Mode::Equibiaxial);
+            let (ut0, bt0) = (ut.tangent_modulus_pa(0.0), bt.tangent_modulus_pa(0.0));
+            assert!(
+                (ut0 / e0 - 1.0).abs() < 1e-9,
+                "{}: {ut0} vs {e0}",
+                model.family()
+            );
+            assert!(
+                (bt0 / e0 - 2.0).abs() < 1e-9,
+                "{}: {bt0} vs {e0}",
+                model.family()
+            );
+        }
+    }
+
+    #[test]
+    fn uniaxial_tangent_is_the_slope_of_the_ut_curve_at_the_inverted_stretch() {
+        // Neo-Hookean T_UT(λ) = μ (λ − λ⁻²): an independent closed form.
+        let mu = 0.4e6;
+        let law = uniaxial(Arc::new(crate::NeoHookean::new(mu / 2.0).unwrap()));
+        let t_ut = |l: f64| mu * (l - l.powi(-2));
+        for s_mpa in [-0.05, -0.3, -1.0, -3.0] {
+            let stress = s_mpa * 1e6;
+            let eps = law.strain_at_stress(stress).unwrap();
+            let l = 1.0 + eps;
+            assert!(l < 1.0 && (t_ut(l) / stress - 1.0).abs() < 1e-10, "λ = {l}");
+            let h = 1e-6 * l;
+            let fd = (t_ut(l + h) - t_ut(l - h)) / (2.0 * h);
+            let e_t = law.tangent_at_stress_pa(stress).unwrap();
+            assert!(
+                (e_t / fd - 1.0).abs() < 1e-8,
+                "S = {s_mpa} MPa: {e_t} vs {fd}"
+            );
+        }
+        // And paper_epdm against differences of its own UT stress.
+        let epdm = paper_epdm();
+        let law = uniaxial(Arc::new(epdm.clone()));
+        for s_mpa in [-0.5, -2.0, -6.0] {
+            let l = 1.0 + law.strain_at_stress(s_mpa * 1e6).unwrap();
+            let h = 1e-5 * l;
+            let t = |l: f64| epdm.nominal_stress_pa(Mode::Uniaxial, l);
+            let fd = (t(l + h) - t(l - h)) / (2.0 * h);
+            let e_t = law.tangent_at_stress_pa(s_mpa * 1e6).unwrap();
+            assert!(
+                (e_t / fd - 1.0).abs() < 1e-6,
+                "S = {s_mpa} MPa: {e_t} vs {fd}"
+            );
+        }
+    }
+
+    #[test]
+    fn uniaxial_stress_outside_its_range_names_the_mode() {
+        let law = uniaxial(Arc::new(paper_epdm()));
+        let r = law.range();
+        let beyond = if r.eps_min > -0.98 {
+            r.stress_min_pa * 1.01
+        } else {
+            r.stress_max_pa * 1.01
+        };
+        let e = law.strain_at_stress(beyond).unwrap_err().to_string();
+        assert!(
+            e.contains("outside the range") && e.contains("the UT nominal stress"),
+            "{e}"
+        );
+        let e = paper().strain_at_stress(1e12).unwrap_err().to_string();
+        assert!(e.contains("the BT nominal stress"), "{e}");
     }
 }

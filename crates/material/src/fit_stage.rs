@@ -503,11 +503,19 @@ mod tests {
     }
 
     #[test]
-    fn register_adds_the_three_stages() {
+    fn register_adds_the_four_stages() {
         let mut registry = hypercontact_core::Registry::new();
         crate::register(&mut registry);
         let kinds: Vec<&str> = registry.kinds().collect();
-        assert_eq!(kinds, ["material-fit", "material-preset", "tensile-table"]);
+        assert_eq!(
+            kinds,
+            [
+                "material",
+                "material-fit",
+                "material-preset",
+                "tensile-table"
+            ]
+        );
     }
 
     #[test]

@@ -5,20 +5,28 @@
 //!   implementations;
 //! - [`contact`]: the paper's Eq. (2) φ(ε), its inverse and Eq. (6) E_t,
 //!   which the incremental contact model evaluates;
-//! - [`table`]: the `material` table that carries a model between stages;
+//! - [`mod@material`]: what a material table holds, a hyperelastic model or a
+//!   linear solid ([`Material`]);
+//! - [`table`]: the `material` table that carries a material between stages;
 //! - [`tensile`], [`mod@fit`], [`stability`]: tensile data, the simultaneous
 //!   UT/PT/BT least-squares fit and the Drucker stability check, behind the
-//!   stages `tensile-table`, `material-fit` and `material-preset`.
+//!   stages `tensile-table`, `material-fit` and `material-preset`;
+//! - [`constants`], [`constants_file`]: any material by its constants,
+//!   behind the stage `material`.
 
 pub mod arruda_boyce;
 pub mod bootstrap;
 mod compensated_sum;
+pub mod constants;
+pub mod constants_file;
+pub mod constants_stage;
 pub mod contact;
 pub mod family;
 pub mod fit;
 pub mod fit_stage;
 mod fit_tables;
 pub mod invariants;
+pub mod material;
 pub mod model;
 pub mod mooney_rivlin;
 pub mod neo_hookean;
@@ -42,6 +50,7 @@ pub use arruda_boyce::ArrudaBoyce;
 pub use contact::{ContactLaw, MonotonicRange};
 pub use family::Family;
 pub use fit::{Conditioning, Constraint, FitOptions, FitResult, Residual, fit};
+pub use material::{LinearElastic, Material};
 pub use model::{Hyperelastic, Mode, Poisson, composite_modulus_pa, youngs_modulus_pa};
 pub use mooney_rivlin::MooneyRivlin;
 pub use neo_hookean::NeoHookean;
@@ -54,10 +63,13 @@ pub use yeoh::Yeoh;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MaterialError {
     #[error(
-        "stress {stress_pa:.6e} Pa lies outside the range where φ is monotonic and invertible \
-         ({min_pa:.6e} … {max_pa:.6e} Pa, strain {eps_min:.4} … {eps_max:.4})"
+        "stress {stress_pa:.6e} Pa lies outside the range where φ, the {mode} nominal stress, is \
+         monotonic and invertible ({min_pa:.6e} … {max_pa:.6e} Pa, strain {eps_min:.4} … \
+         {eps_max:.4})"
     )]
     OutsideMonotonicRange {
+        /// The test mode of φ: `BT` (the paper's) or `UT`.
+        mode: &'static str,
         stress_pa: f64,
         min_pa: f64,
         max_pa: f64,
@@ -91,5 +103,6 @@ pub fn register(registry: &mut hypercontact_core::Registry) {
     registry
         .add(tensile_stage::TensileTable)
         .add(fit_stage::MaterialFit)
-        .add(preset_stage::MaterialPreset);
+        .add(preset_stage::MaterialPreset)
+        .add(constants_stage::MaterialConstants);
 }

@@ -1,8 +1,11 @@
-//! The `material` table: how a fitted or preset model travels between
-//! stages. One row per parameter: `model` (family), `param`, `value` (SI).
+//! The `material` table: how a fitted, preset or given material travels
+//! between stages. One row per parameter: `model` (family), `param`, `value`
+//! (SI). A hyperelastic model writes its own parameters; a linear solid
+//! (family `linear`) writes `e` (Pa) and `poisson` (1).
 
 use hypercontact_core::{Schema, Table};
 
+use crate::material::{LinearElastic, Material};
 use crate::{
     ArrudaBoyce, Hyperelastic, MaterialError, MooneyRivlin, NeoHookean, Ogden, Parameter, Yeoh,
 };
@@ -10,7 +13,7 @@ use crate::{
 /// The `material` table, one row per parameter.
 #[derive(Clone, Debug, PartialEq, Schema)]
 pub struct MaterialTable {
-    /// model family: ogden, neo-hookean, mooney-rivlin, yeoh, arruda-boyce
+    /// model family: ogden, neo-hookean, mooney-rivlin, yeoh, arruda-boyce, linear
     pub model: Vec<String>,
     /// parameter name (mu_1, alpha_1, c10, ...)
     pub param: Vec<String>,
@@ -40,7 +43,20 @@ pub fn to_table(model: &dyn Hyperelastic) -> Table {
     .into_table()
 }
 
-/// Reads a model back from a `material` table.
+/// Writes any material (a linear solid too) as a `material` table.
+pub fn material_to_table(material: &Material) -> Table {
+    let params = material.parameters();
+    MaterialTable {
+        model: vec![material.family().to_owned(); params.len()],
+        param: params.iter().map(Parameter::name).collect(),
+        value: params.iter().map(|p| p.value).collect(),
+    }
+    .into_table()
+}
+
+/// Reads a hyperelastic model back from a `material` table: for the steps
+/// that need a strain energy (the report's material page, the bootstrap); a
+/// linear solid is refused, saying so.
 pub fn from_table(table: &Table) -> Result<Box<dyn Hyperelastic>, MaterialError> {
     let MaterialTable {
         model: models,
@@ -48,6 +64,54 @@ pub fn from_table(table: &Table) -> Result<Box<dyn Hyperelastic>, MaterialError>
         value: values,
     } = MaterialTable::from_table(table).map_err(|e| MaterialError::Table(e.to_string()))?;
     from_parts(&models, &names, &values)
+}
+
+/// Reads whatever a `material` table holds: what the contact stages read.
+pub fn material_from_table(table: &Table) -> Result<Material, MaterialError> {
+    let MaterialTable {
+        model: models,
+        param: names,
+        value: values,
+    } = MaterialTable::from_table(table).map_err(|e| MaterialError::Table(e.to_string()))?;
+    if models.first().map(String::as_str) == Some(LinearElastic::FAMILY) {
+        let (e_pa, poisson) = linear_parts(&models, &names, &values)?;
+        return Ok(Material::Linear(LinearElastic::new(e_pa, poisson)?));
+    }
+    from_parts(&models, &names, &values).map(Material::from)
+}
+
+/// E and ν of a `linear` table's rows, each exactly once and nothing else.
+fn linear_parts(
+    models: &[String],
+    names: &[String],
+    values: &[f64],
+) -> Result<(f64, f64), MaterialError> {
+    if let Some(other) = models.iter().find(|m| *m != LinearElastic::FAMILY) {
+        return Err(MaterialError::Table(format!(
+            "one table holds two models, `linear` and `{other}`"
+        )));
+    }
+    if let Some(extra) = names
+        .iter()
+        .find(|n| !["e", "poisson"].contains(&n.as_str()))
+    {
+        return Err(MaterialError::Table(format!(
+            "`linear` takes parameters `e` and `poisson`, not `{extra}`"
+        )));
+    }
+    let get = |name: &str| -> Result<f64, MaterialError> {
+        let mut given = (names.iter().zip(values)).filter(|(n, _)| *n == name);
+        match (given.next(), given.next()) {
+            (Some((_, value)), None) => Ok(*value),
+            (None, _) => Err(MaterialError::Table(format!(
+                "`linear` needs parameter `{name}`"
+            ))),
+            (Some(_), Some(_)) => Err(MaterialError::Table(format!(
+                "`linear` lists parameter `{name}` more than once"
+            ))),
+        }
+    };
+    Ok((get("e")?, get("poisson")?))
 }
 
 /// A model from the `material` table's columns.
@@ -86,9 +150,16 @@ pub(crate) fn from_parts(
         "mooney-rivlin" => Ok(Box::new(MooneyRivlin::new(get("c10")?, get("c01")?)?)),
         "yeoh" => Ok(Box::new(Yeoh::new(get("c10")?, get("c20")?, get("c30")?)?)),
         "arruda-boyce" => Ok(Box::new(ArrudaBoyce::new(get("mu")?, get("lambda_m")?)?)),
+        LinearElastic::FAMILY => Err(MaterialError::Table(format!(
+            "the material is a linear solid (E = {:e} Pa, ν = {}), not a hyperelastic model: this \
+             step needs a strain energy (a preset, a fit, or `material` with a hyperelastic \
+             family)",
+            get("e")?,
+            get("poisson")?
+        ))),
         other => Err(MaterialError::Table(format!(
             "unknown model family `{other}` (known: ogden, neo-hookean, mooney-rivlin, yeoh, \
-             arruda-boyce)"
+             arruda-boyce, linear)"
         ))),
     }
 }

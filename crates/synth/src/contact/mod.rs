@@ -22,8 +22,6 @@ pub mod rig;
 pub mod solve;
 pub mod view;
 
-use std::sync::Arc;
-
 use hypercontact_bem::{Boundary, Influence, Problem, SolverOptions};
 use hypercontact_core::contact::{ObservedMapIndex, area_fraction_label, check_map_fraction};
 use hypercontact_core::{
@@ -263,8 +261,10 @@ static INFO: StageInfo = StageInfo {
           `resolution_m` exactly as `surface` filters a stitched scan (Gaussian, cut-off twice \
           the spacing); the contact with the rigid glass is solved on that grid by the `bem` \
           solver (same boundary, tolerance and law: `hyperelastic` by default, the force by \
-          the tangent-modulus integral over the solved frames), each frame warm-started from \
-          the previous one. RAMP: the servo advances at `speed_m_per_s` (the paper: 3 µm/s, \
+          the tangent-modulus integral over the solved frames, E_t*/E0* = 2 at first contact \
+          with the paper's `tangent: equibiaxial` and 1 with `uniaxial`), each frame \
+          warm-started from the previous one. RAMP: the servo advances at `speed_m_per_s` (the \
+          paper: 3 µm/s, \
           quasi-static); the last frame's penetration is where the solve first reaches \
           `max_area_fraction` (found by the `bem` curve search); frames are evenly spaced in \
           time, `frames_before_contact` of them with an open gap, first contact \
@@ -336,11 +336,8 @@ impl Stage for SynthContact {
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
         let surface = filtered(inputs.field("surface")?, p.resolution_m)?;
-        let material = hypercontact_material::table::from_table(inputs.table("material")?)
-            .map_err(|e| StageError::invalid(format!("material: {e}")))?;
-        let modulus = p
-            .law
-            .modulus(Arc::from(material))
+        let modulus = (p.law)
+            .modulus_from_table(inputs.table("material")?, ctx)
             .map_err(|e| StageError::invalid(format!("material: {e}")))?;
         check_view_inside(&surface, &p.placement(), &p.grid())?;
         let (ramp, contacts) = solve_frames(&surface, &modulus, p, ctx)?;
