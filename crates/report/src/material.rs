@@ -9,6 +9,7 @@
 use hypercontact_core::Mode;
 use hypercontact_core::Table;
 use hypercontact_material::fit_stage::{ComparisonTable, ParamsTable};
+use hypercontact_material::material::{LinearElastic, Material};
 use hypercontact_material::quality::quality;
 use hypercontact_material::tensile::{TensileCurve, TensileData};
 use hypercontact_material::{
@@ -55,8 +56,14 @@ impl MaterialSummary {
         poisson: f64,
         params: Option<&ParamsTable>,
     ) -> Result<Self, ReportError> {
-        let model = hypercontact_material::table::from_table(table)
+        let material = hypercontact_material::table::material_from_table(table)
             .map_err(|e| ReportError::Material(e.to_string()))?;
+        let model = match &material {
+            Material::Hyperelastic(model) => model,
+            // A linear solid: E and its own ν define E0*, as the contact
+            // models that read it use them; there is no fit to check.
+            Material::Linear(solid) => return Ok(Self::linear(*solid)),
+        };
         let mu0_pa = model.shear_modulus_pa();
         let mut intervals = Vec::new();
         if let Some(fit) = params.filter(|p| !p.model.is_empty()) {
@@ -101,6 +108,21 @@ impl MaterialSummary {
             e0_star_pa: composite_modulus_pa(mu0_pa, poisson),
             intervals,
         })
+    }
+
+    /// A linear solid: E and ν as given, μ0 = E / (2 (1 + ν)) and
+    /// E0* = E / (1 − ν²) at its own ν.
+    fn linear(solid: LinearElastic) -> Self {
+        let poisson = solid.poisson;
+        MaterialSummary {
+            model: LinearElastic::FAMILY.to_owned(),
+            parameters: solid.parameters(),
+            poisson,
+            mu0_pa: solid.e_pa / (2.0 * (1.0 + poisson)),
+            e0_pa: solid.e_pa,
+            e0_star_pa: solid.composite_modulus_pa(),
+            intervals: Vec::new(),
+        }
     }
 
     /// The 5–95 % bootstrap interval (p05, p95) of parameter `name`
@@ -239,6 +261,21 @@ mod tests {
 
     fn ogden() -> Ogden {
         Ogden::new(vec![1.0e6, 0.5e6], vec![2.0, -2.0]).unwrap()
+    }
+
+    /// A linear solid's own ν sets E0*, whatever the report's `poisson`:
+    /// that is the modulus its contact models divided by.
+    #[test]
+    fn a_linear_material_gives_its_own_moduli() {
+        let solid = LinearElastic::new(2e6, 0.49).unwrap();
+        let table = hypercontact_material::table::material_to_table(&Material::Linear(solid));
+        let m = MaterialSummary::read(&table, 0.5, None).unwrap();
+        assert_eq!(m.model, "linear");
+        assert_eq!(m.poisson, 0.49);
+        assert_eq!(m.e0_pa, 2e6);
+        assert!((m.e0_star_pa - 2e6 / (1.0 - 0.49 * 0.49)).abs() < 1e-6);
+        assert!((m.mu0_pa - 2e6 / 2.98).abs() < 1e-6);
+        assert_eq!(m.parameters.len(), 2);
     }
 
     #[test]
