@@ -394,7 +394,14 @@ const CAPTIONS: [(&str, &str, &str); 5] = [
         "Fig. 8",
         "Composite tangent modulus ratio E<sub>t</sub>*/E<sub>0</sub>* against contact area \
          fraction A/A<sub>0</sub> of every model whose ratio is not 1 throughout (a linear \
-         law's is 1 by construction): colour = sample, stroke = model (legend).",
+         law's is 1 by construction): colour = sample, stroke = model (legend). The paper's \
+         tangent (<code>tangent: equibiaxial</code>, E<sub>t</sub> = dφ/dε of the \
+         equibiaxial curve, Eq. 6) starts at 2 at first contact, since E<sub>t</sub>(0) = \
+         6 μ<sub>0</sub> = 2 E<sub>0</sub>: such a model carries twice the linear load at \
+         vanishing stress, where linear elasticity is exact. <code>tangent: uniaxial</code> \
+         (the uniaxial curve in compression) starts at 1 and meets the linear model there. \
+         Which is nearer the finite-strain solution only a finite-strain model can say; both \
+         are drawn where both are wired.",
     ),
     (
         "fig9",
