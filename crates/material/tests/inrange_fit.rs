@@ -73,24 +73,32 @@ fn in_range_ogden_on_treloar_is_within_two_percent_of_an_independent_constrained
     // floor and unit weights, under det H ≥ 0 and trace H ≥ 0 (expanded
     // Ogden form) at 120 geometric stretches per default window (UT 1–7.6,
     // PT 1–4.97, BT 0.6–4.45); 100 random starts (α ∈ U(−6, 8), μ by NNLS),
-    // best ½ Σ r² kept (2026-11-26):
+    // bounds |α_i| ≤ 30 and |μ_i| ≤ 1000 × the largest measured stress;
+    // best ½ Σ r² kept (2026-11-26).
     // ogden-3: 0.143559240 (μ = 2704, 401011, 7971 Pa; α = 5.12, 1.253,
     // −2.14: the μ_i ≥ 0 optimum, which our fit reaches too, 1e-6 lower).
-    check_treloar(3, 0.143_559_240);
+    check_treloar(3, 0.143_559_240, 0.98 * 0.143_559_240);
+    // ogden-6: 0.111055643 (98 of 100 starts feasible; next best 0.11148;
+    // μ = −6.14, 5.73, 0.895, 0.0070, −0.084, 0.0009 MPa, α = 3.33, 3.43,
+    // 1.73, −2.16, 4.72, 6.56). Ours is 2 % lower (0.108824): the bounded
+    // SLSQP cannot follow the cancelling moduli (±5e12 Pa) the optimum
+    // wants. So it is checked from below against the best unconstrained
+    // objective known (0.1088148, fit.rs), and its stability on
+    // the windows by the stability module's own scan.
+    check_treloar(6, 0.111_055_643, 0.108_814_8 * (1.0 - 1e-6));
 }
 
-/// The in-range Ogden fit with `terms` terms on Treloar's data against a
-/// reference objective, and its model stable on the windows.
-fn check_treloar(terms: usize, reference: f64) {
+/// The in-range Ogden fit with `terms` terms on Treloar's data: its
+/// objective at most 2 % above `reference` and not below `floor`, and its
+/// model stable on the windows.
+fn check_treloar(terms: usize, reference: f64, floor: f64) {
     let r = fit(&treloar(), Family::Ogden(terms), &in_range()).unwrap();
     assert!(
         r.cost <= 1.02 * reference,
         "ogden-{terms}: {} vs scipy {reference}",
         r.cost
     );
-    // Not much lower either: then our model would have to be checked
-    // for a constraint the reference holds and we do not.
-    assert!(r.cost >= 0.98 * reference, "ogden-{terms}: {}", r.cost);
+    assert!(r.cost >= floor, "ogden-{terms}: {} below {floor}", r.cost);
     assert_stable_on(r.model.as_ref(), r.windows.as_ref().unwrap());
 }
 

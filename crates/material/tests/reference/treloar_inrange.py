@@ -10,7 +10,8 @@ expanded form 4 (s1 s2 + s1 s3 + s2 s3), 2 (s1 + s2 + 2 s3)) on the default
 windows: each mode's data range extended to lambda = 1, BT down to 0.6,
 on a geometric grid of GRID stretches per window.
 
-Usage: python treloar_inrange.py TERMS STARTS
+Usage: python treloar_inrange.py TERMS STARTS [MU_BOUND]
+(MU_BOUND: |mu_i| bound in units of the largest measured stress, default 1e3)
 """
 
 import sys
@@ -45,6 +46,7 @@ def principal(mode, lam):
 
 def main():
     terms, starts = int(sys.argv[1]), int(sys.argv[2])
+    mu_bound = float(sys.argv[3]) if len(sys.argv) > 3 else 1e3
     data = load("../../../../data/reference/treloar_1944.csv")
     scale = max(np.abs(v[:, 1]).max() for v in data.values())
     pts = []
@@ -106,7 +108,7 @@ def main():
                 x0,
                 method=method,
                 constraints=[{"type": "ineq", "fun": drucker}],
-                bounds=[(-1e3, 1e3)] * terms + [(-30.0, 30.0)] * terms,
+                bounds=[(-mu_bound, mu_bound)] * terms + [(-30.0, 30.0)] * terms,
                 options={"maxiter": 2000, "ftol": 1e-14},
             )
             feasible = drucker(res.x).min() >= -1e-12
@@ -115,6 +117,7 @@ def main():
                 if res.fun < best[0]:
                     best = (res.fun, res.x)
     print(f"scipy {scipy.__version__} numpy {np.__version__}")
+    print(f"mu bound {mu_bound} x largest stress ({mu_bound * scale:.3e} Pa)")
     print(f"ogden-{terms}: {starts} starts, {len(found)} feasible, grid {GRID}/window {windows}")
     print(f"best cost {best[0]:.9f}")
     print("mu_pa", list(best[1][:terms] * scale))
