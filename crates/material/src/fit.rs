@@ -830,8 +830,12 @@ mod tests {
         let mut data = paper_sample();
         data.curves[0].stretch.insert(0, 1.0);
         data.curves[0].stress_pa.insert(0, 0.0);
+        let in_range = FitOptions {
+            constraint: Constraint::InRange,
+            ..FitOptions::default()
+        };
         for family in Family::all() {
-            for options in [FitOptions::default(), unconstrained()] {
+            for options in [FitOptions::default(), unconstrained(), in_range.clone()] {
                 match fit(&data, family, &options) {
                     Ok(result) => assert!(result.cost.is_finite(), "{}", family.name()),
                     Err(e) => assert!(e.to_string().contains(&family.name()), "{e}"),

@@ -229,3 +229,35 @@ fn time_a_200_replicate_in_range_bootstrap() {
     );
     assert!(fitted.iter().all(Result::is_ok));
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+    /// Whatever the data, an in-range fit never panics; it fails naming
+    /// the model, or its model is stable on the windows.
+    #[test]
+    fn any_data_fits_in_range_or_fails_naming_the_model(
+        points in proptest::collection::vec(
+            (0usize..3, 0.05f64..12.0, -1e7f64..1e7),
+            4..30,
+        ),
+        ogden in proptest::bool::ANY,
+    ) {
+        let mut data = TensileData::default();
+        for (mode, stretch, stress_pa) in points {
+            let mode = Mode::ALL[mode];
+            let curve = hypercontact_material::tensile::TensileCurve {
+                mode,
+                stretch: vec![stretch],
+                stress_pa: vec![stress_pa],
+            };
+            data.extend(TensileData { curves: vec![curve] });
+        }
+        let family = if ogden { Family::Ogden(2) } else { Family::MooneyRivlin };
+        let options = FitOptions { starts: 2, ..in_range() };
+        match fit(&data, family, &options) {
+            Ok(r) => assert_stable_on(r.model.as_ref(), r.windows.as_ref().unwrap()),
+            Err(e) => proptest::prop_assert!(e.to_string().contains(&family.name()), "{}", e),
+        }
+    }
+}
