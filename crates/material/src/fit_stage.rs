@@ -860,8 +860,23 @@ mod tests {
                 );
             }
         }
-        let c = table(&out, "comparison");
-        assert_eq!(c.str("constraint").unwrap().len(), 3);
+        let c = ComparisonTable::from_table(table(&out, "comparison")).unwrap();
+        assert_eq!(c.constraint.len(), 3);
+        // Per-mode errors: 50 points in each mode, so the overall mean
+        // square is the mean of the modes'.
+        for row in 0..3 {
+            let modes = [
+                c.ut_rms_rel_err[row],
+                c.pt_rms_rel_err[row],
+                c.bt_rms_rel_err[row],
+            ];
+            let mean_square = modes.iter().map(|r| r * r).sum::<f64>() / 3.0;
+            assert!(
+                (mean_square.sqrt() / c.rms_rel_err[row] - 1.0).abs() < 1e-12,
+                "{modes:?} vs {}",
+                c.rms_rel_err[row]
+            );
+        }
         // Without in-range the windows are NaN, and a model stable at every
         // stretch is reported at both edges, not as a finding.
         let out = fit_mooney_rivlin(BootstrapParams::default());

@@ -287,6 +287,15 @@ pub struct ComparisonTable {
     /// largest relative error over all points
     #[column(unit = "1")]
     pub max_rel_err: Vec<f64>,
+    /// RMS relative error over the UT points (NaN without UT data or if failed)
+    #[column(unit = "1")]
+    pub ut_rms_rel_err: Vec<f64>,
+    /// RMS relative error over the PT points
+    #[column(unit = "1")]
+    pub pt_rms_rel_err: Vec<f64>,
+    /// RMS relative error over the BT points
+    #[column(unit = "1")]
+    pub bt_rms_rel_err: Vec<f64>,
     /// UT stable range, lower end
     #[column(unit = "1")]
     pub ut_lambda_min: Vec<f64>,
@@ -318,6 +327,8 @@ pub struct ComparisonRow {
     conditioning: Option<Conditioning>,
     rms_rel_err: f64,
     max_rel_err: f64,
+    /// RMS relative error per mode, indexed by [`Mode`].
+    mode_rms_rel_err: [f64; 3],
     /// (λ_min, λ_max), indexed by [`Mode`].
     ranges: [(f64, f64); 3],
     selected: bool,
@@ -332,7 +343,14 @@ impl ComparisonRow {
         selected: bool,
     ) -> Self {
         let model = result.model.as_ref();
-        let all = quality(model, data).pop();
+        let mut qualities = quality(model, data);
+        let all = qualities.pop();
+        let mut mode_rms_rel_err = [f64::NAN; 3];
+        for q in &qualities {
+            if let Some(mode) = q.mode {
+                mode_rms_rel_err[mode as usize] = q.rms_rel_err;
+            }
+        }
         let mut ranges = [(f64::NAN, f64::NAN); 3];
         for s in stability_ranges(model) {
             ranges[s.mode as usize] = (s.lambda_min, s.lambda_max);
@@ -343,6 +361,7 @@ impl ComparisonRow {
             conditioning: Some(result.conditioning),
             rms_rel_err: all.map_or(f64::NAN, |q| q.rms_rel_err),
             max_rel_err: all.map_or(f64::NAN, |q| q.max_rel_err),
+            mode_rms_rel_err,
             ranges,
             selected,
             status: "ok".into(),
@@ -356,6 +375,7 @@ impl ComparisonRow {
             conditioning: None,
             rms_rel_err: f64::NAN,
             max_rel_err: f64::NAN,
+            mode_rms_rel_err: [f64::NAN; 3],
             ranges: [(f64::NAN, f64::NAN); 3],
             selected: false,
             status,
@@ -390,6 +410,9 @@ impl ComparisonTable {
             condition_number: col(&|r| r.conditioning.map_or(f64::NAN, |c| c.condition_number)),
             rms_rel_err: col(&|r| r.rms_rel_err),
             max_rel_err: col(&|r| r.max_rel_err),
+            ut_rms_rel_err: col(&|r| r.mode_rms_rel_err[Mode::Uniaxial as usize]),
+            pt_rms_rel_err: col(&|r| r.mode_rms_rel_err[Mode::Planar as usize]),
+            bt_rms_rel_err: col(&|r| r.mode_rms_rel_err[Mode::Equibiaxial as usize]),
             ut_lambda_min: low(Mode::Uniaxial),
             ut_lambda_max: high(Mode::Uniaxial),
             pt_lambda_min: low(Mode::Planar),

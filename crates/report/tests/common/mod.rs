@@ -153,6 +153,9 @@ pub fn comparison() -> Table {
             vec![FREE_RMS, STABLE_RMS, 0.03, 0.034, 0.081, 0.12],
         )
         .with("max_rel_err", vec![0.04, 0.05, 0.08, 0.09, 0.2, 0.3])
+        .with("ut_rms_rel_err", vec![nan; 6])
+        .with("pt_rms_rel_err", vec![nan; 6])
+        .with("bt_rms_rel_err", vec![nan; 6])
         .with("ut_lambda_min", vec![0.5, 0.45, 0.5, 0.5, 0.3, nan])
         .with("ut_lambda_max", vec![inf, inf, 5.0, 6.0, 8.0, nan])
         .with("pt_lambda_min", vec![0.6, 0.55, 0.6, 0.6, 0.4, nan])
