@@ -261,3 +261,37 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
+#[ignore = "timing: cargo test --release -p hypercontact-material --test inrange_fit -- --ignored --nocapture"]
+fn time_the_stage_with_its_comparison_on_the_paper_sample() {
+    use hypercontact_core::{Checked, Context, Inputs, Params, Product, Stage};
+    use hypercontact_material::fit_stage::{MaterialFit, MaterialFitParams};
+    let inputs = Inputs::new().with("tensile", Product::Table(paper_sample().to_table()));
+    let p: Checked<MaterialFitParams> = MaterialFitParams {
+        constraint: Constraint::InRange,
+        ..Default::default()
+    }
+    .check()
+    .unwrap();
+    let started = Instant::now();
+    let out = MaterialFit.run(&p, &inputs, &Context::new("fit")).unwrap();
+    eprintln!(
+        "material-fit, ogden-6 in-range with the comparison (10 families × 3 constraints): {:?}",
+        started.elapsed()
+    );
+    let Some(Product::Table(c)) = out.get("comparison") else {
+        panic!("no comparison");
+    };
+    assert!(c.str("status").unwrap().iter().all(|s| s == "ok"));
+    let (models, constraints) = (c.str("model").unwrap(), c.str("constraint").unwrap());
+    let rms = c.f64("rms_rel_err").unwrap();
+    for row in 0..models.len() {
+        eprintln!(
+            "{} {}: {:.4} %",
+            models[row],
+            constraints[row],
+            100.0 * rms[row]
+        );
+    }
+}
