@@ -8,7 +8,9 @@ cost = 1/2 sum r^2, Ogden in the Abaqus convention, under Drucker's condition
 (log-strain Hessian positive definite: det >= 0 and trace >= 0 in the
 expanded form 4 (s1 s2 + s1 s3 + s2 s3), 2 (s1 + s2 + 2 s3)) on the default
 windows: each mode's data range extended to lambda = 1, BT down to 0.6,
-on a geometric grid of GRID stretches per window.
+on a geometric grid of GRID stretches per window. Each random start is
+polished by SLSQP twice: from the draw, and from scipy's bounded
+trust-region least squares (trf) optimum of the draw.
 
 Usage: python treloar_inrange.py TERMS STARTS [MU_BOUND]
 (MU_BOUND: |mu_i| bound in units of the largest measured stress, default 1e3)
@@ -18,7 +20,7 @@ import sys
 
 import numpy as np
 import scipy
-from scipy.optimize import minimize, nnls
+from scipy.optimize import least_squares, minimize, nnls
 
 GRID = 120
 LATERAL = {"UT": 0.5, "PT": 1.0, "BT": 2.0}
@@ -102,13 +104,22 @@ def main():
         b = stresses_basis(alpha) * gain[:, None]
         mu, _ = nnls(b, gain * target)
         x0 = np.concatenate([mu, alpha])
-        for method in ("SLSQP",):
+        # Each start twice: SLSQP from the draw, and SLSQP from the
+        # unconstrained trust-region optimum of the draw (SLSQP alone
+        # stalls in Ogden's narrow valleys).
+        bounds = [(-mu_bound, mu_bound)] * terms + [(-30.0, 30.0)] * terms
+        lo, hi = np.array(bounds).T
+        x1 = least_squares(
+            residuals, np.clip(x0, lo, hi), bounds=(lo, hi), method="trf",
+            xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=20000,
+        ).x
+        for start in (x0, x1):
             res = minimize(
                 cost,
-                x0,
-                method=method,
+                start,
+                method="SLSQP",
                 constraints=[{"type": "ineq", "fun": drucker}],
-                bounds=[(-mu_bound, mu_bound)] * terms + [(-30.0, 30.0)] * terms,
+                bounds=bounds,
                 options={"maxiter": 2000, "ftol": 1e-14},
             )
             feasible = drucker(res.x).min() >= -1e-12
