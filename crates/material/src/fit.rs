@@ -12,11 +12,22 @@
 //! converged start wins; if none converges the fit is an error naming the
 //! model. Linear families (neo-Hookean, Mooney–Rivlin, Yeoh) have no shape
 //! parameters: their fit is the linear solve alone.
+//!
+//! The moduli's linear solve is plain least squares (`constraint: none`),
+//! non-negative least squares (`stable`), or least squares under Drucker's
+//! condition on stated stretch windows (`in-range`,
+//! [`crate::drucker_windows`]). Under `in-range` the active constraints
+//! change with θ, so the search's Jacobian is a forward difference of the
+//! projected residual with the constraints of the current θ held fixed,
+//! rather than Kaufman's.
 
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt, TerminationReason};
 use nalgebra::storage::Owned;
 use nalgebra::{DMatrix, DVector, Dyn, SVD};
 
+use crate::drucker_windows::{
+    Cut, DEFAULT_COMPRESSION_STRETCH, DruckerWindows, FINAL_GRID, InRange, SEARCH_GRID,
+};
 use crate::nnls::{least_squares, nnls};
 use crate::tensile::TensileData;
 use crate::{Family, Hyperelastic, MaterialError, Mode};
@@ -40,6 +51,9 @@ pub enum Constraint {
     /// no sign condition: the plain least-squares optimum (Abaqus' default fit)
     #[choice(name = "none")]
     Free,
+    /// Drucker-stable on stated stretch windows (default: each mode's data and BT compression to λ = 0.6), imposed inside the fit
+    #[choice(name = "in-range")]
+    InRange,
 }
 
 /// Settings of one fit.
@@ -61,6 +75,10 @@ pub struct FitOptions {
     /// parameters + 1) evaluations; a search that runs out has not
     /// converged.
     pub patience: usize,
+    /// Where `in-range` imposes Drucker stability; None: the default
+    /// windows of the data fitted ([`DruckerWindows::from_data`]). Ignored
+    /// by the other constraints.
+    pub windows: Option<DruckerWindows>,
 }
 
 impl Default for FitOptions {
@@ -75,6 +93,7 @@ impl Default for FitOptions {
             weights: [1.0; 3],
             seed: 1,
             patience: 200,
+            windows: None,
         }
     }
 }
@@ -92,13 +111,17 @@ pub struct FitResult {
     pub conditioning: Conditioning,
     pub starts_run: usize,
     pub starts_converged: usize,
+    /// The windows the fit held the model Drucker-stable on (`in-range`
+    /// only).
+    pub windows: Option<DruckerWindows>,
 }
 
 /// The separable least-squares problem in the shape parameters θ alone
 /// (variable projection, Golub & Pereyra 1973): for each θ the moduli μ
 /// minimise |B(θ) μ − y|, with B the weighted stress per unit modulus, and
 /// the residual is r(θ) = B μ − y. The Jacobian is Kaufman's (1975)
-/// approximation J = (I − P) (∂B/∂θ) μ with P the projector onto B's range.
+/// approximation J = (I − P) (∂B/∂θ) μ with P the projector onto B's range
+/// (`none`, `stable`), or a forward difference (`in-range`).
 struct Projected<'a> {
     family: Family,
     constraint: Constraint,
@@ -107,6 +130,11 @@ struct Projected<'a> {
     target: &'a [f64],
     theta: DVector<f64>,
     state: Option<Solved>,
+    /// The `in-range` inner solve (None for the other constraints).
+    in_range: Option<InRange<'a>>,
+    /// Drucker cuts collected so far in this search: every one is a true
+    /// condition on the windows, so they carry over from θ to θ.
+    cuts: Vec<Cut>,
 }
 
 /// The linear solve at one θ.
@@ -116,10 +144,13 @@ struct Solved {
     residuals: DVector<f64>,
     /// Orthonormal basis of B's numerical range.
     range: DMatrix<f64>,
+    /// The Drucker cuts the moduli were solved under (`in-range`).
+    cuts: Vec<Cut>,
 }
 
 impl Projected<'_> {
-    fn solve(&self, theta: &[f64]) -> Option<Solved> {
+    /// B(θ) and y, weighted; None where B overflows.
+    fn weighted_basis(&self, theta: &[f64]) -> Option<(DMatrix<f64>, DVector<f64>)> {
         let k = self.family.n_linear();
         let mut x = vec![0.0; k];
         x.extend_from_slice(theta);
@@ -135,6 +166,12 @@ impl Projected<'_> {
         if !basis.norm_squared().is_finite() || y.iter().any(|v| !v.is_finite()) {
             return None;
         }
+        Some((basis, y))
+    }
+
+    fn solve(&self, theta: &[f64], cuts: &mut Vec<Cut>) -> Option<Solved> {
+        let k = self.family.n_linear();
+        let (basis, y) = self.weighted_basis(theta)?;
         // With the constraint, the moduli held at zero do not move with θ:
         // the range is that of the free columns, so the Jacobian is
         // Kaufman's on them, and zero along the shape parameters of terms
@@ -142,16 +179,54 @@ impl Projected<'_> {
         let (moduli, range) = match self.constraint {
             Constraint::Free => least_squares(basis.clone(), &y)?,
             Constraint::Stable => nnls(&basis, &y).map(|s| (s.x, s.range))?,
+            Constraint::InRange => {
+                let moduli = self.in_range.as_ref()?.solve(&basis, &y, theta, cuts)?;
+                (moduli, DMatrix::zeros(basis.nrows(), 0))
+            }
         };
-        x[..k].copy_from_slice(moduli.as_slice());
+        let mut x = moduli.as_slice().to_vec();
+        x.truncate(k);
+        x.extend_from_slice(theta);
         let residuals = &basis * &moduli - y;
-        (x.iter().all(|v| v.is_finite()) && residuals.iter().all(|v| v.is_finite())).then_some(
+        (x.iter().all(|v| v.is_finite()) && residuals.iter().all(|v| v.is_finite())).then(|| {
             Solved {
                 x,
                 residuals,
                 range,
-            },
-        )
+                cuts: cuts.clone(),
+            }
+        })
+    }
+
+    /// Kaufman's Jacobian at the current state.
+    fn kaufman_jacobian(&self, s: &Solved) -> Option<DMatrix<f64>> {
+        let k = self.family.n_linear();
+        let full = self.family.jacobian(&s.x, self.points)?;
+        let (m, n) = (self.points.len(), self.family.n_params() - k);
+        // (∂B/∂θ) μ is the stress's own θ-derivative at (μ, θ), weighted.
+        let d = DMatrix::from_fn(m, n, |i, l| self.gain[i] * full[(i, k + l)]);
+        let projected = &s.range * (s.range.transpose() * &d);
+        Some(d - projected)
+    }
+
+    /// Forward differences of r(θ) with the state's cuts held fixed (a
+    /// backward step where the forward one breaks down).
+    fn difference_jacobian(&self, s: &Solved) -> Option<DMatrix<f64>> {
+        let in_range = self.in_range.as_ref()?;
+        let theta = self.theta.as_slice();
+        let mut jacobian = DMatrix::zeros(self.points.len(), theta.len());
+        for l in 0..theta.len() {
+            let column = [1.0, -1.0].iter().find_map(|sign| {
+                let step = sign * 1e-7 * theta[l].abs().max(0.1);
+                let mut moved = theta.to_vec();
+                moved[l] += step;
+                let (basis, y) = self.weighted_basis(&moved)?;
+                let moduli = in_range.solve_fixed(&basis, &y, &moved, &s.cuts)?;
+                Some((&basis * moduli - y - &s.residuals) / step)
+            })?;
+            jacobian.set_column(l, &column);
+        }
+        Some(jacobian)
     }
 }
 
@@ -162,7 +237,9 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Projected<'_> {
 
     fn set_params(&mut self, theta: &DVector<f64>) {
         self.theta.copy_from(theta);
-        self.state = self.solve(theta.as_slice());
+        let mut cuts = std::mem::take(&mut self.cuts);
+        self.state = self.solve(theta.as_slice(), &mut cuts);
+        self.cuts = cuts;
     }
 
     fn params(&self) -> DVector<f64> {
@@ -181,13 +258,10 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Projected<'_> {
 
     fn jacobian(&self) -> Option<DMatrix<f64>> {
         let s = self.state.as_ref()?;
-        let k = self.family.n_linear();
-        let full = self.family.jacobian(&s.x, self.points)?;
-        let (m, n) = (self.points.len(), self.family.n_params() - k);
-        // (∂B/∂θ) μ is the stress's own θ-derivative at (μ, θ), weighted.
-        let d = DMatrix::from_fn(m, n, |i, l| self.gain[i] * full[(i, k + l)]);
-        let projected = &s.range * (s.range.transpose() * &d);
-        let jacobian = d - projected;
+        let jacobian = match self.constraint {
+            Constraint::InRange => self.difference_jacobian(s)?,
+            Constraint::Free | Constraint::Stable => self.kaufman_jacobian(s)?,
+        };
         // A non-finite Jacobian ends this start (an unconverged start), as
         // the search's QR must not see it.
         jacobian.iter().all(|v| v.is_finite()).then_some(jacobian)
@@ -205,6 +279,18 @@ pub fn fit(
         message,
     };
     let problem = WeightedData::gather(data, family, options).map_err(fail)?;
+    let windows = match options.constraint {
+        Constraint::InRange => {
+            let windows = options.windows.clone().unwrap_or_else(|| {
+                DruckerWindows::from_data(data, options.weights, DEFAULT_COMPRESSION_STRETCH)
+            });
+            windows
+                .check()
+                .map_err(|e| fail(format!("Drucker windows: {e}")))?;
+            Some(windows)
+        }
+        Constraint::Free | Constraint::Stable => None,
+    };
     let shapes = start_shapes(family, options);
     let search = search_starts(
         family,
@@ -212,10 +298,14 @@ pub fn fit(
         &problem,
         &shapes,
         options.patience,
+        windows.as_ref(),
     );
     let Some((cost, x)) = search.best else {
+        let on_windows = windows.as_ref().map_or(String::new(), |w| {
+            format!(" with Drucker stability imposed on {}", w.describe())
+        });
         return Err(fail(format!(
-            "Levenberg–Marquardt converged from none of {} starts ({})",
+            "Levenberg–Marquardt converged from none of {} starts{on_windows} ({})",
             shapes.len(),
             search.reasons.join("; ")
         )));
@@ -231,6 +321,7 @@ pub fn fit(
         conditioning,
         starts_run: shapes.len(),
         starts_converged: search.converged,
+        windows,
     })
 }
 
@@ -328,6 +419,7 @@ fn search_starts(
     data: &WeightedData,
     shapes: &[Vec<f64>],
     patience: usize,
+    windows: Option<&DruckerWindows>,
 ) -> StartsSearch {
     let solver = LevenbergMarquardt::new()
         .with_ftol(1e-12)
@@ -348,14 +440,20 @@ fn search_starts(
             target: &data.target,
             theta: DVector::from_column_slice(shape),
             state: None,
+            in_range: windows.map(|windows| InRange {
+                family,
+                windows,
+                grid_points: SEARCH_GRID,
+            }),
+            cuts: Vec::new(),
         };
-        problem.state = problem.solve(shape);
+        problem.set_params(&DVector::from_column_slice(shape));
         if problem.state.is_none() {
             search.reasons.push("no finite start".to_owned());
             continue;
         }
         // A family without shape parameters is solved by the linear step.
-        let (problem, termination) = if shape.is_empty() {
+        let (mut problem, termination) = if shape.is_empty() {
             (problem, TerminationReason::ResidualsZero)
         } else {
             let (p, report) = solver.minimize(problem);
@@ -363,6 +461,9 @@ fn search_starts(
         };
         let ok = termination.was_successful()
             || matches!(termination, TerminationReason::NoImprovementPossible(_));
+        if ok {
+            final_check(&mut problem);
+        }
         match (&problem.state, ok) {
             (Some(state), true) => {
                 search.converged += 1;
@@ -371,10 +472,25 @@ fn search_starts(
                     search.best = Some((cost, state.x.clone()));
                 }
             }
+            (None, true) => search
+                .reasons
+                .push("no Drucker-stable moduli on the final grid".to_owned()),
             _ => search.reasons.push(format!("{termination:?}")),
         }
     }
     search
+}
+
+/// `in-range`: the search's optimum solved again with Drucker's condition
+/// checked on the fine grid ([`FINAL_GRID`] stretches per window), adding
+/// cuts where the search grid was too coarse.
+fn final_check(problem: &mut Projected<'_>) {
+    let Some(in_range) = problem.in_range.as_mut() else {
+        return;
+    };
+    in_range.grid_points = FINAL_GRID;
+    let theta = problem.theta.clone();
+    problem.set_params(&theta);
 }
 
 /// How well the data pin the parameters down at an optimum.
@@ -714,8 +830,12 @@ mod tests {
         let mut data = paper_sample();
         data.curves[0].stretch.insert(0, 1.0);
         data.curves[0].stress_pa.insert(0, 0.0);
+        let in_range = FitOptions {
+            constraint: Constraint::InRange,
+            ..FitOptions::default()
+        };
         for family in Family::all() {
-            for options in [FitOptions::default(), unconstrained()] {
+            for options in [FitOptions::default(), unconstrained(), in_range.clone()] {
                 match fit(&data, family, &options) {
                     Ok(result) => assert!(result.cost.is_finite(), "{}", family.name()),
                     Err(e) => assert!(e.to_string().contains(&family.name()), "{e}"),

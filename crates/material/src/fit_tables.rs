@@ -6,6 +6,7 @@ use hypercontact_core::Schema;
 use hypercontact_core::contact::quantile;
 use hypercontact_core::param::Choice;
 
+use crate::drucker_windows::DruckerWindows;
 use crate::fit::{Conditioning, Constraint, FitResult};
 use crate::quality::{Quality, quality};
 use crate::stability::{StabilityRange, stability_ranges};
@@ -58,6 +59,8 @@ impl ParamsTable {
 impl ParamsTable {
     /// The 5–95 % interval of every row over bootstrap replicates of the
     /// same family (rows matched by position: Ogden terms in ascending α).
+    /// A term the fit holds dead (μ_i = 0) gets none, for μ_i nor α_i:
+    /// its α moves nothing, and its replicates' values say nothing.
     pub fn with_intervals<'a>(
         mut self,
         replicates: impl IntoIterator<Item = &'a dyn Hyperelastic>,
@@ -75,6 +78,18 @@ impl ParamsTable {
             let column: Vec<f64> = values.iter().map(|v| v[row]).collect();
             self.p05[row] = quantile(&column, 0.05);
             self.p95[row] = quantile(&column, 0.95);
+        }
+        let dead: Vec<i64> = (0..self.value.len())
+            .filter(|&row| {
+                self.term[row] > 0 && self.param[row].starts_with("mu_") && self.value[row] == 0.0
+            })
+            .map(|row| self.term[row])
+            .collect();
+        for row in 0..self.value.len() {
+            if dead.contains(&self.term[row]) {
+                self.p05[row] = f64::NAN;
+                self.p95[row] = f64::NAN;
+            }
         }
         self
     }
@@ -206,10 +221,29 @@ pub struct StabilityTable {
     pub monotonic_max: Vec<f64>,
     /// where the model turns unstable, in words
     pub note: Vec<String>,
+    /// 1 when `lambda_min` is the search range's edge (λ = 0.1), not a
+    /// found instability
+    pub lambda_min_at_edge: Vec<i64>,
+    /// 1 when `lambda_max` is the search range's edge (λ = 10)
+    pub lambda_max_at_edge: Vec<i64>,
+    /// lower end of the window where the fit imposed Drucker stability
+    /// (`constraint: in-range`; NaN otherwise)
+    #[column(unit = "1")]
+    pub window_min: Vec<f64>,
+    /// upper end of that window (NaN without in-range)
+    #[column(unit = "1")]
+    pub window_max: Vec<f64>,
 }
 
-impl From<&[StabilityRange]> for StabilityTable {
-    fn from(ranges: &[StabilityRange]) -> Self {
+impl StabilityTable {
+    /// The ranges found, and the windows the fit imposed (None: not
+    /// `in-range`).
+    pub fn new(ranges: &[StabilityRange], windows: Option<&DruckerWindows>) -> Self {
+        let window = |r: &StabilityRange| {
+            windows
+                .and_then(|w| w.get(r.mode))
+                .unwrap_or((f64::NAN, f64::NAN))
+        };
         Self {
             mode: ranges.iter().map(|r| r.mode.label().to_owned()).collect(),
             lambda_min: ranges.iter().map(|r| r.lambda_min).collect(),
@@ -217,6 +251,16 @@ impl From<&[StabilityRange]> for StabilityTable {
             monotonic_min: ranges.iter().map(|r| r.monotonic_min).collect(),
             monotonic_max: ranges.iter().map(|r| r.monotonic_max).collect(),
             note: ranges.iter().map(StabilityRange::describe).collect(),
+            lambda_min_at_edge: ranges
+                .iter()
+                .map(|r| i64::from(r.lambda_min_at_edge()))
+                .collect(),
+            lambda_max_at_edge: ranges
+                .iter()
+                .map(|r| i64::from(r.lambda_max_at_edge()))
+                .collect(),
+            window_min: ranges.iter().map(|r| window(r).0).collect(),
+            window_max: ranges.iter().map(|r| window(r).1).collect(),
         }
     }
 }

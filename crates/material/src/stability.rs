@@ -71,23 +71,35 @@ impl StabilityRange {
         self.stable_at_rest && self.lambda_min <= LAMBDA_LOW && self.lambda_max >= LAMBDA_HIGH
     }
 
+    /// `lambda_min` is the search range's edge (λ = 0.1), not a found
+    /// instability.
+    pub fn lambda_min_at_edge(&self) -> bool {
+        self.stable_at_rest && self.lambda_min <= LAMBDA_LOW
+    }
+
+    /// `lambda_max` is the search range's edge (λ = 10).
+    pub fn lambda_max_at_edge(&self) -> bool {
+        self.stable_at_rest && self.lambda_max >= LAMBDA_HIGH
+    }
+
     /// A sentence for the report: where the model becomes unstable.
     pub fn describe(&self) -> String {
         if !self.stable_at_rest {
             return "unstable at zero strain".into();
         }
-        let mut parts = Vec::new();
-        if self.lambda_min > LAMBDA_LOW {
-            parts.push(format!("Drucker-unstable below λ = {:.4}", self.lambda_min));
-        }
-        if self.lambda_max < LAMBDA_HIGH {
-            parts.push(format!("Drucker-unstable above λ = {:.4}", self.lambda_max));
-        }
-        if parts.is_empty() {
-            parts.push(format!(
-                "Drucker-stable for {LAMBDA_LOW} ≤ λ ≤ {LAMBDA_HIGH}"
-            ));
-        }
+        // A limit at the search range's edge is not a finding: say so.
+        let mut parts = vec![
+            if self.lambda_min_at_edge() {
+                format!("Drucker-stable down to the edge of the search range (λ = {LAMBDA_LOW})")
+            } else {
+                format!("Drucker-unstable below λ = {:.4}", self.lambda_min)
+            },
+            if self.lambda_max_at_edge() {
+                format!("stable up to the edge of the search range (λ = {LAMBDA_HIGH})")
+            } else {
+                format!("Drucker-unstable above λ = {:.4}", self.lambda_max)
+            },
+        ];
         if self.monotonic_min > LAMBDA_LOW {
             parts.push(format!(
                 "nominal stress falls below λ = {:.4}",

@@ -624,7 +624,11 @@ mod tests {
             .with("lambda_max", vec![2.0])
             .with("monotonic_min", vec![0.5])
             .with("monotonic_max", vec![2.0])
-            .with("note", vec![""]);
+            .with("note", vec![""])
+            .with("lambda_min_at_edge", vec![0_i64])
+            .with("lambda_max_at_edge", vec![0_i64])
+            .with("window_min", vec![f64::NAN])
+            .with("window_max", vec![f64::NAN]);
         let e = read_stability(read("stability", &t).unwrap())
             .unwrap_err()
             .to_string();

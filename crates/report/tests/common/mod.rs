@@ -101,6 +101,10 @@ pub fn stability() -> Table {
         .with("monotonic_min", vec![0.4, 0.5, 0.6])
         .with("monotonic_max", vec![f64::INFINITY, 3.0, 1.9])
         .with("note", vec!["stable in compression", "", ""])
+        .with("lambda_min_at_edge", vec![0_i64; 3])
+        .with("lambda_max_at_edge", vec![0_i64; 3])
+        .with("window_min", vec![f64::NAN; 3])
+        .with("window_max", vec![f64::NAN; 3])
 }
 
 /// The fit's `params` table for the synthetic material at `poisson`.
