@@ -41,6 +41,11 @@ pub struct StabilityRange {
     pub mode: String,
     pub lambda_min: f64,
     pub lambda_max: f64,
+    /// The limit is the search range's edge, not a found instability.
+    pub min_at_edge: bool,
+    pub max_at_edge: bool,
+    /// The window the fit imposed stability on (`in-range`), else NaN.
+    pub window: (f64, f64),
 }
 
 /// A 1-D series sorted by its abscissa.
@@ -320,12 +325,15 @@ fn read_stability(table: StabilityTable) -> Result<Vec<StabilityRange>, ReportEr
     }
     Ok(table
         .mode
-        .into_iter()
-        .zip(lo.iter().zip(hi))
-        .map(|(mode, (&lambda_min, &lambda_max))| StabilityRange {
-            mode,
-            lambda_min,
-            lambda_max,
+        .iter()
+        .enumerate()
+        .map(|(i, mode)| StabilityRange {
+            mode: mode.clone(),
+            lambda_min: lo[i],
+            lambda_max: hi[i],
+            min_at_edge: table.lambda_min_at_edge[i] == 1,
+            max_at_edge: table.lambda_max_at_edge[i] == 1,
+            window: (table.window_min[i], table.window_max[i]),
         })
         .collect())
 }

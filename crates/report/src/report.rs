@@ -14,7 +14,7 @@ use crate::figures::fig4::Fig4;
 use crate::figures::fig7::{Drawn, Fig7, SampleResponses};
 use crate::figures::fig8::Fig8;
 use crate::figures::{Rendered, render};
-use crate::gather::{ReportData, Response, Sample};
+use crate::gather::{ReportData, Response, Sample, StabilityRange};
 use crate::html::{escape, fmt_sig, generic_table, page, provenance_section, simple_table};
 use crate::material::{FitSetting, MaterialSummary};
 use crate::roster::{ModelKey, is_linear};
@@ -487,25 +487,7 @@ fn material_tables(data: &ReportData<'_>, published: Option<Preset>) -> String {
         html.push_str(&generic_table("Fit quality per mode", q));
     }
     if let Some(ranges) = &data.stability {
-        let rows: Vec<Vec<String>> = ranges
-            .iter()
-            .map(|r| {
-                vec![
-                    escape(&r.mode),
-                    fmt_limit(r.lambda_min),
-                    fmt_limit(r.lambda_max),
-                ]
-            })
-            .collect();
-        html.push_str(&simple_table(
-            "Drucker-stable stretch range of the fitted model",
-            &[
-                "mode".into(),
-                "λ<sub>min</sub>".into(),
-                "λ<sub>max</sub>".into(),
-            ],
-            &rows,
-        ));
+        html.push_str(&stability_table(ranges));
     }
     if let Some(p) = data.params {
         html.push_str(&generic_table(
@@ -523,6 +505,56 @@ fn material_tables(data: &ReportData<'_>, published: Option<Preset>) -> String {
         ),
     }
     html
+}
+
+/// Where the fitted model is Drucker-stable per mode: the limits found
+/// (or the search range's edge, said so), and the window the fit imposed
+/// stability on where it did.
+fn stability_table(ranges: &[StabilityRange]) -> String {
+    let limit = |lambda: f64, at_edge: bool| {
+        if at_edge {
+            format!(
+                "{} (edge of the search: stable throughout)",
+                fmt_limit(lambda)
+            )
+        } else {
+            fmt_limit(lambda)
+        }
+    };
+    let imposed = ranges.iter().any(|r| r.window.0.is_finite());
+    let rows: Vec<Vec<String>> = ranges
+        .iter()
+        .map(|r| {
+            let mut row = vec![
+                escape(&r.mode),
+                limit(r.lambda_min, r.min_at_edge),
+                limit(r.lambda_max, r.max_at_edge),
+            ];
+            if imposed {
+                row.push(match r.window {
+                    (lo, hi) if lo.is_finite() && hi.is_finite() => {
+                        format!("{} – {}", fmt_sig(lo, 4), fmt_sig(hi, 4))
+                    }
+                    _ => "none".into(),
+                });
+            }
+            row
+        })
+        .collect();
+    let mut header = vec![
+        "mode".to_owned(),
+        "λ<sub>min</sub>".to_owned(),
+        "λ<sub>max</sub>".to_owned(),
+    ];
+    if imposed {
+        header.push("stable by construction on (constraint in-range)".into());
+    }
+    simple_table(
+        "Drucker-stable stretch range of the fitted model (searched over 0.1 ≤ λ ≤ 10; λ < 1 \
+         is compression)",
+        &header,
+        &rows,
+    )
 }
 
 /// A stability limit; an unbounded side is stored as ±∞.
@@ -812,4 +844,51 @@ fn skipped_list(outcomes: &[Outcome]) -> String {
     }
     html.push_str("</ul></div>\n");
     html
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn range(
+        mode: &str,
+        lo: f64,
+        hi: f64,
+        edges: (bool, bool),
+        window: (f64, f64),
+    ) -> StabilityRange {
+        StabilityRange {
+            mode: mode.into(),
+            lambda_min: lo,
+            lambda_max: hi,
+            min_at_edge: edges.0,
+            max_at_edge: edges.1,
+            window,
+        }
+    }
+
+    /// A limit at the search range's edge is said to be one, not reported
+    /// as a finding; the imposed windows get a column only when there are
+    /// some.
+    #[test]
+    fn the_stability_table_tells_edges_from_limits_and_gives_the_windows() {
+        let html = stability_table(&[
+            range("UT", 0.18, 10.0, (false, true), (1.0, 3.2)),
+            range("BT", 0.5612, 2.33, (false, false), (0.6, 2.3)),
+        ]);
+        assert!(
+            html.contains(
+                "<tr><td>UT</td><td>0.18</td><td>10 (edge of the search: stable throughout)</td>\
+                 <td>1 – 3.2</td></tr>"
+            ),
+            "{html}"
+        );
+        assert!(
+            html.contains("<tr><td>BT</td><td>0.5612</td><td>2.33</td><td>0.6 – 2.3</td></tr>")
+        );
+        let nan = (f64::NAN, f64::NAN);
+        let html = stability_table(&[range("PT", 0.1, 10.0, (true, true), nan)]);
+        assert!(!html.contains("in-range"), "{html}");
+        assert!(html.contains("<td>0.1 (edge of the search: stable throughout)</td>"));
+    }
 }
