@@ -25,8 +25,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::plotting::{
-    Axis, Figure, LegendEntry, Line, Rasters, TextSizes, band_legend, draw_axes, draw_band,
-    draw_curve, draw_legend, model_colour, sample_colour, thin, tick_decade, tick_linear,
+    Axis, BAND_LABEL, Figure, LegendEntry, Line, Rasters, TextSizes, band_legend, draw_axes,
+    draw_band, draw_curve, draw_legend, model_colour, sample_colour, thin, tick_decade,
+    tick_linear,
 };
 use crate::ReportError;
 use crate::band::{Band, runs};
@@ -313,8 +314,21 @@ impl Fig7<'_> {
         for (key, _) in self.samples.iter().flat_map(|s| &s.bands) {
             if !banded.contains(&key.colour) {
                 banded.push(key.colour);
-                legend.push(band_legend(model_colour(key.colour)));
             }
+        }
+        // One key for the bands: in their model's colour when one model has
+        // them, grey and said so when several do (a key per colour would
+        // repeat one label).
+        match banded[..] {
+            [] => {}
+            [colour] => legend.push(band_legend(model_colour(colour))),
+            _ => legend.push(LegendEntry {
+                label: format!(
+                    "{BAND_LABEL}
+in the model's colour"
+                ),
+                ..band_legend(BLACK)
+            }),
         }
         Ok(legend)
     }

@@ -3,8 +3,8 @@
 //! reports 2.2–3 for the hyperelastic ICM), of every model whose ratio is
 //! not 1 throughout: a linear law's ratio is 1 by construction and is not
 //! drawn (it would squeeze the nonlinear range). Colour = sample; the
-//! models are told apart by stroke (solid, dotted, dashed, in the roster's
-//! order). Where a drawn model's bootstrap band is wired, its 5–95 % range
+//! models are told apart by stroke (solid, dotted, dashed, long and short
+//! dashes, in the roster's order). Where a drawn model's bootstrap band is wired, its 5–95 % range
 //! of E_t*/E0* (each replicate over its own E0*) is shaded under the
 //! curves in the sample's colour.
 
@@ -22,7 +22,13 @@ use crate::band::{Band, runs};
 use crate::roster::ModelKey;
 
 /// The strokes that tell Fig. 8's models apart, in order.
-const STROKES: [Line; 3] = [Line::Solid, Line::Dotted, Line::Dashed];
+const STROKES: [Line; 5] = [
+    Line::Solid,
+    Line::Dotted,
+    Line::Dashed,
+    Line::LongDashed,
+    Line::ShortDashed,
+];
 
 pub struct Fig8<'a> {
     pub samples: Vec<SampleResponses<'a>>,

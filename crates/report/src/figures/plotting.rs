@@ -181,6 +181,10 @@ pub enum Line {
     Solid,
     Dashed,
     Dotted,
+    /// Long dashes, short gaps: a fourth stroke where models share a colour.
+    LongDashed,
+    /// Short dashes: a fifth.
+    ShortDashed,
     /// Not a line: a circle at every point (measured data).
     Circles,
     /// Not a line: the points outline a shaded area (an uncertainty band),
@@ -206,6 +210,8 @@ impl Line {
             Line::Solid | Line::Circles | Line::Band => None,
             Line::Dashed => Some((12, 8)),
             Line::Dotted => Some((2, 6)),
+            Line::LongDashed => Some((24, 5)),
+            Line::ShortDashed => Some((5, 5)),
         }
     }
 }
@@ -316,7 +322,7 @@ pub fn draw_legend<DB: DrawingBackend>(
                 CIRCLE_PX,
                 e.style.stroke_width(2),
             )),
-            Line::Dotted => {
+            Line::Dotted | Line::LongDashed | Line::ShortDashed => {
                 let (dash, gap) = e.line.pattern().unwrap_or((1, 0));
                 area.draw(&DashedPathElement::new(
                     vec![(x, yy), (x + swatch_px, yy)],
