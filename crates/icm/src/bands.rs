@@ -42,6 +42,9 @@ pub fn wired_replicates(inputs: &Inputs) -> Result<Option<Vec<Replicate>>, Stage
         .map_err(|e: MaterialError| StageError::invalid(format!("input `replicates`: {e}")))
 }
 
+/// A replicate's own E0* (Pa) and its curve, or why its law gave out.
+type Solved = Result<(f64, TangentLoad), String>;
+
 /// Where the bands are drawn: the response's A/A0 per row and its axes,
 /// the main material's E0* (Pa) and the nominal area A0 (m²).
 #[derive(Clone, Copy, Debug)]
@@ -66,7 +69,7 @@ pub fn replicate_bands(
         return BandTable::from_replicates(&[], &[], &[]);
     };
     let bar = ctx.progress(replicates.len() as u64, "bootstrap replicates");
-    let solved: Vec<(i64, Result<(f64, TangentLoad), String>)> = replicates
+    let solved: Vec<(i64, Solved)> = replicates
         .into_par_iter()
         .map(|(r, material)| {
             let out = law

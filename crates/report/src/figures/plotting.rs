@@ -211,7 +211,7 @@ impl Line {
             Line::Dashed => Some((12, 8)),
             Line::Dotted => Some((2, 6)),
             Line::LongDashed => Some((24, 5)),
-            Line::ShortDashed => Some((5, 5)),
+            Line::ShortDashed => Some((8, 3)),
         }
     }
 }
