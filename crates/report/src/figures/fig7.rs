@@ -323,10 +323,7 @@ impl Fig7<'_> {
             [] => {}
             [colour] => legend.push(band_legend(model_colour(colour))),
             _ => legend.push(LegendEntry {
-                label: format!(
-                    "{BAND_LABEL}
-in the model's colour"
-                ),
+                label: format!("{BAND_LABEL}\nin model colour"),
                 ..band_legend(BLACK)
             }),
         }
