@@ -10,7 +10,7 @@ use hypercontact_core::{
 };
 use hypercontact_icm::bands::{BandAxes, replicate_bands, wired_replicates};
 use hypercontact_icm::tangent::TangentError;
-use hypercontact_icm::{CompositeModulus, LawParams, Scheme};
+use hypercontact_icm::{CompositeModulus, LawParams};
 use hypercontact_material::bootstrap::ReplicatesTable;
 use hypercontact_material::table::MaterialTable;
 use hypercontact_surface::surface_stage::{PsdTable, StatsTable};
@@ -335,21 +335,12 @@ impl Stage for PerssonStage {
         drop(progress);
         let area_fraction: Vec<f64> = points.iter().map(|q| q.area_fraction).collect();
         let separation: Vec<f64> = points.iter().map(|q| q.mean_separation_m).collect();
-        let law = &p.spectrum.law;
-        let bands = bands(
-            inputs,
-            law,
-            (&unit_pressure, &area_fraction),
-            &source,
-            &modulus,
-            ctx,
-        )?;
-        let response = respond(
+        let (response, bands) = respond(
             &unit_pressure,
             (area_fraction, separation.clone()),
-            &source,
-            &modulus,
-            p.spectrum.law.scheme,
+            (&source, &modulus),
+            &p.spectrum.law,
+            (inputs, ctx),
         )?;
         let response = PerssonResponseTable {
             kappa: response.kappa(slope),
@@ -458,21 +449,12 @@ impl Stage for GreenwoodWilliamson {
             })
             .collect();
         let area_fraction: Vec<f64> = points.iter().map(|(_, q)| q.area_fraction).collect();
-        let law = &p.spectrum.law;
-        let bands = bands(
-            inputs,
-            law,
-            (&unit_pressure, &area_fraction),
-            &source,
-            &modulus,
-            ctx,
-        )?;
-        let response = respond(
+        let (response, bands) = respond(
             &unit_pressure,
             (area_fraction, points.iter().map(|(d, _)| *d).collect()),
-            &source,
-            &modulus,
-            p.spectrum.law.scheme,
+            (&source, &modulus),
+            &p.spectrum.law,
+            (inputs, ctx),
         )?;
         let response = GwResponseTable {
             kappa: response.kappa(slope),
@@ -571,16 +553,25 @@ fn load_rows(theory: &dyn Theory, slope: f64, p: &SpectrumParams) -> Result<Vec<
 
 /// The response on the theory's rows (A/A0 and z at each p̄/E* of
 /// `unit_pressure`) under the contact law: E0* times the theory's load, or
-/// the tangent-modulus integral over it.
+/// the tangent-modulus integral over it; and the bootstrap bands of the same
+/// rows when `replicates` is wired.
 fn respond(
     unit_pressure: &[f64],
     (area_fraction, z_m): (Vec<f64>, Vec<f64>),
-    source: &Source,
-    modulus: &CompositeModulus,
-    scheme: Scheme,
-) -> Result<ResponseTable, ClassicalError> {
+    (source, modulus): (&Source, &CompositeModulus),
+    law: &LawParams,
+    (inputs, ctx): (&Inputs, &Context),
+) -> Result<(ResponseTable, BandTable), StageError> {
+    let bands = bands(
+        inputs,
+        law,
+        (unit_pressure, &area_fraction),
+        source,
+        modulus,
+        ctx,
+    )?;
     let a0 = source.nominal_area_m2;
-    let loads = tangent_loads(unit_pressure, &area_fraction, a0, modulus, scheme)
+    let loads = tangent_loads(unit_pressure, &area_fraction, a0, modulus, law.scheme)
         .map_err(|e| tangent_error(e, &area_fraction))?;
     let curve = Curve {
         area_m2: area_fraction.iter().map(|a| a * a0).collect(),
@@ -589,7 +580,8 @@ fn respond(
         load_n: loads.load_n,
         modulus_pa: loads.modulus_pa,
     };
-    Ok(ResponseTable::from_curve(curve, modulus.e0_star_pa(), a0))
+    let response = ResponseTable::from_curve(curve, modulus.e0_star_pa(), a0);
+    Ok((response, bands))
 }
 
 fn tangent_error(e: TangentError, area_fraction: &[f64]) -> ClassicalError {
