@@ -12,6 +12,7 @@ pub fn registry() -> Registry {
     hypercontact_truncation::register(&mut registry);
     hypercontact_icm::register(&mut registry);
     hypercontact_bem::register(&mut registry);
+    hypercontact_fem::register(&mut registry);
     hypercontact_classical::register(&mut registry);
     hypercontact_synth::register(&mut registry);
     hypercontact_dic::register(&mut registry);

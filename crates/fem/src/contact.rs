@@ -247,7 +247,8 @@ impl ContactProblem {
     /// ([`ContactProblem::pending_m`]), through the tangent, so that no
     /// element is crushed by a node moved alone.
     pub(crate) fn add_penetrating(&mut self, plane_m: f64, approach_m: f64) -> bool {
-        let tolerance = penetration_tolerance_m(approach_m, self.mesh.depth_m);
+        let tolerance =
+            ENTRY_PENETRATION * approach_m + penetration_tolerance_m(approach_m, self.mesh.depth_m);
         let mut changed = false;
         for t in 0..self.active.len() {
             let e = self.dofs.top[t].equation;
@@ -279,7 +280,7 @@ impl ContactProblem {
         for (t, top) in self.dofs.top.iter().enumerate() {
             // residual = internal force; the plane pushes down (negative),
             // so a positive value is the plane pulling.
-            if self.active[t] && residual_n[top.equation] > 1e-12 * reaction_scale_n {
+            if self.active[t] && residual_n[top.equation] > RELEASE_PULL * reaction_scale_n {
                 self.active[t] = false;
                 changed = true;
             }
@@ -394,6 +395,16 @@ impl ContactProblem {
         self.law.shear_modulus_pa()
     }
 }
+
+/// Hysteresis of the active set, so that a node at the edge of contact
+/// cannot flip in and out for ever (seen on coarse patches: a node released
+/// for a pull of 1e-10 of the reactions penetrates by 1e-9 of the approach,
+/// is held again, pulls again): a free node enters only when it penetrates
+/// by more than this fraction of the approach (the issue allows 1e-3), …
+const ENTRY_PENETRATION: f64 = 1e-6;
+/// … and a held node leaves only when it pulls with more than this fraction
+/// of the 2-norm of the contact reactions (a load error of that order).
+const RELEASE_PULL: f64 = 1e-9;
 
 /// A free node counts as penetrating beyond 1e-9 of the approach (1e-15 of
 /// the depth at first touch): far below any length that matters, above

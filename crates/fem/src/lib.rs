@@ -15,7 +15,8 @@
 //!   and faer's sparse Cholesky with its symbolic analysis reused;
 //! - [`contact`], [`newton`], [`curve`]: exact active-set contact with the
 //!   plane, Newton with line search, approach-controlled steps;
-//! - [`vtk`]: the deformed mesh for ParaView.
+//! - [`vtk`]: the deformed mesh for ParaView;
+//! - [`stage`]: the pipeline stage `fem`.
 
 pub mod assembly;
 pub mod contact;
@@ -30,11 +31,14 @@ pub mod mesh;
 pub mod newton;
 pub mod ordering;
 pub mod sample;
+pub mod stage;
 mod tensor;
 pub mod vtk;
 
 pub use contact::{ContactProblem, NewtonOptions, Step};
-pub use curve::{Curve, CurveOptions, Snapshot, solve_curve};
+pub use curve::{
+    AreaSteps, Curve, CurveOptions, Snapshot, bearing_approach_m, solve_area_steps, solve_curve,
+};
 pub use law::{DEFAULT_BULK_RATIO, Law};
 pub use mesh::{HeightMap, Lateral, Mesh, MeshOptions};
 
@@ -74,4 +78,9 @@ pub enum FemError {
     },
     #[error("writing VTK: {0}")]
     Io(String),
+}
+
+/// Registers this crate's stage kind.
+pub fn register(registry: &mut hypercontact_core::Registry) {
+    registry.add(stage::Fem);
 }

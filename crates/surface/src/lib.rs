@@ -2,6 +2,7 @@
 //! interferometer tiles (PSD, σ, Hurst exponent).
 
 pub mod analysis;
+pub mod crop;
 pub mod error;
 pub mod filter;
 pub mod height_map;
@@ -22,6 +23,7 @@ pub use error::SurfaceError;
 
 /// Registers this crate's stage kinds.
 pub fn register(registry: &mut Registry) {
+    registry.add(crop::Crop);
     registry.add(height_map::HeightMap);
     registry.add(surface_stage::Surface);
 }
