@@ -32,6 +32,16 @@ pub enum FemBoundary {
     Periodic,
 }
 
+/// Which kinematics the block is solved with.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Choice)]
+pub enum Strain {
+    /// finite strain with the material's strain energy
+    #[default]
+    Finite,
+    /// small-strain linear elasticity with the material's initial moduli (μ0 and the bulk modulus): the same mesh's linear answer, to isolate the finite-strain effect
+    Small,
+}
+
 /// Parameters of `fem`.
 #[params(check = maps_within_curve)]
 pub struct FemParams {
@@ -49,6 +59,9 @@ pub struct FemParams {
     /// how the lateral faces are held
     #[param(default = FemBoundary::Mirror)]
     pub boundary: FemBoundary,
+    /// the kinematics: `finite` (the reference) or `small` (linear elasticity with the initial moduli, on the same mesh)
+    #[param(default = Strain::Finite)]
+    pub strain: Strain,
     /// bulk modulus / μ0 of a hyperelastic material (a linear one uses its own ν unless ν = ½)
     #[param(default = 5000.0, range = 10.0..=1.0e9)]
     pub bulk_ratio: f64,
@@ -146,7 +159,10 @@ static INFO: StageInfo = StageInfo {
           W = W_iso(isochoric C) + K (J - 1)^2 / 2 with K = bulk_ratio mu0 (default 5000, nu = \
           0.4999); every hyperelastic family of the `material` table through its strain \
           energy, with the consistent tangent; a `linear` material is small-strain linear \
-          elasticity with its E and nu (K from nu, or bulk_ratio mu at nu = 1/2). ELEMENT: \
+          elasticity with its E and nu (K from nu, or bulk_ratio mu at nu = 1/2); `strain: \
+          small` solves a hyperelastic material as small-strain linear elasticity with mu0 and \
+          K, on the same mesh and steps, so F_finite / F_small isolates the finite-strain \
+          effect from the discretisation. ELEMENT: \
           the mixed Q1/P0 hexahedron (displacement, constant pressure and volume ratio per \
           element, condensed), free of volumetric locking. CONTACT: exact active set on the \
           top nodes (a node in contact has its z on the plane, released when its reaction \
@@ -214,7 +230,7 @@ impl Stage for Fem {
         let window = Window::of(&p.window, surface.values.dim())?;
         let patch = window.cut(surface)?;
         let heights_m = checked_patch(&patch, &window, p)?;
-        let (law, e0_star_pa) = law_of(inputs.table("material")?, p.bulk_ratio)?;
+        let (law, e0_star_pa) = law_of(inputs.table("material")?, p.bulk_ratio, p.strain)?;
         let (nx, ny) = patch.values.dim();
         let map = HeightMap {
             heights_m: &heights_m,
@@ -306,14 +322,24 @@ fn height_range_m(heights_m: &[f64]) -> f64 {
 /// The element law of the material table and its E0*: 4 μ0 for a
 /// hyperelastic material (ν = ½, as every contact model takes it), E/(1 −
 /// ν²) for a linear one.
-fn law_of(table: &hypercontact_core::Table, bulk_ratio: f64) -> Result<(Law, f64), StageError> {
+fn law_of(
+    table: &hypercontact_core::Table,
+    bulk_ratio: f64,
+    strain: Strain,
+) -> Result<(Law, f64), StageError> {
     let material = material_from_table(table).map_err(StageError::other)?;
     match material {
         Material::Hyperelastic(model) => {
             let law =
                 Law::hyperelastic(Arc::as_ref(&model), bulk_ratio).map_err(StageError::other)?;
-            let e0_star_pa = 4.0 * law.shear_modulus_pa();
-            Ok((law, e0_star_pa))
+            let shear_pa = law.shear_modulus_pa();
+            let law = match strain {
+                Strain::Finite => law,
+                Strain::Small => {
+                    Law::linear_elastic(shear_pa, bulk_ratio).map_err(StageError::other)?
+                }
+            };
+            Ok((law, 4.0 * shear_pa))
         }
         Material::Linear(LinearElastic { e_pa, poisson }) => {
             let shear_pa = e_pa / (2.0 * (1.0 + poisson));

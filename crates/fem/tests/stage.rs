@@ -302,7 +302,9 @@ fn a_linear_material_agrees_with_bem_on_a_periodic_map() {
         let at_d = bem_p[j - 1] + t * (bem_p[j] - bem_p[j - 1]);
         let ratio = fem.response.load_n[k] / area_m2 / at_d;
         let fraction = fem.response.area_fraction[k];
-        println!("approach {d:.4e} m, A/A0 {fraction:.3}: fem / bem = {ratio:.4}");
+        let bem_a = bem.response.area_fraction[j - 1]
+            + t * (bem.response.area_fraction[j] - bem.response.area_fraction[j - 1]);
+        println!("approach {d:.4e} m, A/A0 {fraction:.3} (bem {bem_a:.3}): fem / bem = {ratio:.4}");
         if fraction >= 0.05 {
             assert!(
                 (ratio - 1.0).abs() < 0.05,
@@ -312,4 +314,34 @@ fn a_linear_material_agrees_with_bem_on_a_periodic_map() {
         }
     }
     assert!(judged >= 1);
+}
+
+/// `strain: small` is linear elasticity with the material's μ0 on the same
+/// mesh: the same curve as a linear material with E = 3 μ0, ν = ½; and at
+/// the small strains of a gentle patch the finite-strain load is within a
+/// few per cent of it (issue #33's felupe look: 0.97–1.00).
+#[test]
+fn small_strain_is_the_linear_solid_of_the_initial_moduli() {
+    let surface = patch(16, 3);
+    let small = params(
+        r#"{"strain": "small", "steps": 4, "max_area_fraction": 0.2, "map_fractions": [0.2]}"#,
+    );
+    let ours = response(&run(&small, surface.clone()));
+    let mu0 = hypercontact_material::Hyperelastic::shear_modulus_pa(&paper_epdm());
+    let linear = material_to_table(&Material::Linear(
+        LinearElastic::new(3.0 * mu0, 0.5).unwrap(),
+    ));
+    let finite = params(r#"{"steps": 4, "max_area_fraction": 0.2, "map_fractions": [0.2]}"#);
+    let theirs = response(&run_with(&finite, surface.clone(), linear));
+    assert_eq!(ours.response.area_fraction, theirs.response.area_fraction);
+    for (a, b) in ours.response.load_n.iter().zip(&theirs.response.load_n) {
+        assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} vs {b}");
+    }
+    let hyper = response(&run(&finite, surface));
+    let last = hyper.response.load_n.len() - 1;
+    assert_eq!(hyper.approach_m[1], ours.approach_m[1]);
+    let ratio = hyper.response.load_n[1] / ours.response.load_n[1];
+    println!("finite / small at the first step: {ratio}");
+    assert!((ratio - 1.0).abs() < 0.05, "{ratio}");
+    assert!(hyper.response.load_n[last] > 0.0);
 }

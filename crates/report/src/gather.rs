@@ -164,6 +164,26 @@ pub struct ReportData<'a> {
     pub samples: Vec<Sample<'a>>,
     /// The contact models wired, in order, with their colours and lines.
     pub roster: Roster,
+    /// The finite-strain comparison on one patch per sample (input
+    /// `finite_strain`), samples in label order, curves in label order.
+    pub finite_strain: Vec<PatchCurves>,
+}
+
+/// The curves of one sample's patch: the finite-strain reference and the
+/// models on the same window, by label.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PatchCurves {
+    pub sample: String,
+    pub curves: Vec<(String, PatchCurve)>,
+}
+
+/// A load–area curve as the finite-strain comparison reads it: A/A0
+/// ascending and F/(E0* A0) (a finite-element response has no tangent
+/// ratio, so none is read).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PatchCurve {
+    pub area_fraction: Vec<f64>,
+    pub load_norm: Vec<f64>,
 }
 
 impl<'a> ReportData<'a> {
@@ -214,6 +234,7 @@ impl<'a> ReportData<'a> {
                 .transpose()?,
             samples,
             roster,
+            finite_strain: read_patches(inputs)?,
         };
         if let Some(material) = &data.material {
             for s in &data.samples {
@@ -564,6 +585,32 @@ pub(crate) fn read_response(input: &str, table: ResponseTable) -> Result<Respons
         e0_star_pa: normalising_modulus_pa(&table),
         per_newton: load_norm_per_newton(&table),
     })
+}
+
+/// Input `finite_strain`, by sample and model label.
+fn read_patches(inputs: &Inputs) -> Result<Vec<PatchCurves>, ReportError> {
+    let read = |input: &str, p: &Product| {
+        let table: ResponseTable = sample_table(input, p)?;
+        finite!(input, table.area_fraction)?;
+        finite!(input, table.load_norm)?;
+        let [area_fraction, load_norm] = sort_by_first([&table.area_fraction, &table.load_norm]);
+        Ok(PatchCurve {
+            area_fraction,
+            load_norm,
+        })
+    };
+    let mut by_sample: BTreeMap<(String, u64, String), PatchCurves> = BTreeMap::new();
+    for (sample, label, curve) in nested(inputs, "finite_strain", read)? {
+        by_sample
+            .entry(natural_key(sample))
+            .or_insert_with(|| PatchCurves {
+                sample: sample.to_owned(),
+                curves: Vec::new(),
+            })
+            .curves
+            .push((label.to_owned(), curve));
+    }
+    Ok(by_sample.into_values().collect())
 }
 
 /// load_norm / load_n at the most loaded row (1/(E0* A0)).

@@ -23,6 +23,7 @@ pub mod band;
 pub mod error;
 pub mod experiment;
 pub mod figures;
+pub mod finite_strain;
 pub mod gather;
 pub mod html;
 pub mod interp;

@@ -34,6 +34,8 @@ pub struct ReportOptions {
     /// A published material set beside the fit in Table 1, with its error
     /// on the same tensile data.
     pub published_material: Option<Preset>,
+    /// The finite-strain comparison's reference and area fractions.
+    pub finite_strain: crate::finite_strain::FiniteStrainOptions,
 }
 
 /// The contact models' order and which of them each figure and table
@@ -93,6 +95,7 @@ impl Default for ReportOptions {
             poisson: hypercontact_material::Poisson::INCOMPRESSIBLE.0,
             models: ModelChoice::default(),
             published_material: None,
+            finite_strain: Default::default(),
         }
     }
 }
@@ -807,6 +810,9 @@ pub fn build_report(
     body.push_str(&contact_sections(
         data, &chosen, &summary, &outcomes, &fig6_html,
     ));
+    let (finite_html, fig10) =
+        crate::finite_strain::section(&data.finite_strain, &options.finite_strain)?;
+    body.push_str(&finite_html);
     body.push_str("<h2>Summary per sample</h2>\n");
     body.push_str(&sample_table(&summary, &chosen.summary));
     body.push_str(&provenance_section(provenance));
@@ -817,12 +823,10 @@ pub fn build_report(
     for (name, png) in fig6_images {
         files = files.with(&name, png);
     }
-    for o in outcomes {
-        if let Some(r) = o.rendered {
-            files = files
-                .with(&format!("{}.png", r.name), r.png)
-                .with(&format!("{}.svg", r.name), r.svg.into_bytes());
-        }
+    for r in outcomes.into_iter().filter_map(|o| o.rendered).chain(fig10) {
+        files = files
+            .with(&format!("{}.png", r.name), r.png)
+            .with(&format!("{}.svg", r.name), r.svg.into_bytes());
     }
     Ok(files)
 }

@@ -48,6 +48,12 @@ pub struct ReportParams {
     pub summary_models: Vec<String>,
     /// the model every other model's load is divided by at equal A/A0 in the load-ratio table (unset: no table)
     pub reference_model: Option<String>,
+    /// the label of the finite-element reference in `finite_strain`, that every other curve there is divided by
+    #[param(default = "fem".to_owned())]
+    pub finite_strain_reference: String,
+    /// A/A0 at which the finite-strain table reads F_model / F_reference (1 to 10 of them)
+    #[param(default = vec![0.05, 0.1, 0.2, 0.3], positive, range = ..=1.0, check = one_to_ten)]
+    pub finite_strain_area_fractions: Vec<f64>,
     /// a published material set beside the fit in Table 1 with its error on the same tensile data, not refitted (`paper-epdm`: the paper's Table 1; unset: none)
     pub published_material: Option<Preset>,
 }
@@ -73,7 +79,7 @@ pub struct Report;
 
 static INFO: StageInfo = StageInfo {
     kind: "report",
-    version: 9,
+    version: 10,
     summary: "HTML report with the paper's Figs. 2, 4, 6, 7, 8, a model comparison (Fig. 9; PNG + \
               SVG), Table 1 and a summary",
     doc: "Every input is optional: a figure whose inputs are not wired is skipped and the \
@@ -122,7 +128,16 @@ static INFO: StageInfo = StageInfo {
           input, so set `poisson` to the contact model's (and the fit's). The summary reads \
           F/(E0* A0) of every model at `area_fractions` by linear interpolation in A/A0 \
           (null outside the computed range), and each band's 5th and 95th percentiles the \
-          same way; its table on the page shows `summary_models`. Figures use the bundled \
+          same way; its table on the page shows `summary_models`. FINITE STRAIN: with \
+          `finite_strain` wired (one patch per sample: `fem` and the other models on the same \
+          window), Fig. 10 draws every curve per sample over the reference's range of A/A0 \
+          (reference black and thick; colour = family, the label's text before `-`; stroke = \
+          the label's suffix: none solid, `-uniaxial` dashed, `-linear` dotted, other long \
+          dashes) and a table gives F_model / F_reference at `finite_strain_area_fractions` per \
+          sample with the mean over samples, both as F/(E0* A0) read by linear interpolation \
+          in A/A0, and says in words which model comes nearest and whether each family's \
+          tangent modulus moves its load toward the finite-strain one or away (against its \
+          `-linear` variant). Figures use the bundled \
           DejaVu Sans font; no system font or network is needed.",
     inputs: &[
         InputSpec::table::<CurvesTable>(
@@ -196,6 +211,13 @@ static INFO: StageInfo = StageInfo {
             Arity::Many,
             "contact-compare's registration per sample",
         ),
+        InputSpec::table::<ResponseTable>(
+            "finite_strain",
+            Arity::Nested,
+            "the finite-strain comparison on one patch per sample, by sample and model label: \
+             the finite-element reference (`finite_strain_reference`) and the models on the same \
+             window (Fig. 10 and its load-ratio table)",
+        ),
         InputSpec::files_indexed::<FigureIndex>(
             "compare_figures",
             Arity::Many,
@@ -233,6 +255,10 @@ impl Stage for Report {
                 reference: p.reference_model.clone(),
             },
             published_material: p.published_material,
+            finite_strain: crate::finite_strain::FiniteStrainOptions {
+                reference: p.finite_strain_reference.clone(),
+                area_fractions: p.finite_strain_area_fractions.clone(),
+            },
         };
         let progress = ctx.progress(1, "figures and page");
         let files = render_report(inputs, &options, ctx.upstream())?;

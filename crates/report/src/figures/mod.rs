@@ -2,6 +2,7 @@
 //! [`plotting`].
 
 pub mod colormap;
+pub mod fig10;
 pub mod fig2;
 pub mod fig4;
 pub mod fig7;
