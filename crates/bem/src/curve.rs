@@ -12,6 +12,12 @@
 //! share of it the first solve found. Every solve starts from the pressure
 //! extrapolated from the previous two. The approaches only grow from step to
 //! step, so the rows are ordered.
+//!
+//! A periodic map has no solution from the approach of full contact on
+//! ([`Problem::full_contact_approach_m`]); a prediction there (the secant
+//! doubles the approach where two solves found the same area, as happens
+//! on a mirror-image map, whose contacts come in mirrored pairs) is moved
+//! halfway from the largest solved approach to it instead.
 
 use rayon::prelude::*;
 
@@ -98,7 +104,11 @@ pub fn solve_curve(
         let mut best: Option<(Solution, (bool, f64))> = None;
         let mut iterations = 0;
         for _ in 0..MAX_SOLVES_PER_STEP * if last { 2 } else { 1 } {
-            let approach_m = predict(&known, target, &bearing);
+            let approach_m = short_of_full_contact(
+                predict(&known, target, &bearing),
+                &known,
+                problem.full_contact_approach_m(),
+            );
             let warm = warm_start(&recent, approach_m);
             let solution = problem
                 .solve(
@@ -210,6 +220,18 @@ fn predict(known: &[(f64, f64)], target: f64, bearing: &Bearing) -> f64 {
     }
 }
 
+/// `approach_m`, or, if it reaches the approach of full contact
+/// `limit_m`, halfway from the largest solved approach (the last of
+/// `known`, sorted) to it.
+fn short_of_full_contact(approach_m: f64, known: &[(f64, f64)], limit_m: Option<f64>) -> f64 {
+    match (limit_m, known.last()) {
+        (Some(limit_m), Some(&(solved_m, _))) if approach_m >= limit_m => {
+            solved_m + 0.5 * (limit_m - solved_m)
+        }
+        _ => approach_m,
+    }
+}
+
 /// The rigid plane's bearing area: the approach at which a given fraction
 /// of the measured points lies above the plane.
 struct Bearing {
@@ -270,5 +292,10 @@ mod tests {
         // Beyond: the last secant, at most doubling.
         assert!((predict(&known, 0.8, &bearing) - 2.5).abs() < 1e-15);
         assert_eq!(predict(&known, 5.0, &bearing), 4.0);
+        // Past full contact of a periodic map: halfway to it from the last.
+        assert_eq!(short_of_full_contact(4.0, &known, Some(3.0)), 2.5);
+        assert_eq!(short_of_full_contact(3.0, &known, Some(3.0)), 2.5);
+        assert_eq!(short_of_full_contact(2.9, &known, Some(3.0)), 2.9);
+        assert_eq!(short_of_full_contact(4.0, &known, None), 4.0);
     }
 }

@@ -13,7 +13,13 @@
 //! Two controls:
 //! - [`Control::Approach`]: δ given (for a periodic map, where u has zero
 //!   mean, this is a given mean gap: Rey, Anciaux & Molinari, Comput. Mech.
-//!   60 (2017) 69–81);
+//!   60 (2017) 69–81). A periodic map measured everywhere has a largest
+//!   approach: the mean gap max h − δ − mean h of a solution is the mean
+//!   of g ≥ 0, so from δ = max h − mean h on there is none (at it only full
+//!   contact with any added uniform pressure); such a δ is refused
+//!   ([`SolveError::BeyondFullContact`]) rather than iterated on, where the
+//!   mean pressure grows without bound until the iterations run out or the
+//!   step breaks down;
 //! - [`Control::MeanPressure`]: the mean pressure over the measured points
 //!   given; s follows from the mean of h − u over the contact set, and the
 //!   pressure is rescaled to the load after every step (PK's version).
@@ -49,7 +55,7 @@
 use hypercontact_numeric::reduce::{CHUNK, fill_sums, sum, sums};
 use rayon::prelude::*;
 
-use crate::influence::Influence;
+use crate::influence::{Boundary, Influence};
 
 /// At most this many clipped points are added to u directly (each costs one
 /// pass over the map); more, and u is recomputed by a convolution.
@@ -125,6 +131,11 @@ pub enum SolveError {
          {iteration}"
     )]
     Breakdown { iteration: usize },
+    #[error(
+        "the approach {approach_m:.6e} m reaches or passes full contact of the periodic map \
+         (max height − mean height = {limit_m:.6e} m): no pressure closes a negative mean gap"
+    )]
+    BeyondFullContact { approach_m: f64, limit_m: f64 },
     #[error("heights and the influence operator differ in size ({heights} vs {grid} points)")]
     Size { heights: usize, grid: usize },
     #[error("no height is measured (every value is NaN)")]
@@ -145,6 +156,8 @@ pub struct Problem<'a> {
     top_m: f64,
     measured: usize,
     sigma_m: f64,
+    /// See [`Problem::full_contact_approach_m`].
+    full_contact_m: Option<f64>,
 }
 
 impl<'a> Problem<'a> {
@@ -183,12 +196,15 @@ impl<'a> Problem<'a> {
                 0.0
             }]
         });
+        let everywhere = measured == heights_m.len();
+        let periodic = influence.boundary() == Boundary::Periodic;
         Ok(Self {
             influence,
             heights_m,
             top_m,
             measured,
             sigma_m: (square / measured as f64).sqrt(),
+            full_contact_m: (periodic && everywhere).then_some(top_m - mean),
         })
     }
 
@@ -210,6 +226,15 @@ impl<'a> Problem<'a> {
     /// The rms height about the mean of the measured points, m.
     pub fn sigma_m(&self) -> f64 {
         self.sigma_m
+    }
+
+    /// The approach of full contact, max h − mean h, m, beyond which an
+    /// approach has no solution: for a periodic map measured everywhere
+    /// (u has zero mean there, so the mean gap is fixed by δ alone); None
+    /// otherwise (a free map takes any approach; with unmeasured points the
+    /// mean of u over the measured ones is not fixed).
+    pub fn full_contact_approach_m(&self) -> Option<f64> {
+        self.full_contact_m
     }
 
     /// Solves for the pressure, starting from `warm` (a previous solution's
@@ -295,6 +320,16 @@ impl<'a> Problem<'a> {
         };
         if !(value >= 0.0 && value.is_finite()) {
             return Err(SolveError::BadControl(value));
+        }
+        // (A flat map is in full contact at δ = 0, under no pressure.)
+        if let (Control::Approach(approach_m), Some(limit_m)) = (control, self.full_contact_m)
+            && approach_m >= limit_m
+            && approach_m > 0.0
+        {
+            return Err(SolveError::BeyondFullContact {
+                approach_m,
+                limit_m,
+            });
         }
         let h = &self.heights_m;
         let mut p = match warm {
