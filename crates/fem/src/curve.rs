@@ -192,12 +192,29 @@ pub fn solve_area_steps(
         let target = ((taken + 1) as f64 * spacing)
             .max(last.1 + 0.5 * spacing)
             .min(options.max_area_fraction);
-        let approach = if taken == 0 {
+        let mut approach = if taken == 0 {
             options.first_approach_m
         } else {
-            next_approach(first, last, increment, target)
+            // From one state with contact β is a guess: at most double
+            // the approach.
+            let cap = if taken == 1 { last.0 } else { f64::INFINITY };
+            next_approach(first, last, increment, target).min(last.0 + cap)
         };
-        let step = problem.solve_step(curve.steps.len() + 1, approach)?;
+        let mut step = problem.solve_step(taken + 1, approach)?;
+        // A step that lands more than two spacings past its aim is solved
+        // again at a third of its increment (three times at most), so the
+        // curve resolves the areas it is read at. Frictionless elastic
+        // contact has no history: stepping back solves the same problem.
+        let mut wasted = 0;
+        for _ in 0..3 {
+            if step.area_fraction <= target + 2.0 * spacing {
+                break;
+            }
+            wasted += step.iterations;
+            approach = last.0 + (approach - last.0) / 3.0;
+            step = problem.solve_step(taken + 1, approach)?;
+        }
+        step.iterations += wasted;
         on_step(&step);
         increment = approach - last.0;
         last = (approach, step.area_fraction);

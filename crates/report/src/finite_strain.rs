@@ -122,10 +122,23 @@ fn overall(values: &[Option<f64>]) -> Option<f64> {
 /// its linear law (`x-linear`), whether the tangent modulus brings the
 /// load nearer the finite-strain solution or takes it away.
 pub fn findings(means: &[(String, Vec<Option<f64>>)], reference: &str) -> String {
-    let scored: Vec<(&str, f64)> = means
+    let all: Vec<(&str, f64)> = means
         .iter()
         .filter_map(|(m, v)| overall(v).map(|r| (m.as_str(), r)))
         .collect();
+    // The reference's own variants (e.g. `fem-small`, the same mesh at small
+    // strain) measure the finite-strain effect; they are no contact model.
+    let own = |m: &str| m.split('-').next() == reference.split('-').next();
+    let mut text = String::new();
+    for (m, r) in all.iter().filter(|(m, _)| own(m)) {
+        text.push_str(&format!(
+            "The same finite-element problem as {} gives {}× F<sub>{reference}</sub>: the \
+             finite-strain effect itself. ",
+            escape(m),
+            fmt_sig(*r, 3)
+        ));
+    }
+    let scored: Vec<(&str, f64)> = all.into_iter().filter(|(m, _)| !own(m)).collect();
     let distance = |r: f64| r.ln().abs();
     let Some(best) = scored
         .iter()
@@ -137,14 +150,14 @@ pub fn findings(means: &[(String, Vec<Option<f64>>)], reference: &str) -> String
         .iter()
         .max_by(|a, b| distance(a.1).total_cmp(&distance(b.1)))
         .unwrap_or(best);
-    let mut text = format!(
-        "Averaged over the samples and the area fractions, the load nearest the finite-strain \
-         solution is {}'s ({}× F<sub>{reference}</sub>), the farthest {}'s ({}×).",
+    text.push_str(&format!(
+        "Averaged over the samples and the area fractions, the contact model nearest the \
+         finite-strain solution is {} ({}× F<sub>{reference}</sub>), the farthest {} ({}×).",
         escape(best.0),
         fmt_sig(best.1, 3),
         escape(worst.0),
         fmt_sig(worst.1, 3),
-    );
+    ));
     for (model, hyper) in &scored {
         let linear_label = format!("{model}-linear");
         let Some((_, linear)) = scored.iter().find(|(m, _)| *m == linear_label) else {
@@ -272,7 +285,15 @@ mod tests {
     #[test]
     fn ratios_divide_at_equal_area_and_average_over_samples() {
         let patches = [
-            patch("T1", &[("fem", 1.0), ("icm", 2.0), ("icm-linear", 1.1)]),
+            patch(
+                "T1",
+                &[
+                    ("fem", 1.0),
+                    ("icm", 2.0),
+                    ("icm-linear", 1.1),
+                    ("fem-small", 0.5),
+                ],
+            ),
             patch("T2", &[("fem", 2.0), ("icm", 5.0), ("icm-linear", 2.0)]),
             patch("T3", &[("icm", 1.0)]),
         ];
@@ -282,7 +303,7 @@ mod tests {
         };
         let (rows, missing) = ratios(&patches, &options);
         assert_eq!(missing, vec!["T3".to_owned()]);
-        assert_eq!(rows.len(), 4);
+        assert_eq!(rows.len(), 5);
         assert_eq!(rows[0].model, "icm");
         // Linear curves through the origin: the ratio of the slopes; none
         // beyond the curves' end (0.4).
