@@ -377,8 +377,16 @@ fn the_quick_paper_pipeline_writes_the_report() {
     let t = tempfile::tempdir().unwrap();
     let out = run_pipeline(t.path(), "pipelines/quick.yaml", &[]);
     assert!(out.status.success(), "{}", text(&out));
-    assert!(text(&out).contains("57 ran, 0 cached"), "{}", text(&out));
+    assert!(text(&out).contains("70 ran, 0 cached"), "{}", text(&out));
     let report = t.path().join("out/report");
+    // Issue 33: T1's patch through every model and fem, judged in Fig. 10.
+    assert!(report.join("fig10.png").is_file());
+    let page = std::fs::read_to_string(report.join("index.html")).unwrap();
+    assert!(page.contains("Load ratio F_model / F_fem"), "no finite-strain table");
+    let fem = parquet(t.path(), "t1-fem/response.parquet");
+    let fractions = fem.f64("area_fraction").unwrap();
+    assert!(*fractions.last().unwrap() >= 0.3);
+    assert!(t.path().join("out/t1-fem/mesh_a0.300.vtk").is_file());
 
     // Issue 6: the images → DIC → fit chain recovers the generating
     // material's curves within 1 % RMS relative error per mode.
@@ -670,7 +678,7 @@ fn the_quick_paper_pipeline_writes_the_report() {
     // exactly that sample's downstream stages and the report.
     let again = run_pipeline(t.path(), "pipelines/quick.yaml", &[]);
     assert!(
-        text(&again).contains("0 ran, 46 cached, 11 temporary not needed"),
+        text(&again).contains("0 ran, 59 cached, 11 temporary not needed"),
         "{}",
         text(&again)
     );
@@ -681,7 +689,7 @@ fn the_quick_paper_pipeline_writes_the_report() {
     );
     assert!(changed.status.success(), "{}", text(&changed));
     assert!(
-        text(&changed).contains("5 ran, 41 cached, 11 temporary not needed"),
+        text(&changed).contains("5 ran, 54 cached, 11 temporary not needed"),
         "{}",
         text(&changed)
     );
