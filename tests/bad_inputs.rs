@@ -560,6 +560,25 @@ stages:
     with: { levels: 10 }
 ";
 
+/// A height map's window (`crop`) into `fem` with the paper's material.
+const PATCH: &str = "\
+name: patch
+stages:
+  surf:
+    uses: height-map
+    with: { path: map.npy, pixel_m: 20.0e-6 }
+  epdm:
+    uses: material-preset
+  patch:
+    uses: crop
+    inputs: { surface: surf }
+    with: { x0: 2, nx: 6 }
+  fem:
+    uses: fem
+    inputs: { surface: patch.height, material: epdm }
+    with: { steps: 2, max_area_fraction: 0.1, map_fractions: [0.1], layers: 2 }
+";
+
 /// A height map through `surface` (no stitching, kept at its grid).
 const SURFACE: &str = "\
 name: flat
@@ -905,6 +924,21 @@ cases! {
     fit_too_few_points: Case::run(&TENSILE.replace("model: ogden-1", "model: ogden-6"), &[]).file("t.csv", CSV);
 
     // --- .npy height maps
+    // --- the finite-strain patch (issue #33)
+    crop_window_leaves_the_map: Case::run(&PATCH.replace("x0: 2, nx: 6", "x0: 4, nx: 6"), &[]).file("map.npy", small_map())
+        .mentions(&["nx = 6 from x0 = 4 reaches point 10"]);
+    crop_coarsened_to_one_point: Case::run(&PATCH.replace("x0: 2, nx: 6", "x0: 2, nx: 6, coarsen: 4"), &[]).file("map.npy", small_map())
+        .mentions(&["fewer than 2 along x"]);
+    fem_missing_point_in_window: Case::run(PATCH, &[]).file("map.npy", {
+        let mut bytes = small_map();
+        // Point (3, 1) of the 8 × 8 map NaN: (1, 1) of the crop fem is given.
+        let at = bytes.len() - 8 * 64 + 8 * (3 * 8 + 1);
+        bytes[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
+        bytes
+    })
+        .mentions(&["missing (NaN)", "patch point (1, 1)"]);
+    fem_map_fraction_beyond_curve: Case::run(&PATCH.replace("map_fractions: [0.1]", "map_fractions: [0.2]"), &[]).file("map.npy", small_map())
+        .mentions(&["map_fractions.0"]);
     npy_garbage: Case::run(MAP, &[]).file("map.npy", "this is not a numpy file at all\n")
         .mentions(&["<dir>/map.npy", "`surf`"]);
     npy_truncated: Case::run(MAP, &[]).file("map.npy", &small_map()[..300])

@@ -285,7 +285,7 @@ fn checked_patch(patch: &Field, window: &Window, p: &FemParams) -> Result<Vec<f6
             .map_or((0, 0), |(ij, _)| ij);
         return Err(StageError::invalid(format!(
             "{missing} of the window's {} points are missing (NaN), the first at patch point \
-             ({}, {}) = map point ({}, {}): the block needs a height at every node (choose a \
+             ({}, {}) = input point ({}, {}): the block needs a height at every node (choose a \
              window without them, or fill them with `surface`)",
             nx * ny,
             first.0,
