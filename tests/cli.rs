@@ -382,7 +382,10 @@ fn the_quick_paper_pipeline_writes_the_report() {
     // Issue 33: T1's patch through every model and fem, judged in Fig. 10.
     assert!(report.join("fig10.png").is_file());
     let page = std::fs::read_to_string(report.join("index.html")).unwrap();
-    assert!(page.contains("Load ratio F_model / F_fem"), "no finite-strain table");
+    assert!(
+        page.contains("Load ratio F_model / F_fem"),
+        "no finite-strain table"
+    );
     let fem = parquet(t.path(), "t1-fem/response.parquet");
     let fractions = fem.f64("area_fraction").unwrap();
     assert!(*fractions.last().unwrap() >= 0.3);
