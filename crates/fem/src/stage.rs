@@ -169,9 +169,17 @@ static INFO: StageInfo = StageInfo {
           pulls), frictionless (x, y free), Newton with line search, faer's sparse Cholesky \
           with one symbolic factorisation; a step that fails is halved up to four times, then \
           the stage fails naming the step, the approach and the residual. STEPS: row 0 is \
-          first touch (F = 0); rows 1.. aim at A/A0 = k max_area_fraction / steps (the \
-          approach from the secant of the last two steps), the last at or above \
-          max_area_fraction; more steps are taken if aims fall short (at most 4 steps + 10). \
+          first touch (F = 0); step 1 goes to where the plane's overlap with the undeformed \
+          surface covers A/A0 = max_area_fraction / steps (the elastic area is smaller); step \
+          k aims at k max_area_fraction / steps (half a spacing past an overshoot), its \
+          approach from A taken as a power of the approach through the first and the last \
+          state, the increment within 1/4 and 2 times the last (step 2 at most doubles the \
+          approach); a step landing more than two spacings past its aim is solved again at a \
+          third of its increment (up to three times; frictionless elastic contact has no \
+          history); the last row is at or above max_area_fraction, more steps being taken if \
+          aims fall short (at most 4 steps + 10, then the stage fails). Nodes enter the \
+          contact set when they penetrate by more than 1e-6 of the approach and leave when \
+          they pull with more than 1e-9 of the reactions (a hysteresis against cycling). \
           CONVENTIONS: A/A0 = top nodes in contact / top nodes (node-counted, as `bem` counts \
           pixels); A0 = (nx - 1)dx (ny - 1)dy, A = A/A0 x A0; `area_fraction_current` is the \
           contact area over the projected area, both deformed (each top face counts with the \
