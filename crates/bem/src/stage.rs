@@ -4,7 +4,8 @@
 //! [`crate::curve`] and [`hypercontact_icm::tangent`].
 
 use hypercontact_core::contact::{
-    BandTable, Curve, ModelMapIndex, ResponseTable, area_fraction_label, check_map_fraction,
+    BandTable, Curve, ModelMapIndex, ResponseTable, area_fraction_label, check_maps_within_curve,
+    map_npy,
 };
 use hypercontact_core::field::SurfaceProblem;
 use hypercontact_core::{
@@ -48,16 +49,7 @@ pub struct BemParams {
 }
 
 fn maps_within_curve(p: &BemParams) -> Result<(), ParamError> {
-    for (i, &f) in p.map_fractions.iter().enumerate() {
-        if f > p.max_area_fraction {
-            return Err(ParamError::new(
-                &format!("map_fractions.{i}"),
-                format!("{f} lies above max_area_fraction ({})", p.max_area_fraction),
-            ));
-        }
-        check_map_fraction(&p.map_fractions, i)?;
-    }
-    Ok(())
+    check_maps_within_curve(&p.map_fractions, p.max_area_fraction)
 }
 
 /// The `response` table: every contact model's columns, then the solver's.
@@ -383,14 +375,7 @@ fn map_files(
     unit_load_m2: &[f64],
     (nx, ny, dx, dy): (usize, usize, f64, f64),
 ) -> Result<Files, StageError> {
-    let npy = |values: Vec<f64>| -> Result<Vec<u8>, StageError> {
-        let array = ndarray::Array2::from_shape_vec((nx, ny), values).map_err(StageError::other)?;
-        let mut bytes = Vec::new();
-        Field::new(array, dx, dy)
-            .and_then(|f| f.write_npy(&mut bytes))
-            .map_err(StageError::other)?;
-        Ok(bytes)
-    };
+    let npy = |values: Vec<f64>| map_npy(values, (nx, ny), dx, dy);
     let mut files = Files::new();
     let mut index = BemMapIndex::default();
     for map in maps {

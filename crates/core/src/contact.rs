@@ -239,6 +239,42 @@ pub fn check_map_fraction(fractions: &[f64], i: usize) -> Result<(), ParamError>
     }
 }
 
+/// Refuses a `map_fractions` entry above the curve's `max_area_fraction`
+/// (no step would reach it) or with the file names of an earlier one: the
+/// check of every contact model that keeps maps along its curve.
+pub fn check_maps_within_curve(
+    map_fractions: &[f64],
+    max_area_fraction: f64,
+) -> Result<(), ParamError> {
+    for (i, &f) in map_fractions.iter().enumerate() {
+        if f > max_area_fraction {
+            return Err(ParamError::new(
+                &format!("map_fractions.{i}"),
+                format!("{f} lies above max_area_fraction ({max_area_fraction})"),
+            ));
+        }
+        check_map_fraction(map_fractions, i)?;
+    }
+    Ok(())
+}
+
+/// The `.npy` bytes (with its grid) of a model map given row-major on the
+/// height map's `nx × ny` grid of spacing `dx_m × dy_m` (axis 0 = x).
+pub fn map_npy(
+    values: Vec<f64>,
+    (nx, ny): (usize, usize),
+    dx_m: f64,
+    dy_m: f64,
+) -> Result<Vec<u8>, crate::StageError> {
+    let array =
+        ndarray::Array2::from_shape_vec((nx, ny), values).map_err(crate::StageError::other)?;
+    let mut bytes = Vec::new();
+    crate::Field::new(array, dx_m, dy_m)
+        .and_then(|f| f.write_npy(&mut bytes))
+        .map_err(crate::StageError::other)?;
+    Ok(bytes)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -414,6 +414,27 @@ pub(crate) fn penetration_tolerance_m(approach_m: f64, depth_m: f64) -> f64 {
 }
 
 impl ContactProblem {
+    /// The mean gap between the plane at `approach_m` and the top as it
+    /// stands now (reference tributary areas as weights), m; before the
+    /// first step, the undeformed top's at first touch.
+    pub fn mean_gap_m(&self, approach_m: f64) -> f64 {
+        self.mean_gap(self.plane_m(approach_m), &self.displacement_m())
+    }
+
+    fn mean_gap(&self, plane_m: f64, displacement_m: &[[f64; 3]]) -> f64 {
+        let k = self.mesh.layers;
+        let (mut gap_sum, mut area_sum) = (0.0, 0.0);
+        for i in 0..self.mesh.nx {
+            for j in 0..self.mesh.ny {
+                let node = self.mesh.node(i, j, k);
+                let area = self.mesh.tributary_area_m2(i, j);
+                gap_sum += area * (plane_m - self.mesh.nodes_m[node][2] - displacement_m[node][2]);
+                area_sum += area;
+            }
+        }
+        gap_sum / area_sum
+    }
+
     /// The step's results from the converged state.
     fn summary(&self, approach_m: f64, iterations: usize) -> Step {
         let plane = self.plane_m(approach_m);
@@ -430,15 +451,7 @@ impl ContactProblem {
         }
         let displacement = self.displacement_m();
         let (nx, ny, k) = (self.mesh.nx, self.mesh.ny, self.mesh.layers);
-        let (mut gap_sum, mut area_sum) = (0.0, 0.0);
-        for i in 0..nx {
-            for j in 0..ny {
-                let node = self.mesh.node(i, j, k);
-                let area = self.mesh.tributary_area_m2(i, j);
-                gap_sum += area * (plane - self.mesh.nodes_m[node][2] - displacement[node][2]);
-                area_sum += area;
-            }
-        }
+        let mean_gap_m = self.mean_gap(plane, &displacement);
         let (mut contact_area, mut projected_area) = (0.0, 0.0);
         for i in 0..nx - 1 {
             for j in 0..ny - 1 {
@@ -468,7 +481,7 @@ impl ContactProblem {
             load_n,
             iterations,
             largest_penetration_m,
-            mean_gap_m: gap_sum / area_sum,
+            mean_gap_m,
         }
     }
 

@@ -65,17 +65,12 @@ pub fn solve_curve(
         let step = problem.solve_step(index + 1, approach)?;
         let fraction = step.area_fraction;
         curve.steps.push(step);
-        let (reached, rest): (Vec<f64>, Vec<f64>) = wanted.iter().partition(|f| fraction >= **f);
-        wanted = rest;
-        for requested in reached {
-            curve.snapshots.push(Snapshot {
-                requested_area_fraction: requested,
-                step: index,
-                displacement_m: problem.displacement_m(),
-                pressure_pa: problem.pressure_map_pa(),
-                contact: problem.contact_mask(),
-            });
-        }
+        keep_snapshots(
+            problem,
+            &mut wanted,
+            (index, fraction),
+            &mut curve.snapshots,
+        );
         if options
             .stop_at_area_fraction
             .is_some_and(|stop| fraction >= stop)
@@ -84,6 +79,27 @@ pub fn solve_curve(
         }
     }
     Ok(curve)
+}
+
+/// Takes the fractions of `wanted` that step `step` (at A/A0 `fraction`)
+/// reaches out of it, and keeps the problem's current state for each.
+fn keep_snapshots(
+    problem: &ContactProblem,
+    wanted: &mut Vec<f64>,
+    (step, fraction): (usize, f64),
+    snapshots: &mut Vec<Snapshot>,
+) {
+    let (reached, rest): (Vec<f64>, Vec<f64>) = wanted.iter().partition(|f| fraction >= **f);
+    *wanted = rest;
+    for requested in reached {
+        snapshots.push(Snapshot {
+            requested_area_fraction: requested,
+            step,
+            displacement_m: problem.displacement_m(),
+            pressure_pa: problem.pressure_map_pa(),
+            contact: problem.contact_mask(),
+        });
+    }
 }
 
 fn check(options: &CurveOptions) -> Result<(), FemError> {
@@ -221,18 +237,8 @@ pub fn solve_area_steps(
         if first.1 == 0.0 {
             first = last;
         }
-        let (reached, rest): (Vec<f64>, Vec<f64>) =
-            wanted.iter().partition(|f| step.area_fraction >= **f);
-        wanted = rest;
-        for requested in reached {
-            curve.snapshots.push(Snapshot {
-                requested_area_fraction: requested,
-                step: curve.steps.len(),
-                displacement_m: problem.displacement_m(),
-                pressure_pa: problem.pressure_map_pa(),
-                contact: problem.contact_mask(),
-            });
-        }
+        let at = (curve.steps.len(), step.area_fraction);
+        keep_snapshots(problem, &mut wanted, at, &mut curve.snapshots);
         curve.steps.push(step);
     }
     Ok(curve)

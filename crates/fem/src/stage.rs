@@ -7,7 +7,8 @@
 use std::sync::Arc;
 
 use hypercontact_core::contact::{
-    Curve as ResponseCurve, ModelMapIndex, ResponseTable, area_fraction_label, check_map_fraction,
+    Curve as ResponseCurve, ModelMapIndex, ResponseTable, area_fraction_label,
+    check_maps_within_curve, map_npy,
 };
 use hypercontact_core::{
     Arity, Checked, Choice, Context, Field, Files, InputSpec, Inputs, OutputSpec, Outputs,
@@ -86,16 +87,7 @@ pub struct FemParams {
 }
 
 fn maps_within_curve(p: &FemParams) -> Result<(), ParamError> {
-    for (i, &f) in p.map_fractions.iter().enumerate() {
-        if f > p.max_area_fraction {
-            return Err(ParamError::new(
-                &format!("map_fractions.{i}"),
-                format!("{f} lies above max_area_fraction ({})", p.max_area_fraction),
-            ));
-        }
-        check_map_fraction(&p.map_fractions, i)?;
-    }
-    Ok(())
+    check_maps_within_curve(&p.map_fractions, p.max_area_fraction)
 }
 
 /// The `response` table: every contact model's columns, then the solver's.
@@ -263,16 +255,12 @@ impl Stage for Fem {
         };
         let mut problem =
             ContactProblem::new(mesh, law, lateral, newton).map_err(StageError::other)?;
+        // At first touch, before any step: the undeformed top's mean gap.
+        let first_gap_m = problem.mean_gap_m(0.0);
         let curve = solve(&mut problem, &heights_m, p, ctx)?;
         let a0_m2 = (nx - 1) as f64 * patch.dx_m * (ny - 1) as f64 * patch.dy_m;
         let range_m = height_range_m(&heights_m);
-        let table = response_table(
-            &curve.steps,
-            e0_star_pa,
-            a0_m2,
-            range_m,
-            first_touch_gap_m(&problem.mesh),
-        );
+        let table = response_table(&curve.steps, e0_star_pa, a0_m2, range_m, first_gap_m);
         let files = map_files(&curve, &problem, &table, &patch)?;
         Ok(Outputs::new()
             .table("response", table.into_table())
@@ -310,12 +298,13 @@ fn checked_patch(patch: &Field, window: &Window, p: &FemParams) -> Result<Vec<f6
             p.layers, p.max_nodes
         )));
     }
-    if height_range_m(&patch.values.iter().copied().collect::<Vec<_>>()) <= 0.0 {
+    let heights_m: Vec<f64> = patch.values.iter().copied().collect();
+    if height_range_m(&heights_m) <= 0.0 {
         return Err(StageError::invalid(
             "the patch is flat: all of it touches at once".to_owned(),
         ));
     }
-    Ok(patch.values.iter().copied().collect())
+    Ok(heights_m)
 }
 
 fn height_range_m(heights_m: &[f64]) -> f64 {
@@ -437,27 +426,6 @@ fn response_table(
     }
 }
 
-/// The mean gap at first touch: the highest top node above the others,
-/// weighted by their reference tributary areas as the steps' gaps are, m.
-fn first_touch_gap_m(mesh: &Mesh) -> f64 {
-    let top = |i, j| mesh.nodes_m[mesh.node(i, j, mesh.layers)][2];
-    let mut highest = f64::NEG_INFINITY;
-    for i in 0..mesh.nx {
-        for j in 0..mesh.ny {
-            highest = highest.max(top(i, j));
-        }
-    }
-    let (mut gap, mut area) = (0.0, 0.0);
-    for i in 0..mesh.nx {
-        for j in 0..mesh.ny {
-            let w = mesh.tributary_area_m2(i, j);
-            gap += w * (highest - top(i, j));
-            area += w;
-        }
-    }
-    gap / area
-}
-
 /// The `contact_maps` product at the kept steps.
 fn map_files(
     curve: &Curve,
@@ -466,14 +434,7 @@ fn map_files(
     patch: &Field,
 ) -> Result<Files, StageError> {
     let (nx, ny) = patch.values.dim();
-    let npy = |values: Vec<f64>| -> Result<Vec<u8>, StageError> {
-        let array = ndarray::Array2::from_shape_vec((nx, ny), values).map_err(StageError::other)?;
-        let mut bytes = Vec::new();
-        Field::new(array, patch.dx_m, patch.dy_m)
-            .and_then(|f| f.write_npy(&mut bytes))
-            .map_err(StageError::other)?;
-        Ok(bytes)
-    };
+    let npy = |values: Vec<f64>| map_npy(values, (nx, ny), patch.dx_m, patch.dy_m);
     let mut files = Files::new();
     let mut index = FemMapIndex::default();
     for snapshot in &curve.snapshots {

@@ -8,11 +8,8 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::fig7::{LEGEND_PX, area_axes, log_range};
-use super::plotting::{
-    Axis, Figure, LegendEntry, Line, Rasters, TextSizes, draw_curve, draw_legend, model_colour,
-    thin, tick_decade,
-};
+use super::fig7::{LEGEND_PX, Ranges, draw_load_curve, load_area_chart, log_range};
+use super::plotting::{Figure, LegendEntry, Line, Rasters, TextSizes, draw_legend, model_colour};
 use crate::ReportError;
 use crate::gather::{PatchCurve, PatchCurves};
 
@@ -79,7 +76,7 @@ impl Fig10<'_> {
 
     /// A/A0 up to the reference's largest (every model's otherwise), and
     /// the loads of every curve up to there.
-    fn ranges(&self) -> (f64, f64, f64) {
+    fn ranges(&self) -> Ranges {
         let reference_top = self
             .patches
             .iter()
@@ -107,46 +104,25 @@ impl Fig10<'_> {
                     .map(|(_, f)| *f)
             });
         let (y_lo, y_hi) = log_range(loads, 4.0);
-        (x_hi, y_lo, y_hi)
+        Ranges { x_hi, y_lo, y_hi }
     }
 
     fn panel<DB: DrawingBackend>(
         &self,
         area: &DrawingArea<DB, Shift>,
         patch: &PatchCurves,
-        (x_hi, y_lo, y_hi): (f64, f64, f64),
+        ranges: Ranges,
     ) -> Result<(), ReportError> {
         let name = self.name();
         let sizes = TextSizes::panel(20.0);
-        let err = |e| ReportError::plot(name, e);
-        let (e_lo, e_hi) = (y_lo.log10(), y_hi.log10());
-        let mut chart = ChartBuilder::on(area)
-            .margin(16)
-            .caption(&patch.sample, super::plotting::font(sizes.title))
-            .x_label_area_size(sizes.label * 2.9)
-            .y_label_area_size(sizes.label * 3.4)
-            .build_cartesian_2d(Axis::new(0.0, x_hi, 6), Axis::decades(e_lo, e_hi, 12))
-            .map_err(err)?;
-        area_axes(
-            &mut chart,
-            (name, sizes),
-            "normalised load F/(E₀* A₀)",
-            &|v| tick_decade(*v),
-            (e_hi - e_lo) as usize + 1,
-        )?;
+        let mut chart = load_area_chart(area, (name, sizes), ranges, Some(&patch.sample))?;
         // The reference last, on top.
         let mut curves: Vec<&(String, PatchCurve)> = patch.curves.iter().collect();
         curves.sort_by_key(|(l, _)| l == self.reference);
         for (label, c) in curves {
-            let points: Vec<(f64, f64)> = c
-                .area_fraction
-                .iter()
-                .zip(&c.load_norm)
-                .filter(|&(&a, &f)| a <= x_hi && f >= y_lo && f <= y_hi)
-                .map(|(&a, &f)| (a, f.log10()))
-                .collect();
-            let points = thin(&points, x_hi, e_hi - e_lo, 0.006);
-            draw_curve(&mut chart, name, points, stroke(label), self.style(label))?;
+            let xy = (&c.area_fraction[..], &c.load_norm[..]);
+            let style = (stroke(label), self.style(label));
+            draw_load_curve(&mut chart, name, xy, ranges, style)?;
         }
         Ok(())
     }

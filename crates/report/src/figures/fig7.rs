@@ -127,10 +127,72 @@ pub fn log_range(values: impl Iterator<Item = f64>, max_decades: f64) -> (f64, f
 /// The axes every panel shares: A/A0 up to `x_hi`, F/(E0* A0) between
 /// `y_lo` and `y_hi`.
 #[derive(Clone, Copy)]
-struct Ranges {
-    x_hi: f64,
-    y_lo: f64,
-    y_hi: f64,
+pub struct Ranges {
+    pub x_hi: f64,
+    pub y_lo: f64,
+    pub y_hi: f64,
+}
+
+impl Ranges {
+    /// log10 of the load range: the y axis as drawn.
+    fn decades(self) -> (f64, f64) {
+        (self.y_lo.log10(), self.y_hi.log10())
+    }
+}
+
+/// A load–area panel of Figs. 7, 9 and 10 with its axes drawn: A/A0 from 0
+/// to `x_hi` along x, F/(E0* A0) up the side as log10 on a linear axis (so
+/// decade ticks are exact), titled when `title` is given.
+pub fn load_area_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    (name, sizes): (&str, TextSizes),
+    ranges: Ranges,
+    title: Option<&str>,
+) -> Result<ChartContext<'a, DB, Cartesian2d<Axis, Axis>>, ReportError> {
+    let (e_lo, e_hi) = ranges.decades();
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .margin(16)
+        .x_label_area_size(sizes.label * 2.9)
+        .y_label_area_size(sizes.label * 3.4);
+    if let Some(title) = title {
+        builder.caption(title, super::plotting::font(sizes.title));
+    }
+    let mut chart = builder
+        .build_cartesian_2d(
+            Axis::new(0.0, ranges.x_hi, 6),
+            Axis::decades(e_lo, e_hi, 12),
+        )
+        .map_err(|e| ReportError::plot(name, e))?;
+    area_axes(
+        &mut chart,
+        (name, sizes),
+        "normalised load F/(E₀* A₀)",
+        &|v| tick_decade(*v),
+        (e_hi - e_lo) as usize + 1,
+    )?;
+    Ok(chart)
+}
+
+/// One curve of F/(E0* A0) against A/A0 on a [`load_area_chart`]: points
+/// outside `ranges` left off, the rest thinned to steps of 0.6 % of the
+/// axes.
+pub fn draw_load_curve<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<Axis, Axis>>,
+    name: &str,
+    (area_fraction, load_norm): (&[f64], &[f64]),
+    ranges: Ranges,
+    (line, style): (Line, ShapeStyle),
+) -> Result<(), ReportError> {
+    let (e_lo, e_hi) = ranges.decades();
+    let points: Vec<(f64, f64)> = area_fraction
+        .iter()
+        .zip(load_norm)
+        .filter(|&(&a, &f)| a <= ranges.x_hi && f >= ranges.y_lo && f <= ranges.y_hi)
+        .map(|(&a, &f)| (a, f.log10()))
+        .collect();
+    let points = thin(&points, ranges.x_hi, e_hi - e_lo, 0.006);
+    draw_curve(chart, name, points, line, style)
 }
 
 impl Fig7<'_> {
@@ -184,29 +246,8 @@ impl Fig7<'_> {
         curves: &[(&Response, ShapeStyle, Line)],
     ) -> Result<(), ReportError> {
         let name = self.name();
-        let err = |e| ReportError::plot(name, e);
-        let (e_lo, e_hi) = (ranges.y_lo.log10(), ranges.y_hi.log10());
-        let mut builder = ChartBuilder::on(area);
-        builder
-            .margin(16)
-            .x_label_area_size(sizes.label * 2.9)
-            .y_label_area_size(sizes.label * 3.4);
-        if let Some(title) = title {
-            builder.caption(title, super::plotting::font(sizes.title));
-        }
-        let mut chart = builder
-            .build_cartesian_2d(
-                Axis::new(0.0, ranges.x_hi, 6),
-                Axis::decades(e_lo, e_hi, 12),
-            )
-            .map_err(err)?;
-        area_axes(
-            &mut chart,
-            (name, sizes),
-            "normalised load F/(E₀* A₀)",
-            &|v| tick_decade(*v),
-            (e_hi - e_lo) as usize + 1,
-        )?;
+        let (e_lo, e_hi) = ranges.decades();
+        let mut chart = load_area_chart(area, (name, sizes), ranges, title)?;
         // Drawn as log10 on a linear axis, so decade ticks are exact; a
         // band edge at or below zero cannot be, and splits the band there.
         let on_axis = |f: f64| (f > 0.0).then(|| f.clamp(ranges.y_lo, ranges.y_hi).log10());
@@ -218,15 +259,8 @@ impl Fig7<'_> {
             }
         }
         for &(r, style, line) in curves {
-            let points: Vec<(f64, f64)> = r
-                .area_fraction
-                .iter()
-                .zip(&r.load_norm)
-                .filter(|&(_, &f)| f >= ranges.y_lo && f <= ranges.y_hi)
-                .map(|(&a, &f)| (a, f.log10()))
-                .collect();
-            let points = thin(&points, ranges.x_hi, e_hi - e_lo, 0.006);
-            draw_curve(&mut chart, name, points, line, style)?;
+            let xy = (&r.area_fraction[..], &r.load_norm[..]);
+            draw_load_curve(&mut chart, name, xy, ranges, (line, style))?;
         }
         Ok(())
     }
