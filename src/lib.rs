@@ -2,7 +2,8 @@
 //! end to end. This library part only assembles the stage registry; the
 //! stages live in `crates/`, the runner in `crates/runner`.
 
-use hypercontact_core::Registry;
+use hypercontact_core::{DynStage, Registry};
+use serde_json::{Value, json};
 
 /// Every stage kind this build knows, by the name used after `uses:`.
 pub fn registry() -> Registry {
@@ -20,4 +21,29 @@ pub fn registry() -> Registry {
     hypercontact_compare::register(&mut registry);
     hypercontact_report::register(&mut registry);
     registry
+}
+
+/// A kind as `hypercontact stages --json` prints it (and the Python module
+/// reads it): parameters with defaults, units and docs, inputs, outputs.
+pub fn describe_json(stage: &dyn DynStage) -> Value {
+    let info = stage.info();
+    json!({
+        "kind": info.kind,
+        "version": info.version,
+        "summary": info.summary,
+        "doc": info.doc,
+        "params": stage.params_spec(),
+        "inputs": info.inputs.iter().map(|i| json!({
+            "name": i.name, "kind": i.kind, "arity": i.arity, "doc": i.doc,
+            "columns": i.columns,
+        })).collect::<Vec<_>>(),
+        "outputs": info.outputs.iter().map(|o| json!({
+            "name": o.name, "kind": o.kind, "doc": o.doc, "columns": o.columns,
+        })).collect::<Vec<_>>(),
+        "resources": {
+            "cpus": stage.resources().cpus,
+            "mem_mb": stage.resources().mem_mb,
+            "time_min": stage.resources().time_min,
+        },
+    })
 }

@@ -4,7 +4,7 @@
 use anyhow::{Result, bail};
 use hypercontact_core::param::TypeDoc;
 use hypercontact_core::{DynStage, ParamSpec, Registry};
-use serde_json::{Value, json};
+use serde_json::Value;
 
 pub fn print(registry: &Registry, kind: Option<&str>, as_json: bool) -> Result<()> {
     let stages: Vec<&std::sync::Arc<dyn DynStage>> = match kind {
@@ -18,7 +18,10 @@ pub fn print(registry: &Registry, kind: Option<&str>, as_json: bool) -> Result<(
         None => registry.iter().collect(),
     };
     let text = if as_json {
-        let all: Vec<Value> = stages.iter().map(|s| describe_json(s.as_ref())).collect();
+        let all: Vec<Value> = stages
+            .iter()
+            .map(|s| hypercontact::describe_json(s.as_ref()))
+            .collect();
         serde_json::to_string_pretty(&all)? + "\n"
     } else {
         stages
@@ -155,29 +158,6 @@ pub fn describe_text(stage: &dyn DynStage, full: bool) -> String {
     }
     out.push('\n');
     out
-}
-
-fn describe_json(stage: &dyn DynStage) -> Value {
-    let info = stage.info();
-    json!({
-        "kind": info.kind,
-        "version": info.version,
-        "summary": info.summary,
-        "doc": info.doc,
-        "params": stage.params_spec(),
-        "inputs": info.inputs.iter().map(|i| json!({
-            "name": i.name, "kind": i.kind, "arity": i.arity, "doc": i.doc,
-            "columns": i.columns,
-        })).collect::<Vec<_>>(),
-        "outputs": info.outputs.iter().map(|o| json!({
-            "name": o.name, "kind": o.kind, "doc": o.doc, "columns": o.columns,
-        })).collect::<Vec<_>>(),
-        "resources": {
-            "cpus": stage.resources().cpus,
-            "mem_mb": stage.resources().mem_mb,
-            "time_min": stage.resources().time_min,
-        },
-    })
 }
 
 fn wrap(text: &str, width: usize) -> Vec<String> {

@@ -1,0 +1,136 @@
+//! The plain-Rust half of the Python module: any registered stage run on
+//! products handed over from another language, with the runner's parameter
+//! path (`params_from_json`, then `check()`), so a parameter is refused with
+//! the message a pipeline's YAML gets. Tables cross as Parquet bytes written
+//! and read by hypercontact-io (the format of the runner's cache), so a
+//! table seen from Python holds the same values as the CLI's file.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use hypercontact_core::{
+    Context, DynStage, Inputs, Outputs, ParamsError, Product, ProductKind, Registry, StageError,
+    Table,
+};
+use hypercontact_io::{IoError, RunnerReader};
+
+/// Why a call from Python failed; each message names the kind, the
+/// parameter, the input or the stage's own complaint.
+#[derive(Debug, thiserror::Error)]
+pub enum BridgeError {
+    #[error("unknown stage kind `{kind}` (known: {known})")]
+    UnknownKind { kind: String, known: String },
+    #[error("{kind}: {source}")]
+    Params { kind: String, source: ParamsError },
+    #[error("{kind}: parameters are not a JSON object: {message}")]
+    ParamsJson { kind: String, message: String },
+    #[error("{kind}: no input `{input}` (declared: {declared})")]
+    UnknownInput {
+        kind: String,
+        input: String,
+        declared: String,
+    },
+    #[error("{kind}: input `{input}` is a {expected}, got a {got}")]
+    InputKind {
+        kind: String,
+        input: String,
+        expected: ProductKind,
+        got: ProductKind,
+    },
+    #[error("{kind}: {source}")]
+    Stage { kind: String, source: StageError },
+    #[error("table `{name}`: {source}")]
+    Table { name: String, source: IoError },
+}
+
+/// The stage of `kind`, or the list of kinds that exist.
+pub fn stage<'a>(registry: &'a Registry, kind: &str) -> Result<&'a Arc<dyn DynStage>, BridgeError> {
+    registry.get(kind).ok_or_else(|| BridgeError::UnknownKind {
+        kind: kind.to_owned(),
+        known: registry.kinds().collect::<Vec<_>>().join(", "),
+    })
+}
+
+/// A table as Parquet bytes (the runner's own writer: zstd, statistics).
+pub fn table_to_parquet(name: &str, table: &Table) -> Result<Vec<u8>, BridgeError> {
+    let mut bytes = Vec::new();
+    hypercontact_io::write_parquet(table, &mut bytes).map_err(|source| BridgeError::Table {
+        name: name.to_owned(),
+        source,
+    })?;
+    Ok(bytes)
+}
+
+/// A table from Parquet bytes, read as the runner reads its cache.
+pub fn table_from_parquet(name: &str, bytes: Vec<u8>) -> Result<Table, BridgeError> {
+    hypercontact_io::read_parquet(std::io::Cursor::new(bytes)).map_err(|source| {
+        BridgeError::Table {
+            name: name.to_owned(),
+            source,
+        }
+    })
+}
+
+/// Refuses an input the kind does not declare, or one of the wrong kind,
+/// before the stage sees it. Labelled inputs arrive as `name.label`.
+fn check_inputs(stage: &dyn DynStage, inputs: &Inputs) -> Result<(), BridgeError> {
+    let info = stage.info();
+    for name in inputs.names() {
+        let declared_name = name.split('.').next().unwrap_or(name);
+        let Some(spec) = info.input(declared_name) else {
+            return Err(BridgeError::UnknownInput {
+                kind: info.kind.to_owned(),
+                input: name.to_owned(),
+                declared: info
+                    .inputs
+                    .iter()
+                    .map(|i| i.name)
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            });
+        };
+        let got = inputs.get(name).map(Product::kind).unwrap_or(spec.kind);
+        if got != spec.kind {
+            return Err(BridgeError::InputKind {
+                kind: info.kind.to_owned(),
+                input: name.to_owned(),
+                expected: spec.kind,
+                got,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Runs `kind` on `inputs` with parameters given as a JSON object (the
+/// pipeline's `with:` block), file paths resolved against `dir`. Progress
+/// stays hidden; files are read as the runner reads them.
+pub fn run_stage(
+    registry: &Registry,
+    kind: &str,
+    inputs: &Inputs,
+    params_json: &str,
+    dir: &Path,
+) -> Result<Outputs, BridgeError> {
+    let stage = stage(registry, kind)?;
+    let value: serde_json::Value =
+        serde_json::from_str(params_json).map_err(|e| BridgeError::ParamsJson {
+            kind: kind.to_owned(),
+            message: e.to_string(),
+        })?;
+    let params = stage
+        .params_from_json(value, dir)
+        .map_err(|source| BridgeError::Params {
+            kind: kind.to_owned(),
+            source,
+        })?;
+    check_inputs(stage.as_ref(), inputs)?;
+    let reader = RunnerReader;
+    let ctx = Context::with(kind, None, &reader);
+    stage
+        .run_dyn(params.as_ref(), inputs, &ctx)
+        .map_err(|source| BridgeError::Stage {
+            kind: kind.to_owned(),
+            source,
+        })
+}

@@ -1,0 +1,92 @@
+"""The Python package against the Rust stages: kinds, generated functions,
+a BEM curve equal to the one the Rust bridge test pins, and refused
+parameters raised as ValueError with the YAML message.
+
+Build first: `pip install ./crates/python` (or `maturin develop --release`).
+"""
+
+import inspect
+
+import numpy as np
+import polars as pl
+import pytest
+
+import hypercontact
+from hypercontact import Field, stages
+
+# bem's last load_n on `surface_m()` with BEM_PARAMS, as computed by the Rust
+# stage in crates/python/tests/bridge.rs (PINNED_LAST_LOAD_N): equality means
+# the map, the material table and the parameters crossed unchanged.
+RUST_LAST_LOAD_N = 8.66976748034176e-06
+
+BEM_PARAMS = dict(boundary="periodic", model="linear", steps=5,
+                  max_area_fraction=0.1, map_fractions=[0.1])
+
+
+def surface_m():
+    """The map of bridge.rs: every height an exact IEEE product."""
+    ix, iy = np.meshgrid(np.arange(32), np.arange(32), indexing="ij")
+    return ((3 * ix * ix + 5 * iy + ix * iy) % 23).astype(np.float64) * 1e-8
+
+
+def test_kinds_lists_bem_and_fem_with_docs():
+    kinds = {k.kind: k for k in hypercontact.kinds()}
+    assert "bem" in kinds and "fem" in kinds
+    assert kinds["bem"].version >= 1 and kinds["bem"].doc
+    assert set(stages.__all__) == {k.replace("-", "_") for k in kinds}
+
+
+def test_generated_function_carries_declared_params_and_docs():
+    signature = inspect.signature(stages.bem)
+    assert signature.parameters["steps"].default == 40
+    assert signature.parameters["boundary"].default == "free"
+    assert "surface" in signature.parameters
+    assert "max_area_fraction" in stages.bem.__doc__
+    assert "Boundary elements" in stages.bem.__doc__
+
+
+def test_material_preset_is_a_dataframe():
+    material = stages.material_preset()
+    assert isinstance(material, pl.DataFrame)
+    assert material.columns == ["model", "param", "value"]
+    assert material.height > 0
+
+
+def test_bem_from_python_equals_the_rust_stage():
+    material = stages.material_preset()
+    out = stages.bem(surface=Field(surface_m(), 1e-6), material=material, **BEM_PARAMS)
+    response = out["response"]
+    assert isinstance(response, pl.DataFrame)
+    load_n = response["load_n"].to_list()
+    assert len(load_n) == 6
+    assert load_n[0] == 0.0
+    assert load_n[-1] == RUST_LAST_LOAD_N
+    maps = out["contact_maps"]
+    assert sorted(maps.files) == ["gap_a0.100.npy", "pressure_a0.100.npy"]
+    assert maps.index.height == 1
+
+
+def test_generic_stage_call_equals_the_generated_function():
+    material = stages.material_preset()
+    surface = Field(surface_m(), 1e-6)
+    generic = hypercontact.stage("bem", {"surface": surface, "material": material}, **BEM_PARAMS)
+    generated = stages.bem(surface=surface, material=material, **BEM_PARAMS)
+    assert generic["response"].equals(generated["response"])
+
+
+def test_a_bad_parameter_raises_value_error_naming_it():
+    material = stages.material_preset()
+    with pytest.raises(ValueError, match=r"parameter `steps`: must lie in \[1, 100000\], got 0"):
+        stages.bem(surface=Field(surface_m(), 1e-6), material=material, steps=0)
+    with pytest.raises(ValueError, match="boundary"):
+        stages.bem(surface=Field(surface_m(), 1e-6), material=material, boundary="round")
+
+
+def test_an_unknown_kind_raises_value_error():
+    with pytest.raises(ValueError, match="unknown stage kind `nope`"):
+        hypercontact.stage("nope")
+
+
+def test_a_field_must_be_two_dimensional():
+    with pytest.raises(ValueError, match="2-D"):
+        Field(np.zeros(4), 1e-6)
