@@ -9,10 +9,12 @@ use std::path::Path;
 use std::sync::Arc;
 
 use hypercontact_core::{
-    Context, DynStage, Inputs, Outputs, ParamsError, Product, ProductKind, Registry, StageError,
-    Table,
+    ColumnSpec, Context, DType, DynStage, Inputs, Outputs, ParamsError, Product, ProductKind,
+    Registry, StageError, Table,
 };
 use hypercontact_io::{IoError, RunnerReader};
+use hypercontact_runner::progress::TerminalProgress;
+use indicatif::MultiProgress;
 
 /// Why a call from Python failed; each message names the kind, the
 /// parameter, the input or the stage's own complaint.
@@ -36,6 +38,21 @@ pub enum BridgeError {
         input: String,
         expected: ProductKind,
         got: ProductKind,
+    },
+    #[error("{kind}: input `{input}`: no column `{column}` (required: {required})")]
+    MissingColumn {
+        kind: String,
+        input: String,
+        column: String,
+        required: String,
+    },
+    #[error("{kind}: input `{input}`: column `{column}` holds {got}, the stage reads {expected}")]
+    ColumnType {
+        kind: String,
+        input: String,
+        column: String,
+        expected: hypercontact_core::DType,
+        got: hypercontact_core::DType,
     },
     #[error("{kind}: {source}")]
     Stage { kind: String, source: StageError },
@@ -98,20 +115,72 @@ fn check_inputs(stage: &dyn DynStage, inputs: &Inputs) -> Result<(), BridgeError
                 got,
             });
         }
+        if let Some(Product::Table(table)) = inputs.get(name) {
+            check_columns(info.kind, name, spec.columns, table)?;
+        }
     }
     Ok(())
 }
 
+/// A table handed over from Python has no upstream declaration the plan
+/// could have checked, so its required columns are checked here, by name
+/// and type, before the stage reads it.
+fn check_columns(
+    kind: &str,
+    input: &str,
+    required: &[ColumnSpec],
+    table: &Table,
+) -> Result<(), BridgeError> {
+    for spec in required {
+        let Some(column) = table.columns().iter().find(|c| c.name == spec.name) else {
+            return Err(BridgeError::MissingColumn {
+                kind: kind.to_owned(),
+                input: input.to_owned(),
+                column: spec.name.to_owned(),
+                required: required
+                    .iter()
+                    .map(|c| c.name)
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            });
+        };
+        // An integer column where floats are read is widened by the
+        // stage's own reader, as for a Parquet file; anything else is not.
+        let got = column.data.dtype();
+        let widened = got == DType::I64 && spec.dtype == DType::F64;
+        if got != spec.dtype && !widened {
+            return Err(BridgeError::ColumnType {
+                kind: kind.to_owned(),
+                input: input.to_owned(),
+                column: spec.name.to_owned(),
+                expected: spec.dtype,
+                got,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// What a stage called from another language gave: its outputs and the
+/// notes it said (warnings start with `warning:`).
+pub struct StageRun {
+    pub outputs: Outputs,
+    pub notes: Vec<String>,
+}
+
 /// Runs `kind` on `inputs` with parameters given as a JSON object (the
-/// pipeline's `with:` block), file paths resolved against `dir`. Progress
-/// stays hidden; files are read as the runner reads them.
+/// pipeline's `with:` block), file paths resolved against `dir`; files are
+/// read as the runner reads them. With `progress`, the stage draws the
+/// runner's bars on stderr (indicatif draws nothing where stderr is not a
+/// terminal, as in a notebook).
 pub fn run_stage(
     registry: &Registry,
     kind: &str,
     inputs: &Inputs,
     params_json: &str,
     dir: &Path,
-) -> Result<Outputs, BridgeError> {
+    progress: bool,
+) -> Result<StageRun, BridgeError> {
     let stage = stage(registry, kind)?;
     let value: serde_json::Value =
         serde_json::from_str(params_json).map_err(|e| BridgeError::ParamsJson {
@@ -126,11 +195,31 @@ pub fn run_stage(
         })?;
     check_inputs(stage.as_ref(), inputs)?;
     let reader = RunnerReader;
-    let ctx = Context::with(kind, None, &reader);
-    stage
+    let bars = progress.then(MultiProgress::new);
+    let sink = bars.as_ref().map(TerminalProgress);
+    let ctx = Context::with(
+        kind,
+        sink.as_ref()
+            .map(|s| s as &dyn hypercontact_core::ProgressSink),
+        &reader,
+    );
+    let outputs = stage
         .run_dyn(params.as_ref(), inputs, &ctx)
         .map_err(|source| BridgeError::Stage {
             kind: kind.to_owned(),
             source,
-        })
+        })?;
+    Ok(StageRun {
+        outputs,
+        notes: ctx.notes(),
+    })
+}
+
+/// A field as the runner stores and exports it: `.npy` values beside the
+/// `.grid.json` spacing.
+pub fn read_field(npy: &Path, grid: &Path) -> Result<hypercontact_core::Field, String> {
+    let grid_bytes = std::fs::read(grid).map_err(|e| format!("{}: {e}", grid.display()))?;
+    let file = std::fs::File::open(npy).map_err(|e| format!("{}: {e}", npy.display()))?;
+    hypercontact_core::Field::read_with_grid(std::io::BufReader::new(file), &grid_bytes)
+        .map_err(|e| format!("{}: {e}", npy.display()))
 }

@@ -6,6 +6,8 @@
 //! `extension-module` feature, which maturin turns on.
 
 pub mod bridge;
+pub mod runs;
+pub mod stubs;
 
 #[cfg(feature = "extension-module")]
 mod module;

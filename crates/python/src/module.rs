@@ -7,15 +7,17 @@
 //! message the CLI prints.
 
 use std::collections::BTreeMap;
+use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use hypercontact_core::{Field, Files, Inputs, Outputs, Product, Registry};
+use hypercontact_core::{Field, Files, Inputs, Product, Registry};
 use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyTuple};
 
-use crate::bridge::{self, BridgeError};
+use crate::bridge::{self, BridgeError, StageRun};
+use crate::runs::{self, RunRequest};
 
 /// One registry for the interpreter's life: building it is cheap, but the
 /// kinds never change while it runs.
@@ -51,6 +53,13 @@ fn kinds() -> Vec<(String, u32, String, String)> {
 fn describe(kind: &str) -> PyResult<String> {
     let stage = bridge::stage(registry(), kind).map_err(value_error)?;
     Ok(hypercontact::describe_json(stage.as_ref()).to_string())
+}
+
+/// The docstring of `hypercontact.stages.<kind>`, from its declaration.
+#[pyfunction]
+fn docstring(kind: &str) -> PyResult<String> {
+    let stage = bridge::stage(registry(), kind).map_err(value_error)?;
+    Ok(crate::stubs::docstring(stage.as_ref()))
 }
 
 fn product_from_python(name: &str, item: &Bound<'_, PyAny>) -> PyResult<Product> {
@@ -123,36 +132,144 @@ fn product_to_python<'py>(
 
 /// Runs `kind` on `inputs` ({name: product tuple}; labelled inputs as
 /// `name.label`) with `params_json` (a JSON object, the YAML `with:` block);
-/// returns {output: product tuple}. Relative paths in parameters resolve
-/// against the current directory. The GIL is released while the stage runs.
+/// returns ({output: product tuple}, [notes]). Relative paths in parameters
+/// resolve against `base_dir` (default the current directory). The GIL is
+/// released while the stage runs.
 #[pyfunction]
+#[pyo3(signature = (kind, inputs, params_json, progress=false, base_dir=None))]
 fn run_stage<'py>(
     py: Python<'py>,
     kind: &str,
     inputs: &Bound<'py, PyDict>,
     params_json: &str,
-) -> PyResult<Bound<'py, PyDict>> {
+    progress: bool,
+    base_dir: Option<PathBuf>,
+) -> PyResult<(Bound<'py, PyDict>, Vec<String>)> {
     let mut products = Inputs::new();
     for (name, item) in inputs.iter() {
         let name: String = name.extract()?;
         let product = product_from_python(&name, &item)?;
         products = products.with(&name, product);
     }
-    let dir = std::env::current_dir().map_err(value_error)?;
-    let outputs: Result<Outputs, BridgeError> =
-        py.detach(|| bridge::run_stage(registry(), kind, &products, params_json, &dir));
-    let outputs = outputs.map_err(value_error)?;
+    let dir = match base_dir {
+        Some(dir) => dir,
+        None => std::env::current_dir().map_err(value_error)?,
+    };
+    let run: Result<StageRun, BridgeError> =
+        py.detach(|| bridge::run_stage(registry(), kind, &products, params_json, &dir, progress));
+    let run = run.map_err(value_error)?;
     let dict = PyDict::new(py);
-    for (name, product) in outputs.into_inner() {
+    for (name, product) in run.outputs.into_inner() {
         dict.set_item(&name, product_to_python(py, &name, product)?)?;
     }
-    Ok(dict)
+    Ok((dict, run.notes))
+}
+
+/// The request of `run_pipeline` and `run_study`, from their arguments.
+fn request(
+    pipeline: PathBuf,
+    out: Option<PathBuf>,
+    cache: Option<PathBuf>,
+    sets: Vec<String>,
+    force: Vec<String>,
+    only: Option<String>,
+    progress: bool,
+) -> RunRequest {
+    RunRequest {
+        pipeline,
+        out,
+        cache,
+        sets,
+        force,
+        only,
+        progress,
+    }
+}
+
+/// Runs a pipeline file as `hypercontact run` does (`sets` are `--set`
+/// assignments, in order); returns (run folder, summary, computed, cached).
+/// The GIL is released while it runs; an error is a `ValueError` with the
+/// CLI's message.
+#[pyfunction]
+#[pyo3(signature = (pipeline, out=None, cache=None, sets=Vec::new(), force=Vec::new(), only=None, progress=false))]
+#[allow(clippy::too_many_arguments)] // the CLI's flags, one by one
+fn run_pipeline(
+    py: Python<'_>,
+    pipeline: PathBuf,
+    out: Option<PathBuf>,
+    cache: Option<PathBuf>,
+    sets: Vec<String>,
+    force: Vec<String>,
+    only: Option<String>,
+    progress: bool,
+) -> PyResult<(PathBuf, String, usize, usize)> {
+    let request = request(pipeline, out, cache, sets, force, only, progress);
+    let outcome = py
+        .detach(|| runs::run_pipeline(registry(), &request))
+        .map_err(PyValueError::new_err)?;
+    Ok((
+        outcome.out_dir,
+        outcome.summary,
+        outcome.computed,
+        outcome.cached,
+    ))
+}
+
+/// Runs a pipeline's `study:` sweep as `hypercontact study` does; returns
+/// (study folder, [(stage.output, gathered table file)]).
+#[pyfunction]
+#[pyo3(signature = (pipeline, out=None, cache=None, sets=Vec::new(), progress=false))]
+fn run_study(
+    py: Python<'_>,
+    pipeline: PathBuf,
+    out: Option<PathBuf>,
+    cache: Option<PathBuf>,
+    sets: Vec<String>,
+    progress: bool,
+) -> PyResult<(PathBuf, Vec<(String, PathBuf)>)> {
+    let request = request(pipeline, out, cache, sets, Vec::new(), None, progress);
+    let outcome = py
+        .detach(|| runs::run_study(registry(), &request))
+        .map_err(PyValueError::new_err)?;
+    Ok((outcome.out_dir, outcome.tables))
+}
+
+/// A pipeline's folder and its stages as (name, kind, parameters as given,
+/// JSON), `sets` applied: what a replay of one stage needs.
+#[pyfunction]
+#[pyo3(signature = (pipeline, sets=Vec::new()))]
+fn pipeline_stages(
+    pipeline: PathBuf,
+    sets: Vec<String>,
+) -> PyResult<(PathBuf, Vec<runs::DeclaredStage>)> {
+    runs::pipeline_stages(registry(), &pipeline, &sets).map_err(PyValueError::new_err)
+}
+
+/// Reads a field as the runner stored it (`.npy` beside `.grid.json`);
+/// returns (values, dx_m, dy_m).
+#[pyfunction]
+fn read_field<'py>(
+    py: Python<'py>,
+    npy: PathBuf,
+    grid: PathBuf,
+) -> PyResult<(Bound<'py, PyArray2<f64>>, f64, f64)> {
+    let field = bridge::read_field(&npy, &grid).map_err(value_error)?;
+    Ok((
+        PyArray2::from_owned_array(py, field.values),
+        field.dx_m,
+        field.dy_m,
+    ))
 }
 
 #[pymodule]
 fn _hypercontact(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(kinds, m)?)?;
     m.add_function(wrap_pyfunction!(describe, m)?)?;
+    m.add_function(wrap_pyfunction!(docstring, m)?)?;
     m.add_function(wrap_pyfunction!(run_stage, m)?)?;
+    m.add_function(wrap_pyfunction!(run_pipeline, m)?)?;
+    m.add_function(wrap_pyfunction!(run_study, m)?)?;
+    m.add_function(wrap_pyfunction!(read_field, m)?)?;
+    m.add_function(wrap_pyfunction!(pipeline_stages, m)?)?;
     Ok(())
 }

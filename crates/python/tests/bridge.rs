@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use _hypercontact::bridge::{self, BridgeError};
-use hypercontact_core::{Context, Field, Inputs, Product};
+use hypercontact_core::{Context, Field, Inputs, Outputs, Product, Table};
 use ndarray::Array2;
 
 /// A rough periodic map whose every height is an exact IEEE product, so
@@ -20,25 +20,23 @@ fn surface() -> Field {
     Field::new(heights, 1e-6, 1e-6).unwrap()
 }
 
+/// The bridge as Python calls it, without progress; the outputs only.
+fn call(kind: &str, inputs: &Inputs, params_json: &str) -> Result<Outputs, BridgeError> {
+    let registry = hypercontact::registry();
+    bridge::run_stage(&registry, kind, inputs, params_json, Path::new("."), false)
+        .map(|run| run.outputs)
+}
+
 const BEM_PARAMS: &str = r#"{"boundary": "periodic", "model": "linear", "steps": 5,
     "max_area_fraction": 0.1, "map_fractions": [0.1]}"#;
 
 fn material() -> Product {
-    let registry = hypercontact::registry();
-    let outputs = bridge::run_stage(
-        &registry,
-        "material-preset",
-        &Inputs::new(),
-        "{}",
-        Path::new("."),
-    )
-    .unwrap();
+    let outputs = call("material-preset", &Inputs::new(), "{}").unwrap();
     outputs.get("material").unwrap().clone()
 }
 
 fn bem_load_n(inputs: &Inputs) -> Vec<f64> {
-    let registry = hypercontact::registry();
-    let outputs = bridge::run_stage(&registry, "bem", inputs, BEM_PARAMS, Path::new(".")).unwrap();
+    let outputs = call("bem", inputs, BEM_PARAMS).unwrap();
     outputs
         .get_table("response")
         .unwrap()
@@ -90,15 +88,7 @@ fn parquet_crossing_keeps_every_bit() {
 
 #[test]
 fn a_refused_parameter_carries_the_yaml_message() {
-    let registry = hypercontact::registry();
-    let e = bridge::run_stage(
-        &registry,
-        "bem",
-        &Inputs::new(),
-        r#"{"steps": 0}"#,
-        Path::new("."),
-    )
-    .unwrap_err();
+    let e = call("bem", &Inputs::new(), r#"{"steps": 0}"#).unwrap_err();
     let BridgeError::Params { source, .. } = &e else {
         panic!("expected a parameter error, got {e}")
     };
@@ -107,14 +97,32 @@ fn a_refused_parameter_carries_the_yaml_message() {
 }
 
 #[test]
+fn a_table_without_a_required_column_is_refused_naming_it() {
+    let Product::Table(material) = material() else {
+        panic!("material-preset gives a table")
+    };
+    let mut cut = Table::new();
+    for column in material.columns().iter().filter(|c| c.name != "value") {
+        cut.push(&column.name, column.data.clone());
+    }
+    let inputs = Inputs::new()
+        .with("surface", Product::Field(surface()))
+        .with("material", Product::Table(cut));
+    let e = call("bem", &inputs, BEM_PARAMS).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "bem: input `material`: no column `value` (required: model, param, value)"
+    );
+}
+
+#[test]
 fn an_unknown_kind_or_input_is_named() {
-    let registry = hypercontact::registry();
-    let e = bridge::run_stage(&registry, "nope", &Inputs::new(), "{}", Path::new(".")).unwrap_err();
+    let e = call("nope", &Inputs::new(), "{}").unwrap_err();
     assert!(
         e.to_string().contains("`nope`") && e.to_string().contains("bem"),
         "{e}"
     );
     let inputs = Inputs::new().with("surfce", Product::Field(surface()));
-    let e = bridge::run_stage(&registry, "bem", &inputs, "{}", Path::new(".")).unwrap_err();
+    let e = call("bem", &inputs, "{}").unwrap_err();
     assert!(e.to_string().contains("`surfce`"), "{e}");
 }

@@ -6,6 +6,7 @@ Build first: `pip install ./crates/python` (or `maturin develop --release`).
 """
 
 import inspect
+from pathlib import Path
 
 import numpy as np
 import polars as pl
@@ -62,7 +63,7 @@ def test_bem_from_python_equals_the_rust_stage():
     assert load_n[0] == 0.0
     assert load_n[-1] == RUST_LAST_LOAD_N
     maps = out["contact_maps"]
-    assert sorted(maps.files) == ["gap_a0.100.npy", "pressure_a0.100.npy"]
+    assert sorted(maps) == ["gap_a0.100.npy", "pressure_a0.100.npy"]
     assert maps.index.height == 1
 
 
@@ -90,3 +91,63 @@ def test_an_unknown_kind_raises_value_error():
 def test_a_field_must_be_two_dimensional():
     with pytest.raises(ValueError, match="2-D"):
         Field(np.zeros(4), 1e-6)
+
+
+def test_a_table_without_a_required_column_is_refused_naming_it():
+    material = stages.material_preset().drop("value")
+    with pytest.raises(ValueError, match=r"input `material`: no column `value` \(required: model, param, value\)"):
+        stages.bem(surface=Field(surface_m(), 1e-6), material=material, **BEM_PARAMS)
+
+
+def test_a_pandas_table_gives_what_the_polars_one_gives():
+    pd = pytest.importorskip("pandas")
+    material = stages.material_preset()
+    as_pandas = pd.DataFrame({c: material[c].to_list() for c in material.columns})
+    surface = Field(surface_m(), 1e-6)
+    from_polars = stages.bem(surface=surface, material=material, **BEM_PARAMS)["response"]
+    from_pandas = stages.bem(surface=surface, material=as_pandas, **BEM_PARAMS)["response"]
+    assert from_pandas.equals(from_polars)
+
+
+def test_file_outputs_are_paths_in_the_folder_asked_for(tmp_path):
+    material = stages.material_preset()
+    out = stages.bem(surface=Field(surface_m(), 1e-6), material=material,
+                     out_dir=tmp_path / "maps", **BEM_PARAMS)
+    maps = out["contact_maps"]
+    assert maps.folder == tmp_path / "maps"
+    assert sorted(maps) == ["gap_a0.100.npy", "pressure_a0.100.npy"]
+    pressure_pa = np.load(maps["pressure_a0.100.npy"])
+    assert pressure_pa.shape == (32, 32) and (pressure_pa > 0).mean() > 0.05
+    # The index beside the files, as in a run folder.
+    assert (tmp_path / "maps" / "contact_maps.parquet").is_file()
+    # A folder of files goes back in as a files input.
+    again = hypercontact.Files.from_folder(tmp_path / "maps")
+    assert "pressure_a0.100.npy" in again
+
+
+def test_required_inputs_have_no_default_and_reserved_keywords_exist():
+    signature = inspect.signature(stages.bem)
+    assert signature.parameters["surface"].default is inspect.Parameter.empty
+    assert signature.parameters["replicates"].default is None
+    assert signature.parameters["out_dir"].default is None
+    assert signature.parameters["progress"].default is None
+
+
+def test_progress_is_quiet_where_stderr_is_no_terminal():
+    # pytest captures stderr, as a notebook's kernel does.
+    assert hypercontact._show_progress(None) is False
+    assert hypercontact._show_progress(True) is True
+
+
+def test_the_stub_covers_every_generated_function():
+    stub = (Path(hypercontact.__file__).parent / "stages.pyi").read_text()
+    for name in stages.__all__:
+        assert f"\ndef {name}(\n" in stub, name
+
+
+def test_a_stage_warning_is_a_python_warning_at_the_callers_line():
+    from conftest import REPO
+    height = stages.height_map(path=REPO / "data" / "reference" / "topography" / "sur-2.sur")
+    with pytest.warns(UserWarning, match=r"^surface: the PSD along x is a poor power law") as caught:
+        stages.surface(height=height, resolution_m=0)
+    assert caught[0].filename == __file__

@@ -8,7 +8,7 @@ pub mod hash;
 pub mod pipeline;
 pub mod plan;
 pub mod producer;
-mod progress;
+pub mod progress;
 pub mod provenance;
 pub mod slurm;
 mod stage_params;
