@@ -8,12 +8,15 @@
 use std::path::Path;
 use std::sync::Arc;
 
+use hypercontact_core::progress::ProgressSink;
 use hypercontact_core::{
     ColumnSpec, Context, DType, DynStage, Inputs, Outputs, ParamsError, Product, ProductKind,
     Registry, StageError, Table,
 };
 use hypercontact_io::{IoError, RunnerReader};
 use hypercontact_runner::progress::TerminalProgress;
+
+use crate::lines::LineProgress;
 use indicatif::MultiProgress;
 
 /// Why a call from Python failed; each message names the kind, the
@@ -168,18 +171,26 @@ pub struct StageRun {
     pub notes: Vec<String>,
 }
 
+/// How a stage called from another language shows its progress.
+pub enum Show {
+    /// Nothing (the notes are still returned).
+    Quiet,
+    /// The runner's bars on stderr, as `hypercontact run` draws them.
+    Terminal,
+    /// Text lines through a writer (a notebook).
+    Lines(crate::lines::Writer),
+}
+
 /// Runs `kind` on `inputs` with parameters given as a JSON object (the
 /// pipeline's `with:` block), file paths resolved against `dir`; files are
-/// read as the runner reads them. With `progress`, the stage draws the
-/// runner's bars on stderr (indicatif draws nothing where stderr is not a
-/// terminal, as in a notebook).
+/// read as the runner reads them.
 pub fn run_stage(
     registry: &Registry,
     kind: &str,
     inputs: &Inputs,
     params_json: &str,
     dir: &Path,
-    progress: bool,
+    show: Show,
 ) -> Result<StageRun, BridgeError> {
     let stage = stage(registry, kind)?;
     let value: serde_json::Value =
@@ -195,14 +206,17 @@ pub fn run_stage(
         })?;
     check_inputs(stage.as_ref(), inputs)?;
     let reader = RunnerReader;
-    let bars = progress.then(MultiProgress::new);
-    let sink = bars.as_ref().map(TerminalProgress);
-    let ctx = Context::with(
-        kind,
-        sink.as_ref()
-            .map(|s| s as &dyn hypercontact_core::ProgressSink),
-        &reader,
-    );
+    let bars = MultiProgress::new();
+    let sink: Option<Box<dyn ProgressSink + '_>> = match show {
+        Show::Quiet => None,
+        Show::Terminal => Some(Box::new(TerminalProgress(&bars))),
+        // Lines every two seconds: enough to see a long stage move.
+        Show::Lines(writer) => Some(Box::new(LineProgress::new(
+            writer,
+            std::time::Duration::from_secs(2),
+        ))),
+    };
+    let ctx = Context::with(kind, sink.as_deref(), &reader);
     let outputs = stage
         .run_dyn(params.as_ref(), inputs, &ctx)
         .map_err(|source| BridgeError::Stage {

@@ -6,6 +6,7 @@
 //! `extension-module` feature, which maturin turns on.
 
 pub mod bridge;
+pub mod lines;
 pub mod runs;
 pub mod stubs;
 

@@ -8,7 +8,7 @@
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use hypercontact_core::{Field, Files, Inputs, Product, Registry};
 use numpy::{PyArray2, PyReadonlyArray2};
@@ -16,7 +16,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyTuple};
 
-use crate::bridge::{self, BridgeError, StageRun};
+use crate::bridge::{self, BridgeError, Show, StageRun};
+use crate::lines::Writer;
 use crate::runs::{self, RunRequest};
 
 /// One registry for the interpreter's life: building it is cheap, but the
@@ -136,13 +137,13 @@ fn product_to_python<'py>(
 /// resolve against `base_dir` (default the current directory). The GIL is
 /// released while the stage runs.
 #[pyfunction]
-#[pyo3(signature = (kind, inputs, params_json, progress=false, base_dir=None))]
+#[pyo3(signature = (kind, inputs, params_json, progress=None, base_dir=None))]
 fn run_stage<'py>(
     py: Python<'py>,
     kind: &str,
     inputs: &Bound<'py, PyDict>,
     params_json: &str,
-    progress: bool,
+    progress: Option<Bound<'py, PyAny>>,
     base_dir: Option<PathBuf>,
 ) -> PyResult<(Bound<'py, PyDict>, Vec<String>)> {
     let mut products = Inputs::new();
@@ -155,14 +156,40 @@ fn run_stage<'py>(
         Some(dir) => dir,
         None => std::env::current_dir().map_err(value_error)?,
     };
+    let show = show(progress)?;
     let run: Result<StageRun, BridgeError> =
-        py.detach(|| bridge::run_stage(registry(), kind, &products, params_json, &dir, progress));
+        py.detach(|| bridge::run_stage(registry(), kind, &products, params_json, &dir, show));
     let run = run.map_err(value_error)?;
     let dict = PyDict::new(py);
     for (name, product) in run.outputs.into_inner() {
         dict.set_item(&name, product_to_python(py, &name, product)?)?;
     }
     Ok((dict, run.notes))
+}
+
+/// `progress` as Python gives it: None or False for nothing, True for the
+/// runner's bars on the process's stderr, or a callable taking a line of
+/// text (what a notebook shows: `sys.stderr.write`), called with the GIL
+/// taken back from the worker thread that reports.
+fn show(progress: Option<Bound<'_, PyAny>>) -> PyResult<Show> {
+    let Some(progress) = progress else {
+        return Ok(Show::Quiet);
+    };
+    if progress.is_callable() {
+        let callback: Py<PyAny> = progress.unbind();
+        let writer: Writer = Arc::new(move |line: &str| {
+            Python::attach(|py| {
+                // A failing writer must not stop the stage: the line is lost.
+                let _ = callback.call1(py, (line,));
+            });
+        });
+        return Ok(Show::Lines(writer));
+    }
+    Ok(if progress.is_truthy()? {
+        Show::Terminal
+    } else {
+        Show::Quiet
+    })
 }
 
 /// The request of `run_pipeline` and `run_study`, from their arguments.

@@ -6,7 +6,7 @@
 
 use std::path::Path;
 
-use _hypercontact::bridge::{self, BridgeError};
+use _hypercontact::bridge::{self, BridgeError, Show};
 use hypercontact_core::{Context, Field, Inputs, Outputs, Product, Table};
 use ndarray::Array2;
 
@@ -23,8 +23,15 @@ fn surface() -> Field {
 /// The bridge as Python calls it, without progress; the outputs only.
 fn call(kind: &str, inputs: &Inputs, params_json: &str) -> Result<Outputs, BridgeError> {
     let registry = hypercontact::registry();
-    bridge::run_stage(&registry, kind, inputs, params_json, Path::new("."), false)
-        .map(|run| run.outputs)
+    bridge::run_stage(
+        &registry,
+        kind,
+        inputs,
+        params_json,
+        Path::new("."),
+        Show::Quiet,
+    )
+    .map(|run| run.outputs)
 }
 
 const BEM_PARAMS: &str = r#"{"boundary": "periodic", "model": "linear", "steps": 5,

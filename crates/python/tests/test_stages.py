@@ -133,10 +133,20 @@ def test_required_inputs_have_no_default_and_reserved_keywords_exist():
     assert signature.parameters["progress"].default is None
 
 
-def test_progress_is_quiet_where_stderr_is_no_terminal():
+def test_progress_is_quiet_where_stderr_is_no_terminal_unless_asked(capsys):
     # pytest captures stderr, as a notebook's kernel does.
-    assert hypercontact._show_progress(None) is False
-    assert hypercontact._show_progress(True) is True
+    assert hypercontact._progress_mode(None) is None
+    material = stages.material_preset()
+    stages.bem(surface=Field(surface_m(), 1e-6), material=material, **BEM_PARAMS)
+    assert capsys.readouterr().err == ""
+    # Asked for, it comes as lines on sys.stderr (what a notebook shows).
+    stages.bem(surface=Field(surface_m(), 1e-6), material=material, progress=True, **BEM_PARAMS)
+    err = capsys.readouterr().err
+    assert "bem: " in err and "/5 (" in err, err
+    # Or to a callable of one's own.
+    lines = []
+    stages.bem(surface=Field(surface_m(), 1e-6), material=material, progress=lines.append, **BEM_PARAMS)
+    assert any(line.startswith("bem: ") for line in lines), lines
 
 
 def test_the_stub_covers_every_generated_function():
@@ -146,8 +156,12 @@ def test_the_stub_covers_every_generated_function():
 
 
 def test_a_stage_warning_is_a_python_warning_at_the_callers_line():
+    import warnings
     from conftest import REPO
     height = stages.height_map(path=REPO / "data" / "reference" / "topography" / "sur-2.sur")
-    with pytest.warns(UserWarning, match=r"^surface: the PSD along x is a poor power law") as caught:
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         stages.surface(height=height, resolution_m=0)
-    assert caught[0].filename == __file__
+    messages = [str(w.message) for w in caught]
+    assert any(m.startswith("surface: the PSD along x is a poor power law") for m in messages), messages
+    assert all(w.category is UserWarning and w.filename == __file__ for w in caught)

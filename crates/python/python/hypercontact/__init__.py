@@ -272,22 +272,39 @@ def _json_default(value: Any):
     raise TypeError(f"{type(value).__name__} is not a parameter value")
 
 
-def _show_progress(progress: Optional[bool]) -> bool:
-    """Bars where a person watches a terminal; quiet in a notebook (whose
-    stderr is no terminal) unless asked."""
-    if progress is not None:
-        return bool(progress)
+def _terminal() -> bool:
     stream = sys.stderr
     return bool(stream is not None and hasattr(stream, "isatty") and stream.isatty())
 
 
-def _say_notes(kind: str, notes: Sequence[str], progress: bool, stacklevel: int) -> None:
+def _write_line(line: str) -> None:
+    sys.stderr.write(line)
+    sys.stderr.flush()
+
+
+def _progress_mode(progress: Any):
+    """What the compiled module is told: None (quiet), True (the runner's
+    bars on a terminal) or a callable taking a line of text. By default bars
+    where a person watches a terminal and nothing in a notebook (whose
+    stderr is no terminal); asked for there, progress comes as lines on
+    ``sys.stderr``, which the notebook shows. A callable of your own (a
+    logger) gets the lines instead."""
+    if callable(progress):
+        return progress
+    if progress is None:
+        return True if _terminal() else None
+    if not progress:
+        return None
+    return True if _terminal() else _write_line
+
+
+def _say_notes(kind: str, notes: Sequence[str], stacklevel: int) -> None:
+    """A stage's warnings as Python warnings (its other notes were shown
+    with the progress and are in a run's provenance)."""
     for note in notes:
         if note.startswith("warning:"):
             # Shown at the caller's line, not at this module's.
             warnings.warn(f"{kind}: {note[len('warning:'):].strip()}", stacklevel=stacklevel + 1)
-        elif progress:
-            print(f"{kind}: {note}", file=sys.stderr)
 
 
 def _write_files(kind: str, output: str, product, out_dir: Optional[PathLike]) -> Files:
@@ -346,9 +363,8 @@ def _call(kind, inputs, out_dir, progress, params, stacklevel: int) -> Dict[str,
         i["name"] for i in _declaration(kind)["inputs"] if i["kind"] == "files"
     }
     products = _flatten_inputs(inputs or {}, files_inputs)
-    show = _show_progress(progress)
-    outputs, notes = _hypercontact.run_stage(kind, products, params_json, show)
-    _say_notes(kind, notes, show, stacklevel)
+    outputs, notes = _hypercontact.run_stage(kind, products, params_json, _progress_mode(progress))
+    _say_notes(kind, notes, stacklevel)
     return {name: _from_product(kind, name, p, out_dir) for name, p in outputs.items()}
 
 
@@ -516,7 +532,7 @@ def run(
     ``set`` as ``--set`` (a mapping ``{"stage.param": value}`` or strings),
     ``force`` and ``only`` as the flags. Returns the ``Run``; a failure
     raises ``ValueError`` with the CLI's message."""
-    show = _show_progress(progress)
+    mode = _progress_mode(progress)
     out_dir, summary, computed, cached = _hypercontact.run_pipeline(
         os.fspath(pipeline),
         None if out is None else os.fspath(out),
@@ -524,9 +540,14 @@ def run(
         _sets(set),
         _force(force),
         only,
-        show,
+        mode is True,
     )
-    return Run(out_dir, summary, computed, cached)
+    run = Run(out_dir, summary, computed, cached)
+    if mode is not None:
+        # The CLI's closing lines, where this process's reader sees them.
+        say = _write_line if mode is True else mode
+        say(f"{summary}{computed} ran, {cached} cached; outputs in {out_dir}\n")
+    return run
 
 
 class Study:
@@ -558,7 +579,7 @@ def study(
         None if out is None else os.fspath(out),
         None if cache is None else os.fspath(cache),
         _sets(set),
-        _show_progress(progress),
+        _progress_mode(progress) is True,
     )
     return Study(out_dir, tables)
 

@@ -46,9 +46,9 @@ def bem(
         map_fractions (default [0.1,0.5,0.9]): A/A0 at which `contact_maps` holds the pressure and the gap
 
     Inputs (keywords; a table as a polars or pandas DataFrame):
-        surface (field, One): height map, metres, NaN = not measured
-        material (table, One): the material table (a preset or a fit)
-        replicates (table, Optional): material-fit's bootstrap replicates: each replicate's law is integrated over the same linear solve, for `bands`
+        surface (field, one): height map, metres, NaN = not measured
+        material (table, one): the material table (a preset or a fit)
+        replicates (table, optional): material-fit's bootstrap replicates: each replicate's law is integrated over the same linear solve, for `bands`
 
     Returns a dict of the outputs:
         response (table): one row per load step, first contact first (icm's columns first)
@@ -68,7 +68,7 @@ def contact_compare(
     responses: Optional[Mapping[str, Table]] = None,
     model_maps: Optional[Mapping[str, FilesLike]] = None,
     register_at: float = 0.5,
-    register_with: Optional[Optional[str]] = None,
+    register_with: Optional[str] = None,
     min_register_fraction: float = 0.02,
     angle_deg: float = 0.0,
     angle_range_deg: float = 10.0,
@@ -105,11 +105,11 @@ def contact_compare(
         figure_px (default 1024) [px]: the figures' longest side (the camera's maps are subsampled to it)
 
     Inputs (keywords; a table as a polars or pandas DataFrame):
-        contact (table, One): contact-images' contact table
-        observed_maps (files, One): contact-images' contact_maps (mask PNGs, indexed)
-        surface (field, One): the sample's height map, metres (the stitched scan)
-        responses (table, Many): load-area curves of the contact models, labelled by model
-        model_maps (files, Many): contact models' contact_maps, labelled by model (pressure maps, indexed)
+        contact (table, one): contact-images' contact table
+        observed_maps (files, one): contact-images' contact_maps (mask PNGs, indexed)
+        surface (field, one): the sample's height map, metres (the stitched scan)
+        responses (table, many): load-area curves of the contact models, labelled by model
+        model_maps (files, many): contact models' contact_maps, labelled by model (pressure maps, indexed)
 
     Returns a dict of the outputs:
         transform (table): the adopted registration and its spread
@@ -128,11 +128,11 @@ def contact_images(
     *,
     sequence: Optional[FilesLike] = None,
     method: Literal["calibrated", "otsu", "multi-otsu"] = "calibrated",
-    dir: Optional[Optional[Union[str, PathLike[str]]]] = None,
-    bits: Optional[Optional[int]] = None,
+    dir: Optional[Union[str, PathLike[str]]] = None,
+    bits: Optional[int] = None,
     pixel_m: float = 6.5e-6,
     exposure_s: float = 0.0,
-    clock_offset_s: Optional[Optional[float]] = None,
+    clock_offset_s: Optional[float] = None,
     force_resolution_n: float = 0.01,
     reference_frame: int = 0,
     dark_level: float = 0.0,
@@ -167,7 +167,7 @@ def contact_images(
         map_fractions (default [0.1,0.5,0.9]): A/A0 at which `contact_maps` holds the binary contact map (nearest frame)
 
     Inputs (keywords; a table as a polars or pandas DataFrame):
-        sequence (files, Optional): the synthetic lab's files (or use `dir`)
+        sequence (files, optional): the synthetic lab's files (or use `dir`)
 
     Returns a dict of the outputs:
         contact (table): one row per frame
@@ -184,8 +184,8 @@ def crop(
     surface: Field,
     x0: int = 0,
     y0: int = 0,
-    nx: Optional[Optional[int]] = None,
-    ny: Optional[Optional[int]] = None,
+    nx: Optional[int] = None,
+    ny: Optional[int] = None,
     coarsen: int = 1,
     out_dir: Union[str, PathLike[str], None] = None,
     progress: Optional[bool] = None,
@@ -202,7 +202,7 @@ def crop(
         coarsen (default 1): each block of coarsen × coarsen points becomes one point (their mean), spacing × coarsen
 
     Inputs (keywords; a table as a polars or pandas DataFrame):
-        surface (field, One): height map, metres, NaN = not measured
+        surface (field, one): height map, metres, NaN = not measured
 
     Returns a dict of the outputs:
         height (field): the window (coarsened), metres, NaN = not measured
@@ -217,14 +217,14 @@ def dic(
     *,
     sequence: Optional[FilesLike] = None,
     method: Literal["subset", "markers"] = "subset",
-    dir: Optional[Optional[Union[str, PathLike[str]]]] = None,
-    mode: Optional[Optional[Literal["UT", "PT", "BT"]]] = None,
-    roi_px: Optional[Optional[Sequence[int]]] = None,
-    roi_polygon_px: Optional[Optional[Sequence[Sequence[float]]]] = None,
-    mask: Optional[Optional[str]] = None,
+    dir: Optional[Union[str, PathLike[str]]] = None,
+    mode: Optional[Literal["UT", "PT", "BT"]] = None,
+    roi_px: Optional[Sequence[int]] = None,
+    roi_polygon_px: Optional[Sequence[Sequence[float]]] = None,
+    mask: Optional[str] = None,
     loading_axis: Literal["x", "y", "principal"] = "x",
-    bit_depth: Optional[Optional[int]] = None,
-    frame_rate_hz: Optional[Optional[float]] = None,
+    bit_depth: Optional[int] = None,
+    frame_rate_hz: Optional[float] = None,
     subset_px: int = 31,
     step_px: int = 10,
     strain_window: int = 5,
@@ -236,9 +236,9 @@ def dic(
     marker_threshold: float = 0.07,
     marker_min_area_px: int = 20,
     marker_max_jump_px: float = 25.0,
-    gauge_width_m: Optional[Optional[float]] = None,
-    thickness_m: Optional[Optional[float]] = None,
-    pixel_m: Optional[Optional[float]] = None,
+    gauge_width_m: Optional[float] = None,
+    thickness_m: Optional[float] = None,
+    pixel_m: Optional[float] = None,
     out_dir: Union[str, PathLike[str], None] = None,
     progress: Optional[bool] = None,
 ) -> _dicOutputs:
@@ -272,7 +272,7 @@ def dic(
         pixel_m (optional) [m]: object-space pixel size (default: specimen.json)
 
     Inputs (keywords; a table as a polars or pandas DataFrame):
-        sequence (files, Optional): the synth-tensile files (or use `dir`)
+        sequence (files, optional): the synth-tensile files (or use `dir`)
 
     Returns a dict of the outputs:
         tensile (table): one row per frame
@@ -290,10 +290,10 @@ def fem(
     material: Table,
     x0: int = 0,
     y0: int = 0,
-    nx: Optional[Optional[int]] = None,
-    ny: Optional[Optional[int]] = None,
+    nx: Optional[int] = None,
+    ny: Optional[int] = None,
     coarsen: int = 1,
-    depth_m: Optional[Optional[float]] = None,
+    depth_m: Optional[float] = None,
     layers: int = 8,
     grading: float = 8.0,
     boundary: Literal["mirror", "periodic"] = "mirror",
@@ -332,8 +332,8 @@ def fem(
         max_nodes (default 200000): the most mesh nodes accepted (memory: about 3 kB per node with the sparse factor)
 
     Inputs (keywords; a table as a polars or pandas DataFrame):
-        surface (field, One): height map, metres (no missing points inside the window)
-        material (table, One): the material table (a preset, a fit or the constants stage)
+        surface (field, one): height map, metres (no missing points inside the window)
+        material (table, one): the material table (a preset, a fit or the constants stage)
 
     Returns a dict of the outputs:
         response (table): one row per step, first touch first (the contact models' columns first)
@@ -358,9 +358,9 @@ def greenwood_williamson(
     min_area_fraction: float = 0.001,
     max_area_fraction: float = 0.95,
     steps: int = 200,
-    q_min_per_m: Optional[Optional[float]] = None,
-    q_max_per_m: Optional[Optional[float]] = None,
-    nominal_area_m2: Optional[Optional[float]] = None,
+    q_min_per_m: Optional[float] = None,
+    q_max_per_m: Optional[float] = None,
+    nominal_area_m2: Optional[float] = None,
     bins_per_decade: int = 10,
     periodic: bool = False,
     out_dir: Union[str, PathLike[str], None] = None,
@@ -385,11 +385,11 @@ def greenwood_williamson(
         periodic (default false): input `surface` is periodic (no window for its PSD)
 
     Inputs (keywords; a table as a polars or pandas DataFrame):
-        psd (table, Optional): stage surface's PSD table (its radial rows are used)
-        stats (table, Optional): stage surface's stats, beside `psd`: A0 = nx ny dx² (1 - nan_fraction)
-        surface (field, Optional): a height map instead of `psd` (its radial PSD is computed here)
-        material (table, One): the material table (a preset or a fit)
-        replicates (table, Optional): material-fit's bootstrap replicates: each replicate's law is integrated over the same theory curve, for `bands`
+        psd (table, optional): stage surface's PSD table (its radial rows are used)
+        stats (table, optional): stage surface's stats, beside `psd`: A0 = nx ny dx² (1 - nan_fraction)
+        surface (field, optional): a height map instead of `psd` (its radial PSD is computed here)
+        material (table, one): the material table (a preset or a fit)
+        replicates (table, optional): material-fit's bootstrap replicates: each replicate's law is integrated over the same theory curve, for `bands`
 
     Returns a dict of the outputs:
         response (table): one row per load, icm's columns first
@@ -402,8 +402,8 @@ def greenwood_williamson(
 def height_map(
     *,
     path: Union[str, PathLike[str]],
-    pixel_m: Optional[Optional[float]] = None,
-    pixel_y_m: Optional[Optional[float]] = None,
+    pixel_m: Optional[float] = None,
+    pixel_y_m: Optional[float] = None,
     scale_to_m: float = 1.0,
     max_points: int = 67108864,
     out_dir: Union[str, PathLike[str], None] = None,
@@ -451,9 +451,9 @@ def icm(
         poisson (default 0.5): Poisson's ratio ν of the composite moduli (a linear material uses its own)
 
     Inputs (keywords; a table as a polars or pandas DataFrame):
-        profile (table, One): the truncation profile, top down
-        material (table, One): the material table (a preset or a fit)
-        replicates (table, Optional): material-fit's bootstrap replicates: each is solved too, for `bands`
+        profile (table, one): the truncation profile, top down
+        material (table, one): the material table (a preset or a fit)
+        replicates (table, optional): material-fit's bootstrap replicates: each is solved too, for `bands`
 
     Returns a dict of the outputs:
         response (table): one row per profile plane
@@ -464,17 +464,17 @@ def icm(
 
 def material(
     *,
-    family: Optional[Optional[Literal["linear", "neo-hookean", "mooney-rivlin", "yeoh", "arruda-boyce", "ogden"]]] = None,
-    e_pa: Optional[Optional[float]] = None,
-    poisson: Optional[Optional[Any]] = None,
-    mu_pa: Optional[Optional[Any]] = None,
-    alpha: Optional[Optional[Any]] = None,
-    c10_pa: Optional[Optional[float]] = None,
-    c01_pa: Optional[Optional[float]] = None,
-    c20_pa: Optional[Optional[float]] = None,
-    c30_pa: Optional[Optional[float]] = None,
-    lambda_m: Optional[Optional[float]] = None,
-    file: Optional[Optional[Union[str, PathLike[str]]]] = None,
+    family: Optional[Literal["linear", "neo-hookean", "mooney-rivlin", "yeoh", "arruda-boyce", "ogden"]] = None,
+    e_pa: Optional[float] = None,
+    poisson: Optional[Any] = None,
+    mu_pa: Optional[Any] = None,
+    alpha: Optional[Any] = None,
+    c10_pa: Optional[float] = None,
+    c01_pa: Optional[float] = None,
+    c20_pa: Optional[float] = None,
+    c30_pa: Optional[float] = None,
+    lambda_m: Optional[float] = None,
+    file: Optional[Union[str, PathLike[str]]] = None,
     out_dir: Union[str, PathLike[str], None] = None,
     progress: Optional[bool] = None,
 ) -> pl.DataFrame:
@@ -538,7 +538,7 @@ def material_fit(
         bootstrap (default {"count":0,"seed":1,"starts":4}): refits on resampled data, carried downstream as `replicates`
 
     Inputs (keywords; a table as a polars or pandas DataFrame):
-        tensile (table, OneOrMore): UT/PT/BT stress–stretch data (tensile-table or the DIC stage): one table (`tensile: csv`) or several fitted together (`tensile: { UT: dic-ut, PT: dic-pt }`)
+        tensile (table, oneormore): UT/PT/BT stress–stretch data (tensile-table or the DIC stage): one table (`tensile: csv`) or several fitted together (`tensile: { UT: dic-ut, PT: dic-pt }`)
 
     Returns a dict of the outputs:
         material (table): the fitted model, for downstream stages (the ICM reads it)
@@ -589,9 +589,9 @@ def persson(
     min_area_fraction: float = 0.001,
     max_area_fraction: float = 0.95,
     steps: int = 200,
-    q_min_per_m: Optional[Optional[float]] = None,
-    q_max_per_m: Optional[Optional[float]] = None,
-    nominal_area_m2: Optional[Optional[float]] = None,
+    q_min_per_m: Optional[float] = None,
+    q_max_per_m: Optional[float] = None,
+    nominal_area_m2: Optional[float] = None,
     bins_per_decade: int = 10,
     periodic: bool = False,
     out_dir: Union[str, PathLike[str], None] = None,
@@ -618,11 +618,11 @@ def persson(
         periodic (default false): input `surface` is periodic (no window for its PSD)
 
     Inputs (keywords; a table as a polars or pandas DataFrame):
-        psd (table, Optional): stage surface's PSD table (its radial rows are used)
-        stats (table, Optional): stage surface's stats, beside `psd`: A0 = nx ny dx² (1 - nan_fraction)
-        surface (field, Optional): a height map instead of `psd` (its radial PSD is computed here)
-        material (table, One): the material table (a preset or a fit)
-        replicates (table, Optional): material-fit's bootstrap replicates: each replicate's law is integrated over the same theory curve, for `bands`
+        psd (table, optional): stage surface's PSD table (its radial rows are used)
+        stats (table, optional): stage surface's stats, beside `psd`: A0 = nx ny dx² (1 - nan_fraction)
+        surface (field, optional): a height map instead of `psd` (its radial PSD is computed here)
+        material (table, one): the material table (a preset or a fit)
+        replicates (table, optional): material-fit's bootstrap replicates: each replicate's law is integrated over the same theory curve, for `bands`
 
     Returns a dict of the outputs:
         response (table): one row per load, icm's columns first
@@ -660,10 +660,10 @@ def report(
     fig7_models: Sequence[str] = ...,
     fig9_models: Sequence[str] = ...,
     summary_models: Sequence[str] = ...,
-    reference_model: Optional[Optional[str]] = None,
+    reference_model: Optional[str] = None,
     finite_strain_reference: str = "fem",
     finite_strain_area_fractions: Sequence[float] = ...,
-    published_material: Optional[Optional[Literal["paper-epdm"]]] = None,
+    published_material: Optional[Literal["paper-epdm"]] = None,
     out_dir: Union[str, PathLike[str], None] = None,
     progress: Optional[bool] = None,
 ) -> Files:
@@ -685,25 +685,25 @@ def report(
         published_material (optional): a published material set beside the fit in Table 1 with its error on the same tensile data, not refitted (`paper-epdm`: the paper's Table 1; unset: none)
 
     Inputs (keywords; a table as a polars or pandas DataFrame):
-        curves (table, Optional): material fit: measured and fitted stress per mode
-        quality (table, Optional): material fit: quality per mode (shown as is)
-        params (table, Optional): material fit: parameter table (shown as is)
-        stability (table, Optional): material fit: Drucker-stable stretch ranges
-        comparison (table, Optional): material fit: model ranking (shown as is)
-        material (table, Optional): the fitted material
-        heights (field, Many): height map per sample
-        psd (table, Many): PSD per sample
-        stats (table, Many): surface statistics per sample
-        profiles (table, Many): truncation profile per sample
-        responses (table, Nested): every contact model's load-area curve, by sample and model label: Figs. 7, 8, 9, the κ, load-ratio and summary tables
-        bands (table, Nested): contact models' 5–95 % bootstrap bands, by sample and model label: shaded in Figs. 7 and 8, read in the summary
-        model_summaries (table, Nested): what each model was given (any one-row table), by sample and model label: shown as is under Fig. 9
-        experiments (table, Many): contact experiment per sample (contact-images' contact): Fig. 7's symbols
-        agreement (table, Many): contact-compare's agreement per sample: the table under Fig. 7
-        load_ratio (table, Many): contact-compare's load ratios per sample
-        transforms (table, Many): contact-compare's registration per sample
-        finite_strain (table, Nested): the finite-strain comparison on one patch per sample, by sample and model label: the finite-element reference (`finite_strain_reference`) and the models on the same window (Fig. 10 and its load-ratio table)
-        compare_figures (files, Many): contact-compare's figures per sample, indexed: Fig. 6 (the first sample wired)
+        curves (table, optional): material fit: measured and fitted stress per mode
+        quality (table, optional): material fit: quality per mode (shown as is)
+        params (table, optional): material fit: parameter table (shown as is)
+        stability (table, optional): material fit: Drucker-stable stretch ranges
+        comparison (table, optional): material fit: model ranking (shown as is)
+        material (table, optional): the fitted material
+        heights (field, many): height map per sample
+        psd (table, many): PSD per sample
+        stats (table, many): surface statistics per sample
+        profiles (table, many): truncation profile per sample
+        responses (table, nested): every contact model's load-area curve, by sample and model label: Figs. 7, 8, 9, the κ, load-ratio and summary tables
+        bands (table, nested): contact models' 5–95 % bootstrap bands, by sample and model label: shaded in Figs. 7 and 8, read in the summary
+        model_summaries (table, nested): what each model was given (any one-row table), by sample and model label: shown as is under Fig. 9
+        experiments (table, many): contact experiment per sample (contact-images' contact): Fig. 7's symbols
+        agreement (table, many): contact-compare's agreement per sample: the table under Fig. 7
+        load_ratio (table, many): contact-compare's load ratios per sample
+        transforms (table, many): contact-compare's registration per sample
+        finite_strain (table, nested): the finite-strain comparison on one patch per sample, by sample and model label: the finite-element reference (`finite_strain_reference`) and the models on the same window (Fig. 10 and its load-ratio table)
+        compare_figures (files, many): contact-compare's figures per sample, indexed: Fig. 6 (the first sample wired)
 
     Returns the output:
         report (files): index.html, figN.png, figN.svg, summary.json
@@ -717,9 +717,9 @@ def surface(
     *,
     tiles: Optional[FilesLike] = None,
     height: Optional[Field] = None,
-    dir: Optional[Optional[Union[str, PathLike[str]]]] = None,
+    dir: Optional[Union[str, PathLike[str]]] = None,
     tile_files: Sequence[Union[str, PathLike[str]]] = ...,
-    positions: Optional[Optional[Union[str, PathLike[str]]]] = None,
+    positions: Optional[Union[str, PathLike[str]]] = None,
     resolution_m: float = 0.00002,
     reference: Literal["lowest", "percentile"] = "lowest",
     reference_percent: float = 1.0,
@@ -728,8 +728,8 @@ def surface(
     fill: Literal["harmonic", "zero"] = "harmonic",
     max_missing_fraction: float = 0.1,
     bins_per_decade: int = 10,
-    hurst_lambda_min_m: Optional[Optional[float]] = None,
-    hurst_lambda_max_m: Optional[Optional[float]] = None,
+    hurst_lambda_min_m: Optional[float] = None,
+    hurst_lambda_max_m: Optional[float] = None,
     min_overlap_px: int = 16,
     out_dir: Union[str, PathLike[str], None] = None,
     progress: Optional[bool] = None,
@@ -755,8 +755,8 @@ def surface(
         min_overlap_px (default 16) [px]: least overlap (both directions) for a tile pair
 
     Inputs (keywords; a table as a polars or pandas DataFrame):
-        tiles (files, Optional): tile_NNN.npy + positions.csv
-        height (field, Optional): an already stitched map (skips stitching)
+        tiles (files, optional): tile_NNN.npy + positions.csv
+        height (field, optional): an already stitched map (skips stitching)
 
     Returns a dict of the outputs:
         height (field): stitched, filtered, detrended map from the reference height, metres (NaN = unmeasured)
@@ -851,8 +851,8 @@ def synth_contact(
         seed (default 1): random seed (camera and force noise)
 
     Inputs (keywords; a table as a polars or pandas DataFrame):
-        surface (field, One): the sample's true height map, metres (synth-surface's truth)
-        material (table, One): the rubber's material (the true one: synth-tensile's material)
+        surface (field, one): the sample's true height map, metres (synth-surface's truth)
+        material (table, one): the rubber's material (the true one: synth-tensile's material)
 
     Returns a dict of the outputs:
         sequence (files): frame_NNN.png (16-bit), frames.csv, force.csv: what contact-images reads
@@ -920,7 +920,7 @@ def synth_tensile(
     *,
     mode: Literal["UT", "PT", "BT"] = "UT",
     preset: Literal["paper-epdm"] = "paper-epdm",
-    max_stretch: Optional[Optional[float]] = None,
+    max_stretch: Optional[float] = None,
     frames: int = 20,
     frame_interval_s: float = 0.5,
     width_px: int = 512,
@@ -933,10 +933,10 @@ def synth_tensile(
     markers: bool = True,
     marker_radius_px: float = 6.0,
     pixel_m: float = 0.00002,
-    gauge_width_m: Optional[Optional[float]] = None,
-    gauge_length_m: Optional[Optional[float]] = None,
+    gauge_width_m: Optional[float] = None,
+    gauge_length_m: Optional[float] = None,
     thickness_m: float = 0.0015,
-    force_resolution_n: Optional[Optional[float]] = None,
+    force_resolution_n: Optional[float] = None,
     force_rate_hz: float = 50.0,
     seed: int = 1,
     out_dir: Union[str, PathLike[str], None] = None,
@@ -1017,7 +1017,7 @@ def truncation(
         patch_fractions (default [0.01,0.1,0.3,0.5]): area fractions at which every patch's area is listed
 
     Inputs (keywords; a table as a polars or pandas DataFrame):
-        surface (field, One): height map, metres, NaN = not measured
+        surface (field, one): height map, metres, NaN = not measured
 
     Returns a dict of the outputs:
         profile (table): one row per plane, top down
