@@ -6,8 +6,11 @@
 //! [`COLUMNS_KEY`], whose value is compact JSON: an array, in the table's
 //! column order, of `{"name", "unit", "doc"}` for every column the
 //! declaration names. File-level metadata rather than Arrow field metadata
-//! because polars' `ParquetWriter` writes only the former; pyarrow shows it
-//! as `pq.read_schema(path).metadata`, polars as `pl.read_parquet_metadata`.
+//! because polars' `ParquetWriter` writes only the former. Python reads it
+//! with `pl.read_parquet_metadata(path)` (polars) or
+//! `pq.read_metadata(path).metadata` (pyarrow). Not pyarrow's
+//! `read_schema(path).metadata`: pyarrow takes a schema's metadata from the
+//! Arrow schema polars stores beside it (`ARROW:schema`), which has none.
 
 use hypercontact_core::{ColumnSpec, Table};
 use serde::{Deserialize, Serialize};

@@ -216,10 +216,8 @@ mod tests {
     /// A declared table comes back with its values and, from the file
     /// metadata, its declaration; one without a declaration (or with one
     /// naming none of its columns) has no key and the bytes `write_parquet`
-    /// always wrote. pyarrow reads the key too: checked once by hand with
-    /// pyarrow 2x.x, `json.loads(pq.read_schema(p).metadata[b"hypercontact:columns"])`
-    /// listed the declared columns with their units (see the runner's
-    /// `exported_tables_carry_their_declared_units`).
+    /// always wrote. pyarrow reads the key too (checked once by hand, see
+    /// `assert_exported_tables_carry_their_units` in tests/cli.rs).
     #[test]
     fn declared_units_and_docs_come_back_from_the_file() {
         let declared = [
