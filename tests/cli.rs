@@ -34,12 +34,60 @@ fn run(dir: &Path, args: &[&str]) -> Output {
         .unwrap()
 }
 
+/// The declared columns of `kind`'s output `output`, as `hypercontact
+/// stages KIND --json` prints them.
+fn declared_columns(kind: &str, output: &str) -> Vec<hypercontact_io::ColumnMeta> {
+    let out = bin().args(["stages", kind, "--json"]).output().unwrap();
+    assert!(out.status.success(), "{}", text(&out));
+    let stages: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let spec = stages[0]["outputs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|o| o["name"] == output)
+        .unwrap_or_else(|| panic!("{kind} declares no output `{output}`"));
+    serde_json::from_value(spec["columns"].clone()).unwrap()
+}
+
+fn columns_meta(path: &Path) -> Vec<hypercontact_io::ColumnMeta> {
+    hypercontact_io::parquet_columns_meta(std::fs::File::open(path).unwrap()).unwrap()
+}
+
+/// Issue #34, units travel with the data: every table a run exports (and
+/// the cache serves again) carries its stage's declared units and docs.
+/// Checked once by hand with pyarrow 26.0.1 on every table of
+/// tests/guard/pipeline.yaml's run: `json.loads(pq.read_metadata(p)
+/// .metadata[b"hypercontact:columns"])` parsed, bem's `load_n` in "N",
+/// and `pq.read_table` gave the values of the build before, NaN for NaN.
+/// (`pq.read_schema(p).metadata` is None: pyarrow takes it from the
+/// `ARROW:schema` polars stores, which holds no metadata.)
+fn assert_exported_tables_carry_their_units(out: &Path) {
+    for (stage, kind, output) in [
+        ("trunc", "truncation", "profile"),
+        ("trunc", "truncation", "patch_sizes"),
+        ("epdm", "material-preset", "material"),
+        ("contact", "icm", "response"),
+        ("contact-linear", "icm", "response"),
+    ] {
+        let path = out.join(format!("{stage}/{output}.parquet"));
+        let table = hypercontact_io::read_parquet_file(&path).unwrap();
+        let meta = columns_meta(&path);
+        let names: Vec<&str> = meta.iter().map(|m| m.name.as_str()).collect();
+        assert_eq!(names, table.column_names(), "{}", path.display());
+        assert_eq!(meta, declared_columns(kind, output), "{}", path.display());
+    }
+    let response = columns_meta(&out.join("contact/response.parquet"));
+    let load = response.iter().find(|m| m.name == "load_n").unwrap();
+    assert_eq!(load.unit, "N");
+}
+
 #[test]
 fn run_twice_then_everything_is_cached_and_identical() {
     let t = tempfile::tempdir().unwrap();
     let first = run(t.path(), &[]);
     assert!(first.status.success(), "{}", text(&first));
     assert!(text(&first).contains("5 ran, 0 cached"), "{}", text(&first));
+    assert_exported_tables_carry_their_units(&t.path().join("out"));
     let response = t.path().join("out/contact/response.parquet");
     let bytes = std::fs::read(&response).unwrap();
     let second = run(t.path(), &[]);
@@ -121,6 +169,14 @@ fn a_study_gathers_one_table() {
     );
     let levels = table.i64("trunc.levels").unwrap();
     assert!(levels.contains(&250) && levels.contains(&1000));
+    // The varied parameters are not declared by icm, so only its columns
+    // are described, in the table's order.
+    let meta = columns_meta(&t.path().join("study/contact.response.parquet"));
+    assert_eq!(meta, declared_columns("icm", "response"));
+    assert_eq!(
+        table.column_names()[2..],
+        meta.iter().map(|m| m.name.as_str()).collect::<Vec<_>>()[..]
+    );
 }
 
 #[test]

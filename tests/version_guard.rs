@@ -16,6 +16,9 @@
 //!   version_guard`, which writes the new table but refuses, with the same
 //!   message, to record a stage whose bytes changed under an unchanged
 //!   version and inputs.
+//! - a new store format (`MANIFEST_FORMAT`, bumped when the runner writes
+//!   every product another way, as when tables began to carry their units)
+//!   counts among the inputs: every entry is stale, none a forgotten bump.
 //! - every registered kind must appear in the fixture.
 //!
 //! Across machines the FFT kernels a CPU selects may move the last bits
@@ -25,6 +28,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
+use hypercontact_runner::cache::MANIFEST_FORMAT;
 use hypercontact_runner::hash::canonical_json;
 use serde_json::{Value, json};
 
@@ -36,7 +40,8 @@ use common::{bin, repo, text};
 struct Entry {
     kind: String,
     version: u64,
-    /// BLAKE3 of the stage's inputs: parameters, input files, upstream keys.
+    /// BLAKE3 of the stage's inputs: parameters, input files, upstream
+    /// keys, and the store format the runner wrote them in.
     inputs: String,
     /// Output file → BLAKE3.
     outputs: BTreeMap<String, String>,
@@ -53,6 +58,9 @@ impl Entry {
             hasher.update(text.as_bytes());
             hasher.update(b"\0");
         }
+        // Not in the cache key (the manifest's format check retires old
+        // entries instead), so added here.
+        hasher.update(format!("store format {MANIFEST_FORMAT}").as_bytes());
         Entry {
             kind: record["kind"].as_str().unwrap().to_owned(),
             version: record["version"].as_u64().unwrap(),
@@ -107,7 +115,7 @@ fn judge(stage: &str, now: &Entry, then: Option<&Entry>) -> Result<Option<String
                 now.kind, now.version, then.version
             )
         } else {
-            "its parameters, input files or upstream stages changed".to_owned()
+            "its parameters, input files, upstream stages or the store format changed".to_owned()
         };
         return Ok(Some(format!("stage `{stage}`: {why}")));
     }

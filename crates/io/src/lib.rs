@@ -1,16 +1,24 @@
 //! The I/O edge: the only crate that touches polars.
 //!
-//! Tables go to and from Parquet; the [`RunnerReader`] gives loader stages
-//! Parquet as well as the CSV and `.npy` that hypercontact-labfiles reads.
+//! Tables go to and from Parquet, a declared table with its columns' units
+//! and descriptions ([`columns_meta`]); the [`RunnerReader`] gives loader
+//! stages Parquet as well as the CSV and `.npy` that hypercontact-labfiles
+//! reads.
+
+pub mod columns_meta;
 
 use std::io::{Read, Seek, Write};
 use std::path::Path;
 
 use hypercontact_core::context::extension;
 use hypercontact_core::regular_file::check_regular_file;
-use hypercontact_core::{ColumnData, Field, ProductReader, RowLines, StageError, Table};
+use hypercontact_core::{
+    ColumnData, ColumnSpec, Field, ProductReader, RowLines, StageError, Table,
+};
 use hypercontact_labfiles::LabReader;
 use polars::prelude::*;
+
+pub use columns_meta::{COLUMNS_KEY, ColumnMeta};
 
 #[derive(Debug, thiserror::Error)]
 pub enum IoError {
@@ -22,6 +30,11 @@ pub enum IoError {
     Unsupported { name: String, dtype: String },
     #[error("table: {0}")]
     Table(hypercontact_core::TableError),
+    #[error("file metadata `{key}` is not the columns' JSON array: {cause}")]
+    ColumnsMeta {
+        key: &'static str,
+        cause: serde_json::Error,
+    },
 }
 
 impl From<PolarsError> for IoError {
@@ -55,11 +68,54 @@ fn to_frame(table: &Table) -> Result<DataFrame, IoError> {
 
 /// Writes a table as Parquet (zstd, with statistics).
 pub fn write_parquet<W: Write>(table: &Table, writer: W) -> Result<(), IoError> {
+    write_parquet_described(table, &[], writer)
+}
+
+/// Writes a table as Parquet with the unit and description of each of its
+/// columns that `columns` declares, under the file key [`COLUMNS_KEY`].
+/// A table none of whose columns is declared gets no key: the same bytes
+/// as [`write_parquet`].
+pub fn write_parquet_described<W: Write>(
+    table: &Table,
+    columns: &[ColumnSpec],
+    writer: W,
+) -> Result<(), IoError> {
     let mut frame = to_frame(table)?;
+    let described = columns_meta::described_columns(table, columns);
+    let key_value = (!described.is_empty()).then(|| {
+        KeyValueMetadata::from_static(vec![(
+            COLUMNS_KEY.to_owned(),
+            columns_meta::encode(&described),
+        )])
+    });
     ParquetWriter::new(writer)
         .with_compression(ParquetCompression::Zstd(None))
+        .with_key_value_metadata(key_value)
         .finish(&mut frame)?;
     Ok(())
+}
+
+/// The units and descriptions a Parquet file carries under [`COLUMNS_KEY`],
+/// in column order; empty for a file written without a declaration.
+pub fn parquet_columns_meta<R>(reader: R) -> Result<Vec<ColumnMeta>, IoError>
+where
+    R: Read + Seek + Send + Sync + 'static + polars::io::mmap::MmapBytesReader,
+{
+    let mut parquet = ParquetReader::new(reader);
+    let metadata = parquet.get_metadata()?;
+    let Some(value) = metadata
+        .key_value_metadata
+        .iter()
+        .flatten()
+        .find(|kv| kv.key == COLUMNS_KEY)
+        .and_then(|kv| kv.value.as_deref())
+    else {
+        return Ok(Vec::new());
+    };
+    columns_meta::decode(value).map_err(|cause| IoError::ColumnsMeta {
+        key: COLUMNS_KEY,
+        cause,
+    })
 }
 
 /// Reads a Parquet file into a table. Integer columns become `i64`, float
@@ -155,6 +211,61 @@ mod tests {
         assert_eq!(back.str("mode").unwrap(), ["UT", "BT"]);
         assert!(back.f64("stretch").unwrap()[1].is_nan());
         assert_eq!(back.i64("frame").unwrap(), &[3, 4]);
+    }
+
+    /// A declared table comes back with its values and, from the file
+    /// metadata, its declaration; one without a declaration (or with one
+    /// naming none of its columns) has no key and the bytes `write_parquet`
+    /// always wrote. pyarrow reads the key too (checked once by hand, see
+    /// `assert_exported_tables_carry_their_units` in tests/cli.rs).
+    #[test]
+    fn declared_units_and_docs_come_back_from_the_file() {
+        let declared = [
+            ColumnSpec::f64("load_n", "N", "total normal load"),
+            ColumnSpec::f64("area_fraction", "", "true over nominal area"),
+            ColumnSpec::str("mode", "loading mode"),
+        ];
+        let t = Table::new()
+            .with("mode", vec!["UT", "BT"])
+            .with("load_n", vec![1.0, 2.5])
+            .with("study.value", vec![3_i64, 4])
+            .with("area_fraction", vec![0.25, 0.5]);
+        let mut bytes = Vec::new();
+        write_parquet_described(&t, &declared, &mut bytes).unwrap();
+        let back = read_parquet(Cursor::new(bytes.clone())).unwrap();
+        assert_eq!(back.column_names(), t.column_names());
+        assert_eq!(back.str("mode").unwrap(), ["UT", "BT"]);
+        assert_eq!(back.f64("load_n").unwrap(), &[1.0, 2.5]);
+        assert_eq!(back.i64("study.value").unwrap(), &[3, 4]);
+        assert_eq!(back.f64("area_fraction").unwrap(), &[0.25, 0.5]);
+        let meta = parquet_columns_meta(Cursor::new(bytes.clone())).unwrap();
+        let expected: Vec<ColumnMeta> = [&declared[2], &declared[0], &declared[1]]
+            .into_iter()
+            .map(ColumnMeta::from)
+            .collect();
+        assert_eq!(meta, expected);
+        assert_eq!(meta[1].unit, "N");
+
+        let mut again = Vec::new();
+        write_parquet_described(&t, &declared, &mut again).unwrap();
+        assert_eq!(again, bytes, "the same declaration gives the same bytes");
+
+        let mut plain = Vec::new();
+        write_parquet(&t, &mut plain).unwrap();
+        assert_ne!(plain, bytes);
+        assert_eq!(
+            parquet_columns_meta(Cursor::new(plain.clone())).unwrap(),
+            []
+        );
+        assert_eq!(read_parquet(Cursor::new(plain.clone())).unwrap(), back);
+        let unrelated = [ColumnSpec::f64("gap_m", "m", "not a column of t")];
+        for columns in [&[][..], &unrelated[..]] {
+            let mut undeclared = Vec::new();
+            write_parquet_described(&t, columns, &mut undeclared).unwrap();
+            assert_eq!(undeclared, plain);
+        }
+        let text = String::from_utf8_lossy(&plain);
+        assert!(!text.contains(COLUMNS_KEY));
     }
 
     #[test]

@@ -60,7 +60,10 @@ pub struct Manifest {
     pub producer: Option<String>,
 }
 
-pub const MANIFEST_FORMAT: u32 = 1;
+/// The layout of an entry. 2: tables carry their columns' units and
+/// descriptions in the Parquet file (issue #34); an entry of format 1 has
+/// tables without them, so it is recomputed rather than served.
+pub const MANIFEST_FORMAT: u32 = 2;
 
 /// The state of an entry on disk.
 #[derive(Debug)]

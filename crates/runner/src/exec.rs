@@ -625,8 +625,17 @@ fn obtain_entry(
             cause: Box::new(source),
         })?;
     let compute_s = t_compute.elapsed().as_secs_f64();
-    check_contract(planned, decl.stage.info(), &outputs)?;
-    let manifest = write_entry(cache, planned, &outputs, compute_s, ctx.notes(), after_file)?;
+    let info = decl.stage.info();
+    check_contract(planned, info, &outputs)?;
+    let manifest = write_entry(
+        cache,
+        planned,
+        info,
+        &outputs,
+        compute_s,
+        ctx.notes(),
+        after_file,
+    )?;
     Ok(Obtained {
         manifest,
         use_: if forced {
@@ -860,9 +869,12 @@ fn check_contract(
     Ok(())
 }
 
+/// Writes the entry of a computed stage; each output carries the columns
+/// its `info` declares (their units travel in the Parquet files).
 fn write_entry(
     cache: &Cache,
     planned: &PlannedStage,
+    info: &hypercontact_core::StageInfo,
     outputs: &Outputs,
     compute_s: f64,
     notes: Vec<String>,
@@ -872,7 +884,9 @@ fn write_entry(
     let staging = cache.staging_dir(&planned.key).map_err(&cache_err)?;
     let mut records: BTreeMap<String, OutputRecord> = BTreeMap::new();
     for (name, product) in outputs.iter() {
-        let record = store::write_product(&staging, name, product, after_file)?;
+        // check_contract refused an undeclared output before this.
+        let columns = info.output(name).map_or(&[][..], |spec| spec.columns);
+        let record = store::write_product(&staging, name, product, columns, after_file)?;
         records.insert(name.to_owned(), record);
     }
     let manifest = Manifest {

@@ -6,7 +6,7 @@ use std::fs;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use hypercontact_core::{Field, Files, Product, ProductKind};
+use hypercontact_core::{ColumnSpec, Field, Files, Product, ProductKind};
 use serde::{Deserialize, Serialize};
 
 /// A file of a stored product with its checksum.
@@ -81,11 +81,14 @@ fn write_file(
 }
 
 /// Writes one product into `dir`; `after_file` is called after each file
-/// (tests use it to simulate a crash mid-write).
+/// (tests use it to simulate a crash mid-write). `columns` is the output's
+/// declaration (`OutputSpec::columns`): a table, or the index of files,
+/// carries each declared column's unit and description in its Parquet file.
 pub fn write_product(
     dir: &Path,
     name: &str,
     product: &Product,
+    columns: &[ColumnSpec],
     after_file: &mut dyn FnMut(&Path),
 ) -> Result<OutputRecord, StoreError> {
     let mut files = BTreeMap::new();
@@ -98,7 +101,7 @@ pub fn write_product(
     };
     match product {
         Product::Table(table) => put(format!("{name}.parquet"), &mut |w| {
-            hypercontact_io::write_parquet(table, w).map_err(|e| e.to_string())
+            hypercontact_io::write_parquet_described(table, columns, w).map_err(|e| e.to_string())
         })?,
         Product::Field(field) => {
             put(format!("{name}.npy"), &mut |w| {
@@ -122,7 +125,8 @@ pub fn write_product(
             }
             if let Some(index) = &set.index {
                 put(index_name(name), &mut |w| {
-                    hypercontact_io::write_parquet(index, w).map_err(|e| e.to_string())
+                    hypercontact_io::write_parquet_described(index, columns, w)
+                        .map_err(|e| e.to_string())
                 })?;
             }
         }
@@ -254,6 +258,11 @@ mod tests {
         text
     }
 
+    const INDEX_COLUMNS: [ColumnSpec; 2] = [
+        ColumnSpec::str("file", "which file"),
+        ColumnSpec::f64("area_fraction", "", "contact area over nominal area"),
+    ];
+
     #[test]
     fn files_come_back_with_their_index_stored_as_a_table_beside_them() {
         let t = tempfile::tempdir().unwrap();
@@ -270,7 +279,8 @@ mod tests {
                 ..files
             }),
         ] {
-            let record = write_product(t.path(), "maps", &product, &mut |_| {}).unwrap();
+            let record =
+                write_product(t.path(), "maps", &product, &INDEX_COLUMNS, &mut |_| {}).unwrap();
             let names: Vec<&str> = record.files.keys().map(String::as_str).collect();
             let Product::Files(set) = &product else {
                 unreachable!()
@@ -287,6 +297,15 @@ mod tests {
             };
             assert_eq!(a.files, b.files);
             assert_eq!(a.index.is_some(), b.index.is_some());
+            if set.index.is_some() {
+                let file = fs::File::open(t.path().join("maps.parquet")).unwrap();
+                let meta = hypercontact_io::parquet_columns_meta(file).unwrap();
+                let expected: Vec<_> = INDEX_COLUMNS
+                    .iter()
+                    .map(hypercontact_io::ColumnMeta::from)
+                    .collect();
+                assert_eq!(meta, expected, "the index carries its declaration");
+            }
             if let (Some(x), Some(y)) = (&a.index, &b.index) {
                 assert_eq!(x.str("file").unwrap(), y.str("file").unwrap());
                 assert_eq!(x.f64("area_fraction").unwrap()[0], 0.1);

@@ -116,8 +116,13 @@ pub fn run_study(pipeline: &Pipeline, options: &RunOptions) -> Result<StudyRepor
             })?;
         }
         let path = options.out_dir.join(format!("{stage}.{output}.parquet"));
+        // The varied parameters' columns are not declared: they go unlisted.
+        let columns = pipeline
+            .stage(stage)
+            .and_then(|decl| decl.stage.info().output(output))
+            .map_or(&[][..], |spec| spec.columns);
         let mut bytes = Vec::new();
-        hypercontact_io::write_parquet(&gathered, &mut bytes).map_err(|e| {
+        hypercontact_io::write_parquet_described(&gathered, columns, &mut bytes).map_err(|e| {
             PipelineError::new(&pipeline.file, format!("study.collect `{target}`: {e}"))
         })?;
         crate::write_atomic(&path, &bytes).map_err(|cause| RunError::Output {

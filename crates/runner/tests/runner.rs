@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
 use common::{BASIC, SCALE_RUNS, registry, write};
-use hypercontact_runner::cache::{Cache, EntryState};
+use hypercontact_runner::cache::{Cache, EntryState, MANIFEST_FORMAT};
 use hypercontact_runner::plan::{Plan, PlanOptions, Reason};
 use hypercontact_runner::provenance::CacheUse;
 use hypercontact_runner::{Pipeline, RunOptions, run};
@@ -233,6 +233,40 @@ fn a_corrupt_entry_is_detected_and_recomputed() {
     assert_eq!(report.provenance.stages["double"].cache, CacheUse::Miss);
     let cache = Cache::open(&o.cache_dir).unwrap();
     assert!(matches!(cache.check(key), EntryState::Valid(_)));
+}
+
+/// An entry of the format before tables carried their units (1) is not
+/// served: the stage is computed again and its table now has its units.
+#[test]
+fn an_entry_of_an_older_format_is_recomputed_with_units() {
+    let t = tempfile::tempdir().unwrap();
+    let p = load(t.path(), "p.yaml", BASIC);
+    let o = options(t.path());
+    run(&p, &o).unwrap();
+    let key = &keys(&p, t.path())[1];
+    let entry = o.cache_dir.join("entries").join(key);
+    let manifest_path = entry.join("manifest.json");
+    let mut manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&manifest_path).unwrap()).unwrap();
+    assert_eq!(manifest["format"], MANIFEST_FORMAT);
+    manifest["format"] = (MANIFEST_FORMAT - 1).into();
+    let mut perms = std::fs::metadata(&manifest_path).unwrap().permissions();
+    #[allow(clippy::permissions_set_readonly_false)]
+    perms.set_readonly(false);
+    std::fs::set_permissions(&manifest_path, perms).unwrap();
+    std::fs::write(&manifest_path, manifest.to_string()).unwrap();
+
+    let report = run(&p, &o).unwrap();
+    assert_eq!(report.provenance.stages["double"].cache, CacheUse::Miss);
+    assert_eq!(report.provenance.stages["src"].cache, CacheUse::Hit);
+    let cache = Cache::open(&o.cache_dir).unwrap();
+    assert!(matches!(cache.check(key), EntryState::Valid(_)));
+    let file = std::fs::File::open(entry.join("t.parquet")).unwrap();
+    let meta = hypercontact_io::parquet_columns_meta(file).unwrap();
+    assert_eq!(
+        (meta.len(), meta[0].name.as_str(), meta[0].unit.as_str()),
+        (1, "x", "m")
+    );
 }
 
 #[test]
