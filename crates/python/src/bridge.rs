@@ -71,14 +71,57 @@ pub fn stage<'a>(registry: &'a Registry, kind: &str) -> Result<&'a Arc<dyn DynSt
     })
 }
 
-/// A table as Parquet bytes (the runner's own writer: zstd, statistics).
-pub fn table_to_parquet(name: &str, table: &Table) -> Result<Vec<u8>, BridgeError> {
+/// A table as Parquet bytes, written as the runner stores it: its
+/// declared columns' units and descriptions in the file (zstd, statistics).
+pub fn table_to_parquet(
+    name: &str,
+    table: &Table,
+    columns: &[ColumnSpec],
+) -> Result<Vec<u8>, BridgeError> {
     let mut bytes = Vec::new();
-    hypercontact_io::write_parquet(table, &mut bytes).map_err(|source| BridgeError::Table {
-        name: name.to_owned(),
-        source,
+    hypercontact_io::write_parquet_described(table, columns, &mut bytes).map_err(|source| {
+        BridgeError::Table {
+            name: name.to_owned(),
+            source,
+        }
     })?;
     Ok(bytes)
+}
+
+/// An output as it crosses to another language: tables as the runner's
+/// Parquet bytes, fields as they are, files with their index's bytes.
+pub enum Crossing {
+    Table(Vec<u8>),
+    Field(hypercontact_core::Field),
+    Files(std::collections::BTreeMap<String, Vec<u8>>, Option<Vec<u8>>),
+}
+
+/// Every output of `kind` ready to cross, in output-name order; each table
+/// carries the columns its output declares, so its bytes are the file the
+/// CLI exports.
+pub fn encode_outputs(
+    stage: &dyn DynStage,
+    outputs: Outputs,
+) -> Result<Vec<(String, Crossing)>, BridgeError> {
+    let info = stage.info();
+    let mut crossing = Vec::new();
+    for (name, product) in outputs.into_inner() {
+        let columns = info.output(&name).map(|o| o.columns).unwrap_or(&[]);
+        let encoded = match product {
+            Product::Table(table) => Crossing::Table(table_to_parquet(&name, &table, columns)?),
+            Product::Field(field) => Crossing::Field(field),
+            Product::Files(files) => {
+                let index = files
+                    .index
+                    .as_ref()
+                    .map(|table| table_to_parquet(&name, table, columns))
+                    .transpose()?;
+                Crossing::Files(files.files, index)
+            }
+        };
+        crossing.push((name, encoded));
+    }
+    Ok(crossing)
 }
 
 /// A table from Parquet bytes, read as the runner reads its cache.

@@ -16,7 +16,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict, PyTuple};
 
-use crate::bridge::{self, BridgeError, Show, StageRun};
+use crate::bridge::{self, BridgeError, Crossing, Show};
 use crate::lines::Writer;
 use crate::runs::{self, RunRequest};
 
@@ -99,32 +99,20 @@ fn product_from_python(name: &str, item: &Bound<'_, PyAny>) -> PyResult<Product>
     }
 }
 
-fn product_to_python<'py>(
-    py: Python<'py>,
-    name: &str,
-    product: Product,
-) -> PyResult<Bound<'py, PyAny>> {
-    let tuple = match product {
-        Product::Table(table) => {
-            let bytes = bridge::table_to_parquet(name, &table).map_err(value_error)?;
-            ("table", PyBytes::new(py, &bytes)).into_pyobject(py)?
-        }
-        Product::Field(field) => {
+fn crossing_to_python<'py>(py: Python<'py>, crossing: Crossing) -> PyResult<Bound<'py, PyAny>> {
+    let tuple = match crossing {
+        Crossing::Table(bytes) => ("table", PyBytes::new(py, &bytes)).into_pyobject(py)?,
+        Crossing::Field(field) => {
+            // The array moves to numpy without a copy.
             let heights = PyArray2::from_owned_array(py, field.values);
             ("field", heights, field.dx_m, field.dy_m).into_pyobject(py)?
         }
-        Product::Files(files) => {
+        Crossing::Files(files, index) => {
             let dict = PyDict::new(py);
-            for (file, bytes) in &files.files {
+            for (file, bytes) in &files {
                 dict.set_item(file, PyBytes::new(py, bytes))?;
             }
-            let index = match &files.index {
-                Some(table) => Some(PyBytes::new(
-                    py,
-                    &bridge::table_to_parquet(name, table).map_err(value_error)?,
-                )),
-                None => None,
-            };
+            let index = index.map(|bytes| PyBytes::new(py, &bytes));
             ("files", dict, index).into_pyobject(py)?
         }
     };
@@ -157,14 +145,20 @@ fn run_stage<'py>(
         None => std::env::current_dir().map_err(value_error)?,
     };
     let show = show(progress)?;
-    let run: Result<StageRun, BridgeError> =
-        py.detach(|| bridge::run_stage(registry(), kind, &products, params_json, &dir, show));
-    let run = run.map_err(value_error)?;
+    let crossed: Result<_, BridgeError> = py.detach(|| {
+        let run = bridge::run_stage(registry(), kind, &products, params_json, &dir, show)?;
+        let stage = bridge::stage(registry(), kind)?;
+        Ok((
+            bridge::encode_outputs(stage.as_ref(), run.outputs)?,
+            run.notes,
+        ))
+    });
+    let (outputs, notes) = crossed.map_err(value_error)?;
     let dict = PyDict::new(py);
-    for (name, product) in run.outputs.into_inner() {
-        dict.set_item(&name, product_to_python(py, &name, product)?)?;
+    for (name, crossing) in outputs {
+        dict.set_item(&name, crossing_to_python(py, crossing)?)?;
     }
-    Ok((dict, run.notes))
+    Ok((dict, notes))
 }
 
 /// `progress` as Python gives it: None or False for nothing, True for the

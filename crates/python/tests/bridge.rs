@@ -86,7 +86,14 @@ fn parquet_crossing_keeps_every_bit() {
     let Product::Table(table) = material() else {
         panic!("material-preset's material is a table")
     };
-    let bytes = bridge::table_to_parquet("material", &table).unwrap();
+    let registry = hypercontact::registry();
+    let preset = registry.get("material-preset").unwrap();
+    let columns = preset.info().output("material").unwrap().columns;
+    let bytes = bridge::table_to_parquet("material", &table, columns).unwrap();
+    // The units travel: the declaration comes back from the bytes.
+    let meta = hypercontact_io::parquet_columns_meta(std::io::Cursor::new(bytes.clone())).unwrap();
+    let names: Vec<&str> = meta.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["model", "param", "value"]);
     assert_eq!(
         bridge::table_from_parquet("material", bytes).unwrap(),
         table

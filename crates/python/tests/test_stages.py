@@ -165,3 +165,14 @@ def test_a_stage_warning_is_a_python_warning_at_the_callers_line():
     messages = [str(w.message) for w in caught]
     assert any(m.startswith("surface: the PSD along x is a poor power law") for m in messages), messages
     assert all(w.category is UserWarning and w.filename == __file__ for w in caught)
+
+
+def test_tables_carry_their_declared_units_and_docs(tmp_path):
+    out = stages.bem(surface=Field(surface_m(), 1e-6), material=stages.material_preset(), **BEM_PARAMS)
+    response = out["response"]
+    assert response.units["load_n"] == "N"
+    assert response.units["z_m"] == "m"
+    assert response.docs["load_n"]
+    # As the Parquet file holds them: polars reads the same key.
+    response.write_parquet(tmp_path / "copy.parquet")  # a copy made in Python has none
+    assert hypercontact.read_table(tmp_path / "copy.parquet").units == {}
