@@ -16,13 +16,8 @@ pub fn prepare(args: &RunArgs, registry: &Registry) -> Result<(Pipeline, RunOpti
         bail!("--detach returns while Slurm jobs run: give it with `--executor slurm`");
     }
     let pipeline = load_with_sets(&args.pipeline, &args.set, registry)?;
-    let mut options = RunOptions::for_pipeline(&pipeline);
-    if let Some(out) = &args.out {
-        options.out_dir = out.clone();
-    }
-    if let Some(cache) = &args.cache {
-        options.cache_dir = cache.clone();
-    }
+    let mut options =
+        RunOptions::for_pipeline_in(&pipeline, args.out.as_deref(), args.cache.as_deref());
     options.dry_run = args.dry_run;
     options.quiet = args.quiet;
     options.overrides = args.set.clone();
@@ -31,9 +26,5 @@ pub fn prepare(args: &RunArgs, registry: &Registry) -> Result<(Pipeline, RunOpti
 
 /// A pipeline file with `STAGE.PARAM=VALUE` assignments applied in order.
 pub fn load_with_sets(file: &Path, sets: &[String], registry: &Registry) -> Result<Pipeline> {
-    let mut pipeline = Pipeline::load(file, registry)?;
-    for assignment in sets {
-        pipeline.set(assignment)?;
-    }
-    Ok(pipeline)
+    Ok(Pipeline::load_with_sets(file, sets, registry)?)
 }

@@ -271,12 +271,3 @@ pub fn run_stage(
         notes: ctx.notes(),
     })
 }
-
-/// A field as the runner stores and exports it: `.npy` values beside the
-/// `.grid.json` spacing.
-pub fn read_field(npy: &Path, grid: &Path) -> Result<hypercontact_core::Field, String> {
-    let grid_bytes = std::fs::read(grid).map_err(|e| format!("{}: {e}", grid.display()))?;
-    let file = std::fs::File::open(npy).map_err(|e| format!("{}: {e}", npy.display()))?;
-    hypercontact_core::Field::read_with_grid(std::io::BufReader::new(file), &grid_bytes)
-        .map_err(|e| format!("{}: {e}", npy.display()))
-}

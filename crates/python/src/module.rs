@@ -56,6 +56,13 @@ fn describe(kind: &str) -> PyResult<String> {
     Ok(hypercontact::describe_json(stage.as_ref()).to_string())
 }
 
+/// The Python name of a kind in `hypercontact.stages` (hyphens as
+/// underscores), as the type stub names it.
+#[pyfunction]
+fn attribute(kind: &str) -> String {
+    crate::stubs::attribute(kind)
+}
+
 /// The docstring of `hypercontact.stages.<kind>`, from its declaration.
 #[pyfunction]
 fn docstring(kind: &str) -> PyResult<String> {
@@ -274,7 +281,7 @@ fn read_field<'py>(
     npy: PathBuf,
     grid: PathBuf,
 ) -> PyResult<(Bound<'py, PyArray2<f64>>, f64, f64)> {
-    let field = bridge::read_field(&npy, &grid).map_err(value_error)?;
+    let field = hypercontact_runner::store::read_field(&npy, &grid).map_err(value_error)?;
     Ok((
         PyArray2::from_owned_array(py, field.values),
         field.dx_m,
@@ -287,6 +294,7 @@ fn _hypercontact(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(kinds, m)?)?;
     m.add_function(wrap_pyfunction!(describe, m)?)?;
     m.add_function(wrap_pyfunction!(docstring, m)?)?;
+    m.add_function(wrap_pyfunction!(attribute, m)?)?;
     m.add_function(wrap_pyfunction!(run_stage, m)?)?;
     m.add_function(wrap_pyfunction!(run_pipeline, m)?)?;
     m.add_function(wrap_pyfunction!(run_study, m)?)?;

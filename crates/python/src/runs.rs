@@ -62,17 +62,10 @@ fn chain(error: &dyn std::error::Error) -> String {
 }
 
 fn prepare(registry: &Registry, request: &RunRequest) -> Result<(Pipeline, RunOptions), String> {
-    let mut pipeline = Pipeline::load(&request.pipeline, registry).map_err(|e| chain(&e))?;
-    for assignment in &request.sets {
-        pipeline.set(assignment).map_err(|e| chain(&e))?;
-    }
-    let mut options = RunOptions::for_pipeline(&pipeline);
-    if let Some(out) = &request.out {
-        options.out_dir = out.clone();
-    }
-    if let Some(cache) = &request.cache {
-        options.cache_dir = cache.clone();
-    }
+    let pipeline = Pipeline::load_with_sets(&request.pipeline, &request.sets, registry)
+        .map_err(|e| chain(&e))?;
+    let mut options =
+        RunOptions::for_pipeline_in(&pipeline, request.out.as_deref(), request.cache.as_deref());
     options.quiet = !request.progress;
     options.overrides = request.sets.clone();
     Ok((pipeline, options))

@@ -52,6 +52,22 @@ impl RunOptions {
         )
     }
 
+    /// The pipeline's defaults where `--out` and `--cache` are not given.
+    pub fn for_pipeline_in(
+        pipeline: &Pipeline,
+        out_dir: Option<&Path>,
+        cache_dir: Option<&Path>,
+    ) -> Self {
+        let mut options = Self::for_pipeline(pipeline);
+        if let Some(out) = out_dir {
+            options.out_dir = out.to_owned();
+        }
+        if let Some(cache) = cache_dir {
+            options.cache_dir = cache.to_owned();
+        }
+        options
+    }
+
     /// Defaults with the outputs in `out_dir` and the cache in `cache_dir`.
     pub fn in_folders(out_dir: PathBuf, cache_dir: PathBuf) -> Self {
         Self {

@@ -208,6 +208,20 @@ impl Pipeline {
         Self::parse(file, &source, registry)
     }
 
+    /// A pipeline file with `STAGE.PARAM=VALUE` assignments (`--set`)
+    /// applied in order: what `hypercontact run` and the Python package run.
+    pub fn load_with_sets(
+        file: &Path,
+        sets: &[String],
+        registry: &Registry,
+    ) -> Result<Self, PipelineError> {
+        let mut pipeline = Self::load(file, registry)?;
+        for assignment in sets {
+            pipeline.set(assignment)?;
+        }
+        Ok(pipeline)
+    }
+
     /// Parses pipeline text; `file` names it in errors and anchors paths.
     pub fn parse(file: &Path, source: &str, registry: &Registry) -> Result<Self, PipelineError> {
         let doc = parse_document(file, source)?;

@@ -143,20 +143,10 @@ pub fn read_product(dir: &Path, name: &str, record: &OutputRecord) -> Result<Pro
         ProductKind::Table => Ok(Product::Table(read_table(
             &dir.join(format!("{name}.parquet")),
         )?)),
-        ProductKind::Field => {
-            let npy = dir.join(format!("{name}.npy"));
-            let grid = dir.join(format!("{name}.grid.json"));
-            let grid_bytes = fs::read(&grid).map_err(io_err(&grid))?;
-            let file = fs::File::open(&npy).map_err(io_err(&npy))?;
-            let field =
-                Field::read_with_grid(io::BufReader::new(file), &grid_bytes).map_err(|e| {
-                    StoreError::Format {
-                        path: npy.clone(),
-                        message: e.to_string(),
-                    }
-                })?;
-            Ok(Product::Field(field))
-        }
+        ProductKind::Field => Ok(Product::Field(read_field(
+            &dir.join(format!("{name}.npy")),
+            &dir.join(format!("{name}.grid.json")),
+        )?)),
         ProductKind::Files => {
             let mut set = Files::new();
             let prefix = format!("{name}/");
@@ -174,6 +164,16 @@ pub fn read_product(dir: &Path, name: &str, record: &OutputRecord) -> Result<Pro
             Ok(Product::Files(set))
         }
     }
+}
+
+/// A field as stored and exported: `.npy` values beside their `.grid.json`.
+pub fn read_field(npy: &Path, grid: &Path) -> Result<Field, StoreError> {
+    let grid_bytes = fs::read(grid).map_err(io_err(grid))?;
+    let file = fs::File::open(npy).map_err(io_err(npy))?;
+    Field::read_with_grid(io::BufReader::new(file), &grid_bytes).map_err(|e| StoreError::Format {
+        path: npy.to_owned(),
+        message: e.to_string(),
+    })
 }
 
 /// Where the index of files output `name` is stored (and exported, beside

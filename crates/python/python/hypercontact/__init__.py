@@ -26,7 +26,6 @@ from __future__ import annotations
 import inspect
 import io
 import json
-import keyword
 import os
 import sys
 import tempfile
@@ -588,8 +587,7 @@ def study(
 
 
 def _attribute(kind: str) -> str:
-    name = kind.replace("-", "_")
-    return name + "_" if keyword.iskeyword(name) else name
+    return _hypercontact.attribute(kind)
 
 
 def _signature(decl: Dict[str, Any]) -> inspect.Signature:
