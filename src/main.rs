@@ -19,22 +19,9 @@ fn main() -> ExitCode {
     }
 }
 
-/// The error and its causes on one line, each said once: a cause whose
-/// text the line already holds (a wrapper that quotes its source and also
-/// returns it as `source()`) is left out, so no message prints twice.
+/// The error and its causes on one line, each said once.
 fn error_text(e: &anyhow::Error) -> String {
-    let mut text = String::new();
-    for cause in e.chain() {
-        let said = cause.to_string();
-        if text.contains(&said) {
-            continue;
-        }
-        if !text.is_empty() {
-            text.push_str(": ");
-        }
-        text.push_str(&said);
-    }
-    text
+    hypercontact_runner::error::said_once(e.chain())
 }
 
 #[cfg(test)]

@@ -106,6 +106,63 @@ fn run_twice_then_everything_is_cached_and_identical() {
     assert!(t.path().join(".hypercontact/cache/entries").is_dir());
 }
 
+/// Where a run's time went: `run --timings` and `timings RUN_DIR` print the
+/// same table, every stage of the record once, totals per kind, the run.
+#[test]
+fn timings_list_every_stage_with_kind_totals_and_peak_memory() {
+    let t = tempfile::tempdir().unwrap();
+    let out = run(t.path(), &["--timings"]);
+    assert!(out.status.success(), "{}", text(&out));
+    let printed = String::from_utf8(out.stdout.clone()).unwrap();
+    let table = &printed[printed.find("stage ").expect("the table's header")..];
+    let prov: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(t.path().join("out/provenance.json")).unwrap())
+            .unwrap();
+    let stages = prov["stages"].as_object().unwrap();
+    for (name, record) in stages {
+        let line = table
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(name.as_str()))
+            .unwrap_or_else(|| panic!("{name} missing from {table}"));
+        let seconds: f64 = line.split_whitespace().nth(3).unwrap().parse().unwrap();
+        let recorded = record["wall_s"].as_f64().unwrap();
+        assert!(
+            (seconds - recorded).abs() <= 0.005,
+            "{line} against {recorded}"
+        );
+    }
+    assert!(table.contains("\nby kind:\n  "), "{table}");
+    assert!(table.contains("  icm "), "{table}");
+    let peak_mb = prov["peak_rss_mb"].as_f64().expect("peak memory recorded");
+    assert!(peak_mb > 1.0 && peak_mb < 4096.0, "{peak_mb}");
+    assert!(
+        table.contains(&format!(
+            "{} stages: {} computed, 0 cached",
+            stages.len(),
+            stages.len()
+        )),
+        "{table}"
+    );
+    // The same table from the record alone.
+    let again = bin()
+        .arg("timings")
+        .arg(t.path().join("out"))
+        .output()
+        .unwrap();
+    assert!(again.status.success(), "{}", text(&again));
+    assert_eq!(
+        String::from_utf8(again.stdout).unwrap().trim_end(),
+        table.trim_end()
+    );
+    let missing = bin().arg("timings").arg(t.path()).output().unwrap();
+    assert!(!missing.status.success());
+    assert!(
+        text(&missing).contains("no provenance.json"),
+        "{}",
+        text(&missing)
+    );
+}
+
 #[test]
 fn dry_run_set_force_and_only() {
     let t = tempfile::tempdir().unwrap();

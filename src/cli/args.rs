@@ -76,6 +76,17 @@ pub enum Command {
         /// Run only this stage and the stages it needs.
         #[arg(long, value_name = "STAGE")]
         only: Option<String>,
+        /// After the run, where its time went: every stage longest first,
+        /// the totals per kind, the run's wall time and peak memory (as
+        /// `hypercontact timings` prints them).
+        #[arg(long)]
+        timings: bool,
+    },
+    /// Where a finished run's time went, from its provenance.json: every
+    /// stage longest first, totals per kind, wall time and peak memory.
+    Timings {
+        /// The run's output folder [e.g. runs/paper].
+        run_dir: PathBuf,
     },
     /// Run the pipeline's `study:` sweep and gather the chosen tables.
     Study {

@@ -22,7 +22,13 @@ pub fn dispatch(cli: Cli) -> Result<()> {
     hypercontact_runner::producer::set_running(env!("HYPERCONTACT_BUILD"));
     let registry = hypercontact::registry();
     match cli.command {
-        Command::Run { args, force, only } => run::run(&args, force, only, &registry),
+        Command::Run {
+            args,
+            force,
+            only,
+            timings,
+        } => run::run(&args, force, only, timings, &registry),
+        Command::Timings { run_dir } => run::timings(&run_dir),
         Command::Study { args } => study::study(&args, &registry),
         Command::Stages { kind, json } => crate::stages::print(&registry, kind.as_deref(), json),
         Command::Status { pipeline, out } => status::status(&pipeline, out, &registry),

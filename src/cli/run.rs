@@ -4,8 +4,9 @@
 use std::path::Path;
 use std::time::Instant;
 
-use anyhow::Result;
+use anyhow::{Result, bail};
 use hypercontact_core::Registry;
+use hypercontact_runner::provenance::Provenance;
 use hypercontact_runner::slurm::PipelineRun;
 use hypercontact_runner::{PlanOptions, RunReport};
 
@@ -18,6 +19,7 @@ pub fn run(
     args: &RunArgs,
     force: Vec<String>,
     only: Option<String>,
+    timings: bool,
     registry: &Registry,
 ) -> Result<()> {
     let started = Instant::now();
@@ -47,6 +49,23 @@ pub fn run(
     } else if !args.quiet {
         say_summary(&report, started, &options.out_dir);
     }
+    if timings && !args.dry_run {
+        say!("");
+        say_text(hypercontact_runner::timings::table(&report.provenance));
+    }
+    Ok(())
+}
+
+/// `hypercontact timings RUN_DIR`: the table of a finished run.
+pub fn timings(run_dir: &Path) -> Result<()> {
+    let record = run_dir.join("provenance.json");
+    let Some(provenance) = Provenance::read(&record)? else {
+        bail!(
+            "{}: no provenance.json this version reads: give a run's output folder (runs/<name>)",
+            record.display()
+        );
+    };
+    say_text(hypercontact_runner::timings::table(&provenance));
     Ok(())
 }
 

@@ -48,17 +48,7 @@ pub struct StudyOutcome {
 
 /// A failed run's message with every cause, as the CLI prints the chain.
 fn chain(error: &dyn std::error::Error) -> String {
-    let mut message = error.to_string();
-    let mut source = error.source();
-    while let Some(cause) = source {
-        let text = cause.to_string();
-        if !message.contains(&text) {
-            message.push_str(": ");
-            message.push_str(&text);
-        }
-        source = cause.source();
-    }
-    message
+    hypercontact_runner::error::said_once(hypercontact_runner::error::chain(error))
 }
 
 fn prepare(registry: &Registry, request: &RunRequest) -> Result<(Pipeline, RunOptions), String> {

@@ -62,3 +62,31 @@ impl PipelineError {
         self
     }
 }
+
+/// An error and its causes on one line, each text said once: a cause whose
+/// text the line already holds (a wrapper that quotes its source and also
+/// returns it as `source()`) is left out. How the CLI and the Python
+/// package print a failed run.
+pub fn said_once<I, S>(causes: I) -> String
+where
+    I: IntoIterator<Item = S>,
+    S: fmt::Display,
+{
+    let mut text = String::new();
+    for cause in causes {
+        let said = cause.to_string();
+        if text.contains(&said) {
+            continue;
+        }
+        if !text.is_empty() {
+            text.push_str(": ");
+        }
+        text.push_str(&said);
+    }
+    text
+}
+
+/// The chain of a plain error (itself, then each `source()`).
+pub fn chain(error: &dyn std::error::Error) -> Vec<&dyn std::error::Error> {
+    std::iter::successors(Some(error), |e| e.source()).collect()
+}

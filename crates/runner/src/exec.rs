@@ -277,6 +277,7 @@ fn run_once(
     overall.finish_and_clear();
 
     provenance.wall_s = started.elapsed().as_secs_f64();
+    provenance.peak_rss_mb = crate::provenance::peak_rss_mb();
     if options.export {
         keep_earlier_records(&mut provenance, previous, pipeline);
         provenance
@@ -359,6 +360,7 @@ fn new_provenance(pipeline: &Pipeline, options: &RunOptions, started_unix_s: u64
         overrides: options.overrides.clone(),
         started_unix_s,
         wall_s: 0.0,
+        peak_rss_mb: None,
         stages: BTreeMap::new(),
     }
 }

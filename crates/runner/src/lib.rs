@@ -14,6 +14,7 @@ pub mod slurm;
 mod stage_params;
 pub mod store;
 pub mod study;
+pub mod timings;
 pub mod yaml;
 
 pub use exec::{RunError, RunOptions, RunReport, run};

@@ -82,6 +82,11 @@ pub struct Provenance {
     pub overrides: Vec<String>,
     pub started_unix_s: u64,
     pub wall_s: f64,
+    /// The running process's peak resident memory by the end of the run,
+    /// MB (Linux `VmHWM`); None where the system does not say, and in a
+    /// record written before.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub peak_rss_mb: Option<f64>,
     pub stages: BTreeMap<String, StageRecord>,
 }
 
@@ -122,6 +127,21 @@ impl Provenance {
         let bytes = serde_json::to_vec_pretty(self).map_err(std::io::Error::other)?;
         crate::write_atomic(path, &bytes)
     }
+}
+
+/// This process's peak resident set so far, MB: `VmHWM` of
+/// `/proc/self/status` (Linux); None where there is no such file.
+pub fn peak_rss_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line
+        .trim_start_matches("VmHWM:")
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
+    Some(kib / 1024.0)
 }
 
 #[cfg(test)]
