@@ -193,27 +193,6 @@ fn show(progress: Option<Bound<'_, PyAny>>) -> PyResult<Show> {
     })
 }
 
-/// The request of `run_pipeline` and `run_study`, from their arguments.
-fn request(
-    pipeline: PathBuf,
-    out: Option<PathBuf>,
-    cache: Option<PathBuf>,
-    sets: Vec<String>,
-    force: Vec<String>,
-    only: Option<String>,
-    progress: bool,
-) -> RunRequest {
-    RunRequest {
-        pipeline,
-        out,
-        cache,
-        sets,
-        force,
-        only,
-        progress,
-    }
-}
-
 /// Runs a pipeline file as `hypercontact run` does (`sets` are `--set`
 /// assignments, in order); returns (run folder, summary, computed, cached).
 /// The GIL is released while it runs; an error is a `ValueError` with the
@@ -231,7 +210,15 @@ fn run_pipeline(
     only: Option<String>,
     progress: bool,
 ) -> PyResult<(PathBuf, String, usize, usize)> {
-    let request = request(pipeline, out, cache, sets, force, only, progress);
+    let request = RunRequest {
+        pipeline,
+        out,
+        cache,
+        sets,
+        force,
+        only,
+        progress,
+    };
     let outcome = py
         .detach(|| runs::run_pipeline(registry(), &request))
         .map_err(PyValueError::new_err)?;
@@ -255,7 +242,14 @@ fn run_study(
     sets: Vec<String>,
     progress: bool,
 ) -> PyResult<(PathBuf, Vec<(String, PathBuf)>)> {
-    let request = request(pipeline, out, cache, sets, Vec::new(), None, progress);
+    let request = RunRequest {
+        pipeline,
+        out,
+        cache,
+        sets,
+        progress,
+        ..RunRequest::default()
+    };
     let outcome = py
         .detach(|| runs::run_study(registry(), &request))
         .map_err(PyValueError::new_err)?;
