@@ -10,6 +10,7 @@
 //!   workspace's FFT, `hypercontact_numeric::fft2`);
 //! - [`polonsky_keer`]: the constrained conjugate-gradient contact solver;
 //! - [`curve`]: the load steps from first contact to a top area fraction;
+//! - [`shared`]: one solve of a curve for the stages that ask for the same;
 //! - [`stage`]: the `bem` stage.
 //!
 //! Sums over a map run in the fixed order of `hypercontact_numeric::reduce`,
@@ -19,6 +20,7 @@ pub mod curve;
 pub mod fft2;
 pub mod influence;
 pub mod polonsky_keer;
+pub mod shared;
 pub mod stage;
 
 pub use curve::{CurveError, CurveOptions, Step, solve_curve};

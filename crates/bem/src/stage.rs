@@ -18,9 +18,10 @@ use hypercontact_icm::{CompositeModulus, LawParams, Scheme};
 use hypercontact_material::bootstrap::ReplicatesTable;
 use hypercontact_material::table::MaterialTable;
 
-use crate::curve::{CurveOptions, solve_curve};
+use crate::curve::CurveOptions;
 use crate::influence::{Boundary, Influence};
-use crate::polonsky_keer::{Problem, Solution, SolveError, SolverOptions};
+use crate::polonsky_keer::{Problem, SolveError, SolverOptions};
+use crate::shared::{CurveKey, solve_curve_shared};
 use crate::{BemError, CurveError};
 
 /// Parameters of `bem`.
@@ -97,8 +98,11 @@ static INFO: StageInfo = StageInfo {
           p^(q) / (E* |q|), mean of u zero. SOLVER: Polonsky & Keer's constrained conjugate \
           gradient (Wear 231, 1999) under rigid-plane approach control, with an FFT \
           preconditioner after Vollebregt (J. Comput. Phys. 257, 2014: the operator's inverse on \
-          a transform grid; for free maps the unpadded one, kernel wrapped), each solve warm-started from the previous two; a solve is \
-          accepted when the rms of the complementarity violation (gap on {p > 0}, negative gap \
+          a transform grid; for free maps the unpadded one, kernel wrapped), each solve warm-started from the previous two; a `bem` run after another on \
+          the same map with the same boundary, steps, max_area_fraction, tolerance and \
+          max_iterations in one process (the paper's linear and hyperelastic pair) replays that \
+          solve instead of repeating it, with the same bits (the contact set does not depend \
+          on the law); a solve is accepted when the rms of the complementarity violation (gap on {p > 0}, negative gap \
           elsewhere) divided by the approach is at most `tolerance` (at 1e-8 the contact set is \
           exact to the pixel and the load to ~1e-9); otherwise the stage fails naming the step, \
           the plane height, the load and the residual. Sums are in a fixed order, so results are \
@@ -210,7 +214,8 @@ impl Stage for Bem {
             .fold(f64::INFINITY, f64::min);
         let z_of = |approach_m: f64| problem.top_m() - approach_m - lowest_m;
 
-        let (rows, maps) = solve_steps(&problem, p, ctx).map_err(|e| {
+        let key = |options| CurveKey::new(grid, p.boundary, &heights_m, options);
+        let (rows, maps) = solve_steps(&problem, key, p, ctx).map_err(|e| {
             StageError::other(not_converged(e, &z_of, modulus.e0_star_pa() * a0_m2))
         })?;
         ctx.note(&format!(
@@ -260,9 +265,11 @@ impl Stage for Bem {
 }
 
 /// The curve from first contact to max_area_fraction, for E* = 1, with the
-/// maps nearest each of map_fractions.
+/// maps nearest each of map_fractions; the thread's last curve when it is
+/// the same one ([`crate::shared`]).
 fn solve_steps(
     problem: &Problem<'_>,
+    key: impl FnOnce(CurveOptions) -> CurveKey,
     p: &BemParams,
     ctx: &Context,
 ) -> Result<(Vec<crate::Step>, Vec<MapChoice>), CurveError> {
@@ -277,7 +284,7 @@ fn solve_steps(
     };
     let mut maps: Vec<Option<MapChoice>> = p.map_fractions.iter().map(|_| None).collect();
     let progress = ctx.progress(p.steps as u64, "load steps");
-    let mut keep = |k: usize, row: &crate::Step, solution: &Solution| {
+    let mut keep = |k: usize, row: &crate::Step, pressure: &[f64], gap_m: &[f64]| {
         progress.inc(1);
         for (slot, &requested) in maps.iter_mut().zip(&p.map_fractions) {
             let nearer = slot.as_ref().is_none_or(|m| {
@@ -288,13 +295,13 @@ fn solve_steps(
                     requested,
                     step: k,
                     area_fraction: row.area_fraction,
-                    pressure: solution.pressure.clone(),
-                    gap_m: solution.gap_m.clone(),
+                    pressure: pressure.to_vec(),
+                    gap_m: gap_m.to_vec(),
                 });
             }
         }
     };
-    let rows = solve_curve(problem, options, &mut keep)?;
+    let (rows, _) = solve_curve_shared(key(options), problem, &mut keep)?;
     drop(progress);
     Ok((rows, maps.into_iter().flatten().collect()))
 }

@@ -265,11 +265,13 @@ fn run_once(
         memory: Memory::for_plan(&plan),
         manifests: HashMap::new(),
         dropped: Vec::new(),
+        deferred: BTreeMap::new(),
     };
     for planned in &plan.stages {
         overall.set_message(planned.name.clone());
         if !matches!(planned.reason, Reason::NotSelected | Reason::TempNotNeeded) {
-            let record = run_stage(&scope, planned, &mut state, multi.as_ref(), after_file)?;
+            let record = run_stage(&scope, planned, &mut state, multi.as_ref(), after_file)
+                .inspect_err(|_| write_deferred(&scope, &mut state, after_file))?;
             provenance.stages.insert(planned.name.clone(), record);
         }
         overall.inc(1);
@@ -400,6 +402,21 @@ struct RunState {
     manifests: HashMap<String, Manifest>,
     /// Temporary stages whose entries this run has removed.
     dropped: Vec<String>,
+    /// Temporary stages computed but not written, by name (see
+    /// [`Deferred`]).
+    deferred: BTreeMap<String, Deferred>,
+}
+
+/// A temporary stage whose readers all run now in this process: its entry
+/// is not written (a paper-scale scan is 1.4 GB of tiles and truth per
+/// sample, written, hashed and removed again within a minute), its
+/// products stay in memory for the readers, and it is written only if the
+/// run stops with an error before they have their entries, so the next run
+/// finds it as it would have.
+struct Deferred {
+    products: BTreeMap<String, Arc<Product>>,
+    compute_s: f64,
+    notes: Vec<String>,
 }
 
 /// A product of a stage: (stage, output).
@@ -431,11 +448,11 @@ impl Memory {
     }
 
     /// Keeps the products a stage computed now that a later stage reads.
-    fn keep(&mut self, stage: &str, outputs: Option<Outputs>) {
-        for (name, product) in outputs.map(Outputs::into_inner).into_iter().flatten() {
-            let id = (stage.to_owned(), name);
+    fn keep(&mut self, stage: &str, outputs: &BTreeMap<String, Arc<Product>>) {
+        for (name, product) in outputs {
+            let id = (stage.to_owned(), name.clone());
             if self.readers.get(&id).is_some_and(|&n| n > 0) {
-                self.products.insert(id, Arc::new(product));
+                self.products.insert(id, product.clone());
             }
         }
     }
@@ -465,6 +482,7 @@ fn run_stage(
     after_file: AfterFile,
 ) -> Result<StageRecord, RunError> {
     let t0 = Instant::now();
+    let defer = defers_write(scope, planned);
     let Obtained {
         manifest,
         mut use_,
@@ -478,8 +496,26 @@ fn run_stage(
         &mut state.memory.products,
         multi,
         after_file,
+        defer,
     )?;
-    state.memory.keep(&planned.name, outputs);
+    let outputs: BTreeMap<String, Arc<Product>> = outputs
+        .map(Outputs::into_inner)
+        .into_iter()
+        .flatten()
+        .map(|(name, product)| (name, Arc::new(product)))
+        .collect();
+    state.memory.keep(&planned.name, &outputs);
+    let deferred = defer && !outputs.is_empty();
+    if deferred {
+        state.deferred.insert(
+            planned.name.clone(),
+            Deferred {
+                products: outputs,
+                compute_s: manifest.compute_s,
+                notes: manifest.notes.clone(),
+            },
+        );
+    }
     // Computed by a cluster job of this run: a hit here, but this run's
     // work.
     let job = scope.options.remote.get(&planned.key).cloned();
@@ -510,18 +546,52 @@ fn run_stage(
         job,
         producer: Some(crate::producer::shown(manifest.producer.as_deref()).to_owned()),
     };
-    scope.cache.restamp(&planned.key, &manifest);
+    if !deferred {
+        scope.cache.restamp(&planned.key, &manifest);
+    }
     state.manifests.insert(planned.name.clone(), manifest);
     if !scope.options.keep_temps {
-        drop_finished_temps(
-            scope.plan,
-            scope.cache,
-            &state.manifests,
-            &mut state.dropped,
-        )?;
+        drop_finished_temps(scope.plan, scope.cache, state)?;
     }
     state.memory.release(planned);
     Ok(record)
+}
+
+/// Whether a temporary stage's entry can wait ([`Deferred`]): its readers
+/// all run in this process now (none is left out by `--only`), and the run
+/// keeps no temporary entries (a study's variants share them).
+fn defers_write(scope: &RunScope, planned: &PlannedStage) -> bool {
+    planned.temp
+        && !scope.options.keep_temps
+        && scope
+            .plan
+            .consumers(&planned.name)
+            .all(|c| c.reason != Reason::NotSelected)
+}
+
+/// Writes the entries of the temporary stages whose readers have not all
+/// finished, as the run stops on an error. Best effort: the error that
+/// stopped the run is the one to report, and a temporary entry that could
+/// not be written is recomputed by the next run.
+fn write_deferred(scope: &RunScope, state: &mut RunState, after_file: AfterFile) {
+    for (name, deferred) in std::mem::take(&mut state.deferred) {
+        let (Some(planned), Some(decl)) = (scope.plan.stage(&name), scope.pipeline.stage(&name))
+        else {
+            continue;
+        };
+        let products = deferred
+            .products
+            .iter()
+            .map(|(name, product)| (name.as_str(), product.as_ref()));
+        let _ = write_entry(
+            scope.cache,
+            planned,
+            decl.stage.info(),
+            products,
+            (deferred.compute_s, deferred.notes),
+            after_file,
+        );
+    }
 }
 
 /// Places the files of a stage's entry in `<out>/<stage>/`; returns each
@@ -602,6 +672,7 @@ fn obtain_entry(
     products: &mut HashMap<(String, String), Arc<Product>>,
     multi: Option<&MultiProgress>,
     after_file: AfterFile,
+    defer_write: bool,
 ) -> Result<Obtained, RunError> {
     let forced = matches!(planned.reason, Reason::Forced);
     // A hit needs no lock: entries appear by rename, whole or not at all.
@@ -645,15 +716,18 @@ fn obtain_entry(
     let compute_s = t_compute.elapsed().as_secs_f64();
     let info = decl.stage.info();
     check_contract(planned, info, &outputs)?;
-    let manifest = write_entry(
-        cache,
-        planned,
-        info,
-        &outputs,
-        compute_s,
-        ctx.notes(),
-        after_file,
-    )?;
+    let manifest = if defer_write {
+        manifest_of(planned, BTreeMap::new(), compute_s, ctx.notes())
+    } else {
+        write_entry(
+            cache,
+            planned,
+            info,
+            outputs.iter(),
+            (compute_s, ctx.notes()),
+            after_file,
+        )?
+    };
     Ok(Obtained {
         manifest,
         use_: if forced {
@@ -748,6 +822,7 @@ pub fn exec_stage(
         &mut HashMap::new(),
         None,
         &mut |_| {},
+        false,
     )?;
     cache.restamp(&planned.key, &obtained.manifest);
     Ok(match obtained.use_ {
@@ -761,22 +836,21 @@ pub fn exec_stage(
 /// Removes the entry of every temporary stage of this run whose readers all
 /// have their entries now (each in `manifests`): nothing in this run needs
 /// it any more, and a later run recomputes it from its key if one does.
-fn drop_finished_temps(
-    plan: &Plan,
-    cache: &Cache,
-    manifests: &HashMap<String, Manifest>,
-    dropped: &mut Vec<String>,
-) -> Result<(), RunError> {
+fn drop_finished_temps(plan: &Plan, cache: &Cache, state: &mut RunState) -> Result<(), RunError> {
+    let manifests = &state.manifests;
     for temp in plan.stages.iter().filter(|s| s.temp) {
-        if dropped.contains(&temp.name) || !manifests.contains_key(&temp.name) {
+        if state.dropped.contains(&temp.name) || !manifests.contains_key(&temp.name) {
             continue;
         }
         if plan
             .consumers(&temp.name)
             .all(|c| manifests.contains_key(&c.name) || c.reason == Reason::TempNotNeeded)
         {
+            // A deferred entry was never written: its products go, and its
+            // lock file with what else the removal clears.
+            state.deferred.remove(&temp.name);
             remove_entry(cache, &temp.key)?;
-            dropped.push(temp.name.clone());
+            state.dropped.push(temp.name.clone());
         }
     }
     Ok(())
@@ -889,25 +963,36 @@ fn check_contract(
 
 /// Writes the entry of a computed stage; each output carries the columns
 /// its `info` declares (their units travel in the Parquet files).
-fn write_entry(
+fn write_entry<'a>(
     cache: &Cache,
     planned: &PlannedStage,
     info: &hypercontact_core::StageInfo,
-    outputs: &Outputs,
-    compute_s: f64,
-    notes: Vec<String>,
+    outputs: impl Iterator<Item = (&'a str, &'a Product)>,
+    (compute_s, notes): (f64, Vec<String>),
     after_file: AfterFile,
 ) -> Result<Manifest, RunError> {
     let cache_err = cache_error(cache.root());
     let staging = cache.staging_dir(&planned.key).map_err(&cache_err)?;
     let mut records: BTreeMap<String, OutputRecord> = BTreeMap::new();
-    for (name, product) in outputs.iter() {
+    for (name, product) in outputs {
         // check_contract refused an undeclared output before this.
         let columns = info.output(name).map_or(&[][..], |spec| spec.columns);
         let record = store::write_product(&staging, name, product, columns, after_file)?;
         records.insert(name.to_owned(), record);
     }
-    let manifest = Manifest {
+    let manifest = manifest_of(planned, records, compute_s, notes);
+    cache.commit(&staging, &manifest).map_err(cache_err)?;
+    Ok(manifest)
+}
+
+/// The manifest of a stage computed now with these output records.
+fn manifest_of(
+    planned: &PlannedStage,
+    records: BTreeMap<String, OutputRecord>,
+    compute_s: f64,
+    notes: Vec<String>,
+) -> Manifest {
+    Manifest {
         format: MANIFEST_FORMAT,
         key: planned.key.clone(),
         kind: planned.kind.clone(),
@@ -919,9 +1004,7 @@ fn write_entry(
         outputs: records,
         notes,
         producer: Some(crate::producer::running().to_owned()),
-    };
-    cache.commit(&staging, &manifest).map_err(cache_err)?;
-    Ok(manifest)
+    }
 }
 
 /// What a stage may know of the stages it depends on, transitively: kind,

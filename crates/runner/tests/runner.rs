@@ -659,6 +659,80 @@ fn a_temporary_entry_is_dropped_once_its_readers_have_theirs_and_regenerated_whe
 }
 
 #[test]
+fn a_temporary_entry_whose_readers_all_run_now_is_never_written() {
+    let t = tempfile::tempdir().unwrap();
+    let p = load(t.path(), "p.yaml", TEMP);
+    let o = options(t.path());
+    let src_key = dry_plan(&p, &o).stage("src").unwrap().key.clone();
+    let mut written = Vec::new();
+    let report = hypercontact_runner::exec::run_with_hook(&p, &o, &mut |path| {
+        written.push(path.to_path_buf())
+    })
+    .unwrap();
+    assert_eq!(report.computed(), 3);
+    assert!(
+        !written.is_empty(),
+        "the readers' files are written and seen by the hook"
+    );
+    let src_files: Vec<_> = written
+        .iter()
+        .filter(|f| f.to_string_lossy().contains(src_key.as_str()))
+        .collect();
+    assert!(src_files.is_empty(), "{src_files:?}");
+    // No stamp, lock or staging folder of it is left either.
+    let cache = t.path().join("cache");
+    let left: Vec<_> = walk(&cache)
+        .into_iter()
+        .filter(|f| f.to_string_lossy().contains(src_key.as_str()))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+}
+
+#[test]
+fn a_run_stopped_by_an_error_writes_the_temporary_entries_its_readers_still_need() {
+    // `bad` fails at run time (its CSV has no column x) after `double` has
+    // read `src` and before `triple` has: the stages run in file order.
+    let failing = TEMP.replace(
+        "  triple:\n",
+        "  bad:\n    uses: source\n    with: { n: 1, path: y.csv }\n  triple:\n",
+    );
+    let t = tempfile::tempdir().unwrap();
+    write(t.path(), "y.csv", "y\n1\n");
+    let o = options(t.path());
+    let p = load(t.path(), "p.yaml", &failing);
+    let plan = dry_plan(&p, &o);
+    let order: Vec<&str> = plan.stages.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(order, ["src", "double", "bad", "triple"]);
+    let src_key = plan.stage("src").unwrap().key.clone();
+    let err = run(&p, &o).unwrap_err().to_string();
+    assert!(err.contains("bad"), "{err}");
+    assert!(entry_exists(t.path(), &src_key), "written for `triple`");
+    // Fixed: `src` is a cache hit, `triple` reads it, and then it goes.
+    let fixed = load(
+        t.path(),
+        "q.yaml",
+        &failing.replace("path: y.csv", "value: 1.0"),
+    );
+    let report = run(&fixed, &o).unwrap();
+    assert_eq!(report.provenance.stages["src"].cache, CacheUse::Hit);
+    assert_eq!(report.computed(), 2, "bad and triple");
+    assert!(!entry_exists(t.path(), &src_key));
+}
+
+/// Every file under `dir`, recursively.
+fn walk(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+        let path = entry.path();
+        out.push(path.clone());
+        if path.is_dir() {
+            out.extend(walk(&path));
+        }
+    }
+    out
+}
+
+#[test]
 fn a_temporary_entry_stays_while_a_reader_is_not_part_of_the_run() {
     let t = tempfile::tempdir().unwrap();
     let p = load(t.path(), "p.yaml", TEMP);
