@@ -383,6 +383,83 @@ mod tests {
         assert_eq!(p.snapshots[1].patch_areas_m2, [12.0]);
     }
 
+    /// FNV-1a (Fowler–Noll–Vo) over every number of a profile, in a fixed
+    /// order: a fingerprint of its exact bits that does not depend on std's
+    /// unspecified hasher.
+    fn fingerprint(p: &Profile) -> u64 {
+        let mut hash = 0xcbf2_9ce4_8422_2325_u64;
+        let mut eat = |word: u64| {
+            for byte in word.to_le_bytes() {
+                hash = (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3);
+            }
+        };
+        for column in [&p.z_m, &p.area_m2, &p.area_fraction, &p.radius_m] {
+            column.iter().for_each(|v| eat(v.to_bits()));
+        }
+        p.patches.iter().for_each(|&n| eat(n));
+        eat(p.sigma_m.to_bits());
+        eat(p.nominal_area_m2.to_bits());
+        eat(p.measured_points as u64);
+        for s in &p.snapshots {
+            eat(s.target_area_fraction.to_bits());
+            eat(s.level as u64);
+            s.patch_areas_m2.iter().for_each(|v| eat(v.to_bits()));
+        }
+        hash
+    }
+
+    /// The profiles of a few maps, bit for bit as the sort-based sweep of
+    /// commit 026d9d5 produced them (its fingerprints, recorded then): a
+    /// faster sweep must not change a single bit of the products.
+    #[test]
+    fn profiles_keep_the_bits_of_the_sort_based_sweep() {
+        use hypercontact_synth::surface::SelfAffine;
+        let mut rng = ChaCha8Rng::seed_from_u64(35);
+        let rough = SelfAffine::whole_band(256, 2e-5).non_periodic(256, 192, 2e-5, 35);
+        let mut holed = rough.clone();
+        for v in holed.iter_mut() {
+            if rng.random::<f64>() < 0.05 {
+                *v = f64::NAN;
+            }
+        }
+        let plateaus = Array2::from_shape_fn((97, 64), |_| f64::from(rng.random_range(0..9_u8)));
+        let mut found = Vec::new();
+        for h in [&rough, &holed, &plateaus] {
+            for levels in [Levels::Count(1000), Levels::Count(7), Levels::All] {
+                for connectivity in [Connectivity::Eight, Connectivity::Four] {
+                    let options = TruncationOptions {
+                        levels,
+                        connectivity,
+                        patch_fractions: vec![0.001, 0.01, 0.1, 0.3, 0.5, 0.9, 1.0],
+                    };
+                    let p = truncate(h.view(), 2e-5, 3e-5, &options, &mut |_| {}).unwrap();
+                    found.push(fingerprint(&p));
+                }
+            }
+        }
+        let recorded: [u64; 18] = [
+            0xe9d2_9b9c_189b_1db1,
+            0x4eb9_bc2e_11d4_1da0,
+            0x8df0_4f70_8f47_45f4,
+            0x0103_e12b_5b71_abeb,
+            0x1c0a_3b7c_21bc_97cf,
+            0xde2a_dac4_7946_7790,
+            0x31fa_08a7_3847_3726,
+            0xd1a8_7f40_b701_279b,
+            0x5133_8d8c_99b4_6d22,
+            0x19dd_8bda_b6d0_4572,
+            0xe471_452f_8933_e5a1,
+            0x13c3_9fcf_e4bc_05f4,
+            0xfb57_0f50_628e_731b,
+            0xb08e_69c0_7116_d16b,
+            0x5850_4d9d_17c8_f9b5,
+            0x8638_80e7_3502_a340,
+            0x76cf_8973_6e81_be1b,
+            0x0405_0d0f_4613_206f,
+        ];
+        assert_eq!(found, recorded, "{found:#x?}");
+    }
+
     #[test]
     fn bad_maps_are_named_errors() {
         let none = truncate(
