@@ -3,10 +3,11 @@
 //! h ≥ z. A(z) is the touched area, N(z) the number of connected touched
 //! patches and r(z) = sqrt(A / (π N)) their equivalent radius.
 //!
-//! All levels come from ONE sweep: the measured pixels are sorted by height
-//! once, added from the top down, and joined to their touched neighbours in
-//! a union–find ([`PixelSets`]); A and N are read off whenever the next plane
-//! is passed. N changes by +1 per added pixel and −1 per successful union.
+//! All levels come from ONE sweep: the measured pixels are grouped by the
+//! first plane that touches them ([`crate::plane_order`]), added from the
+//! top down, and joined to their touched neighbours in a union–find
+//! ([`crate::sweep`]); A and N are read off whenever the next plane is
+//! passed. N changes by +1 per added pixel and −1 per successful union.
 //! The map is not periodic: pixels on opposite edges are not neighbours (as
 //! in MATLAB's `bwlabel`).
 //!
@@ -15,11 +16,12 @@
 //! neither in A nor in A0 and A/A0 reaches 1 at z = 0.
 
 use ndarray::ArrayView2;
-use rayon::slice::ParallelSliceMut;
 
 use crate::TruncationError;
 use crate::levels::{Connectivity, Levels};
-use crate::union_find::{MAX_PIXELS, PixelSets};
+use crate::plane_order::{PlaneOrder, plane_order};
+use crate::sweep::Sweep;
+use crate::union_find::MAX_PIXELS;
 
 /// How to truncate a map.
 #[derive(Clone, Debug, PartialEq)]
@@ -94,34 +96,33 @@ pub fn truncate(
     let flat = heights
         .as_slice()
         .expect("a standard-layout array is contiguous");
-    let order = top_down(flat, ny, stride)?;
-    let measured = order.len();
-    let z_max_m = order[0].0;
-    if z_max_m <= 0.0 {
-        return Err(TruncationError::Flat);
-    }
+    let PlaneOrder {
+        planes_m,
+        pixels,
+        ends,
+    } = plane_order(flat, ny, stride, options.levels)?;
+    let measured = pixels.len();
     let pixel_area_m2 = dx_m * dy_m;
-    let planes = options
-        .levels
-        .planes_m(order.iter().map(|&(h, _)| h), z_max_m);
     let mut targets: Vec<f64> = options.patch_fractions.clone();
     targets.sort_by(f64::total_cmp);
     let mut targets = targets.into_iter().peekable();
 
-    let mut sweep = Sweep::new(&order, options.connectivity, nx, stride);
+    let mut sweep = Sweep::new(options.connectivity, (nx + 2) * stride, stride);
     let mut profile = Profile {
-        z_m: Vec::with_capacity(planes.len()),
-        area_m2: Vec::with_capacity(planes.len()),
-        area_fraction: Vec::with_capacity(planes.len()),
-        patches: Vec::with_capacity(planes.len()),
-        radius_m: Vec::with_capacity(planes.len()),
+        z_m: Vec::with_capacity(planes_m.len()),
+        area_m2: Vec::with_capacity(planes_m.len()),
+        area_fraction: Vec::with_capacity(planes_m.len()),
+        patches: Vec::with_capacity(planes_m.len()),
+        radius_m: Vec::with_capacity(planes_m.len()),
         sigma_m: rms_about_mean(flat),
         nominal_area_m2: measured as f64 * pixel_area_m2,
         measured_points: measured,
         snapshots: Vec::new(),
     };
-    for (level, &z_m) in planes.iter().enumerate() {
-        progress(sweep.add_down_to(z_m));
+    for (level, (&z_m, &end)) in planes_m.iter().zip(&ends).enumerate() {
+        let new = &pixels[sweep.added..end as usize];
+        sweep.add(new);
+        progress(new.len() as u64);
         let area_m2 = sweep.added as f64 * pixel_area_m2;
         let area_fraction = sweep.added as f64 / measured as f64;
         profile.z_m.push(z_m);
@@ -146,101 +147,6 @@ pub fn truncate(
         }
     }
     Ok(profile)
-}
-
-/// The measured pixels as (height above the lowest point, index in the
-/// framed map), highest first; an error for an infinite height or a map
-/// with nothing measured.
-fn top_down(flat: &[f64], ny: usize, stride: usize) -> Result<Vec<(f64, u32)>, TruncationError> {
-    if let Some(i) = flat.iter().position(|h| h.is_infinite()) {
-        return Err(TruncationError::NonFinite {
-            ix: i / ny,
-            iy: i % ny,
-            value: flat[i],
-        });
-    }
-    let h_min = flat
-        .iter()
-        .copied()
-        .filter(|h| !h.is_nan())
-        .fold(f64::INFINITY, f64::min);
-    if h_min == f64::INFINITY {
-        return Err(TruncationError::NothingMeasured);
-    }
-    let mut order: Vec<(f64, u32)> = flat
-        .iter()
-        .enumerate()
-        .filter(|(_, h)| !h.is_nan())
-        .map(|(i, &h)| (h - h_min, ((i / ny + 1) * stride + i % ny + 1) as u32))
-        .collect();
-    order.par_sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
-    Ok(order)
-}
-
-/// The plane's descent through the sorted pixels: the touched pixels
-/// joined into patches, and how many of each there are so far.
-struct Sweep<'a> {
-    order: &'a [(f64, u32)],
-    sets: PixelSets,
-    /// Index steps to the neighbours of a pixel in the framed map.
-    offsets: Vec<isize>,
-    /// Pixels touched so far (a prefix of `order`).
-    added: usize,
-    /// Connected touched patches N.
-    patches: u64,
-}
-
-impl<'a> Sweep<'a> {
-    fn new(order: &'a [(f64, u32)], connectivity: Connectivity, nx: usize, stride: usize) -> Self {
-        let offsets = connectivity
-            .offsets()
-            .iter()
-            .map(|&(ox, oy)| ox * stride as isize + oy)
-            .collect();
-        Self {
-            order,
-            sets: PixelSets::new((nx + 2) * stride),
-            offsets,
-            added: 0,
-            patches: 0,
-        }
-    }
-
-    /// Touches every pixel at or above `z_m`, each a new patch joined to
-    /// its touched neighbours' (N: +1 per pixel, −1 per union); returns
-    /// how many pixels were added.
-    fn add_down_to(&mut self, z_m: f64) -> u64 {
-        let before = self.added;
-        while self.added < self.order.len() && self.order[self.added].0 >= z_m {
-            let pixel = self.order[self.added].1;
-            self.sets.touch(pixel);
-            self.patches += 1;
-            // The new pixel's root, kept current so it is found only once.
-            let mut root = pixel;
-            for &offset in &self.offsets {
-                let neighbour = pixel.wrapping_add_signed(offset as i32);
-                if self.sets.is_touched(neighbour) {
-                    let other = self.sets.find(neighbour);
-                    if other != root {
-                        root = self.sets.link(root, other);
-                        self.patches -= 1;
-                    }
-                }
-            }
-            self.added += 1;
-        }
-        (self.added - before) as u64
-    }
-
-    /// Every patch's area, largest first.
-    fn patch_areas_m2(&self, pixel_area_m2: f64) -> Vec<f64> {
-        let mut sizes = self.sets.set_sizes();
-        sizes.sort_unstable_by(|a, b| b.cmp(a));
-        sizes
-            .into_iter()
-            .map(|s| f64::from(s) * pixel_area_m2)
-            .collect()
-    }
 }
 
 /// RMS about the mean of the non-NaN values.
