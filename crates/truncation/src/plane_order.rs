@@ -81,15 +81,15 @@ pub fn plane_order(
 }
 
 /// The first plane k with `z_m ≥ planes_m[k]`, for the equal steps
-/// z_k = z_max (n − k) / n of [`Levels::Count`] (`planes_m[n]` = 0 ≤ z_m).
-/// The arithmetic guess is off by at most a step or so in rounding; the
-/// two loops then settle it with the very comparison the sweep would make.
-fn first_plane_at_or_below(z_m: f64, planes_m: &[f64]) -> usize {
+/// z_k = z_max (n − k) / n of [`Levels::Count`] (`planes_m[n]` = 0 ≤ z_m);
+/// `steps_per_m` = n / z_max. The arithmetic guess is off by a step or so
+/// in rounding; the two loops then settle it with the very comparison the
+/// sweep would make.
+fn first_plane_at_or_below(z_m: f64, planes_m: &[f64], steps_per_m: f64) -> usize {
     let n = planes_m.len() - 1;
-    let z_max_m = planes_m[0];
-    let guess = ((z_max_m - z_m) / z_max_m * n as f64).ceil();
-    // `as` saturates: a NaN or negative guess gives 0.
-    let mut k = (guess as usize).min(n);
+    // `as` truncates (and saturates: a negative guess gives 0); the loop
+    // below adds the step the missing ceil would have.
+    let mut k = (((planes_m[0] - z_m) * steps_per_m) as usize).min(n);
     while k > 0 && z_m >= planes_m[k - 1] {
         k -= 1;
     }
@@ -99,28 +99,23 @@ fn first_plane_at_or_below(z_m: f64, planes_m: &[f64]) -> usize {
     k
 }
 
-/// The counting sort of the module doc: the plane of every measured pixel,
-/// then each plane's share of `pixels`, then the pixels in raster order
-/// into their plane's share.
+/// The counting sort of the module doc: how many measured pixels each
+/// plane adds, then each plane's share of `pixels`, then the pixels in
+/// raster order into their plane's share. The plane of a pixel is worked
+/// out twice rather than stored: that is cheaper than writing and reading
+/// back one more array as large as the map.
 fn group_by_plane(
     flat: &[f64],
     h_min: f64,
     planes_m: &[f64],
     framed: impl Fn(usize) -> u32,
 ) -> (Vec<u32>, Vec<u32>) {
-    const NOT_MEASURED: u32 = u32::MAX;
+    let steps_per_m = (planes_m.len() - 1) as f64 / planes_m[0];
+    let plane_of = |h: f64| first_plane_at_or_below(h - h_min, planes_m, steps_per_m);
     let mut ends = vec![0_u32; planes_m.len()];
-    let plane_of: Vec<u32> = flat
-        .iter()
-        .map(|&h| {
-            if h.is_nan() {
-                return NOT_MEASURED;
-            }
-            let k = first_plane_at_or_below(h - h_min, planes_m);
-            ends[k] += 1;
-            k as u32
-        })
-        .collect();
+    for &h in flat.iter().filter(|h| !h.is_nan()) {
+        ends[plane_of(h)] += 1;
+    }
     // Exclusive prefix sums: where each plane's share starts.
     let mut start = 0;
     for count in &mut ends {
@@ -129,9 +124,9 @@ fn group_by_plane(
         start += c;
     }
     let mut pixels = vec![0_u32; start as usize];
-    for (i, &k) in plane_of.iter().enumerate() {
-        if k != NOT_MEASURED {
-            let next = &mut ends[k as usize];
+    for (i, &h) in flat.iter().enumerate() {
+        if !h.is_nan() {
+            let next = &mut ends[plane_of(h)];
             pixels[*next as usize] = framed(i);
             // After the scatter each start has moved on to its share's end.
             *next += 1;
@@ -182,10 +177,15 @@ mod tests {
         for n in [1_u32, 3, 7, 1000] {
             let z_max_m = 3.7e-5;
             let planes = Levels::Count(n).planes_m(std::iter::empty(), z_max_m);
+            let steps_per_m = f64::from(n) / z_max_m;
             for &z in &planes {
                 for z_m in [z, z.next_up(), z.next_down().max(0.0)] {
                     let expected = planes.iter().position(|&p| z_m >= p).unwrap();
-                    assert_eq!(first_plane_at_or_below(z_m, &planes), expected, "{z_m}");
+                    assert_eq!(
+                        first_plane_at_or_below(z_m, &planes, steps_per_m),
+                        expected,
+                        "{z_m}"
+                    );
                 }
             }
         }
