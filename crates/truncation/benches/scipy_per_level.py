@@ -8,7 +8,9 @@ point, touched where h - h_min >= z (the stage's convention).
     python3 crates/truncation/benches/scipy_per_level.py /tmp/map-2048.npy
 
 Prints wall and process CPU seconds of the labelling loop (the threshold
-comparison included, as the union-find's time includes its sort).
+comparison included, as the union-find's time includes its grouping of the
+pixels by plane). A second argument names a text file to receive N at every
+plane, one per line, to set against the stage's `patches` column.
 """
 
 import sys
@@ -35,6 +37,8 @@ def main() -> None:
         f"{heights.shape[0]} x {heights.shape[1]}, {LEVELS + 1} planes: "
         f"{wall:.2f} s wall, {cpu:.2f} s CPU; N at plane 500 = {patches[500]}"
     )
+    if len(sys.argv) > 2:
+        np.savetxt(sys.argv[2], patches, fmt="%d")
 
 
 if __name__ == "__main__":
