@@ -82,21 +82,20 @@ pub fn plane_order(
 
 /// The first plane k with `z_m ≥ planes_m[k]`, for the equal steps
 /// z_k = z_max (n − k) / n of [`Levels::Count`] (`planes_m[n]` = 0 ≤ z_m);
-/// `steps_per_m` = n / z_max. The arithmetic guess is off by a step or so
-/// in rounding; the two loops then settle it with the very comparison the
-/// sweep would make.
+/// `steps_per_m` = n / z_max. The arithmetic guess is right, or one short
+/// after truncation, but for rounding; it is accepted only if the very
+/// comparison the sweep makes agrees, and otherwise (e.g. heights so small
+/// that n / z_max overflows) a binary search over the planes decides.
 fn first_plane_at_or_below(z_m: f64, planes_m: &[f64], steps_per_m: f64) -> usize {
     let n = planes_m.len() - 1;
-    // `as` truncates (and saturates: a negative guess gives 0); the loop
-    // below adds the step the missing ceil would have.
-    let mut k = (((planes_m[0] - z_m) * steps_per_m) as usize).min(n);
-    while k > 0 && z_m >= planes_m[k - 1] {
-        k -= 1;
+    // `as` truncates and saturates (NaN and negatives give 0).
+    let guess = (((planes_m[0] - z_m) * steps_per_m) as usize).min(n);
+    for k in [guess, guess + 1] {
+        if k <= n && z_m >= planes_m[k] && (k == 0 || z_m < planes_m[k - 1]) {
+            return k;
+        }
     }
-    while k < n && z_m < planes_m[k] {
-        k += 1;
-    }
-    k
+    planes_m.partition_point(|&plane_m| z_m < plane_m)
 }
 
 /// The counting sort of the module doc: how many measured pixels each
@@ -174,8 +173,11 @@ mod tests {
     #[test]
     fn the_first_plane_is_the_one_the_sweep_would_stop_at() {
         // Heights on, just above and just below every plane of a few counts.
-        for n in [1_u32, 3, 7, 1000] {
-            let z_max_m = 3.7e-5;
+        // 1e-310 is subnormal: n / z_max overflows and the guess is NaN.
+        for (n, z_max_m) in [1_u32, 3, 7, 1000]
+            .into_iter()
+            .flat_map(|n| [3.7e-5, 1e-310, f64::MAX / 2.0].map(|z| (n, z)))
+        {
             let planes = Levels::Count(n).planes_m(std::iter::empty(), z_max_m);
             let steps_per_m = f64::from(n) / z_max_m;
             for &z in &planes {
