@@ -1,11 +1,19 @@
 //! Truncation of a 4096 × 4096 self-affine map at 1000 levels (target:
-//! under 5 s) against the brute force of relabelling the map at each level.
+//! under 5 s) against the brute force of relabelling the map at each level,
+//! and of a 2048 × 2048 one, the size at which issue #35 compares with
+//! scipy's per-level labelling (`benches/scipy_per_level.py`, on the map
+//! `examples/bench_map.rs` writes).
 //!
 //! The brute force is timed on 20 of the 1000 levels (every 50th, at the
 //! middle of each block of 50, so the touched fractions span 0 … 1 evenly);
 //! its full cost is that time × 50, an extrapolation, said as such.
 //!
 //! Run: `cargo bench -p hypercontact-truncation --bench truncation`
+//!
+//! Issue #35 (2048², shared 2-core machine, load 4–6): the sweep takes
+//! 0.21–0.24 s (it runs on one thread with `levels: N`; the same with
+//! RAYON_NUM_THREADS=1), scipy 15–17 s wall (12 s CPU): 64–80×. Before the
+//! grouping by plane it took 0.46 s (32×).
 
 use std::hint::black_box;
 
@@ -14,16 +22,34 @@ use hypercontact_synth::surface::SelfAffine;
 use hypercontact_truncation::flood_fill::label_at;
 use hypercontact_truncation::{Connectivity, Levels, TruncationOptions, truncate};
 
-const N: usize = 4096;
 const LEVELS: u32 = 1000;
 
-fn truncation_4096(c: &mut Criterion) {
-    // H = 0.8, rms 10 µm, power from the map's side down to two pixels.
-    let h = SelfAffine::whole_band(N, 2e-5).periodic(N, N, 2e-5, 4096);
-    let options = TruncationOptions {
+/// H = 0.8, rms 10 µm, power from the map's side down to two pixels.
+fn self_affine(n: usize) -> ndarray::Array2<f64> {
+    SelfAffine::whole_band(n, 2e-5).periodic(n, n, 2e-5, 4096)
+}
+
+fn options() -> TruncationOptions {
+    TruncationOptions {
         levels: Levels::Count(LEVELS),
         ..Default::default()
-    };
+    }
+}
+
+fn truncation_2048(c: &mut Criterion) {
+    let h = self_affine(2048);
+    let options = options();
+    let mut group = c.benchmark_group("truncation_2048x2048_1000_levels");
+    group.sample_size(20);
+    group.bench_function("union_find_one_sweep", |b| {
+        b.iter(|| truncate(black_box(h.view()), 2e-5, 2e-5, &options, &mut |_| {}).unwrap())
+    });
+    group.finish();
+}
+
+fn truncation_4096(c: &mut Criterion) {
+    let h = self_affine(4096);
+    let options = options();
     let mut group = c.benchmark_group("truncation_4096x4096_1000_levels");
     group.sample_size(10);
     group.bench_function("union_find_one_sweep", |b| {
@@ -50,5 +76,5 @@ fn truncation_4096(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, truncation_4096);
+criterion_group!(benches, truncation_2048, truncation_4096);
 criterion_main!(benches);

@@ -3,6 +3,8 @@
 //! equivalent radius r(z) (the paper's section 4, Eq. 3).
 //!
 //! - [`profile`]: the one-sweep union–find truncation (pure, on ndarray);
+//! - [`plane_order`]: the measured pixels grouped by the plane that first touches them;
+//! - [`sweep`]: the descent adding them to patches;
 //! - [`union_find`]: the disjoint sets it uses;
 //! - [`levels`]: the `levels` and `connectivity` parameters;
 //! - [`stage`]: the `truncation` stage;
@@ -13,8 +15,10 @@
 
 pub mod flood_fill;
 pub mod levels;
+pub mod plane_order;
 pub mod profile;
 pub mod stage;
+pub mod sweep;
 pub mod union_find;
 
 pub use levels::{Connectivity, Levels};

@@ -3,10 +3,11 @@
 //! h ≥ z. A(z) is the touched area, N(z) the number of connected touched
 //! patches and r(z) = sqrt(A / (π N)) their equivalent radius.
 //!
-//! All levels come from ONE sweep: the measured pixels are sorted by height
-//! once, added from the top down, and joined to their touched neighbours in
-//! a union–find ([`PixelSets`]); A and N are read off whenever the next plane
-//! is passed. N changes by +1 per added pixel and −1 per successful union.
+//! All levels come from ONE sweep: the measured pixels are grouped by the
+//! first plane that touches them ([`crate::plane_order`]), added from the
+//! top down, and joined to their touched neighbours in a union–find
+//! ([`crate::sweep`]); A and N are read off whenever the next plane is
+//! passed. N changes by +1 per added pixel and −1 per successful union.
 //! The map is not periodic: pixels on opposite edges are not neighbours (as
 //! in MATLAB's `bwlabel`).
 //!
@@ -15,11 +16,12 @@
 //! neither in A nor in A0 and A/A0 reaches 1 at z = 0.
 
 use ndarray::ArrayView2;
-use rayon::slice::ParallelSliceMut;
 
 use crate::TruncationError;
 use crate::levels::{Connectivity, Levels};
-use crate::union_find::{MAX_PIXELS, PixelSets};
+use crate::plane_order::{PlaneOrder, plane_order};
+use crate::sweep::Sweep;
+use crate::union_find::MAX_PIXELS;
 
 /// How to truncate a map.
 #[derive(Clone, Debug, PartialEq)]
@@ -94,34 +96,33 @@ pub fn truncate(
     let flat = heights
         .as_slice()
         .expect("a standard-layout array is contiguous");
-    let order = top_down(flat, ny, stride)?;
-    let measured = order.len();
-    let z_max_m = order[0].0;
-    if z_max_m <= 0.0 {
-        return Err(TruncationError::Flat);
-    }
+    let PlaneOrder {
+        planes_m,
+        pixels,
+        ends,
+    } = plane_order(flat, ny, stride, options.levels)?;
+    let measured = pixels.len();
     let pixel_area_m2 = dx_m * dy_m;
-    let planes = options
-        .levels
-        .planes_m(order.iter().map(|&(h, _)| h), z_max_m);
     let mut targets: Vec<f64> = options.patch_fractions.clone();
     targets.sort_by(f64::total_cmp);
     let mut targets = targets.into_iter().peekable();
 
-    let mut sweep = Sweep::new(&order, options.connectivity, nx, stride);
+    let mut sweep = Sweep::new(options.connectivity, (nx + 2) * stride, stride);
     let mut profile = Profile {
-        z_m: Vec::with_capacity(planes.len()),
-        area_m2: Vec::with_capacity(planes.len()),
-        area_fraction: Vec::with_capacity(planes.len()),
-        patches: Vec::with_capacity(planes.len()),
-        radius_m: Vec::with_capacity(planes.len()),
+        z_m: Vec::with_capacity(planes_m.len()),
+        area_m2: Vec::with_capacity(planes_m.len()),
+        area_fraction: Vec::with_capacity(planes_m.len()),
+        patches: Vec::with_capacity(planes_m.len()),
+        radius_m: Vec::with_capacity(planes_m.len()),
         sigma_m: rms_about_mean(flat),
         nominal_area_m2: measured as f64 * pixel_area_m2,
         measured_points: measured,
         snapshots: Vec::new(),
     };
-    for (level, &z_m) in planes.iter().enumerate() {
-        progress(sweep.add_down_to(z_m));
+    for (level, (&z_m, &end)) in planes_m.iter().zip(&ends).enumerate() {
+        let new = &pixels[sweep.added..end as usize];
+        sweep.add(new);
+        progress(new.len() as u64);
         let area_m2 = sweep.added as f64 * pixel_area_m2;
         let area_fraction = sweep.added as f64 / measured as f64;
         profile.z_m.push(z_m);
@@ -146,101 +147,6 @@ pub fn truncate(
         }
     }
     Ok(profile)
-}
-
-/// The measured pixels as (height above the lowest point, index in the
-/// framed map), highest first; an error for an infinite height or a map
-/// with nothing measured.
-fn top_down(flat: &[f64], ny: usize, stride: usize) -> Result<Vec<(f64, u32)>, TruncationError> {
-    if let Some(i) = flat.iter().position(|h| h.is_infinite()) {
-        return Err(TruncationError::NonFinite {
-            ix: i / ny,
-            iy: i % ny,
-            value: flat[i],
-        });
-    }
-    let h_min = flat
-        .iter()
-        .copied()
-        .filter(|h| !h.is_nan())
-        .fold(f64::INFINITY, f64::min);
-    if h_min == f64::INFINITY {
-        return Err(TruncationError::NothingMeasured);
-    }
-    let mut order: Vec<(f64, u32)> = flat
-        .iter()
-        .enumerate()
-        .filter(|(_, h)| !h.is_nan())
-        .map(|(i, &h)| (h - h_min, ((i / ny + 1) * stride + i % ny + 1) as u32))
-        .collect();
-    order.par_sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
-    Ok(order)
-}
-
-/// The plane's descent through the sorted pixels: the touched pixels
-/// joined into patches, and how many of each there are so far.
-struct Sweep<'a> {
-    order: &'a [(f64, u32)],
-    sets: PixelSets,
-    /// Index steps to the neighbours of a pixel in the framed map.
-    offsets: Vec<isize>,
-    /// Pixels touched so far (a prefix of `order`).
-    added: usize,
-    /// Connected touched patches N.
-    patches: u64,
-}
-
-impl<'a> Sweep<'a> {
-    fn new(order: &'a [(f64, u32)], connectivity: Connectivity, nx: usize, stride: usize) -> Self {
-        let offsets = connectivity
-            .offsets()
-            .iter()
-            .map(|&(ox, oy)| ox * stride as isize + oy)
-            .collect();
-        Self {
-            order,
-            sets: PixelSets::new((nx + 2) * stride),
-            offsets,
-            added: 0,
-            patches: 0,
-        }
-    }
-
-    /// Touches every pixel at or above `z_m`, each a new patch joined to
-    /// its touched neighbours' (N: +1 per pixel, −1 per union); returns
-    /// how many pixels were added.
-    fn add_down_to(&mut self, z_m: f64) -> u64 {
-        let before = self.added;
-        while self.added < self.order.len() && self.order[self.added].0 >= z_m {
-            let pixel = self.order[self.added].1;
-            self.sets.touch(pixel);
-            self.patches += 1;
-            // The new pixel's root, kept current so it is found only once.
-            let mut root = pixel;
-            for &offset in &self.offsets {
-                let neighbour = pixel.wrapping_add_signed(offset as i32);
-                if self.sets.is_touched(neighbour) {
-                    let other = self.sets.find(neighbour);
-                    if other != root {
-                        root = self.sets.link(root, other);
-                        self.patches -= 1;
-                    }
-                }
-            }
-            self.added += 1;
-        }
-        (self.added - before) as u64
-    }
-
-    /// Every patch's area, largest first.
-    fn patch_areas_m2(&self, pixel_area_m2: f64) -> Vec<f64> {
-        let mut sizes = self.sets.set_sizes();
-        sizes.sort_unstable_by(|a, b| b.cmp(a));
-        sizes
-            .into_iter()
-            .map(|s| f64::from(s) * pixel_area_m2)
-            .collect()
-    }
 }
 
 /// RMS about the mean of the non-NaN values.
@@ -381,6 +287,83 @@ mod tests {
         assert_eq!(p.snapshots[0].level, 0);
         assert_eq!(p.snapshots[1].level, 2);
         assert_eq!(p.snapshots[1].patch_areas_m2, [12.0]);
+    }
+
+    /// FNV-1a (Fowler–Noll–Vo) over every number of a profile, in a fixed
+    /// order: a fingerprint of its exact bits that does not depend on std's
+    /// unspecified hasher.
+    fn fingerprint(p: &Profile) -> u64 {
+        let mut hash = 0xcbf2_9ce4_8422_2325_u64;
+        let mut eat = |word: u64| {
+            for byte in word.to_le_bytes() {
+                hash = (hash ^ u64::from(byte)).wrapping_mul(0x0100_0000_01b3);
+            }
+        };
+        for column in [&p.z_m, &p.area_m2, &p.area_fraction, &p.radius_m] {
+            column.iter().for_each(|v| eat(v.to_bits()));
+        }
+        p.patches.iter().for_each(|&n| eat(n));
+        eat(p.sigma_m.to_bits());
+        eat(p.nominal_area_m2.to_bits());
+        eat(p.measured_points as u64);
+        for s in &p.snapshots {
+            eat(s.target_area_fraction.to_bits());
+            eat(s.level as u64);
+            s.patch_areas_m2.iter().for_each(|v| eat(v.to_bits()));
+        }
+        hash
+    }
+
+    /// The profiles of a few maps, bit for bit as the sort-based sweep of
+    /// commit 026d9d5 produced them (its fingerprints, recorded then): a
+    /// faster sweep must not change a single bit of the products.
+    #[test]
+    fn profiles_keep_the_bits_of_the_sort_based_sweep() {
+        use hypercontact_synth::surface::SelfAffine;
+        let mut rng = ChaCha8Rng::seed_from_u64(35);
+        let rough = SelfAffine::whole_band(256, 2e-5).non_periodic(256, 192, 2e-5, 35);
+        let mut holed = rough.clone();
+        for v in holed.iter_mut() {
+            if rng.random::<f64>() < 0.05 {
+                *v = f64::NAN;
+            }
+        }
+        let plateaus = Array2::from_shape_fn((97, 64), |_| f64::from(rng.random_range(0..9_u8)));
+        let mut found = Vec::new();
+        for h in [&rough, &holed, &plateaus] {
+            for levels in [Levels::Count(1000), Levels::Count(7), Levels::All] {
+                for connectivity in [Connectivity::Eight, Connectivity::Four] {
+                    let options = TruncationOptions {
+                        levels,
+                        connectivity,
+                        patch_fractions: vec![0.001, 0.01, 0.1, 0.3, 0.5, 0.9, 1.0],
+                    };
+                    let p = truncate(h.view(), 2e-5, 3e-5, &options, &mut |_| {}).unwrap();
+                    found.push(fingerprint(&p));
+                }
+            }
+        }
+        let recorded: [u64; 18] = [
+            0xe9d2_9b9c_189b_1db1,
+            0x4eb9_bc2e_11d4_1da0,
+            0x8df0_4f70_8f47_45f4,
+            0x0103_e12b_5b71_abeb,
+            0x1c0a_3b7c_21bc_97cf,
+            0xde2a_dac4_7946_7790,
+            0x31fa_08a7_3847_3726,
+            0xd1a8_7f40_b701_279b,
+            0x5133_8d8c_99b4_6d22,
+            0x19dd_8bda_b6d0_4572,
+            0xe471_452f_8933_e5a1,
+            0x13c3_9fcf_e4bc_05f4,
+            0xfb57_0f50_628e_731b,
+            0xb08e_69c0_7116_d16b,
+            0x5850_4d9d_17c8_f9b5,
+            0x8638_80e7_3502_a340,
+            0x76cf_8973_6e81_be1b,
+            0x0405_0d0f_4613_206f,
+        ];
+        assert_eq!(found, recorded, "{found:#x?}");
     }
 
     #[test]
