@@ -117,6 +117,20 @@ impl BSplineImage {
         columns: usize,
         out: &mut [f64],
     ) {
+        self.values_on_grid_inline(origin, step_column, step_row, columns, out)
+    }
+
+    /// `values_on_grid`, always inlined: IC-GN calls it from code compiled
+    /// for a wider instruction set (`vector_isa`), which then covers it too.
+    #[inline(always)]
+    pub(crate) fn values_on_grid_inline(
+        &self,
+        origin: (f64, f64),
+        step_column: (f64, f64),
+        step_row: (f64, f64),
+        columns: usize,
+        out: &mut [f64],
+    ) {
         const BLOCK: usize = 16;
         let w = self.width;
         let mut node_x = [0u64; BLOCK];
