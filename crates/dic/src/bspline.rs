@@ -159,19 +159,16 @@ impl BSplineImage {
                         wy[j][k] = ay[j];
                     }
                 }
-                let mut values = [0.0; BLOCK];
-                for lanes in 0..out_block.len().div_ceil(LANES) {
-                    let quad = lanes * LANES..(lanes + 1) * LANES;
-                    values[quad.clone()].copy_from_slice(&self.lane_values(
-                        &node_x,
-                        &node_y,
-                        &wx,
-                        &wy,
-                        quad.start,
-                        out_block.len(),
-                    ));
+                let valid = out_block.len();
+                for (lanes, out_lanes) in out_block.chunks_mut(LANES).enumerate() {
+                    let values = self.lane_values(&node_x, &node_y, &wx, &wy, lanes * LANES, valid);
+                    // A fixed-size copy where the row allows it: a copy of
+                    // variable length is a call to memmove.
+                    match <&mut [f64; LANES]>::try_from(&mut *out_lanes) {
+                        Ok(full) => *full = values,
+                        Err(_) => out_lanes.copy_from_slice(&values[..out_lanes.len()]),
+                    }
                 }
-                out_block.copy_from_slice(&values[..out_block.len()]);
                 first += BLOCK as f64;
             }
         }
