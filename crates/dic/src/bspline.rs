@@ -40,6 +40,13 @@ pub fn weights(t: f64) -> [f64; 4] {
     ]
 }
 
+/// Points per block of `BSplineImage::values_on_grid`: their nodes and
+/// weights are computed first, together.
+const BLOCK: usize = 16;
+
+/// Points interpolated side by side, one per lane of a 256-bit vector.
+const LANES: usize = 4;
+
 /// Adding and removing 1.5 · 2⁵² rounds to an integer (round to nearest,
 /// the only mode Rust code runs in), and the integer sits in the low bits.
 const ROUND: f64 = 6_755_399_441_055_744.0;
@@ -117,8 +124,20 @@ impl BSplineImage {
         columns: usize,
         out: &mut [f64],
     ) {
-        const BLOCK: usize = 16;
-        let w = self.width;
+        self.values_on_grid_inline(origin, step_column, step_row, columns, out)
+    }
+
+    /// `values_on_grid`, always inlined: IC-GN calls it from code compiled
+    /// for a wider instruction set (`vector_isa`), which then covers it too.
+    #[inline(always)]
+    pub(crate) fn values_on_grid_inline(
+        &self,
+        origin: (f64, f64),
+        step_column: (f64, f64),
+        step_row: (f64, f64),
+        columns: usize,
+        out: &mut [f64],
+    ) {
         let mut node_x = [0u64; BLOCK];
         let mut node_y = [0u64; BLOCK];
         let mut wx = [[0.0; BLOCK]; 4];
@@ -140,21 +159,63 @@ impl BSplineImage {
                         wy[j][k] = ay[j];
                     }
                 }
-                for (k, g) in out_block.iter_mut().enumerate() {
-                    let b = (node_y[k] as usize - 1) * w + node_x[k] as usize - 1;
-                    let support = &self.coefficients[b..b + 3 * w + 4];
-                    let row = |j: usize| -> f64 {
-                        let r = &support[j * w..j * w + 4];
-                        r[0] * wx[0][k] + r[1] * wx[1][k] + r[2] * wx[2][k] + r[3] * wx[3][k]
-                    };
-                    *g = wy[0][k] * row(0)
-                        + wy[1][k] * row(1)
-                        + wy[2][k] * row(2)
-                        + wy[3][k] * row(3);
+                let valid = out_block.len();
+                for (lanes, out_lanes) in out_block.chunks_mut(LANES).enumerate() {
+                    let values = self.lane_values(&node_x, &node_y, &wx, &wy, lanes * LANES, valid);
+                    // A fixed-size copy where the row allows it: a copy of
+                    // variable length is a call to memmove.
+                    match <&mut [f64; LANES]>::try_from(&mut *out_lanes) {
+                        Ok(full) => *full = values,
+                        Err(_) => out_lanes.copy_from_slice(&values[..out_lanes.len()]),
+                    }
                 }
                 first += BLOCK as f64;
             }
         }
+    }
+
+    /// The spline at the `LANES` points `first …` of a block of
+    /// `values_on_grid` from their nodes and weights, `value`'s operations
+    /// in `value`'s order for each point. Written lane by lane (the points
+    /// side by side, as in the weight arrays) so that the compiler keeps
+    /// the points in the lanes of one vector instead of summing each
+    /// point's products across a vector. Points at or past `valid` (the end
+    /// of a row) read the support of the last valid point, which is inside
+    /// the image, and are discarded by the caller.
+    #[inline(always)]
+    fn lane_values(
+        &self,
+        node_x: &[u64; BLOCK],
+        node_y: &[u64; BLOCK],
+        wx: &[[f64; BLOCK]; 4],
+        wy: &[[f64; BLOCK]; 4],
+        first: usize,
+        valid: usize,
+    ) -> [f64; LANES] {
+        let w = self.width;
+        let mut supports = [[[0.0; 4]; LANES]; 4];
+        for lane in 0..LANES {
+            let k = (first + lane).min(valid - 1);
+            let b = (node_y[k] as usize - 1) * w + node_x[k] as usize - 1;
+            let support = &self.coefficients[b..b + 3 * w + 4];
+            for (j, rows) in supports.iter_mut().enumerate() {
+                rows[lane].copy_from_slice(&support[j * w..j * w + 4]);
+            }
+        }
+        let mut sums = [0.0; LANES];
+        for (j, rows) in supports.iter().enumerate() {
+            for (lane, (sum, r)) in sums.iter_mut().zip(rows).enumerate() {
+                let k = first + lane;
+                let row = r[0] * wx[0][k] + r[1] * wx[1][k] + r[2] * wx[2][k] + r[3] * wx[3][k];
+                // j = 0 starts the sum: 0 + x would turn −0 into +0.
+                *sum = if j == 0 {
+                    wy[0][k] * row
+                } else {
+                    *sum + wy[j][k] * row
+                };
+            }
+        }
+        sums
     }
 
     /// The spline's gradient (d/dx, d/dy) at pixel centre `(x, y)`, which
@@ -381,6 +442,24 @@ mod tests {
             let (r, c) = ((k / 21) as f64, (k % 21) as f64);
             let x = origin.0 + c * step_column.0 + r * step_row.0;
             let y = origin.1 + c * step_column.1 + r * step_row.1;
+            assert!((v - spline.value(x, y)).abs() < 1e-12, "{x},{y}");
+        }
+    }
+
+    #[test]
+    fn grid_rows_ending_at_the_border_read_no_further() {
+        // 19 columns (a block of 16 and a partial one of 3) whose last point
+        // is the last the support allows (x, y < size − 2), 1.9 px apart:
+        // on the last row, the unused lanes of the partial block lie past
+        // the image's last pixel, where a read would go out of bounds.
+        let img = image(40, 12, |x, y| (0.3 * x).cos() + 0.1 * y);
+        let spline = BSplineImage::new(&img);
+        let (origin, step_column, step_row) = ((37.99 - 18.0 * 1.9, 6.99), (1.9, 0.0), (0.0, 3.0));
+        let mut out = vec![0.0; 19 * 2];
+        spline.values_on_grid(origin, step_column, step_row, 19, &mut out);
+        for (k, v) in out.iter().enumerate() {
+            let (r, c) = ((k / 19) as f64, (k % 19) as f64);
+            let (x, y) = (origin.0 + c * step_column.0, origin.1 + r * step_row.1);
             assert!((v - spline.value(x, y)).abs() < 1e-12, "{x},{y}");
         }
     }

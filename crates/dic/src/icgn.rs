@@ -11,6 +11,7 @@ use nalgebra::{Cholesky, Matrix6, U6, Vector6};
 
 use crate::bspline::BSplineImage;
 use crate::gray::GrayImage;
+use crate::vector_isa::{self, InstructionSet};
 
 /// First-order shape function: a reference offset (dx, dy) maps to
 /// (dx + u + ux·dx + uy·dy, dy + v + vx·dx + vy·dy).
@@ -72,6 +73,7 @@ impl Warp {
 
     /// W(self) ∘ W(increment)⁻¹, the inverse-compositional update; None if
     /// the increment is singular.
+    #[inline(always)]
     pub fn compose_inverse(&self, increment: &Warp) -> Option<Warp> {
         let d = increment.matrix();
         let det = d[0][0] * d[1][1] - d[0][1] * d[1][0];
@@ -178,7 +180,7 @@ impl ReferenceFrame {
     /// it does not fit inside the image (with the gradient's one-pixel
     /// margin) or holds no texture.
     pub fn subset(&self, x0: usize, y0: usize, half: usize) -> Option<ReferenceSubset<'_>> {
-        ReferenceSubset::new(self, x0, y0, half)
+        vector_isa::prepare_subset(InstructionSet::Widest, self, (x0, y0), half)
     }
 }
 
@@ -202,7 +204,14 @@ pub struct ReferenceSubset<'a> {
 }
 
 impl<'a> ReferenceSubset<'a> {
-    fn new(frame: &'a ReferenceFrame, x0: usize, y0: usize, half: usize) -> Option<Self> {
+    /// `ReferenceFrame::subset`; inlined into `vector_isa`'s dispatch.
+    #[inline(always)]
+    pub(crate) fn new_inline(
+        frame: &'a ReferenceFrame,
+        x0: usize,
+        y0: usize,
+        half: usize,
+    ) -> Option<Self> {
         let image = &frame.image;
         if x0 < half + 1
             || y0 < half + 1
@@ -250,6 +259,7 @@ impl<'a> ReferenceSubset<'a> {
     /// Whether the warped subset's interpolation support stays in `target`,
     /// with a margin of 1e-6 px for the rounding of the stepped positions
     /// in `solve`.
+    #[inline(always)]
     fn fits(&self, target: &BSplineImage, warp: &Warp) -> bool {
         const MARGIN_PX: f64 = 1e-6;
         let h = self.half as f64;
@@ -274,6 +284,17 @@ impl<'a> ReferenceSubset<'a> {
 
     /// Refines `guess` by IC-GN against the deformed image `target`.
     pub fn solve(&self, target: &BSplineImage, guess: Warp, settings: &IcgnSettings) -> Match {
+        vector_isa::solve(InstructionSet::Widest, self, target, guess, settings)
+    }
+
+    /// `solve`; inlined into `vector_isa`'s dispatch.
+    #[inline(always)]
+    pub(crate) fn solve_inline(
+        &self,
+        target: &BSplineImage,
+        guess: Warp,
+        settings: &IcgnSettings,
+    ) -> Match {
         let mut warp = guess;
         let mut zncc = f64::NAN;
         let h = self.half as f64;
@@ -327,13 +348,14 @@ impl<'a> ReferenceSubset<'a> {
 
     /// Interpolates `target` at the subset warped by `warp` into `g`, then
     /// one pass for Σg, Σg², Σfg and Σ J g.
+    #[inline(always)]
     fn target_sums(&self, target: &BSplineImage, warp: &Warp, g: &mut [f64]) -> TargetSums {
         let h = self.half as f64;
         let side = 2 * self.half + 1;
         let width = self.frame.image.width;
         let first = (self.y0 - self.half) * width + self.x0 - self.half;
         let (ox, oy) = warp.apply(-h, -h);
-        target.values_on_grid(
+        target.values_on_grid_inline(
             (self.x0 as f64 + ox, self.y0 as f64 + oy),
             (1.0 + warp.ux, warp.vx),
             (warp.uy, 1.0 + warp.vy),
@@ -381,6 +403,7 @@ impl<'a> ReferenceSubset<'a> {
     /// The ZNCC at the current warp and the Gauss–Newton solution d of
     /// H d = b (the increment is Δp = −d); None where the deformed subset
     /// holds no texture.
+    #[inline(always)]
     fn gauss_newton_step(&self, sums: &TargetSums) -> Option<(f64, Vector6<f64>)> {
         let side = 2 * self.half + 1;
         let n = (side * side) as f64;
@@ -401,6 +424,7 @@ impl<'a> ReferenceSubset<'a> {
 
 /// The rows of the subset of side `2 half + 1` centred on pixel `(x0, y0)`
 /// of a row-major image `width` pixels wide.
+#[inline(always)]
 fn subset_rows(
     values: &[f64],
     width: usize,
@@ -430,6 +454,7 @@ struct SubsetMoments {
 
 impl SubsetMoments {
     /// One pass over the subset's pixels and gradients, row by row.
+    #[inline(always)]
     fn sum<'r>(
         f_rows: impl Iterator<Item = &'r [f64]>,
         gx_rows: impl Iterator<Item = &'r [f64]>,
@@ -496,6 +521,7 @@ impl SubsetMoments {
     }
 
     /// The lower triangle of Σ J̃ J̃ᵀ = Σ J Jᵀ / ‖f − f̄‖² from the moments.
+    #[inline(always)]
     fn hessian_lower(&self, inv_norm_sq: f64) -> Matrix6<f64> {
         // For the x-block rows a, b ∈ {1, dx, dy}: moment index of a·b.
         const PRODUCT: [[usize; 3]; 3] = [[0, 1, 3], [1, 2, 4], [3, 4, 5]];

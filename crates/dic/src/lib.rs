@@ -1,7 +1,8 @@
 //! Digital image correlation of tensile speckle sequences: the `dic` stage.
 //!
 //! - [`bspline`], [`icgn`], [`zncc_fft`]: subset matching (bicubic B-spline
-//!   interpolation, IC-GN, FFT ZNCC integer guess);
+//!   interpolation, IC-GN, FFT ZNCC integer guess); `vector_isa` runs
+//!   IC-GN's loops on the CPU's widest vector instructions;
 //! - [`subset_tracking`]: POIs through a sequence (reliability-guided
 //!   propagation, incremental reference updating);
 //! - [`markers`]: centroid tracking of painted dots;
@@ -23,6 +24,7 @@ pub mod sequence;
 pub mod stage;
 pub mod strain;
 pub mod subset_tracking;
+mod vector_isa;
 pub mod zncc_fft;
 
 pub use error::DicError;
