@@ -87,9 +87,10 @@ static INFO: StageInfo = StageInfo {
           (the paper's Eq. 3). sigma is the rms height about the mean of the measured points; \
           A0 = (measured points) * dx * dy, so NaN holes count in neither A nor A0. Planes: \
           z_k = z_max (levels - k) / levels for k = 0..levels, top down, or every distinct \
-          height with `levels: all`. All planes come from one sweep over the heights sorted \
-          once, with a union-find (path compression, union by size); the map is never \
-          relabelled per plane. `patch_sizes` lists every patch's area at the first plane \
+          height with `levels: all`. All planes come from one sweep over the pixels in the \
+          order the planes reach them (grouped by plane with a counting sort for `levels: N`, \
+          sorted by height for `all`), with a union-find (path compression, union by size); \
+          the map is never relabelled per plane. `patch_sizes` lists every patch's area at the first plane \
           whose A/A0 reaches each of `patch_fractions`.",
     inputs: &[InputSpec::field(
         "surface",
