@@ -72,6 +72,9 @@ thread_local! {
     static LAST: RefCell<Option<Rc<Solved>>> = const { RefCell::new(None) };
 }
 
+/// What sees each solved step: (k, row, pressure / E*, gap in m).
+pub type OnStep<'a> = dyn FnMut(usize, &Step, &[f64], &[f64]) + 'a;
+
 /// Whether a curve came from a new solve or from the thread's last one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Source {
@@ -86,7 +89,7 @@ pub enum Source {
 pub fn solve_curve_shared(
     key: CurveKey,
     problem: &Problem<'_>,
-    on_step: &mut dyn FnMut(usize, &Step, &[f64], &[f64]),
+    on_step: &mut OnStep<'_>,
 ) -> Result<(Vec<Step>, Source), CurveError> {
     solve_within(key, problem, on_step, BUDGET_BYTES)
 }
@@ -95,7 +98,7 @@ pub fn solve_curve_shared(
 fn solve_within(
     key: CurveKey,
     problem: &Problem<'_>,
-    on_step: &mut dyn FnMut(usize, &Step, &[f64], &[f64]),
+    on_step: &mut OnStep<'_>,
     budget_bytes: usize,
 ) -> Result<(Vec<Step>, Source), CurveError> {
     let last = LAST.with(|l| l.borrow().clone());
