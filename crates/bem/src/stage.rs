@@ -214,8 +214,7 @@ impl Stage for Bem {
             .fold(f64::INFINITY, f64::min);
         let z_of = |approach_m: f64| problem.top_m() - approach_m - lowest_m;
 
-        let key = |options| CurveKey::new(grid, p.boundary, &heights_m, options);
-        let (rows, maps) = solve_steps(&problem, key, p, ctx).map_err(|e| {
+        let (rows, maps) = solve_steps(&problem, (grid, &heights_m), p, ctx).map_err(|e| {
             StageError::other(not_converged(e, &z_of, modulus.e0_star_pa() * a0_m2))
         })?;
         ctx.note(&format!(
@@ -269,7 +268,7 @@ impl Stage for Bem {
 /// the same one ([`crate::shared`]).
 fn solve_steps(
     problem: &Problem<'_>,
-    key: impl FnOnce(CurveOptions) -> CurveKey,
+    (grid, heights_m): ((usize, usize, f64, f64), &[f64]),
     p: &BemParams,
     ctx: &Context,
 ) -> Result<(Vec<crate::Step>, Vec<MapChoice>), CurveError> {
@@ -301,7 +300,11 @@ fn solve_steps(
             }
         }
     };
-    let (rows, _) = solve_curve_shared(key(options), problem, &mut keep)?;
+    let (rows, _) = solve_curve_shared(
+        CurveKey::new(grid, p.boundary, heights_m, options),
+        problem,
+        &mut keep,
+    )?;
     drop(progress);
     Ok((rows, maps.into_iter().flatten().collect()))
 }

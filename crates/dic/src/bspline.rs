@@ -116,21 +116,10 @@ impl BSplineImage {
     /// margin of 1e-6 px. Equal to `value` at each point up to rounding;
     /// done in blocks along a row: first the nodes and weights of a block's
     /// points, in a loop the compiler vectorises, then the coefficient reads.
-    pub fn values_on_grid(
-        &self,
-        origin: (f64, f64),
-        step_column: (f64, f64),
-        step_row: (f64, f64),
-        columns: usize,
-        out: &mut [f64],
-    ) {
-        self.values_on_grid_inline(origin, step_column, step_row, columns, out)
-    }
-
-    /// `values_on_grid`, always inlined: IC-GN calls it from code compiled
-    /// for a wider instruction set (`vector_isa`), which then covers it too.
+    /// Always inlined: IC-GN calls it from code compiled for a wider
+    /// instruction set (`vector_isa`), which then covers it too.
     #[inline(always)]
-    pub(crate) fn values_on_grid_inline(
+    pub fn values_on_grid(
         &self,
         origin: (f64, f64),
         step_column: (f64, f64),

@@ -355,7 +355,7 @@ impl<'a> ReferenceSubset<'a> {
         let width = self.frame.image.width;
         let first = (self.y0 - self.half) * width + self.x0 - self.half;
         let (ox, oy) = warp.apply(-h, -h);
-        target.values_on_grid_inline(
+        target.values_on_grid(
             (self.x0 as f64 + ox, self.y0 as f64 + oy),
             (1.0 + warp.ux, warp.vx),
             (warp.uy, 1.0 + warp.vy),

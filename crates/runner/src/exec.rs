@@ -402,22 +402,13 @@ struct RunState {
     manifests: HashMap<String, Manifest>,
     /// Temporary stages whose entries this run has removed.
     dropped: Vec<String>,
-    /// Temporary stages computed but not written, by name (see
-    /// [`Deferred`]).
-    deferred: BTreeMap<String, Deferred>,
+    /// The products of temporary stages computed but not written, by stage
+    /// name (see [`defers_write`]); their manifests are in `manifests`.
+    deferred: BTreeMap<String, Products>,
 }
 
-/// A temporary stage whose readers all run now in this process: its entry
-/// is not written (a paper-scale scan is 1.4 GB of tiles and truth per
-/// sample, written, hashed and removed again within a minute), its
-/// products stay in memory for the readers, and it is written only if the
-/// run stops with an error before they have their entries, so the next run
-/// finds it as it would have.
-struct Deferred {
-    products: BTreeMap<String, Arc<Product>>,
-    compute_s: f64,
-    notes: Vec<String>,
-}
+/// A stage's products by output name.
+type Products = BTreeMap<String, Arc<Product>>;
 
 /// A product of a stage: (stage, output).
 type ProductId = (String, String);
@@ -448,7 +439,7 @@ impl Memory {
     }
 
     /// Keeps the products a stage computed now that a later stage reads.
-    fn keep(&mut self, stage: &str, outputs: &BTreeMap<String, Arc<Product>>) {
+    fn keep(&mut self, stage: &str, outputs: &Products) {
         for (name, product) in outputs {
             let id = (stage.to_owned(), name.clone());
             if self.readers.get(&id).is_some_and(|&n| n > 0) {
@@ -498,23 +489,17 @@ fn run_stage(
         after_file,
         defer,
     )?;
-    let outputs: BTreeMap<String, Arc<Product>> = outputs
+    // Deferred only when computed now: a cache hit has its entry.
+    let deferred = defer && outputs.is_some();
+    let outputs: Products = outputs
         .map(Outputs::into_inner)
         .into_iter()
         .flatten()
         .map(|(name, product)| (name, Arc::new(product)))
         .collect();
     state.memory.keep(&planned.name, &outputs);
-    let deferred = defer && !outputs.is_empty();
     if deferred {
-        state.deferred.insert(
-            planned.name.clone(),
-            Deferred {
-                products: outputs,
-                compute_s: manifest.compute_s,
-                notes: manifest.notes.clone(),
-            },
-        );
+        state.deferred.insert(planned.name.clone(), outputs);
     }
     // Computed by a cluster job of this run: a hit here, but this run's
     // work.
@@ -557,9 +542,14 @@ fn run_stage(
     Ok(record)
 }
 
-/// Whether a temporary stage's entry can wait ([`Deferred`]): its readers
-/// all run in this process now (none is left out by `--only`), and the run
-/// keeps no temporary entries (a study's variants share them).
+/// Whether a temporary stage's entry can wait: its readers all run in this
+/// process now (none is left out by `--only`), and the run keeps no
+/// temporary entries (a study's variants share them). Its entry is then not
+/// written (a paper-scale scan is 1.4 GB of tiles and truth per sample,
+/// written, hashed and removed again within a minute): its products stay in
+/// memory for the readers, and are written only if the run stops with an
+/// error before they have their entries ([`write_deferred`]), so the next
+/// run finds them as it would have.
 fn defers_write(scope: &RunScope, planned: &PlannedStage) -> bool {
     planned.temp
         && !scope.options.keep_temps
@@ -574,21 +564,21 @@ fn defers_write(scope: &RunScope, planned: &PlannedStage) -> bool {
 /// stopped the run is the one to report, and a temporary entry that could
 /// not be written is recomputed by the next run.
 fn write_deferred(scope: &RunScope, state: &mut RunState, after_file: AfterFile) {
-    for (name, deferred) in std::mem::take(&mut state.deferred) {
-        let (Some(planned), Some(decl)) = (scope.plan.stage(&name), scope.pipeline.stage(&name))
-        else {
+    for (name, products) in std::mem::take(&mut state.deferred) {
+        let (Some(planned), Some(decl), Some(manifest)) = (
+            scope.plan.stage(&name),
+            scope.pipeline.stage(&name),
+            state.manifests.get(&name),
+        ) else {
             continue;
         };
-        let products = deferred
-            .products
-            .iter()
-            .map(|(name, product)| (name.as_str(), product.as_ref()));
+        let products = products.iter().map(|(n, p)| (n.as_str(), p.as_ref()));
         let _ = write_entry(
             scope.cache,
             planned,
             decl.stage.info(),
             products,
-            (deferred.compute_s, deferred.notes),
+            (manifest.compute_s, manifest.notes.clone()),
             after_file,
         );
     }

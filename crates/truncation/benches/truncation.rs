@@ -17,7 +17,8 @@
 
 use std::hint::black_box;
 
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::measurement::WallTime;
+use criterion::{BenchmarkGroup, Criterion, criterion_group, criterion_main};
 use hypercontact_synth::surface::SelfAffine;
 use hypercontact_truncation::flood_fill::label_at;
 use hypercontact_truncation::{Connectivity, Levels, TruncationOptions, truncate};
@@ -29,32 +30,32 @@ fn self_affine(n: usize) -> ndarray::Array2<f64> {
     SelfAffine::whole_band(n, 2e-5).periodic(n, n, 2e-5, 4096)
 }
 
-fn options() -> TruncationOptions {
-    TruncationOptions {
+/// The map of side `n` and its group, with the one-sweep truncation timed
+/// in it (`samples` samples).
+fn union_find_group(
+    c: &mut Criterion,
+    n: usize,
+    samples: usize,
+) -> (ndarray::Array2<f64>, BenchmarkGroup<'_, WallTime>) {
+    let h = self_affine(n);
+    let options = TruncationOptions {
         levels: Levels::Count(LEVELS),
         ..Default::default()
-    }
+    };
+    let mut group = c.benchmark_group(format!("truncation_{n}x{n}_1000_levels"));
+    group.sample_size(samples);
+    group.bench_function("union_find_one_sweep", |b| {
+        b.iter(|| truncate(black_box(h.view()), 2e-5, 2e-5, &options, &mut |_| {}).unwrap())
+    });
+    (h, group)
 }
 
 fn truncation_2048(c: &mut Criterion) {
-    let h = self_affine(2048);
-    let options = options();
-    let mut group = c.benchmark_group("truncation_2048x2048_1000_levels");
-    group.sample_size(20);
-    group.bench_function("union_find_one_sweep", |b| {
-        b.iter(|| truncate(black_box(h.view()), 2e-5, 2e-5, &options, &mut |_| {}).unwrap())
-    });
-    group.finish();
+    union_find_group(c, 2048, 20).1.finish();
 }
 
 fn truncation_4096(c: &mut Criterion) {
-    let h = self_affine(4096);
-    let options = options();
-    let mut group = c.benchmark_group("truncation_4096x4096_1000_levels");
-    group.sample_size(10);
-    group.bench_function("union_find_one_sweep", |b| {
-        b.iter(|| truncate(black_box(h.view()), 2e-5, 2e-5, &options, &mut |_| {}).unwrap())
-    });
+    let (h, mut group) = union_find_group(c, 4096, 10);
 
     let h_min = h.iter().copied().fold(f64::INFINITY, f64::min);
     let above = h.mapv(|v| v - h_min);
