@@ -6,7 +6,7 @@
 
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, Weak};
 use std::time::Instant;
 
 use hypercontact_core::{Context, Inputs, Outputs, Product, ProductKind, ProgressSink};
@@ -402,9 +402,53 @@ struct RunState {
     manifests: HashMap<String, Manifest>,
     /// Temporary stages whose entries this run has removed.
     dropped: Vec<String>,
-    /// The products of temporary stages computed but not written, by stage
-    /// name (see [`defers_write`]); their manifests are in `manifests`.
-    deferred: BTreeMap<String, Products>,
+    /// Temporary stages computed but not written, by stage name (see
+    /// [`defers_write`]); their manifests are in `manifests`.
+    deferred: BTreeMap<String, Deferred>,
+}
+
+/// The products of a temporary stage whose entry waits: held weakly where
+/// [`Memory`] holds them for readers, so each leaves memory with its last
+/// reader (a paper-scale sample's 0.8 GB of tiles go once stitched, while
+/// its truth waits for the contact experiment), and strongly for the
+/// outputs no stage reads, which memory does not hold.
+struct Deferred(BTreeMap<String, Held>);
+
+enum Held {
+    Read(Weak<Product>),
+    Unread(Arc<Product>),
+}
+
+impl Deferred {
+    fn new(stage: &str, outputs: &Products, memory: &Memory) -> Self {
+        let held =
+            |name: &String| (memory.products).contains_key(&(stage.to_owned(), name.clone()));
+        Self(
+            outputs
+                .iter()
+                .map(|(name, p)| {
+                    let kept = match held(name) {
+                        true => Held::Read(Arc::downgrade(p)),
+                        false => Held::Unread(p.clone()),
+                    };
+                    (name.clone(), kept)
+                })
+                .collect(),
+        )
+    }
+
+    /// Every product, if none has left memory yet.
+    fn complete(&self) -> Option<Products> {
+        (self.0.iter())
+            .map(|(name, held)| {
+                let product = match held {
+                    Held::Read(p) => p.upgrade()?,
+                    Held::Unread(p) => p.clone(),
+                };
+                Some((name.clone(), product))
+            })
+            .collect()
+    }
 }
 
 /// A stage's products by output name.
@@ -499,7 +543,8 @@ fn run_stage(
         .collect();
     state.memory.keep(&planned.name, &outputs);
     if deferred {
-        state.deferred.insert(planned.name.clone(), outputs);
+        let waiting = Deferred::new(&planned.name, &outputs, &state.memory);
+        state.deferred.insert(planned.name.clone(), waiting);
     }
     // Computed by a cluster job of this run: a hit here, but this run's
     // work.
@@ -562,13 +607,15 @@ fn defers_write(scope: &RunScope, planned: &PlannedStage) -> bool {
 /// Writes the entries of the temporary stages whose readers have not all
 /// finished, as the run stops on an error. Best effort: the error that
 /// stopped the run is the one to report, and a temporary entry that could
-/// not be written is recomputed by the next run.
+/// not be written, or whose products have partly left memory with their
+/// last readers, is recomputed by the next run that needs it.
 fn write_deferred(scope: &RunScope, state: &mut RunState, after_file: AfterFile) {
-    for (name, products) in std::mem::take(&mut state.deferred) {
-        let (Some(planned), Some(decl), Some(manifest)) = (
+    for (name, waiting) in std::mem::take(&mut state.deferred) {
+        let (Some(planned), Some(decl), Some(manifest), Some(products)) = (
             scope.plan.stage(&name),
             scope.pipeline.stage(&name),
             state.manifests.get(&name),
+            waiting.complete(),
         ) else {
             continue;
         };
@@ -1041,4 +1088,49 @@ fn upstream_record(plan: &Plan, planned: &PlannedStage, pipeline: &Pipeline) -> 
         "key": planned.key,
         "upstream": stages,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hypercontact_core::Table;
+
+    fn table(x: f64) -> Arc<Product> {
+        Arc::new(Product::Table(Table::new().with("x", vec![x])))
+    }
+
+    #[test]
+    fn a_deferred_stage_lets_each_read_product_go_with_its_last_reader() {
+        let mut memory = Memory {
+            products: HashMap::new(),
+            readers: HashMap::new(),
+        };
+        let outputs: Products = [("tiles", 1.0), ("truth", 2.0), ("offsets", 3.0)]
+            .into_iter()
+            .map(|(name, x)| (name.to_owned(), table(x)))
+            .collect();
+        for read in ["tiles", "truth"] {
+            let id = ("scan".to_owned(), read.to_owned());
+            memory.readers.insert(id, 1);
+        }
+        memory.keep("scan", &outputs);
+        let waiting = Deferred::new("scan", &outputs, &memory);
+        drop(outputs);
+        let all = waiting.complete().expect("every product still held");
+        assert_eq!(all.len(), 3);
+        drop(all);
+        // The unread `offsets` is held by the deferral alone; `tiles` by memory.
+        memory
+            .products
+            .remove(&("scan".to_owned(), "tiles".to_owned()));
+        assert!(waiting.complete().is_none(), "tiles have left memory");
+        let Held::Unread(offsets) = &waiting.0["offsets"] else {
+            panic!("an output no stage reads is held strongly");
+        };
+        assert_eq!(Arc::strong_count(offsets), 1);
+        let Held::Read(truth) = &waiting.0["truth"] else {
+            panic!("a read output is held weakly");
+        };
+        assert!(truth.upgrade().is_some(), "memory still holds the truth");
+    }
 }
