@@ -28,9 +28,7 @@ use super::plans::{self, Direction};
 use super::transpose::{BLOCK, gather_columns, gather_rows};
 use crate::NumericError;
 
-/// Rows transformed per band in [`RealFft2::filter_in_place`]: enough for
-/// every thread, a small buffer beside the spectrum.
-const BAND: usize = 64;
+mod filter;
 
 /// The plans of a real 2-D transform on one `rows × cols` grid (each row
 /// contiguous, the real transform along it).
@@ -165,45 +163,6 @@ impl RealFft2 {
         Ok(())
     }
 
-    /// Multiplies the spectrum of `map`, a whole `rows × cols` grid, by a
-    /// real `gain(k, l)` (row k, half-spectrum column l) and transforms back
-    /// into `map`, unnormalised (a factor rows · cols). The same bits as
-    /// [`Self::convolve`] with that gain, holding one half spectrum beside
-    /// the map instead of two: the rows go through their transforms a band
-    /// at a time, straight into the column-major spectrum, for maps whose
-    /// spectrum is as large as the memory allows (a paper-scale synthetic
-    /// truth grid is ~14 000² points).
-    pub fn filter_in_place(
-        &self,
-        map: &mut [f64],
-        gain: impl Fn(usize, usize) -> f64 + Sync,
-    ) -> Result<(), NumericError> {
-        let size = (self.rows, self.cols);
-        self.check_map("filtered map", size, map.len())?;
-        let mut columns = vec![Complex64::ZERO; self.spectrum_len()];
-        let mut band = vec![Complex64::ZERO; BAND * self.half];
-        for (b, block) in map.chunks(BAND * self.cols).enumerate() {
-            let band = &mut band[..block.len() / self.cols * self.half];
-            self.rows_forward(block, self.cols, band);
-            for (i, row) in band.chunks_exact(self.half).enumerate() {
-                for (l, &v) in row.iter().enumerate() {
-                    columns[l * self.rows + b * BAND + i] = v;
-                }
-            }
-        }
-        self.columns_forward(None, &mut columns, |offset, strip, scratch| {
-            for (c, column) in strip.chunks_exact_mut(self.rows).enumerate() {
-                let l = offset / self.rows + c;
-                for (k, v) in column.iter_mut().enumerate() {
-                    *v *= gain(k, l);
-                }
-            }
-            self.inverse.process_with_scratch(strip, scratch);
-        });
-        self.rows_back(&columns, size, map, 1.0);
-        Ok(())
-    }
-
     fn check_map(
         &self,
         what: &'static str,
@@ -296,7 +255,8 @@ impl RealFft2 {
 
     /// Complex-to-real transforms of the first `map_rows` rows of the
     /// column-major `columns`, their first `map_cols` values times `scale`
-    /// into `output`.
+    /// into `output`. The columns are `columns.len() / half` long: the
+    /// grid's, or only their first rows when no more are returned.
     fn rows_back(
         &self,
         columns: &[Complex64],
@@ -305,6 +265,7 @@ impl RealFft2 {
         scale: f64,
     ) {
         let (half, even) = (self.half, self.cols.is_multiple_of(2));
+        let column_len = columns.len() / half;
         output
             .par_chunks_mut(BLOCK * map_cols)
             .enumerate()
@@ -318,7 +279,7 @@ impl RealFft2 {
                 },
                 |(band, line, scratch), (block, out)| {
                     let band = &mut band[..out.len() / map_cols * half];
-                    gather_rows(columns, self.rows, block * BLOCK, half, band);
+                    gather_rows(columns, column_len, block * BLOCK, half, band);
                     for (row, out) in band.chunks_mut(half).zip(out.chunks_mut(map_cols)) {
                         // The DC and Nyquist terms of a real row's spectrum
                         // are real; the column transforms leave ~1e-17 in
@@ -348,7 +309,7 @@ mod tests {
     use crate::fft2::direct::{dft2, embed, max_difference};
 
     /// A map with values of either sign and several magnitudes.
-    fn map(rows: usize, cols: usize, seed: u64) -> Vec<f64> {
+    pub(super) fn map(rows: usize, cols: usize, seed: u64) -> Vec<f64> {
         (0..rows * cols)
             .map(|k| {
                 let x = (k as u64 + 1).wrapping_mul(seed.wrapping_mul(2) + 0x9E37_79B9);
@@ -486,51 +447,6 @@ mod tests {
             let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&fused), bits(&apart));
         }
-    }
-
-    #[test]
-    fn filtering_in_place_is_the_convolution_with_that_gain_to_the_bit() {
-        // More rows than one band, odd and even row lengths; a gain that is
-        // not symmetric in k, so the clean-up of DC and Nyquist is exercised.
-        for (rows, cols) in [(150, 37), (70, 64), (1, 5)] {
-            let fft = RealFft2::new(rows, cols).unwrap();
-            let gain = |k: usize, l: usize| 1.0 / (1.0 + (k * 3 + l) as f64);
-            let values = map(rows, cols, 11);
-            let mut fused = vec![0.0; values.len()];
-            fft.convolve(
-                &values,
-                (rows, cols),
-                &mut fused,
-                1.0,
-                &mut fft.workspace(),
-                |o, strip| {
-                    for (i, s) in strip.iter_mut().enumerate() {
-                        let (l, k) = ((o + i) / rows, (o + i) % rows);
-                        *s *= gain(k, l);
-                    }
-                },
-            )
-            .unwrap();
-            let mut in_place = values.clone();
-            fft.filter_in_place(&mut in_place, gain).unwrap();
-            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(&in_place), bits(&fused), "{rows}×{cols}");
-        }
-    }
-
-    #[test]
-    fn filtering_with_unit_gain_scales_the_map_by_its_size() {
-        let (rows, cols) = (90, 33);
-        let fft = RealFft2::new(rows, cols).unwrap();
-        let values = map(rows, cols, 12);
-        let mut out = values.clone();
-        fft.filter_in_place(&mut out, |_, _| 1.0).unwrap();
-        let n = (rows * cols) as f64;
-        for (a, b) in out.iter().zip(&values) {
-            assert!((a / n - b).abs() < 1e-12 * (1.0 + b.abs()), "{a} vs {b}");
-        }
-        let e = fft.filter_in_place(&mut out[1..], |_, _| 1.0).unwrap_err();
-        assert!(e.to_string().contains("filtered map"), "{e}");
     }
 
     #[test]

@@ -69,8 +69,8 @@ pub struct SynthSurfaceParams {
     pub seed: u64,
 }
 
-/// Largest generated grid side: the Fourier synthesis holds about three
-/// arrays of this side squared (8 bytes each) at once.
+/// Largest generated grid side: the Fourier synthesis holds one half
+/// spectrum of the grid, 8 bytes per grid point (3.2 GB at this side).
 const MAX_GRID_SIDE: usize = 20_000;
 
 /// Checks across parameters: the band is ordered and resolved, the sample
@@ -269,9 +269,10 @@ pub fn synthesise(p: &Checked<SynthSurfaceParams>) -> Result<SynthScan, StageErr
         lambda_min_m: p.lambda_min_m,
         lambda_max_m: p.lambda_max_m,
     };
-    let periodic = spectrum.periodic(gx, gy, p.pixel_m, p.seed);
-    let truth = ndarray::Array2::from_shape_fn((size[0], size[1]), |(i, j)| periodic[[i, j]]);
-    drop(periodic);
+    // Only the scanned corner of the periodic grid is ever held.
+    let truth = spectrum
+        .periodic_corner(gx, gy, p.pixel_m, p.seed, size)
+        .map_err(StageError::other)?;
     let tiles = plan.scan(&truth, &offsets, origin);
     let truth = Field::new(truth, p.pixel_m, p.pixel_m).map_err(StageError::other)?;
     Ok(SynthScan { tiles, truth })
@@ -282,29 +283,53 @@ pub fn tile_file(t: usize) -> String {
     format!("tile_{t:03}.npy")
 }
 
+/// tile_NNN.npy and positions.csv of the tiles (nominal position, heights)
+/// in scan order, each tile's heights dropped once encoded.
+fn tile_files(
+    tiles: impl Iterator<Item = ([i64; 2], ndarray::Array2<f64>)>,
+    pixel_m: f64,
+) -> Result<Files, StageError> {
+    let mut files = Files::new();
+    let mut csv = format!("{POSITIONS_COLUMNS}\n");
+    for (t, (nominal_px, heights)) in tiles.enumerate() {
+        let name = tile_file(t);
+        // A 2-D .npy header takes at most 128 bytes: one allocation a tile.
+        let mut npy = Vec::with_capacity(128 + 8 * heights.len());
+        Field::new(heights, pixel_m, pixel_m)
+            .and_then(|f| f.write_npy(&mut npy))
+            .map_err(StageError::other)?;
+        files.files.insert(name.clone(), npy);
+        csv.push_str(&format!(
+            "{t},{name},{},{},{pixel_m}\n",
+            nominal_px[0] as f64 * pixel_m,
+            nominal_px[1] as f64 * pixel_m
+        ));
+    }
+    files
+        .files
+        .insert("positions.csv".to_owned(), csv.into_bytes());
+    Ok(files)
+}
+
 impl SynthScan {
-    /// The `tiles` product: tile_NNN.npy files and positions.csv.
+    /// The `tiles` product: tile_NNN.npy files and positions.csv (the
+    /// tiles are copied; [`Self::into_outputs`] encodes without copies).
     pub fn files(&self) -> Result<Files, StageError> {
-        let pixel_m = self.truth.dx_m;
-        let mut files = Files::new();
-        let mut csv = format!("{POSITIONS_COLUMNS}\n");
-        for (t, tile) in self.tiles.iter().enumerate() {
-            let name = tile_file(t);
-            let mut npy = Vec::new();
-            Field::new(tile.heights.clone(), pixel_m, pixel_m)
-                .and_then(|f| f.write_npy(&mut npy))
-                .map_err(StageError::other)?;
-            files.files.insert(name.clone(), npy);
-            csv.push_str(&format!(
-                "{t},{name},{},{},{pixel_m}\n",
-                tile.nominal_px[0] as f64 * pixel_m,
-                tile.nominal_px[1] as f64 * pixel_m
-            ));
-        }
-        files
-            .files
-            .insert("positions.csv".to_owned(), csv.into_bytes());
-        Ok(files)
+        let tiles = self.tiles.iter().map(|t| (t.nominal_px, t.heights.clone()));
+        tile_files(tiles, self.truth.dx_m)
+    }
+
+    /// The stage's three products, `tiles`, `truth_offsets` and `truth`:
+    /// each tile is encoded and dropped in turn, so a tile's heights and its
+    /// .npy bytes are never both alive past the one being encoded (#35).
+    pub fn into_outputs(self) -> Result<Outputs, StageError> {
+        let table = self.truth_table().into_table();
+        let tiles = self.tiles.into_iter().map(|t| (t.nominal_px, t.heights));
+        let files = tile_files(tiles, self.truth.dx_m)?;
+        Ok(Outputs::new()
+            .files("tiles", files)
+            .table("truth_offsets", table)
+            .field("truth", self.truth))
     }
 
     /// The `truth_offsets` table.
@@ -341,13 +366,9 @@ impl Stage for SynthSurface {
         let progress = ctx.progress(2, "generate and scan");
         let scan = synthesise(p)?;
         progress.inc(1);
-        let files = scan.files()?;
-        let table = scan.truth_table().into_table();
+        let outputs = scan.into_outputs()?;
         progress.inc(1);
-        Ok(Outputs::new()
-            .files("tiles", files)
-            .table("truth_offsets", table)
-            .field("truth", scan.truth))
+        Ok(outputs)
     }
 }
 
@@ -393,6 +414,31 @@ mod tests {
         // The truth spans the tiles: at least 2 steps plus a tile.
         assert!(surface.nx() >= 2 * 218 + 256 - 20);
         assert!(surface.values.iter().all(|h| h.is_finite()));
+    }
+
+    #[test]
+    fn the_stage_outputs_are_the_copying_files_truth_table_and_truth() {
+        // into_outputs consumes the tiles; files() and truth_table() keep
+        // them: the products must not tell the two apart.
+        let p = SynthSurfaceParams {
+            tiles_x: 2,
+            seed: 4,
+            ..Default::default()
+        }
+        .check()
+        .unwrap();
+        let kept = synthesise(&p).unwrap();
+        let out = synthesise(&p).unwrap().into_outputs().unwrap();
+        assert_eq!(out.get_files("tiles"), Some(&kept.files().unwrap()));
+        assert_eq!(
+            out.get_table("truth_offsets"),
+            Some(&kept.truth_table().into_table())
+        );
+        let Some(Product::Field(truth)) = out.get("truth") else {
+            panic!("no truth field")
+        };
+        assert_eq!(truth, &kept.truth);
+        assert_eq!(out.len(), 3);
     }
 
     #[test]

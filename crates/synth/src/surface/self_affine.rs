@@ -13,6 +13,7 @@
 //! is white Gaussian noise shaped in Fourier space, so it is periodic over
 //! the generated grid; callers that need a non-periodic sample crop a part.
 
+use hypercontact_numeric::NumericError;
 use hypercontact_numeric::fft2::RealFft2;
 use ndarray::Array2;
 use rand::SeedableRng;
@@ -107,6 +108,24 @@ impl SelfAffine {
 
     /// One periodic realisation on an nx × ny grid (axis 0 = x), metres.
     pub fn periodic(&self, nx: usize, ny: usize, pixel_m: f64, seed: u64) -> Array2<f64> {
+        self.periodic_corner(nx, ny, pixel_m, seed, [nx, ny])
+            .expect("the generator's grids are not empty")
+    }
+
+    /// The `corner_px[0] × corner_px[1]` corner of [`Self::periodic`]'s
+    /// realisation on an nx × ny grid, to the bit, without that grid ever
+    /// existing (issue #35: a paper-scale grid is ~14 000² points): the
+    /// white noise is drawn a band of rows at a time straight into the row
+    /// transforms, in the order a whole grid would take its draws, and only
+    /// the corner comes back from the spectrum.
+    pub fn periodic_corner(
+        &self,
+        nx: usize,
+        ny: usize,
+        pixel_m: f64,
+        seed: u64,
+        corner_px: [usize; 2],
+    ) -> Result<Array2<f64>, NumericError> {
         let c0 = self.prefactor(nx, ny, pixel_m);
         let (lx, ly) = (nx as f64 * pixel_m, ny as f64 * pixel_m);
         let n = (nx * ny) as f64;
@@ -115,22 +134,26 @@ impl SelfAffine {
         // The unnormalised inverse transforms contribute the last 1/N.
         let gain = |q: f64| (c0 * self.shape(q) * lx * ly / n).sqrt() / (pixel_m * pixel_m) / n;
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let mut heights = Array2::<f64>::zeros((nx, ny));
-        for h in heights.iter_mut() {
-            *h = StandardNormal.sample(&mut rng);
-        }
-        filter_real(&mut heights, |i, j| {
-            gain(wavevector(i, nx, lx).hypot(wavevector(j, ny, ly)))
-        });
-        heights
+        let corner = RealFft2::new(nx, ny)?.filtered_crop(
+            // Row-major draws, band after band: a whole grid's order.
+            |_, lines| {
+                for h in lines {
+                    *h = StandardNormal.sample(&mut rng);
+                }
+            },
+            |i, j| gain(wavevector(i, nx, lx).hypot(wavevector(j, ny, ly))),
+            (corner_px[0], corner_px[1]),
+        )?;
+        Ok(Array2::from_shape_vec((corner_px[0], corner_px[1]), corner)
+            .expect("the crop has the corner's points"))
     }
 
     /// A non-periodic nx × ny map: the corner of a periodic realisation
     /// twice as large each way, so opposite edges do not match (as on a
     /// measured sample), metres.
     pub fn non_periodic(&self, nx: usize, ny: usize, pixel_m: f64, seed: u64) -> Array2<f64> {
-        let full = self.periodic(2 * nx, 2 * ny, pixel_m, seed);
-        Array2::from_shape_fn((nx, ny), |(i, j)| full[[i, j]])
+        self.periodic_corner(2 * nx, 2 * ny, pixel_m, seed, [nx, ny])
+            .expect("the generator's grids are not empty")
     }
 }
 
@@ -142,18 +165,6 @@ fn wavevector(i: usize, n: usize, l: f64) -> f64 {
         i as f64 - n as f64
     };
     std::f64::consts::TAU * k / l
-}
-
-/// Multiplies the 2-D DFT of a real field by a real gain(i, j) and
-/// transforms back, unnormalised (`hypercontact_numeric`'s real 2-D
-/// transform, in place: the field and one half spectrum are the only large
-/// arrays alive, a paper-scale truth grid being ~14 000² points).
-fn filter_real(field: &mut Array2<f64>, gain: impl Fn(usize, usize) -> f64 + Sync) {
-    let (nx, ny) = field.dim();
-    let fft = RealFft2::new(nx, ny).expect("the generator's grids are not empty");
-    let slice = field.as_slice_mut().expect("a standard-layout array");
-    fft.filter_in_place(slice, gain)
-        .expect("the field fills the transform's grid");
 }
 
 #[cfg(test)]
@@ -189,6 +200,61 @@ mod tests {
         for ((i, j), h) in corner.indexed_iter() {
             assert_eq!(*h, full[[i, j]]);
         }
+    }
+
+    /// The realisation as it was made before issue #35: the whole noise
+    /// grid drawn, filtered in place, the corner copied out.
+    fn corner_of_the_whole_grid(
+        s: &SelfAffine,
+        (nx, ny): (usize, usize),
+        seed: u64,
+        [cx, cy]: [usize; 2],
+    ) -> Array2<f64> {
+        let pixel_m = 1e-6;
+        let c0 = s.prefactor(nx, ny, pixel_m);
+        let (lx, ly) = (nx as f64 * pixel_m, ny as f64 * pixel_m);
+        let n = (nx * ny) as f64;
+        let gain = |q: f64| (c0 * s.shape(q) * lx * ly / n).sqrt() / (pixel_m * pixel_m) / n;
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut grid = Array2::<f64>::zeros((nx, ny));
+        for h in grid.iter_mut() {
+            *h = StandardNormal.sample(&mut rng);
+        }
+        RealFft2::new(nx, ny)
+            .unwrap()
+            .filter_in_place(grid.as_slice_mut().unwrap(), |i, j| {
+                gain(wavevector(i, nx, lx).hypot(wavevector(j, ny, ly)))
+            })
+            .unwrap();
+        Array2::from_shape_fn((cx, cy), |(i, j)| grid[[i, j]])
+    }
+
+    #[test]
+    fn a_corner_has_the_bits_of_the_whole_grid_drawn_filtered_and_cut() {
+        // Grids of several noise bands, odd and even sides; the whole grid,
+        // a corner as synth-surface cuts it, a thin strip.
+        let s = spec(0.7);
+        for (grid, corner) in [
+            ((150, 97), [150, 97]),
+            ((150, 97), [101, 66]),
+            ((128, 135), [3, 135]),
+            ((75, 64), [60, 1]),
+        ] {
+            let expected = corner_of_the_whole_grid(&s, grid, 9, corner);
+            let got = s.periodic_corner(grid.0, grid.1, 1e-6, 9, corner).unwrap();
+            let bits = |h: &Array2<f64>| h.iter().map(|v| v.to_bits()).collect::<Vec<u64>>();
+            assert!(bits(&got) == bits(&expected), "{grid:?} cut to {corner:?}");
+        }
+        let whole = corner_of_the_whole_grid(&s, (90, 70), 4, [90, 70]);
+        assert_eq!(s.periodic(90, 70, 1e-6, 4), whole);
+    }
+
+    #[test]
+    fn a_corner_larger_than_the_grid_is_refused() {
+        let e = spec(0.7)
+            .periodic_corner(40, 30, 1e-6, 1, [41, 30])
+            .unwrap_err();
+        assert!(matches!(e, NumericError::MapTooLarge { .. }), "{e}");
     }
 
     #[test]
