@@ -20,7 +20,7 @@
 //!    the measured heights. Blending is `blend.rs`'s, a row at a time.
 
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
-use ndarray::{Array2, ArrayView2};
+use ndarray::{Array2, ArrayView2, Slice};
 use rayon::prelude::*;
 
 use crate::blend::Placement;
@@ -81,20 +81,22 @@ fn overlap(n: (usize, usize), d: [i64; 2], min_px: usize) -> Option<[(usize, usi
     Some(out)
 }
 
-/// The overlap patches of tiles i and j at integer offset d.
-fn patches(
-    a: &ArrayView2<f64>,
-    b: &ArrayView2<f64>,
+/// The overlap patches of tiles i and j at integer offset d, as views.
+fn patches<'t>(
+    a: ArrayView2<'t, f64>,
+    b: ArrayView2<'t, f64>,
     d: [i64; 2],
     r: [(usize, usize); 2],
-) -> (Array2<f64>, Array2<f64>) {
-    let shape = (r[0].1 - r[0].0, r[1].1 - r[1].0);
-    let pa = Array2::from_shape_fn(shape, |(u, v)| a[[r[0].0 + u, r[1].0 + v]]);
-    let pb = Array2::from_shape_fn(shape, |(u, v)| {
-        b[[
-            (r[0].0 as i64 + u as i64 - d[0]) as usize,
-            (r[1].0 as i64 + v as i64 - d[1]) as usize,
-        ]]
+) -> (ArrayView2<'t, f64>, ArrayView2<'t, f64>) {
+    let (mut pa, mut pb) = (a, b);
+    pa.slice_each_axis_inplace(|axis| {
+        let (lo, hi) = r[axis.axis.index()];
+        Slice::from(lo..hi)
+    });
+    pb.slice_each_axis_inplace(|axis| {
+        let k = axis.axis.index();
+        let lo = (r[k].0 as i64 - d[k]) as usize;
+        Slice::from(lo..lo + (r[k].1 - r[k].0))
     });
     (pa, pb)
 }
@@ -108,7 +110,7 @@ const PEAKS_TRIED: usize = 8;
 /// taken modulo the patch size) whose overlap correlates best; the sub-pixel
 /// rest comes from phase correlation on the overlap re-cut at that offset.
 fn register_pair(set: &TileSet, i: usize, j: usize, min_px: usize) -> Option<PairFit> {
-    let (a, b) = (&set.heights[i].view(), &set.heights[j].view());
+    let (a, b) = (set.heights[i].view(), set.heights[j].view());
     let n = a.dim();
     let nominal = [
         (set.nominal_px[j][0] - set.nominal_px[i][0]).round() as i64,
@@ -118,7 +120,7 @@ fn register_pair(set: &TileSet, i: usize, j: usize, min_px: usize) -> Option<Pai
     let (pa, pb) = patches(a, b, nominal, r0);
     let size = [pa.dim().0 as i64, pa.dim().1 as i64];
     let mut best: Option<([i64; 2], f64)> = None;
-    for (e, _) in correlation_peaks(&pa, &pb, PEAKS_TRIED) {
+    for (e, _) in correlation_peaks(pa, pb, PEAKS_TRIED) {
         for ex in [e[0], e[0] - size[0], e[0] + size[0]] {
             for ey in [e[1], e[1] - size[1], e[1] + size[1]] {
                 let d = [nominal[0] + ex, nominal[1] + ey];
@@ -126,7 +128,7 @@ fn register_pair(set: &TileSet, i: usize, j: usize, min_px: usize) -> Option<Pai
                     continue;
                 };
                 let (qa, qb) = patches(a, b, d, r);
-                let c = correlation(&qa, &qb);
+                let c = correlation(qa, qb);
                 if best.is_none_or(|(_, b)| c > b) {
                     best = Some((d, c));
                 }
@@ -140,11 +142,11 @@ fn register_pair(set: &TileSet, i: usize, j: usize, min_px: usize) -> Option<Pai
     for _ in 0..3 {
         let r = overlap(n, d, min_px)?;
         let (pa, pb) = patches(a, b, d, r);
-        let e = refine_shift(&pa, &pb, [0.0, 0.0])
-            .or_else(|| phase_correlate(&pa, &pb).map(|f| f.shift_px))?;
+        let e = refine_shift(pa, pb, [0.0, 0.0])
+            .or_else(|| phase_correlate(pa, pb).map(|f| f.shift_px))?;
         let whole = e.map(|v| v.round() as i64);
         if whole == [0, 0] {
-            rest = Some((e, correlation(&pa, &pb)));
+            rest = Some((e, correlation(pa, pb)));
             break;
         }
         d = [d[0] + whole[0], d[1] + whole[1]];
