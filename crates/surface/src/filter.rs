@@ -103,11 +103,10 @@ impl RowBand {
             self.values.clear();
         }
         self.first = first;
-        let have = first + self.values.len() / self.ny;
-        self.values.truncate(end.saturating_sub(first) * self.ny);
-        self.values
-            .resize(end.max(have).saturating_sub(first) * self.ny, 0.0);
-        self.values[(have.min(end) - first) * self.ny..]
+        let have = (first + self.values.len() / self.ny).min(end);
+        self.values.truncate((have - first) * self.ny);
+        self.values.resize((end - first) * self.ny, 0.0);
+        self.values[(have - first) * self.ny..]
             .par_chunks_mut(self.ny)
             .enumerate()
             .for_each(|(k, row)| map.write_row(have + k, row));
@@ -127,7 +126,7 @@ pub fn gaussian_resample(h: &Array2<f64>, dx_m: f64, dy_m: f64, resolution_m: f6
 }
 
 /// [`gaussian_resample`] of a map read a band of rows at a time: never
-/// more than a band of its rows is held.
+/// more than a band of its rows is held. An empty map gives an empty one.
 pub fn gaussian_resample_rows(
     map: &dyn MapRows,
     dx_m: f64,
@@ -135,6 +134,9 @@ pub fn gaussian_resample_rows(
     resolution_m: f64,
 ) -> Array2<f64> {
     let (nx, ny) = map.dim();
+    if nx == 0 || ny == 0 {
+        return Array2::zeros((0, 0));
+    }
     let cutoff_m = 2.0 * resolution_m;
     let n_out =
         |n: usize, d: f64| ((n as f64 - 1.0) * d / resolution_m + 1e-9).floor() as usize + 1;
@@ -377,6 +379,12 @@ mod tests {
                 }
             }
             assert!(reference.iter().any(|v| v.is_nan()) && reference.iter().any(|v| !v.is_nan()));
+        }
+        for empty in [(0, 5), (5, 0)] {
+            assert_eq!(
+                gaussian_resample(&Array2::zeros(empty), 1.0, 1.0, 2.0).dim(),
+                (0, 0)
+            );
         }
     }
 
