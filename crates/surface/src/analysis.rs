@@ -7,11 +7,13 @@
 
 use std::f64::consts::TAU;
 
+use hypercontact_core::field::FieldError;
 use hypercontact_core::{Checked, Context, Field, StageError};
 use ndarray::Array2;
+use rayon::prelude::*;
 
 use crate::error::SurfaceError;
-use crate::filter::{self, Grid};
+use crate::filter::{self, Grid, MapRows};
 use crate::hurst::{Dimension, Flag, PowerLaw, R2_MIN, fit_power_law};
 use crate::infill::{fill_harmonic, fill_zero};
 use crate::plane;
@@ -33,6 +35,56 @@ pub struct Analysis {
 /// offset still passes).
 pub const FLAT_RELATIVE: f64 = 1e-9;
 
+/// A measured map as the analysis takes it: held whole, or read a row at a
+/// time (a stitched mosaic, or a map borrowed from an input), which the
+/// filter reads a band at a time so the map is never held whole (#35).
+pub enum MeasuredMap<'m> {
+    Whole(Field),
+    Rows {
+        rows: &'m dyn MapRows,
+        dx_m: f64,
+        dy_m: f64,
+    },
+}
+
+impl MeasuredMap<'_> {
+    /// The map's grid, refused as [`Field::new`] refuses it.
+    fn grid(&self) -> Result<Grid, StageError> {
+        let (nx, ny, dx_m, dy_m) = match self {
+            MeasuredMap::Whole(map) => (map.nx(), map.ny(), map.dx_m, map.dy_m),
+            MeasuredMap::Rows { rows, dx_m, dy_m } => {
+                let (nx, ny) = rows.dim();
+                (nx, ny, *dx_m, *dy_m)
+            }
+        };
+        if !(dx_m > 0.0 && dx_m.is_finite() && dy_m > 0.0 && dy_m.is_finite()) {
+            return Err(StageError::other(FieldError::BadSpacing { dx_m, dy_m }));
+        }
+        if nx == 0 || ny == 0 {
+            return Err(StageError::other(FieldError::Empty { nx, ny }));
+        }
+        Ok(Grid { nx, ny, dx_m, dy_m })
+    }
+
+    /// The map held whole.
+    fn into_field(self) -> Result<Field, StageError> {
+        match self {
+            MeasuredMap::Whole(map) => Ok(map),
+            MeasuredMap::Rows { rows, dx_m, dy_m } => {
+                let (nx, ny) = rows.dim();
+                let mut values = Array2::<f64>::zeros((nx, ny));
+                values
+                    .as_slice_mut()
+                    .expect("a fresh array is contiguous")
+                    .par_chunks_mut(ny.max(1))
+                    .enumerate()
+                    .for_each(|(x, row)| rows.write_row(x, row));
+                Field::new(values, dx_m, dy_m).map_err(StageError::other)
+            }
+        }
+    }
+}
+
 /// Filter, detrend, reference, PSDs, statistics and Hurst exponents.
 pub fn analyse(
     map: Field,
@@ -50,8 +102,18 @@ pub fn analyse_named(
     p: &Checked<SurfaceParams>,
     ctx: &Context,
 ) -> Result<Analysis, StageError> {
+    analyse_measured(MeasuredMap::Whole(map), source, p, ctx)
+}
+
+/// [`analyse_named`] of a map held whole or read a row at a time.
+pub fn analyse_measured(
+    map: MeasuredMap,
+    source: &str,
+    p: &Checked<SurfaceParams>,
+    ctx: &Context,
+) -> Result<Analysis, StageError> {
     let progress = ctx.progress(3, "filter, PSD");
-    let measured = grid_of(&map);
+    let measured = map.grid()?;
     let filtered = filtered(map, &measured, p, ctx)?;
     progress.inc(1);
     let grid = grid_of(&filtered);
@@ -133,13 +195,22 @@ fn grid_of(map: &Field) -> Grid {
 /// The map low-pass filtered and resampled to `resolution_m` (with notes on
 /// the grids), or as it is when that is not coarser than its grid.
 fn filtered(
-    map: Field,
+    map: MeasuredMap,
     measured: &Grid,
     p: &SurfaceParams,
     ctx: &Context,
 ) -> Result<Field, StageError> {
-    if p.resolution_m > map.dx_m.max(map.dy_m) * (1.0 + 1e-9) {
-        let values = filter::gaussian_resample(&map.values, map.dx_m, map.dy_m, p.resolution_m);
+    let (dx_m, dy_m) = (measured.dx_m, measured.dy_m);
+    if p.resolution_m > dx_m.max(dy_m) * (1.0 + 1e-9) {
+        let values = match &map {
+            MeasuredMap::Whole(map) => {
+                filter::gaussian_resample(&map.values, dx_m, dy_m, p.resolution_m)
+            }
+            MeasuredMap::Rows { rows, .. } => {
+                filter::gaussian_resample_rows(*rows, dx_m, dy_m, p.resolution_m)
+            }
+        };
+        drop(map);
         let filtered =
             Field::new(values, p.resolution_m, p.resolution_m).map_err(StageError::other)?;
         for note in filter::filter_notes(measured, &grid_of(&filtered), p.resolution_m) {
@@ -150,10 +221,10 @@ fn filtered(
         if p.resolution_m > 0.0 {
             ctx.note(&format!(
                 "resolution_m = {} m is not coarser than the grid ({} m): map kept as measured",
-                p.resolution_m, map.dx_m
+                p.resolution_m, dx_m
             ));
         }
-        Ok(map)
+        map.into_field()
     }
 }
 

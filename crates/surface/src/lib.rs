@@ -2,6 +2,7 @@
 //! interferometer tiles (PSD, σ, Hurst exponent).
 
 pub mod analysis;
+pub mod blend;
 pub mod crop;
 pub mod error;
 pub mod filter;

@@ -17,11 +17,13 @@
 //!    NaN where no tile measured. Tiles are placed at their positions rounded
 //!    to whole pixels: the map is resampled to the much coarser lateral
 //!    resolution afterwards, and rounding avoids interpolating (smoothing)
-//!    the measured heights.
+//!    the measured heights. Blending is `blend.rs`'s, a row at a time.
 
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
-use ndarray::Array2;
+use ndarray::{Array2, ArrayView2, Slice};
 use rayon::prelude::*;
+
+use crate::blend::Placement;
 
 use crate::error::SurfaceError;
 use crate::register::{correlation, correlation_peaks, phase_correlate, refine_shift};
@@ -79,20 +81,22 @@ fn overlap(n: (usize, usize), d: [i64; 2], min_px: usize) -> Option<[(usize, usi
     Some(out)
 }
 
-/// The overlap patches of tiles i and j at integer offset d.
-fn patches(
-    a: &Array2<f64>,
-    b: &Array2<f64>,
+/// The overlap patches of tiles i and j at integer offset d, as views.
+fn patches<'t>(
+    a: ArrayView2<'t, f64>,
+    b: ArrayView2<'t, f64>,
     d: [i64; 2],
     r: [(usize, usize); 2],
-) -> (Array2<f64>, Array2<f64>) {
-    let shape = (r[0].1 - r[0].0, r[1].1 - r[1].0);
-    let pa = Array2::from_shape_fn(shape, |(u, v)| a[[r[0].0 + u, r[1].0 + v]]);
-    let pb = Array2::from_shape_fn(shape, |(u, v)| {
-        b[[
-            (r[0].0 as i64 + u as i64 - d[0]) as usize,
-            (r[1].0 as i64 + v as i64 - d[1]) as usize,
-        ]]
+) -> (ArrayView2<'t, f64>, ArrayView2<'t, f64>) {
+    let (mut pa, mut pb) = (a, b);
+    pa.slice_each_axis_inplace(|axis| {
+        let (lo, hi) = r[axis.axis.index()];
+        Slice::from(lo..hi)
+    });
+    pb.slice_each_axis_inplace(|axis| {
+        let k = axis.axis.index();
+        let lo = (r[k].0 as i64 - d[k]) as usize;
+        Slice::from(lo..lo + (r[k].1 - r[k].0))
     });
     (pa, pb)
 }
@@ -106,7 +110,7 @@ const PEAKS_TRIED: usize = 8;
 /// taken modulo the patch size) whose overlap correlates best; the sub-pixel
 /// rest comes from phase correlation on the overlap re-cut at that offset.
 fn register_pair(set: &TileSet, i: usize, j: usize, min_px: usize) -> Option<PairFit> {
-    let (a, b) = (&set.heights[i], &set.heights[j]);
+    let (a, b) = (set.heights[i].view(), set.heights[j].view());
     let n = a.dim();
     let nominal = [
         (set.nominal_px[j][0] - set.nominal_px[i][0]).round() as i64,
@@ -116,7 +120,7 @@ fn register_pair(set: &TileSet, i: usize, j: usize, min_px: usize) -> Option<Pai
     let (pa, pb) = patches(a, b, nominal, r0);
     let size = [pa.dim().0 as i64, pa.dim().1 as i64];
     let mut best: Option<([i64; 2], f64)> = None;
-    for (e, _) in correlation_peaks(&pa, &pb, PEAKS_TRIED) {
+    for (e, _) in correlation_peaks(pa, pb, PEAKS_TRIED) {
         for ex in [e[0], e[0] - size[0], e[0] + size[0]] {
             for ey in [e[1], e[1] - size[1], e[1] + size[1]] {
                 let d = [nominal[0] + ex, nominal[1] + ey];
@@ -124,7 +128,7 @@ fn register_pair(set: &TileSet, i: usize, j: usize, min_px: usize) -> Option<Pai
                     continue;
                 };
                 let (qa, qb) = patches(a, b, d, r);
-                let c = correlation(&qa, &qb);
+                let c = correlation(qa, qb);
                 if best.is_none_or(|(_, b)| c > b) {
                     best = Some((d, c));
                 }
@@ -138,11 +142,11 @@ fn register_pair(set: &TileSet, i: usize, j: usize, min_px: usize) -> Option<Pai
     for _ in 0..3 {
         let r = overlap(n, d, min_px)?;
         let (pa, pb) = patches(a, b, d, r);
-        let e = refine_shift(&pa, &pb, [0.0, 0.0])
-            .or_else(|| phase_correlate(&pa, &pb).map(|f| f.shift_px))?;
+        let e = refine_shift(pa, pb, [0.0, 0.0])
+            .or_else(|| phase_correlate(pa, pb).map(|f| f.shift_px))?;
         let whole = e.map(|v| v.round() as i64);
         if whole == [0, 0] {
-            rest = Some((e, correlation(&pa, &pb)));
+            rest = Some((e, correlation(pa, pb)));
             break;
         }
         d = [d[0] + whole[0], d[1] + whole[1]];
@@ -350,6 +354,20 @@ fn level(set: &TileSet, fits: &[PairFit], positions: &[[i64; 2]]) -> Option<Vec<
 
 /// Stitches a tile set. A single tile is returned as it is.
 pub fn stitch(set: &TileSet, min_overlap_px: usize) -> Result<Mosaic, SurfaceError> {
+    let (placement, tiles) = place(set, min_overlap_px)?;
+    Ok(Mosaic {
+        heights: placement.mosaic(set),
+        covered: placement.covered(),
+        tiles,
+    })
+}
+
+/// Steps 1–3 of stitching: where each tile goes and the plane it loses
+/// (blending them is [`Placement`]'s), and what was found per tile.
+pub fn place(
+    set: &TileSet,
+    min_overlap_px: usize,
+) -> Result<(Placement, Vec<TileFit>), SurfaceError> {
     let n = set.heights.len();
     let candidates = overlapping_pairs(set, min_overlap_px);
     if n > 1 {
@@ -379,13 +397,11 @@ pub fn stitch(set: &TileSet, min_overlap_px: usize) -> Result<Mosaic, SurfaceErr
     } else {
         vec![[0.0; 3]]
     };
-    let (heights, covered) = blend(set, &rounded, &planes);
     let tiles = tile_fits(set, &fits, &found, &planes, &rejected);
-    Ok(Mosaic {
-        heights,
-        covered,
+    Ok((
+        Placement::new(&rounded, planes, set.heights[0].dim()),
         tiles,
-    })
+    ))
 }
 
 /// The pairs (i < j) whose nominal footprints overlap by `min_px` both ways.
@@ -402,66 +418,6 @@ fn overlapping_pairs(set: &TileSet, min_px: usize) -> Vec<(usize, usize)> {
             overlap((sx, sy), d, min_px).is_some()
         })
         .collect()
-}
-
-/// The mosaic of the levelled tiles at their whole-pixel positions,
-/// feathered where they overlap (NaN where none measured), and where some
-/// tile's footprint covers it.
-fn blend(set: &TileSet, rounded: &[[i64; 2]], planes: &[[f64; 3]]) -> (Array2<f64>, Array2<bool>) {
-    let (sx, sy) = set.heights[0].dim();
-    let origin = [0, 1].map(|a| rounded.iter().map(|p| p[a]).min().unwrap_or(0));
-    let end = [0, 1].map(|a| {
-        rounded
-            .iter()
-            .map(|p| p[a] + [sx, sy][a] as i64)
-            .max()
-            .unwrap_or(0)
-    });
-    let (mx, my) = ((end[0] - origin[0]) as usize, (end[1] - origin[1]) as usize);
-    let (cx, cy) = ((sx as f64 - 1.0) / 2.0, (sy as f64 - 1.0) / 2.0);
-    let feather = |u: usize, n: usize| (u.min(n - 1 - u) + 1) as f64;
-    let mut heights = Array2::<f64>::zeros((mx, my));
-    let mut covered = Array2::<bool>::from_elem((mx, my), false);
-    heights
-        .as_slice_mut()
-        .expect("a fresh array is contiguous")
-        .par_chunks_mut(my)
-        .zip(
-            covered
-                .as_slice_mut()
-                .expect("a fresh array is contiguous")
-                .par_chunks_mut(my),
-        )
-        .enumerate()
-        .for_each(|(x, (row, cover))| {
-            let mut num = vec![0.0; my];
-            let mut den = vec![0.0; my];
-            let gx = x as i64 + origin[0];
-            for (t, p) in rounded.iter().enumerate() {
-                let u = gx - p[0];
-                if u < 0 || u >= sx as i64 {
-                    continue;
-                }
-                let u = u as usize;
-                let [a, b, c] = planes[t];
-                let tile_row = set.heights[t].row(u);
-                let y0 = (p[1] - origin[1]) as usize;
-                for (v, &h) in tile_row.iter().enumerate() {
-                    cover[y0 + v] = true;
-                    if h.is_nan() {
-                        continue;
-                    }
-                    let w = feather(u, sx).min(feather(v, sy));
-                    let levelled = h - (a + b * (u as f64 - cx) + c * (v as f64 - cy));
-                    num[y0 + v] += w * levelled;
-                    den[y0 + v] += w;
-                }
-            }
-            for ((o, n), d) in row.iter_mut().zip(num).zip(den) {
-                *o = if d > 0.0 { n / d } else { f64::NAN };
-            }
-        });
-    (heights, covered)
 }
 
 /// What was found per tile: position, plane, mean overlap correlation and

@@ -4,15 +4,17 @@
 //! analyses it.
 
 use hypercontact_core::{
-    Arity, Checked, Choice, Context, Field, InputPath, InputSpec, Inputs, OutputSpec, Outputs,
-    ParamError, Schema, Stage, StageError, StageInfo, params,
+    Arity, Checked, Choice, Context, InputPath, InputSpec, Inputs, OutputSpec, Outputs, ParamError,
+    Schema, Stage, StageError, StageInfo, params,
 };
 use hypercontact_labfiles::FileSource;
-use ndarray::Array2;
 
-pub use crate::analysis::{Analysis, FLAT_RELATIVE, analyse, analyse_named};
-use crate::stitch::{Mosaic, covered_region, stitch};
-use crate::tiles::{TileSet, read_tiles};
+pub use crate::analysis::{
+    Analysis, FLAT_RELATIVE, MeasuredMap, analyse, analyse_measured, analyse_named,
+};
+use crate::blend::StitchedRows;
+use crate::stitch::{covered_region, place};
+use crate::tiles::read_tiles;
 
 pub use crate::surface_tables::{PsdTable, StatsTable, StitchTable};
 
@@ -184,24 +186,33 @@ static INFO: StageInfo = StageInfo {
     ],
 };
 
-/// The stitched map at the measured spacing and the stitch table.
-fn stitched(
-    set: &TileSet,
-    p: &SurfaceParams,
+/// The analysis of the map stitched from the tiles of `source` (named
+/// `named` in errors), and the stitch table. The tiles stay views of the
+/// source's bytes where they can, and the mosaic is made a band of rows at
+/// a time as the filter reads it: neither is ever copied whole (#35).
+fn analysed_tiles(
+    source: &FileSource,
+    named: &str,
+    p: &Checked<SurfaceParams>,
     ctx: &Context,
-) -> Result<(Field, StitchTable), StageError> {
+) -> Result<(Analysis, StitchTable), StageError> {
+    let set = read_tiles(source)?;
     let progress = ctx.progress(1, "stitch tiles");
-    let Mosaic {
-        heights,
-        covered,
-        tiles,
-    } = stitch(set, p.min_overlap_px)?;
+    let (placement, tiles) = place(&set, p.min_overlap_px)?;
     progress.inc(1);
-    let [(x0, x1), (y0, y1)] = covered_region(&covered);
-    let cropped = Array2::from_shape_fn((x1 - x0, y1 - y0), |(i, j)| heights[[x0 + i, y0 + j]]);
-    drop(heights);
-    let field = Field::new(cropped, set.pixel_m, set.pixel_m).map_err(StageError::other)?;
-    Ok((field, StitchTable::new(set, &tiles)))
+    let region = covered_region(&placement.covered());
+    let rows = StitchedRows {
+        set: &set,
+        placement: &placement,
+        region,
+    };
+    let map = MeasuredMap::Rows {
+        rows: &rows,
+        dx_m: set.pixel_m,
+        dy_m: set.pixel_m,
+    };
+    let analysis = analyse_measured(map, named, p, ctx)?;
+    Ok((analysis, StitchTable::new(&set, &tiles)))
 }
 
 impl Stage for Surface {
@@ -237,27 +248,32 @@ impl Stage for Surface {
                  input holds its own positions.csv)",
             ));
         }
-        let (map, stitch_table, source) = if inputs.get("height").is_some() {
-            let map = inputs.field("height")?.clone();
-            (map, StitchTable::default(), "input `height`".to_owned())
+        let (analysis, stitch_table) = if inputs.get("height").is_some() {
+            // Read a row at a time: the filter then never copies the input.
+            let field = inputs.field("height")?;
+            let view = field.values.view();
+            let map = MeasuredMap::Rows {
+                rows: &view,
+                dx_m: field.dx_m,
+                dy_m: field.dy_m,
+            };
+            let analysis = analyse_measured(map, "input `height`", p, ctx)?;
+            (analysis, StitchTable::default())
         } else if !p.tile_files.is_empty() {
             let files = listed_tiles(&p.tile_files, p.positions.as_ref())?;
             let source = FileSource::Files {
                 files: &files,
                 input: "tile_files".into(),
             };
-            let (map, table) = stitched(&read_tiles(&source)?, p, ctx)?;
-            (map, table, "the map stitched from `tile_files`".to_owned())
+            analysed_tiles(&source, "the map stitched from `tile_files`", p, ctx)?
         } else {
             let source = FileSource::input_or_dir(inputs, "tiles", "dir", p.dir.as_ref())?;
-            let (map, table) = stitched(&read_tiles(&source)?, p, ctx)?;
             let named = match &source {
                 FileSource::Files { input, .. } => format!("the map stitched from input `{input}`"),
                 FileSource::Dir(dir) => format!("the map stitched from {}", dir.display()),
             };
-            (map, table, named)
+            analysed_tiles(&source, &named, p, ctx)?
         };
-        let analysis = analyse_named(map, &source, p, ctx)?;
         Ok(Outputs::new()
             .field("height", analysis.height)
             .table("psd", analysis.psd.into_table())

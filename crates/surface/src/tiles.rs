@@ -5,14 +5,22 @@
 //! each tile stood: the `positions.csv` a scanner writes (`tile, file, x_m,
 //! y_m[, pixel_m]`: the nominal position of each tile's pixel [0, 0]), or,
 //! without one, the stage positions the files record (X3P's axis offsets).
+//!
+//! A `.npy` tile of little-endian float64 in C order, as NumPy and
+//! `synth-surface` write them, is read in place: its heights are a view of
+//! the file's bytes when those sit at an 8-byte boundary in memory (a scan
+//! of 100 tiles of 1024² px then costs no second 0.8 GB copy, #35); any
+//! other tile is decoded into an array of its own, to the same values.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 
 use hypercontact_core::{ColumnData, Field};
 use hypercontact_formats::Format;
 use hypercontact_labfiles::FileSource;
 use hypercontact_labfiles::csv_table::{CsvTable, RowPlace};
-use ndarray::Array2;
+use ndarray::{ArrayView2, CowArray, Ix2};
+use ndarray_npy::npy::header::Header;
 
 use crate::error::SurfaceError;
 
@@ -29,11 +37,14 @@ pub const MAX_POSITION_PX: f64 = 1e9;
 /// reader itself goes by the first bytes).
 pub const TILE_EXTENSIONS: &[&str] = &["npy", "x3p", "sur", "plu", "dat", "datx", "opd"];
 
+/// A tile's heights: a view of its file's bytes, or an array of its own.
+pub type TileHeights<'a> = CowArray<'a, f64, Ix2>;
+
 /// A tile file's heights and what the file says of its grid.
 #[derive(Clone, Debug, PartialEq)]
-pub struct DecodedTile {
+pub struct DecodedTile<'a> {
     /// metres, axis 0 = x, NaN where not measured
-    pub heights: Array2<f64>,
+    pub heights: TileHeights<'a>,
     /// the file's (dx, dy), None for `.npy`
     pub spacing_m: Option<(f64, f64)>,
     /// the stage position of pixel [0, 0] the file records, if any
@@ -42,21 +53,69 @@ pub struct DecodedTile {
     pub format: Format,
 }
 
+impl DecodedTile<'_> {
+    /// The tile with heights of its own, free of the bytes it was read from.
+    pub fn into_owned<'b>(self) -> DecodedTile<'b> {
+        DecodedTile {
+            heights: CowArray::from(self.heights.into_owned()),
+            spacing_m: self.spacing_m,
+            position_m: self.position_m,
+            format: self.format,
+        }
+    }
+}
+
+/// The heights of a `.npy` file of little-endian float64 in C order, read
+/// in place; None for any other `.npy` (or not `.npy`), for data that does
+/// not sit at an 8-byte boundary in memory, and on a big-endian machine:
+/// those are decoded by [`Field::read_npy`] (which accepts every file this
+/// does, to the same values).
+pub fn npy_view(bytes: &[u8]) -> Option<ArrayView2<'_, f64>> {
+    if cfg!(target_endian = "big") {
+        return None;
+    }
+    let mut data = bytes;
+    let header = Header::from_reader(&mut data).ok()?;
+    let descr = header.type_descriptor.as_string()?;
+    let [nx, ny] = header.shape[..] else {
+        return None;
+    };
+    if descr != "<f8"
+        || header.layout.is_fortran()
+        || Some(data.len()) != nx.checked_mul(ny).and_then(|n| n.checked_mul(8))
+    {
+        return None;
+    }
+    // Fails (None) where the bytes are not 8-byte aligned.
+    let values: &[f64] = bytemuck::try_cast_slice(data).ok()?;
+    ArrayView2::from_shape((nx, ny), values).ok()
+}
+
 /// Reads a tile file by its first bytes: `.npy` (float64/float32, metres,
-/// axis 0 = x, NaN = missing, no spacing) or an instrument's format.
-pub fn decode_tile(name: &str, bytes: &[u8]) -> Result<DecodedTile, String> {
-    match hypercontact_formats::detect(bytes, Some(std::path::Path::new(name))) {
-        None | Some(Format::Npy) => Field::read_npy(bytes, 1.0, 1.0)
-            .map(|f| DecodedTile {
-                heights: f.values,
+/// axis 0 = x, NaN = missing, no spacing; in place where [`npy_view`] can)
+/// or an instrument's format.
+pub fn decode_tile<'a>(name: &str, bytes: &'a [u8]) -> Result<DecodedTile<'a>, String> {
+    let path = Some(std::path::Path::new(name));
+    match hypercontact_formats::detect(bytes, path) {
+        None | Some(Format::Npy) => {
+            let heights = match npy_view(bytes) {
+                Some(view) => CowArray::from(view),
+                None => CowArray::from(
+                    Field::read_npy(bytes, 1.0, 1.0)
+                        .map_err(|e| e.to_string())?
+                        .values,
+                ),
+            };
+            Ok(DecodedTile {
+                heights,
                 spacing_m: None,
                 position_m: None,
                 format: Format::Npy,
             })
-            .map_err(|e| e.to_string()),
-        Some(_) => hypercontact_formats::read_bytes(bytes, Some(std::path::Path::new(name)))
+        }
+        Some(_) => hypercontact_formats::read_bytes(bytes, path)
             .map(|t| DecodedTile {
-                heights: t.heights_m,
+                heights: CowArray::from(t.heights_m),
                 spacing_m: Some((t.dx_m, t.dy_m)),
                 position_m: t.position_m,
                 format: t.format,
@@ -201,13 +260,14 @@ fn check_in_reach(x_m: f64, y_m: f64, pixel_m: f64) -> Result<(), String> {
     Ok(())
 }
 
-/// Tiles read, checked and ready to stitch.
+/// Tiles read, checked and ready to stitch; their heights may be views of
+/// the bytes of the source they were read from (`'a`).
 #[derive(Clone, Debug)]
-pub struct TileSet {
+pub struct TileSet<'a> {
     /// The `tile` column of positions.csv.
     pub ids: Vec<i64>,
     pub names: Vec<String>,
-    pub heights: Vec<Array2<f64>>,
+    pub heights: Vec<TileHeights<'a>>,
     /// Nominal positions of pixel [0, 0], pixels.
     pub nominal_px: Vec<[f64; 2]>,
     pub pixel_m: f64,
@@ -234,7 +294,7 @@ fn read_tile_bytes<'a>(
 /// tiles share one shape and one square spacing, no tile is all NaN.
 /// Without `positions.csv` the tiles are the folder's tile files in
 /// natural order of their names, each placed where the file says it stood.
-pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
+pub fn read_tiles<'a>(source: &FileSource<'a>) -> Result<TileSet<'a>, SurfaceError> {
     let positions_name = source.display(POSITIONS);
     let listed = source.exists(POSITIONS);
     let tile_names: Vec<String> = source
@@ -272,8 +332,11 @@ pub fn read_tiles(source: &FileSource) -> Result<TileSet, SurfaceError> {
                 p.file
             )));
         }
-        let bytes = read_tile_bytes(source, &p.file)?;
-        let tile = decode_tile(&p.file, &bytes).map_err(&tile_err)?;
+        let tile = match read_tile_bytes(source, &p.file)? {
+            Cow::Borrowed(bytes) => decode_tile(&p.file, bytes),
+            Cow::Owned(bytes) => decode_tile(&p.file, &bytes).map(DecodedTile::into_owned),
+        }
+        .map_err(&tile_err)?;
         let position_m = if listed {
             (p.x_m, p.y_m)
         } else {
@@ -349,14 +412,14 @@ fn recorded_position(file: &str, tile: &DecodedTile) -> Result<(f64, f64), Strin
     })
 }
 
-impl TileSet {
+impl<'a> TileSet<'a> {
     /// Adds a tile after checking it against the set: the first tile's
     /// spacing and shape, a position within reach, heights neither all NaN
     /// nor infinite. `shown` names it in errors, `first_shown` the first.
     fn push(
         &mut self,
         p: &Position,
-        heights: Array2<f64>,
+        heights: TileHeights<'a>,
         (x_m, y_m): (f64, f64),
         pixel_m: f64,
         (shown, first_shown): (&str, &str),
@@ -424,6 +487,7 @@ fn tile_spacing(p: &Position, tile: &DecodedTile) -> Result<f64, String> {
 mod tests {
     use super::*;
     use hypercontact_core::Files;
+    use ndarray::Array2;
 
     fn npy(values: Array2<f64>) -> Vec<u8> {
         let mut bytes = Vec::new();
@@ -442,7 +506,7 @@ mod tests {
         files
     }
 
-    fn read(files: &Files) -> Result<TileSet, SurfaceError> {
+    fn read(files: &Files) -> Result<TileSet<'_>, SurfaceError> {
         read_tiles(&FileSource::Files {
             files,
             input: "tiles".into(),
@@ -570,6 +634,101 @@ mod tests {
         // An unknown format.
         let m = message(&format!("{head}0,a.x3p,0,0,1e-6\n"), &[]);
         assert!(m.contains("a.x3p") && m.contains(".x3p"), "{m}");
+    }
+
+    /// Heights with every kind of f64 a tile holds: NaN, −0, subnormals.
+    fn awkward_heights() -> Array2<f64> {
+        Array2::from_shape_fn((7, 5), |(i, j)| match (i + 3 * j) % 6 {
+            0 => f64::NAN,
+            1 => -0.0,
+            2 => f64::MIN_POSITIVE / 3.0,
+            _ => (i as f64 * 0.37 - j as f64 * 1.1) * 1e-6,
+        })
+    }
+
+    fn bits(heights: &TileHeights) -> Vec<u64> {
+        heights.iter().map(|v| v.to_bits()).collect()
+    }
+
+    #[test]
+    fn npy_tiles_are_read_in_place_with_the_decoders_bits() {
+        let values = awkward_heights();
+        let bytes = npy(values.clone());
+        let decoded = Field::read_npy(bytes.as_slice(), 1.0, 1.0).unwrap().values;
+        // A Vec's buffer is 8-byte aligned and the header pads the data to a
+        // multiple of 16 bytes: the view path.
+        let tile = decode_tile("t.npy", &bytes).unwrap();
+        assert!(tile.heights.is_view(), "not read in place");
+        let range = bytes.as_ptr_range();
+        assert!(range.contains(&tile.heights.as_ptr().cast::<u8>()));
+        assert_eq!(tile.heights.dim(), (7, 5));
+        assert_eq!(bits(&tile.heights), bits(&CowArray::from(decoded.view())));
+        assert_eq!(
+            bits(&tile.heights),
+            values.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+        );
+        // The same bytes one byte off an 8-byte boundary: decoded, same bits.
+        let mut shifted = vec![0u8; bytes.len() + 1];
+        shifted[1..].copy_from_slice(&bytes);
+        assert!(npy_view(&shifted[1..]).is_none());
+        let copy = decode_tile("t.npy", &shifted[1..]).unwrap();
+        assert!(copy.heights.is_owned());
+        assert_eq!(bits(&copy.heights), bits(&tile.heights));
+        assert!(tile.into_owned().heights.is_owned());
+    }
+
+    #[test]
+    fn npy_tiles_a_view_cannot_read_are_decoded() {
+        let values = awkward_heights();
+        let little = npy(values.clone());
+        let expected: Vec<u64> = values.iter().map(|v| v.to_bits()).collect();
+        let data_start = little.len() - 8 * values.len();
+        let header = &little[..data_start];
+        let find = |text: &[u8]| header.windows(text.len()).position(|w| w == text).unwrap();
+        // Big-endian: the header says `>f8` and each value's bytes turn round.
+        let mut big = header.to_vec();
+        big[find(b"<f8")] = b'>';
+        for v in &values {
+            big.extend_from_slice(&v.to_be_bytes());
+        }
+        // Fortran order: the header says so and the values go column by column.
+        let mut fortran = header.to_vec();
+        let at = find(b"False");
+        fortran[at..at + 5].copy_from_slice(b"True ");
+        for v in values.t().iter() {
+            fortran.extend_from_slice(&v.to_le_bytes());
+        }
+        // A value short: refused by both paths.
+        let short = &little[..little.len() - 8];
+        for (name, bytes) in [("big-endian", &big), ("Fortran order", &fortran)] {
+            assert!(npy_view(bytes).is_none(), "{name}");
+            let tile = decode_tile("t.npy", bytes).unwrap();
+            assert!(tile.heights.is_owned(), "{name}");
+            assert_eq!(bits(&tile.heights), expected, "{name}");
+        }
+        assert!(npy_view(short).is_none());
+        assert!(decode_tile("t.npy", short).is_err());
+    }
+
+    #[test]
+    fn a_files_product_lends_its_tiles_and_a_folder_owns_them() {
+        let files = set(
+            "tile,file,x_m,y_m,pixel_m\n0,a.npy,0,0,1e-6\n1,b.npy,3e-6,0,1e-6\n",
+            &[("a.npy", awkward_heights()), ("b.npy", awkward_heights())],
+        );
+        let lent = read(&files).unwrap();
+        assert!(lent.heights.iter().all(|h| h.is_view()));
+        let dir = std::env::temp_dir().join(format!("hc-tiles-owned-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (name, bytes) in &files.files {
+            std::fs::write(dir.join(name), bytes).unwrap();
+        }
+        let owned = read_tiles(&FileSource::Dir(dir.clone())).unwrap();
+        std::fs::remove_dir_all(dir).unwrap();
+        assert!(owned.heights.iter().all(|h| h.is_owned()));
+        for (a, b) in lent.heights.iter().zip(&owned.heights) {
+            assert_eq!(bits(a), bits(b));
+        }
     }
 
     /// A 4 GiB tile (holes) in a folder is refused from its size before it

@@ -3,7 +3,7 @@
 
 mod common;
 
-use hypercontact_core::{Context, Inputs, Params, Product, Stage};
+use hypercontact_core::{Context, Inputs, Params, Product, Schema, Stage};
 use hypercontact_labfiles::FileSource;
 use hypercontact_surface::stitch::stitch;
 use hypercontact_surface::surface_stage::{Surface, SurfaceParams};
@@ -220,7 +220,7 @@ fn x3p_tiles_placed_by_their_own_offsets_stitch_like_npy_with_positions() {
     for (k, name) in set.names.iter().enumerate() {
         let [x_m, y_m] = set.nominal_px[k].map(|px| px * set.pixel_m);
         let tile = Topography {
-            heights_m: set.heights[k].clone(),
+            heights_m: set.heights[k].to_owned(),
             dx_m: set.pixel_m,
             dy_m: set.pixel_m,
             format: Format::X3p,
@@ -299,4 +299,134 @@ fn x3p_tiles_placed_by_their_own_offsets_stitch_like_npy_with_positions() {
         e.contains("records no stage position") && e.contains("x_m, y_m, pixel_m"),
         "{e}"
     );
+}
+
+/// The products' bits: each field's values, each table as its Debug text
+/// (f64's Debug form round-trips).
+fn product_bits(out: &hypercontact_core::Outputs) -> Vec<(String, Vec<u64>, String)> {
+    out.iter()
+        .map(|(name, product)| match product {
+            Product::Field(f) => (
+                name.to_owned(),
+                f.values
+                    .iter()
+                    .chain([f.dx_m, f.dy_m].iter())
+                    .map(|v| v.to_bits())
+                    .collect(),
+                String::new(),
+            ),
+            Product::Table(t) => (name.to_owned(), Vec::new(), format!("{t:?}")),
+            Product::Files(_) => panic!("surface writes no files"),
+        })
+        .collect()
+}
+
+/// Issue 35: the stage reads tiles in place and makes the mosaic a band of
+/// rows at a time as the filter reads it. Its products keep the bits of the
+/// old flow, the whole mosaic cropped and analysed as a field, whether the
+/// tiles are views (input `tiles`) or decoded (a folder), and a `height`
+/// input read a row at a time gives the bits of the same map held whole.
+#[test]
+fn stitching_in_bands_keeps_the_bits_of_the_whole_mosaic() {
+    use hypercontact_core::{Field, InputPath};
+    use hypercontact_surface::stitch::covered_region;
+    use hypercontact_surface::surface_stage::analyse_named;
+
+    let p = SynthSurfaceParams {
+        position_error_px: 3.0,
+        dropout_fraction: 0.05,
+        seed: 11,
+        ..Default::default()
+    }
+    .check()
+    .unwrap();
+    let files = synthesise(&p).unwrap().files().unwrap();
+    let params = SurfaceParams {
+        resolution_m: 4e-6,
+        ..Default::default()
+    };
+    let in_place = common::run(
+        &params,
+        Inputs::new().with("tiles", Product::Files(files.clone())),
+    )
+    .unwrap();
+
+    let dir = std::env::temp_dir().join(format!("hc-bands-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (name, bytes) in &files.files {
+        std::fs::write(dir.join(name), bytes).unwrap();
+    }
+    let from_dir = common::run(
+        &SurfaceParams {
+            dir: Some(InputPath::from(dir.clone())),
+            ..params.clone()
+        },
+        Inputs::new(),
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+    let from_dir = from_dir.unwrap();
+
+    // The old flow: the whole mosaic, cropped, analysed as a field.
+    let set = read_tiles(&FileSource::Files {
+        files: &files,
+        input: "tiles".into(),
+    })
+    .unwrap();
+    let mosaic = stitch(&set, params.min_overlap_px).unwrap();
+    let [(x0, x1), (y0, y1)] = covered_region(&mosaic.covered);
+    let cropped = Array2::from_shape_fn((x1 - x0, y1 - y0), |(i, j)| {
+        mosaic.heights[[x0 + i, y0 + j]]
+    });
+    let map = Field::new(cropped, set.pixel_m, set.pixel_m).unwrap();
+    let checked = params.clone().check().unwrap();
+    let whole = analyse_named(
+        map.clone(),
+        "the map stitched from input `tiles`",
+        &checked,
+        &Context::new("surface"),
+    )
+    .unwrap();
+    let heights = |out: &hypercontact_core::Outputs| {
+        let Some(Product::Field(h)) = out.get("height") else {
+            panic!("no height")
+        };
+        h.values.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+    };
+    let expected: Vec<u64> = whole.height.values.iter().map(|v| v.to_bits()).collect();
+    assert_eq!(heights(&in_place), expected);
+    assert_eq!(
+        format!("{:?}", in_place.get("psd")),
+        format!("{:?}", Some(Product::Table(whole.psd.into_table())))
+    );
+    assert_eq!(
+        format!("{:?}", in_place.get("stats")),
+        format!("{:?}", Some(Product::Table(whole.stats.into_table())))
+    );
+    assert_eq!(product_bits(&in_place), product_bits(&from_dir));
+
+    // The same map as a `height` input, at the filtered and the measured grid.
+    for resolution_m in [4e-6, 0.0] {
+        let params = SurfaceParams {
+            resolution_m,
+            ..Default::default()
+        };
+        let given = common::run(
+            &params,
+            Inputs::new().with("height", Product::Field(map.clone())),
+        )
+        .unwrap();
+        let held = analyse_named(
+            map.clone(),
+            "input `height`",
+            &params.clone().check().unwrap(),
+            &Context::new("surface"),
+        )
+        .unwrap();
+        let held_bits: Vec<u64> = held.height.values.iter().map(|v| v.to_bits()).collect();
+        assert_eq!(heights(&given), held_bits, "resolution_m {resolution_m}");
+        assert_eq!(
+            format!("{:?}", given.get("stats")),
+            format!("{:?}", Some(Product::Table(held.stats.into_table())))
+        );
+    }
 }
