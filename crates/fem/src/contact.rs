@@ -84,6 +84,10 @@ pub struct ContactProblem {
     history: Vec<(f64, Vec<f64>)>,
     /// Residual at the last converged state.
     last: Option<Evaluation>,
+    /// The assembled tangent of a law whose tangent does not depend on the
+    /// state (small-strain linear elasticity): assembled once, the same bits
+    /// as assembling it at every iteration.
+    constant_tangent: Option<Vec<f64>>,
     options: NewtonOptions,
 }
 
@@ -103,7 +107,19 @@ impl ContactProblem {
             .iter()
             .map(|t| mesh.nodes_m[t.node][2])
             .fold(f64::NEG_INFINITY, f64::max);
+        // A bad reference element fails every evaluation: it is reported by
+        // the first one of the solve, as without the cache.
+        let constant_tangent = match law {
+            Law::LinearElastic { .. } => {
+                let zero = vec![0.0; dofs.count];
+                assembly::evaluate(&mesh, &dofs, &law, Some(&pattern), &zero)
+                    .ok()
+                    .and_then(|e| e.tangent)
+            }
+            Law::Hyperelastic { .. } => None,
+        };
         Ok(Self {
+            constant_tangent,
             diagonal: pattern.diagonal_positions(),
             active: vec![false; dofs.top.len()],
             unknowns: vec![0.0; dofs.count],
@@ -294,8 +310,14 @@ impl ContactProblem {
         unknowns: &[f64],
         tangent: bool,
     ) -> Result<Evaluation, assembly::Failure> {
-        let pattern = tangent.then_some(&self.pattern);
-        assembly::evaluate(&self.mesh, &self.dofs, &self.law, pattern, unknowns)
+        let cached = self.constant_tangent.as_ref().filter(|_| tangent);
+        let pattern = (tangent && cached.is_none()).then_some(&self.pattern);
+        let mut evaluation =
+            assembly::evaluate(&self.mesh, &self.dofs, &self.law, pattern, unknowns)?;
+        if let Some(values) = cached {
+            evaluation.tangent = Some(values.clone());
+        }
+        Ok(evaluation)
     }
 
     /// The held unknowns' equations and a flag per unknown.
@@ -323,15 +345,16 @@ impl ContactProblem {
     /// held rows and columns reduced to their diagonal, factorised); and
     /// ‖K_hh pending‖, the force that moving the held nodes alone would
     /// take, N (the line search's measure of what is still to do).
+    /// The tangent is taken out of `evaluation` (and reduced in place).
     pub(crate) fn newton_direction(
         &mut self,
-        evaluation: &Evaluation,
+        evaluation: &mut Evaluation,
         held: &[bool],
         pending: &[f64],
     ) -> Result<(Vec<f64>, f64), FemError> {
         let mut values = evaluation
             .tangent
-            .clone()
+            .take()
             .ok_or_else(|| FemError::Solver("no tangent was assembled".into()))?;
         let mut step: Vec<f64> = (evaluation.residual_n.iter().zip(held))
             .map(|(r, h)| if *h { 0.0 } else { -r })

@@ -81,7 +81,7 @@ pub fn solve(
             return Err(at.not_converged(problem, ""));
         }
         let (direction, pending_force_n) =
-            problem.newton_direction(&evaluation, &held, &pending)?;
+            problem.newton_direction(&mut evaluation, &held, &pending)?;
         iterations += 1;
         at.iterations = iterations;
         previous_n = if placed && !set_changed {
