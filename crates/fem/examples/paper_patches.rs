@@ -153,7 +153,16 @@ fn run(heights_m: &[f64], nx: usize, ny: usize, pixel_m: f64, law: Law) -> Resul
         snapshot_area_fractions: vec![0.05, 0.1, 0.2, 0.3],
         max_steps: 4 * steps + 10,
     };
-    Ok(solve_area_steps(&mut problem, &options, &mut |_| {})?)
+    // Progress on stderr: a slow run shows where it spends its iterations.
+    let mut taken = 0;
+    let mut on_step = |step: &hypercontact_fem::Step| {
+        taken += 1;
+        eprintln!(
+            "  step {taken}: {} iterations, A/A0 {:.4}",
+            step.iterations, step.area_fraction
+        );
+    };
+    Ok(solve_area_steps(&mut problem, &options, &mut on_step)?)
 }
 
 /// A hash of the bits of every product the stage writes from the curve.

@@ -32,6 +32,11 @@ pub struct NewtonOptions {
     /// Newton iterations per attempt before the increment is halved (and,
     /// after [`MAX_CUTS`] halvings, the step fails).
     pub max_iterations: usize,
+    /// An iteration keeps the last factorisation (a chord step) when the
+    /// one before it, with the same held set and every held node on the
+    /// plane, cut the residual by at least this factor
+    /// ([`crate::newton`]); 0: a factorisation at every iteration.
+    pub chord_contraction: f64,
 }
 
 impl Default for NewtonOptions {
@@ -39,6 +44,7 @@ impl Default for NewtonOptions {
         Self {
             tolerance: 1e-8,
             max_iterations: 30,
+            chord_contraction: 0.25,
         }
     }
 }
@@ -55,8 +61,8 @@ pub struct Step {
     pub area_fraction_current: f64,
     /// The plane's force on the block, positive in compression, N.
     pub load_n: f64,
-    /// Newton iterations (factorisations) of this step, failed attempts
-    /// included.
+    /// Newton iterations of this step (chord steps on a kept factorisation
+    /// and failed attempts included).
     pub iterations: usize,
     /// Largest height of a free top node above the plane (0 if none), m.
     pub largest_penetration_m: f64,
@@ -88,6 +94,8 @@ pub struct ContactProblem {
     /// state (small-strain linear elasticity): assembled once, the same bits
     /// as assembling it at every iteration.
     constant_tangent: Option<Vec<f64>>,
+    /// Numeric factorisations so far.
+    factorizations: usize,
     options: NewtonOptions,
 }
 
@@ -120,6 +128,7 @@ impl ContactProblem {
         };
         Ok(Self {
             constant_tangent,
+            factorizations: 0,
             diagonal: pattern.diagonal_positions(),
             active: vec![false; dofs.top.len()],
             unknowns: vec![0.0; dofs.count],
@@ -138,6 +147,12 @@ impl ContactProblem {
     /// The nodal displacements of the current state, m.
     pub fn displacement_m(&self) -> Vec<[f64; 3]> {
         self.dofs.expand(&self.unknowns)
+    }
+
+    /// The numeric factorisations of the tangent so far (each Newton
+    /// iteration but the chord steps).
+    pub fn factorizations(&self) -> usize {
+        self.factorizations
     }
 
     /// Which top nodes are in contact (per entry of [`Dofs::top`]).
@@ -390,8 +405,20 @@ impl ContactProblem {
             }
         }
         self.solver.factor(&values)?;
+        self.factorizations += 1;
         self.solver.solve(&mut step);
         Ok((step, pending_force_n.sqrt()))
+    }
+
+    /// A chord step: the solution of the last factorised system (whose
+    /// held set must be `held`) with the right-hand side −r on the free
+    /// unknowns and 0 on the held ones, which stay where they are.
+    pub(crate) fn chord_direction(&mut self, residual_n: &[f64], held: &[bool]) -> Vec<f64> {
+        let mut step: Vec<f64> = (residual_n.iter().zip(held))
+            .map(|(r, h)| if *h { 0.0 } else { -r })
+            .collect();
+        self.solver.solve(&mut step);
+        step
     }
 
     pub(crate) fn unknowns(&self) -> &[f64] {
