@@ -69,6 +69,10 @@ pub fn solve(
     let mut iterations = 0;
     // The held set of the factorisation the solver keeps.
     let mut factored_held: Option<Vec<bool>> = None;
+    // Whether the last line search took the full step: after a damped one
+    // the next full step is likely damped too, and its tangent, assembled
+    // with it, wasted; it is then assembled when needed.
+    let mut full_step = true;
     loop {
         let held = problem.held();
         let pending = problem.pending_m(plane);
@@ -123,14 +127,15 @@ pub fn solve(
             (&evaluation, &direction, &held),
             residual_n,
             pending_force_n,
-            !chord,
+            !chord && full_step,
         );
-        let (unknowns, trial) = search.ok_or_else(|| {
+        let (unknowns, trial, eta) = search.ok_or_else(|| {
             at.not_converged(
                 problem,
                 "; every trial along the Newton direction inverts an element",
             )
         })?;
+        full_step = eta == 1.0;
         small_update = placed && is_small(problem.unknowns(), &unknowns);
         problem.set_unknowns(unknowns);
         let released = problem.release_tensile(&trial.residual_n, scale_n);
@@ -171,21 +176,22 @@ fn first_evaluation(
 
 /// The first of x + η d, η = 1, ½, ¼, … whose merit (free residual norm
 /// plus the force owed to held nodes) or energy decreases sufficiently, else the trial with the smallest residual; `None`
-/// if every trial inverts an element. The full step's tangent is assembled
-/// with it if `tangent` (the next iteration will likely factorise it).
+/// if every trial inverts an element; with the η taken. The full step's
+/// tangent is assembled with it if `tangent` (the next iteration will
+/// likely factorise it).
 fn line_search(
     problem: &ContactProblem,
     (start, direction, held): (&Evaluation, &[f64], &[bool]),
     residual_n: f64,
     pending_force_n: f64,
     tangent: bool,
-) -> Option<(Vec<f64>, Evaluation)> {
+) -> Option<(Vec<f64>, Evaluation, f64)> {
     let x = problem.unknowns();
     let slope: f64 = (start.residual_n.iter().zip(direction).zip(held))
         .filter(|(_, h)| !**h)
         .map(|((r, d), _)| r * d)
         .sum();
-    let mut best: Option<(f64, Vec<f64>, Evaluation)> = None;
+    let mut best: Option<(f64, Vec<f64>, Evaluation, f64)> = None;
     let mut eta = 1.0;
     for _ in 0..=MAX_HALVINGS {
         let trial: Vec<f64> = x.iter().zip(direction).map(|(u, d)| u + eta * d).collect();
@@ -201,15 +207,15 @@ fn line_search(
             let energy_ok =
                 pending_force_n == 0.0 && e.energy_j <= start.energy_j + ARMIJO * eta * slope;
             if residual_ok || energy_ok {
-                return Some((trial, e));
+                return Some((trial, e, eta));
             }
-            if best.as_ref().is_none_or(|(n, _, _)| norm < *n) {
-                best = Some((norm, trial, e));
+            if best.as_ref().is_none_or(|(n, _, _, _)| norm < *n) {
+                best = Some((norm, trial, e, eta));
             }
         }
         eta *= 0.5;
     }
-    best.map(|(_, trial, e)| (trial, e))
+    best.map(|(_, trial, e, eta)| (trial, e, eta))
 }
 
 /// Where Newton stands when it stops short: what the error reports.
