@@ -32,6 +32,11 @@ pub struct NewtonOptions {
     /// Newton iterations per attempt before the increment is halved (and,
     /// after [`MAX_CUTS`] halvings, the step fails).
     pub max_iterations: usize,
+    /// An iteration keeps the last factorisation (a chord step) when the
+    /// one before it, with the same held set and every held node on the
+    /// plane, cut the residual by at least this factor
+    /// ([`crate::newton`]); 0: a factorisation at every iteration.
+    pub chord_contraction: f64,
 }
 
 impl Default for NewtonOptions {
@@ -39,6 +44,7 @@ impl Default for NewtonOptions {
         Self {
             tolerance: 1e-8,
             max_iterations: 30,
+            chord_contraction: 0.25,
         }
     }
 }
@@ -55,8 +61,8 @@ pub struct Step {
     pub area_fraction_current: f64,
     /// The plane's force on the block, positive in compression, N.
     pub load_n: f64,
-    /// Newton iterations (factorisations) of this step, failed attempts
-    /// included.
+    /// Newton iterations of this step (chord steps on a kept factorisation
+    /// and failed attempts included).
     pub iterations: usize,
     /// Largest height of a free top node above the plane (0 if none), m.
     pub largest_penetration_m: f64,
@@ -84,6 +90,12 @@ pub struct ContactProblem {
     history: Vec<(f64, Vec<f64>)>,
     /// Residual at the last converged state.
     last: Option<Evaluation>,
+    /// The assembled tangent of a law whose tangent does not depend on the
+    /// state (small-strain linear elasticity): assembled once, the same bits
+    /// as assembling it at every iteration.
+    constant_tangent: Option<Vec<f64>>,
+    /// Numeric factorisations so far.
+    factorizations: usize,
     options: NewtonOptions,
 }
 
@@ -103,7 +115,20 @@ impl ContactProblem {
             .iter()
             .map(|t| mesh.nodes_m[t.node][2])
             .fold(f64::NEG_INFINITY, f64::max);
+        // A bad reference element fails every evaluation: it is reported by
+        // the first one of the solve, as without the cache.
+        let constant_tangent = match law {
+            Law::LinearElastic { .. } => {
+                let zero = vec![0.0; dofs.count];
+                assembly::evaluate(&mesh, &dofs, &law, Some(&pattern), &zero)
+                    .ok()
+                    .and_then(|e| e.tangent)
+            }
+            Law::Hyperelastic { .. } => None,
+        };
         Ok(Self {
+            constant_tangent,
+            factorizations: 0,
             diagonal: pattern.diagonal_positions(),
             active: vec![false; dofs.top.len()],
             unknowns: vec![0.0; dofs.count],
@@ -122,6 +147,12 @@ impl ContactProblem {
     /// The nodal displacements of the current state, m.
     pub fn displacement_m(&self) -> Vec<[f64; 3]> {
         self.dofs.expand(&self.unknowns)
+    }
+
+    /// The numeric factorisations of the tangent so far (each Newton
+    /// iteration but the chord steps).
+    pub fn factorizations(&self) -> usize {
+        self.factorizations
     }
 
     /// Which top nodes are in contact (per entry of [`Dofs::top`]).
@@ -294,8 +325,14 @@ impl ContactProblem {
         unknowns: &[f64],
         tangent: bool,
     ) -> Result<Evaluation, assembly::Failure> {
-        let pattern = tangent.then_some(&self.pattern);
-        assembly::evaluate(&self.mesh, &self.dofs, &self.law, pattern, unknowns)
+        let cached = self.constant_tangent.as_ref().filter(|_| tangent);
+        let pattern = (tangent && cached.is_none()).then_some(&self.pattern);
+        let mut evaluation =
+            assembly::evaluate(&self.mesh, &self.dofs, &self.law, pattern, unknowns)?;
+        if let Some(values) = cached {
+            evaluation.tangent = Some(values.clone());
+        }
+        Ok(evaluation)
     }
 
     /// The held unknowns' equations and a flag per unknown.
@@ -323,15 +360,16 @@ impl ContactProblem {
     /// held rows and columns reduced to their diagonal, factorised); and
     /// ‖K_hh pending‖, the force that moving the held nodes alone would
     /// take, N (the line search's measure of what is still to do).
+    /// The tangent is taken out of `evaluation` (and reduced in place).
     pub(crate) fn newton_direction(
         &mut self,
-        evaluation: &Evaluation,
+        evaluation: &mut Evaluation,
         held: &[bool],
         pending: &[f64],
     ) -> Result<(Vec<f64>, f64), FemError> {
         let mut values = evaluation
             .tangent
-            .clone()
+            .take()
             .ok_or_else(|| FemError::Solver("no tangent was assembled".into()))?;
         let mut step: Vec<f64> = (evaluation.residual_n.iter().zip(held))
             .map(|(r, h)| if *h { 0.0 } else { -r })
@@ -367,8 +405,20 @@ impl ContactProblem {
             }
         }
         self.solver.factor(&values)?;
+        self.factorizations += 1;
         self.solver.solve(&mut step);
         Ok((step, pending_force_n.sqrt()))
+    }
+
+    /// A chord step: the solution of the last factorised system (whose
+    /// held set must be `held`) with the right-hand side −r on the free
+    /// unknowns and 0 on the held ones, which stay where they are.
+    pub(crate) fn chord_direction(&mut self, residual_n: &[f64], held: &[bool]) -> Vec<f64> {
+        let mut step: Vec<f64> = (residual_n.iter().zip(held))
+            .map(|(r, h)| if *h { 0.0 } else { -r })
+            .collect();
+        self.solver.solve(&mut step);
+        step
     }
 
     pub(crate) fn unknowns(&self) -> &[f64] {

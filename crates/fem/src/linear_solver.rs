@@ -43,6 +43,10 @@ pub struct LinearSolver {
     kind: Factorization,
     full: Option<FullMatrix>,
     lu: Option<Lu<usize, f64>>,
+    /// Work space of the numeric factorisations and solves, allocated once:
+    /// a fresh one per Newton iteration cost its allocation and page faults
+    /// every time.
+    scratch: MemBuffer,
 }
 
 /// The full (both triangles) pattern for LU, with the source of each value
@@ -86,7 +90,15 @@ impl LinearSolver {
         let symbolic =
             factorize_symbolic_cholesky(upper.as_ref(), Side::Upper, ordering, Default::default())
                 .map_err(|e| solver_error("symbolic Cholesky", e))?;
+        let par = Par::Seq;
+        let scratch = MemBuffer::new(
+            symbolic
+                .factorize_numeric_llt_scratch::<f64>(par, Default::default())
+                .or(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()))
+                .or(symbolic.solve_in_place_scratch::<f64>(1, par)),
+        );
         Ok(Self {
+            scratch,
             factor_values: vec![0.0; symbolic.len_val()],
             upper,
             symbolic,
@@ -105,14 +117,7 @@ impl LinearSolver {
     pub fn factor(&mut self, values: &[f64]) -> Result<Factorization, FemError> {
         let matrix = SparseColMatRef::new(self.upper.as_ref(), values);
         let par = Par::Seq;
-        let mut buffer = MemBuffer::new(
-            self.symbolic
-                .factorize_numeric_llt_scratch::<f64>(par, Default::default())
-                .or(self
-                    .symbolic
-                    .factorize_numeric_ldlt_scratch::<f64>(par, Default::default())),
-        );
-        let stack = MemStack::new(&mut buffer);
+        let stack = MemStack::new(&mut self.scratch);
         let llt = self.symbolic.factorize_numeric_llt(
             &mut self.factor_values,
             matrix,
@@ -162,7 +167,7 @@ impl LinearSolver {
     }
 
     /// Solves in place with the last factorisation.
-    pub fn solve(&self, rhs: &mut [f64]) {
+    pub fn solve(&mut self, rhs: &mut [f64]) {
         let n = rhs.len();
         let par = Par::Seq;
         let rhs = MatMut::from_column_major_slice_mut(rhs, n, 1);
@@ -173,9 +178,7 @@ impl LinearSolver {
                 }
             }
             kind => {
-                let mut buffer =
-                    MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(1, par));
-                let stack = MemStack::new(&mut buffer);
+                let stack = MemStack::new(&mut self.scratch);
                 if kind == Factorization::Cholesky {
                     LltRef::new(&self.symbolic, &self.factor_values).solve_in_place_with_conj(
                         Conj::No,

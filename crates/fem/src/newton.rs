@@ -3,10 +3,24 @@
 //! step −K⁻¹r on the free unknowns, halves it until the residual or the
 //! energy decreases enough (Armijo's condition on either; Nocedal & Wright,
 //! Numerical Optimization, § 3.1), then updates the active set.
+//!
+//! Chord steps: an iteration keeps the last factorisation (the step
+//! −K_old⁻¹ r) when the one before it, with the same held set and every
+//! held node on the plane, cut the residual by at least
+//! [`NewtonOptions::chord_contraction`]. Newton is then in its convergence
+//! range, where the tangent barely changes from one iteration to the next,
+//! and a chord step converges almost as fast for the cost of a residual
+//! and a solve instead of a tangent and a factorisation (Kelley, Iterative
+//! Methods for Linear and Nonlinear Equations, SIAM 1995, § 5.4, the
+//! Shamanskii method); it also makes the last iteration of a step, the one
+//! that finds the residual at the round-off floor of the assembly, cheap.
+//! A chord step that contracts less hands back to Newton.
 
 use crate::FemError;
 use crate::assembly::Evaluation;
 use crate::contact::ContactProblem;
+#[cfg(doc)]
+use crate::contact::NewtonOptions;
 
 /// Halvings of the step before the line search gives up and takes the
 /// best trial it has seen.
@@ -53,6 +67,12 @@ pub fn solve(
     let mut small_update = false;
     let mut previous_n = f64::INFINITY;
     let mut iterations = 0;
+    // The held set of the factorisation the solver keeps.
+    let mut factored_held: Option<Vec<bool>> = None;
+    // Whether the last line search took the full step: after a damped one
+    // the next full step is likely damped too, and its tangent, assembled
+    // with it, wasted; it is then assembled when needed.
+    let mut full_step = true;
     loop {
         let held = problem.held();
         let pending = problem.pending_m(plane);
@@ -80,8 +100,21 @@ pub fn solve(
         if iterations >= options.max_iterations {
             return Err(at.not_converged(problem, ""));
         }
-        let (direction, pending_force_n) =
-            problem.newton_direction(&evaluation, &held, &pending)?;
+        let chord = placed
+            && !set_changed
+            && residual_n <= options.chord_contraction * previous_n
+            && factored_held.as_ref() == Some(&held);
+        let (direction, pending_force_n) = if chord {
+            (problem.chord_direction(&evaluation.residual_n, &held), 0.0)
+        } else {
+            if evaluation.tangent.is_none() {
+                evaluation = problem.evaluate(problem.unknowns(), true).map_err(|f| {
+                    at.not_converged(problem, format!("; element {} inverted", f.element))
+                })?;
+            }
+            factored_held = Some(held.clone());
+            problem.newton_direction(&mut evaluation, &held, &pending)?
+        };
         iterations += 1;
         at.iterations = iterations;
         previous_n = if placed && !set_changed {
@@ -91,32 +124,27 @@ pub fn solve(
         };
         let search = line_search(
             problem,
-            &evaluation,
-            &direction,
-            &held,
+            (&evaluation, &direction, &held),
             residual_n,
             pending_force_n,
+            !chord && full_step,
         );
-        let (unknowns, trial) = search.ok_or_else(|| {
+        let (unknowns, trial, eta) = search.ok_or_else(|| {
             at.not_converged(
                 problem,
                 "; every trial along the Newton direction inverts an element",
             )
         })?;
+        full_step = eta == 1.0;
         small_update = placed && is_small(problem.unknowns(), &unknowns);
         problem.set_unknowns(unknowns);
         let released = problem.release_tensile(&trial.residual_n, scale_n);
         let added = problem.add_penetrating(plane, approach_m);
         set_changed = released || added;
         // The active set does not move the unknowns, so the trial's
-        // evaluation stands unless it lacks the tangent.
-        evaluation = if trial.tangent.is_none() {
-            problem.evaluate(problem.unknowns(), true).map_err(|f| {
-                at.not_converged(problem, format!("; element {} inverted", f.element))
-            })?
-        } else {
-            trial
-        };
+        // evaluation stands (its tangent is assembled when a factorisation
+        // needs it).
+        evaluation = trial;
     }
 }
 
@@ -148,27 +176,28 @@ fn first_evaluation(
 
 /// The first of x + η d, η = 1, ½, ¼, … whose merit (free residual norm
 /// plus the force owed to held nodes) or energy decreases sufficiently, else the trial with the smallest residual; `None`
-/// if every trial inverts an element.
+/// if every trial inverts an element; with the η taken. The full step's
+/// tangent is assembled with it if `tangent` (the next iteration will
+/// likely factorise it).
 fn line_search(
     problem: &ContactProblem,
-    start: &Evaluation,
-    direction: &[f64],
-    held: &[bool],
+    (start, direction, held): (&Evaluation, &[f64], &[bool]),
     residual_n: f64,
     pending_force_n: f64,
-) -> Option<(Vec<f64>, Evaluation)> {
+    tangent: bool,
+) -> Option<(Vec<f64>, Evaluation, f64)> {
     let x = problem.unknowns();
     let slope: f64 = (start.residual_n.iter().zip(direction).zip(held))
         .filter(|(_, h)| !**h)
         .map(|((r, d), _)| r * d)
         .sum();
-    let mut best: Option<(f64, Vec<f64>, Evaluation)> = None;
+    let mut best: Option<(f64, Vec<f64>, Evaluation, f64)> = None;
     let mut eta = 1.0;
     for _ in 0..=MAX_HALVINGS {
         let trial: Vec<f64> = x.iter().zip(direction).map(|(u, d)| u + eta * d).collect();
         // The full step is usually taken: assemble its tangent with it, for
         // the next iteration.
-        if let Ok(e) = problem.evaluate(&trial, eta == 1.0) {
+        if let Ok(e) = problem.evaluate(&trial, tangent && eta == 1.0) {
             // Merit: the free residual plus the force still owed to the held
             // nodes, (1 − η) of the pending one.
             let norm = free_norm(&e.residual_n, held) + (1.0 - eta) * pending_force_n;
@@ -178,15 +207,15 @@ fn line_search(
             let energy_ok =
                 pending_force_n == 0.0 && e.energy_j <= start.energy_j + ARMIJO * eta * slope;
             if residual_ok || energy_ok {
-                return Some((trial, e));
+                return Some((trial, e, eta));
             }
-            if best.as_ref().is_none_or(|(n, _, _)| norm < *n) {
-                best = Some((norm, trial, e));
+            if best.as_ref().is_none_or(|(n, _, _, _)| norm < *n) {
+                best = Some((norm, trial, e, eta));
             }
         }
         eta *= 0.5;
     }
-    best.map(|(_, trial, e)| (trial, e))
+    best.map(|(_, trial, e, eta)| (trial, e, eta))
 }
 
 /// Where Newton stands when it stops short: what the error reports.

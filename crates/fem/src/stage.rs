@@ -103,7 +103,7 @@ pub struct FemResponseTable {
     /// mean gap between the plane and the deformed top (tributary-area weights)
     #[column(unit = "m")]
     pub mean_gap_m: Vec<f64>,
-    /// Newton iterations (factorisations) of the step, halved attempts included
+    /// Newton iterations of the step (chord steps on a kept factorisation and halved attempts included)
     pub newton_iterations: Vec<i64>,
     /// largest height of a free top node above the plane (0: none penetrates)
     #[column(unit = "m")]
@@ -159,7 +159,8 @@ static INFO: StageInfo = StageInfo {
           element, condensed), free of volumetric locking. CONTACT: exact active set on the \
           top nodes (a node in contact has its z on the plane, released when its reaction \
           pulls), frictionless (x, y free), Newton with line search, faer's sparse Cholesky \
-          with one symbolic factorisation; a step that fails is halved up to four times, then \
+          with one symbolic factorisation (once Newton converges, chord steps keep the last \
+          factorisation while they cut the residual fourfold); a step that fails is halved up to four times, then \
           the stage fails naming the step, the approach and the residual. STEPS: row 0 is \
           first touch (F = 0); step 1 goes to where the plane's overlap with the undeformed \
           surface covers A/A0 = max_area_fraction / steps (the elastic area is smaller); step \
@@ -252,6 +253,7 @@ impl Stage for Fem {
         let newton = NewtonOptions {
             tolerance: p.tolerance,
             max_iterations: p.max_iterations,
+            ..NewtonOptions::default()
         };
         let mut problem =
             ContactProblem::new(mesh, law, lateral, newton).map_err(StageError::other)?;

@@ -153,3 +153,62 @@ fn periodic_faces_tie_the_edges() {
         assert_eq!(snapshot.pressure_pa[first], snapshot.pressure_pa[last]);
     }
 }
+
+/// Chord steps (the last factorisation kept once Newton converges) reach
+/// the state that a factorisation at every iteration reaches: the same
+/// contact set at every step and the load within Newton's tolerance, with
+/// fewer factorisations.
+#[test]
+fn chord_steps_reach_the_newton_solution_with_fewer_factorisations() {
+    let n = 12;
+    let h = surface(n);
+    let map = HeightMap {
+        heights_m: &h,
+        nx: n,
+        ny: n,
+        dx_m: 20e-6,
+        dy_m: 20e-6,
+    };
+    let run = |chord_contraction: f64| {
+        let options = MeshOptions {
+            layers: 4,
+            ..MeshOptions::default()
+        };
+        let mesh = Mesh::new(&map, &options).unwrap();
+        let newton = NewtonOptions {
+            chord_contraction,
+            ..NewtonOptions::default()
+        };
+        let mut problem = ContactProblem::new(mesh, paper_epdm(), Lateral::Mirror, newton).unwrap();
+        let options = CurveOptions {
+            // Steps small enough for Newton's convergence range (larger
+            // ones are cut back, and chord steps then save nothing).
+            approaches_m: approaches(&h, 0.4, 8),
+            snapshot_area_fractions: vec![0.05, 0.1],
+            ..Default::default()
+        };
+        let curve = solve_curve(&mut problem, &options).unwrap();
+        (curve, problem.factorizations())
+    };
+    let ((newton, newton_factorizations), (chord, chord_factorizations)) = (run(0.0), run(0.25));
+    assert!(newton.steps.last().unwrap().area_fraction > 0.1);
+    eprintln!(
+        "{newton_factorizations} factorisations without chord steps, {chord_factorizations} with"
+    );
+    for (a, b) in newton.steps.iter().zip(&chord.steps) {
+        assert_eq!(a.area_fraction, b.area_fraction);
+        assert!(
+            (a.load_n / b.load_n - 1.0).abs() < 1e-6,
+            "{} vs {} N",
+            a.load_n,
+            b.load_n
+        );
+    }
+    for (a, b) in newton.snapshots.iter().zip(&chord.snapshots) {
+        assert_eq!(a.contact, b.contact);
+    }
+    assert!(
+        chord_factorizations < newton_factorizations,
+        "{chord_factorizations} factorisations with chord steps, {newton_factorizations} without"
+    );
+}

@@ -77,3 +77,45 @@ fn assembled_tangent_equals_differences_of_the_residual() {
         }
     }
 }
+
+/// The small-strain law's assembled tangent is the same bits at any state
+/// (what lets the contact problem assemble it once), and that of a
+/// hyperelastic law is not (the check can fail).
+#[test]
+fn linear_tangent_is_the_same_bits_at_every_state() {
+    let surface = SampleSurface {
+        nx: 6,
+        ny: 5,
+        pixel_m: 1e-4,
+        rms_m: 1e-5,
+        hurst: 0.8,
+        modes: 2,
+        seed: 5,
+    };
+    let h = surface.heights_m();
+    let mesh = Mesh::new(&surface.on_grid(&h), &MeshOptions::default()).unwrap();
+    let dofs = Dofs::new(&mesh, Lateral::Mirror);
+    let pattern = Pattern::new(&mesh, &dofs);
+    let zero = vec![0.0; dofs.count];
+    // Strains of about 0.1 % and 1 %.
+    let states: Vec<Vec<f64>> = [1e-7, 1e-6]
+        .iter()
+        .map(|scale| {
+            (0..dofs.count)
+                .map(|k| scale * (((k * 37) % 11) as f64 - 5.0) / 5.0)
+                .collect()
+        })
+        .collect();
+    let bits = |law: &Law, x: &[f64]| -> Vec<u64> {
+        let e = assembly::evaluate(&mesh, &dofs, law, Some(&pattern), x).unwrap();
+        e.tangent.unwrap().iter().map(|v| v.to_bits()).collect()
+    };
+    let linear = Law::linear_elastic(2.0e6, 5000.0).unwrap();
+    let hyperelastic =
+        Law::hyperelastic(&hypercontact_material::presets::paper_epdm(), 5000.0).unwrap();
+    let (linear_at_rest, hyperelastic_at_rest) = (bits(&linear, &zero), bits(&hyperelastic, &zero));
+    for x in &states {
+        assert!(bits(&linear, x) == linear_at_rest);
+        assert!(bits(&hyperelastic, x) != hyperelastic_at_rest);
+    }
+}
