@@ -132,7 +132,7 @@ pub struct Fem;
 
 static INFO: StageInfo = StageInfo {
     kind: "fem",
-    version: 1,
+    version: 2,
     summary: "Finite elements at finite strain: load against contact area of a rough, nearly \
               incompressible hyperelastic block on a rigid flat",
     doc: "The reference the tangent-modulus models are judged against: the rough patch as a \
