@@ -5,7 +5,7 @@ use std::process::Output;
 
 use hypercontact_core::Schema;
 
-mod common;
+use crate::common;
 use common::{bin, repo, text};
 
 /// The demo pipeline, pointed at the repository's sample from a temp folder.

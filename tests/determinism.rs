@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 
-mod common;
+use crate::common;
 use common::{products, repo};
 
 /// Starts `run pipelines/quick.yaml` into `dir`/out with its own cache in

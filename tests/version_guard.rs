@@ -12,8 +12,8 @@
 //!   bump.
 //! - a new version, or other inputs (an upstream stage or the fixture
 //!   changed): the table is stale; the test fails asking to record it again
-//!   with `HYPERCONTACT_RECORD_GUARD=1 cargo test --release --test
-//!   version_guard`, which writes the new table but refuses, with the same
+//!   with `HYPERCONTACT_RECORD_GUARD=1 cargo test --workspace --release
+//!   --test integration -- version_guard::`, which writes the new table but refuses, with the same
 //!   message, to record a stage whose bytes changed under an unchanged
 //!   version and inputs.
 //! - a new store format (`MANIFEST_FORMAT`, bumped when the runner writes
@@ -32,7 +32,7 @@ use hypercontact_runner::cache::MANIFEST_FORMAT;
 use hypercontact_runner::hash::canonical_json;
 use serde_json::{Value, json};
 
-mod common;
+use crate::common;
 use common::{bin, repo, text};
 
 /// One fixture stage as the table records it.
@@ -229,8 +229,8 @@ fn every_stage_gives_its_recorded_bytes_or_has_a_new_version() {
     assert!(
         stale.is_empty(),
         "tests/guard/hashes.json is stale (a version was bumped or a fixture input changed); \
-         record it again with HYPERCONTACT_RECORD_GUARD=1 cargo test --release --test \
-         version_guard:\n{}",
+         record it again with HYPERCONTACT_RECORD_GUARD=1 cargo test --workspace --release \
+         --test integration -- version_guard:::\n{}",
         stale.join("\n")
     );
 }

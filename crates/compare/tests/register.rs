@@ -3,7 +3,7 @@
 //! a prediction that is not the observation: another resolution, another
 //! contact level, flipped pixels.
 
-mod common;
+use crate::common;
 
 use common::{Scene, Spec, build};
 use hypercontact_compare::register::{RegisterSettings, Registration, register};

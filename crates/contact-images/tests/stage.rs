@@ -5,7 +5,7 @@
 //! 0.37 s ahead of the camera's. The true contact of each frame is the
 //! resampled gap ≤ 0.
 
-mod common;
+use crate::common;
 
 use common::{params, run};
 use hypercontact_contact_images::stage::{ContactImagesParams, ContactMapIndex};

@@ -4,7 +4,7 @@
 //! 16-bit camera, a 50 Hz force log on a clock 0.37 s off. The analysis sees
 //! only the lab files; the truth tables score it.
 
-mod common;
+use crate::common;
 
 use hypercontact_contact_images::Mask;
 use hypercontact_contact_images::label;

@@ -1,6 +1,6 @@
 //! Bad input gets an error that names the file or the parameter.
 
-mod common;
+use crate::common;
 
 use hypercontact_core::{Context, Files, Inputs, Params, Stage};
 use hypercontact_dic::{Dic, DicParams};

@@ -8,7 +8,7 @@
 //! dozen through the stage); `PROPTEST_CASES` and `PROPTEST_RNG_SEED` widen
 //! or move the search.
 
-mod common;
+use crate::common;
 
 use std::io::Cursor;
 use std::sync::OnceLock;

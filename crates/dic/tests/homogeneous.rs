@@ -5,7 +5,7 @@
 //! generating material, and the Ogden fit of the DIC data must reproduce the
 //! generating curves within 1 % RMS relative error per mode.
 
-mod common;
+use crate::common;
 
 use std::time::Instant;
 

@@ -4,7 +4,7 @@
 //! Frames are rendered (point-sampled) and quantised before the clock
 //! starts; decoding 16-bit PNGs is timed separately on one frame.
 //!
-//! Run: `cargo test -p hypercontact-dic --release --test sequence_timing -- --ignored --nocapture`.
+//! Run: `cargo test --workspace --release --test integration -- sequence_timing:: --ignored --nocapture`.
 
 use std::time::Instant;
 

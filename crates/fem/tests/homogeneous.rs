@@ -13,7 +13,7 @@
 //!   modulus, so T approaches the incompressible value as O(μ/κ); shown by
 //!   the error falling a hundredfold from κ = 1e4 μ to 1e6 μ.
 
-mod common;
+use crate::common;
 
 use hypercontact_fem::assembly::{self, Pattern};
 use hypercontact_fem::dofs::Dofs;

@@ -2,7 +2,7 @@
 //! assembled residual, for every material family, on a rough, graded mesh
 //! at a finite, non-homogeneous deformation (mirror faces, clamped base).
 
-mod common;
+use crate::common;
 
 use hypercontact_fem::assembly::{self, Pattern};
 use hypercontact_fem::dofs::Dofs;

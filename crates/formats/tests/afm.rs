@@ -7,7 +7,7 @@
 //! and the files are fuzzed: truncations, byte edits and absurd headers
 //! never panic and never give more points than the file holds.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

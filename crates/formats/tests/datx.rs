@@ -6,7 +6,7 @@
 //! property tests: arbitrary bytes after the HDF5 signature and edits of the
 //! files never panic.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -3,7 +3,7 @@
 //! SurfaceTopography 1.27 reads it, detection by the magic number alone, and
 //! property tests: arbitrary bytes and edits of the real file never panic.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::sync::OnceLock;

@@ -3,7 +3,7 @@
 //! detection by the directory's name alone, and property tests: arbitrary
 //! bytes and edits of the real file never panic.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::sync::OnceLock;

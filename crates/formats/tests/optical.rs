@@ -5,7 +5,7 @@
 //! name, and fuzzed: truncations, byte edits and absurd headers never panic
 //! and never give more points than the file holds.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::sync::OnceLock;

@@ -2,7 +2,7 @@
 //! 1.66 µm pixels) read as SurfaceTopography 1.27 reads it, and property
 //! tests: arbitrary bytes and edits of the real file never panic.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::sync::OnceLock;

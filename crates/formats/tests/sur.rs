@@ -2,7 +2,7 @@
 //! counts in mm, 117 points not measured) against the heights
 //! SurfaceTopography 1.27 reads from it (`sur-2_m.npy`, `index.json`).
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::sync::OnceLock;

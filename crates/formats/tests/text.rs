@@ -5,7 +5,7 @@
 //! SurfaceTopography reads it, and fuzzed: truncations and edits never
 //! panic and never give more points than the file holds.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -2,7 +2,7 @@
 //! 650 × 650 float64 heights, pixels 0.128 × 0.315 µm) against the heights
 //! SurfaceTopography 1.27 reads from it (`x3p-2_m.npy`, `index.json`).
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

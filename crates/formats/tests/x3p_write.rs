@@ -16,7 +16,7 @@
 //! the synthetic map's instrument "hypercontact (version 0.1.0)" and its
 //! acquisition time 2024-05-01 10:00:00.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

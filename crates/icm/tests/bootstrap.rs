@@ -5,9 +5,9 @@
 
 use std::sync::Arc;
 
+use crate::common;
 use hypercontact_core::{Context, Inputs, Params, Product, Schema, Stage, Table};
 use hypercontact_icm::stage::{Icm, IcmParams};
-mod common;
 
 use hypercontact_icm::{Model, Scheme};
 use hypercontact_material::fit_stage::{BootstrapParams, MaterialFit, MaterialFitParams};

@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-mod common;
+use crate::common;
 
 use hypercontact_icm::{Model, Scheme, Solution};
 use hypercontact_material::presets::paper_epdm;

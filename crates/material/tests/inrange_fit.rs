@@ -216,7 +216,7 @@ fn in_range_bootstrap_is_the_same_on_one_and_two_threads() {
 }
 
 #[test]
-#[ignore = "timing: cargo test --release -p hypercontact-material --test inrange_fit -- --ignored --nocapture"]
+#[ignore = "timing: cargo test --workspace --release --test integration -- inrange_fit:: --ignored --nocapture"]
 fn time_a_200_replicate_in_range_bootstrap() {
     let data = paper_sample();
     let best = fit(&data, Family::Ogden(6), &in_range()).unwrap();
@@ -272,7 +272,7 @@ proptest::proptest! {
 }
 
 #[test]
-#[ignore = "timing: cargo test --release -p hypercontact-material --test inrange_fit -- --ignored --nocapture"]
+#[ignore = "timing: cargo test --workspace --release --test integration -- inrange_fit:: --ignored --nocapture"]
 fn time_the_stage_with_its_comparison_on_the_paper_sample() {
     use hypercontact_core::{Checked, Context, Inputs, Params, Product, Stage};
     use hypercontact_material::fit_stage::{MaterialFit, MaterialFitParams};

@@ -4,7 +4,7 @@
 //! constraint costs (with a published material beside it when named). A
 //! report without bands is the same to the byte as before.
 
-mod common;
+use crate::common;
 
 use common::{ALL, SAMPLES, run, run_with, text, wired_params};
 use hypercontact_core::contact::BandTable;

@@ -3,7 +3,7 @@
 //! the ICM divided by, for both contact laws, so Table 1 can be held to it;
 //! and the ICM's bootstrap bands land on the response's axes.
 
-mod common;
+use crate::common;
 
 use hypercontact_core::contact::ResponseTable;
 use hypercontact_core::{Context, Inputs, Params, Product, Schema, Stage, Table};

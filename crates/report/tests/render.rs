@@ -3,7 +3,7 @@
 //! holds the numbers of the input tables, and unwired inputs skip their
 //! figure with a note instead of failing.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 

@@ -2,7 +2,7 @@
 //! snapshot: a change of wording or of a reported location shows up in
 //! review. Each case is a small pipeline over the test stages.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -7,7 +7,7 @@
 //! Bounded for CI: a fixed seed and a few hundred cases per property;
 //! `PROPTEST_CASES` and `PROPTEST_RNG_SEED` widen or move the search.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -1,7 +1,7 @@
 //! The runner against small test stages: keys, invalidation, crash safety,
 //! concurrency, corruption, re-runs and YAML errors.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;

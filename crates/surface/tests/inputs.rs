@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-mod common;
+use crate::common;
 
 use common::{npy, run};
 use hypercontact_core::{Field, Files, Inputs, Product};

@@ -2,7 +2,7 @@
 //! old fill with the mean height, on a synthetic surface of known spectrum
 //! and on a real instrument map with dropouts.
 
-mod common;
+use crate::common;
 
 use hypercontact_core::{Context, Field, Inputs, Params, Product};
 use hypercontact_surface::surface_stage::{Fill, StatsTable, SurfaceParams, analyse};

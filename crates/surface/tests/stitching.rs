@@ -1,7 +1,7 @@
 //! Stitching synthetic interferometer tiles against their ground truth,
 //! and the stage end to end: synth-surface → surface.
 
-mod common;
+use crate::common;
 
 use hypercontact_core::{Context, Inputs, Params, Product, Schema, Stage};
 use hypercontact_labfiles::FileSource;

@@ -1,0 +1,8 @@
+//! The integration tests of `hypercontact-contact-images` as one test binary: one link instead of
+//! 2, which keeps the cold build of the tests within budget (#35). Each module
+//! is one file of this folder; run one with
+//! `cargo test --workspace --release --test integration -- MODULE::`.
+
+mod common;
+mod stage;
+mod synthetic_experiment;
