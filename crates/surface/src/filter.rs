@@ -257,6 +257,17 @@ pub fn filter_notes(measured: &Grid, filtered: &Grid, resolution_m: f64) -> Vec<
         filtered.ny,
         2.0 * resolution_m
     )];
+    let (before, after) = (measured.nx * measured.ny, filtered.nx * filtered.ny);
+    if (after as f64) < 0.1 * before as f64 {
+        notes.push(format!(
+            "warning: the filter keeps {after} of the {before} measured points ({:.2} %): \
+             resolution_m = {resolution_m:e} m is {:.0} times the measured spacing; set \
+             resolution_m: 0 to keep the measured grid, or a resolution the instrument's \
+             lateral resolution calls for",
+            100.0 * after as f64 / before as f64,
+            resolution_m / measured.dx_m.max(measured.dy_m)
+        ));
+    }
     let discarded = discarded_log_q_fraction(measured, filtered);
     if discarded > 0.5 {
         let (q_min, q_max) = measured.q_range_per_m();
@@ -477,11 +488,28 @@ mod tests {
         assert!(
             notes[0].contains("640 × 480 points at 1.0983e-6 × 1.0983e-6 m → 36 × 27 at 2e-5 m")
         );
-        assert!(notes[1].starts_with("warning: the filter discards 50 % of the PSD's range"));
-        // 15 µm keeps more than half: the grid note only.
-        let notes = filter_notes(&measured, &at(15e-6), 15e-6);
+        assert!(
+            notes[1].starts_with(
+                "warning: the filter keeps 972 of the 307200 measured points (0.32 %): \
+                 resolution_m = 2e-5 m is 18 times the measured spacing"
+            ),
+            "{notes:?}"
+        );
+        assert!(notes[2].starts_with("warning: the filter discards 50 % of the PSD's range"));
+        // 3 µm keeps 333 × 266 of 1000 × 800 points (11 %) and most of the
+        // log-q range: the grid note only.
+        let notes = filter_notes(&measured, &at(3e-6), 3e-6);
         assert_eq!(notes.len(), 1, "{notes:?}");
-        let notes = filter_notes(&measured, &at(30e-6), 30e-6);
+        // 4 µm keeps 250 × 200 (6.25 %): a warning on the points alone.
+        let notes = filter_notes(&measured, &at(4e-6), 4e-6);
         assert_eq!(notes.len(), 2, "{notes:?}");
+        assert!(notes[1].contains("keeps 50000 of the 800000 measured points (6.25 %)"));
+        // 30 µm also discards more than half the log-q range.
+        let notes = filter_notes(&measured, &at(30e-6), 30e-6);
+        assert_eq!(notes.len(), 3, "{notes:?}");
+        assert!(
+            notes[2].starts_with("warning: the filter discards"),
+            "{notes:?}"
+        );
     }
 }

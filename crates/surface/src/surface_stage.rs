@@ -55,8 +55,8 @@ pub struct SurfaceParams {
     pub tile_files: Vec<InputPath>,
     /// positions.csv for `tile_files` (its `file` column names them by file name; default: the positions the files record)
     pub positions: Option<InputPath>,
-    /// lateral resolution and new grid spacing (0 = keep the measured grid)
-    #[param(default = 20e-6, unit = "m", range = 0.0..)]
+    /// lateral resolution and new grid spacing; 0 (the default) keeps the measured grid (the paper's pipelines set 20e-6)
+    #[param(default = 0.0, unit = "m", range = 0.0..)]
     pub resolution_m: f64,
     /// height reference
     #[param(default = ReferenceKind::Lowest)]
@@ -130,9 +130,11 @@ static INFO: StageInfo = StageInfo {
           measured; the map is cropped to the region fully inside tile footprints. FILTER: ISO \
           16610-61 Gaussian low-pass with cut-off 2·resolution_m (50 % amplitude there), sampled \
           every resolution_m; NaN-aware (normalised convolution; NaN where under half the kernel \
-          weight was measured); resolution_m: 0 keeps the grid. A note gives the grid before and \
-          after (also in stats: nx_measured, ny_measured, dx_measured_m, dy_measured_m against nx, \
-          ny, dx_m, dy_m), and a note starting with \"warning:\" when the filter discards more than \
+          weight was measured); resolution_m: 0, the default, keeps the grid: no lab map is \
+          filtered unless the pipeline says so (the paper's pipelines set its 20 µm). A note gives \
+          the grid before and after (also in stats: nx_measured, ny_measured, dx_measured_m, \
+          dy_measured_m against nx, ny, dx_m, dy_m), and a note starting with \"warning:\" when the \
+          filter keeps under 10 % of the measured points, and another when it discards more than \
           half of the PSD's range in log q: the filtered map's last q, π/resolution_m, below \
           √(q_min·q_max) of the measured map (q from 2π/longest side to π/coarser spacing). \
           DETRENDING: least-squares plane \
