@@ -904,6 +904,72 @@ fn lab_files_go_in_as_the_instruments_wrote_them() {
             1.9673303177114576e-07,
             116,
         ),
+        // Issue 36's instruments (shared/reference/topography/more/index.json).
+        (
+            "al3d",
+            "Alicona .al3d",
+            200,
+            296,
+            4.38027e-07,
+            4.38027e-07,
+            0,
+        ),
+        (
+            "di",
+            "Bruker Nanoscope .di",
+            512,
+            512,
+            9.765625000000002e-10,
+            9.765625000000002e-10,
+            0,
+        ),
+        ("frt", "FRT .frt", 500, 500, 2.4e-05, 2.4e-05, 76456),
+        (
+            "mnt",
+            "Digital Surf .mnt",
+            960,
+            600,
+            1.853393117831074e-06,
+            1.8545542570951588e-06,
+            0,
+        ),
+        ("nid", "Nanosurf .nid", 256, 256, 7.8125e-08, 7.8125e-08, 0),
+        (
+            "ibw",
+            "Igor .ibw",
+            256,
+            256,
+            7.843137254901961e-08,
+            7.843137254901961e-08,
+            0,
+        ),
+        (
+            "mi",
+            "Molecular Imaging .mi",
+            256,
+            256,
+            7.812499999999999e-08,
+            7.812499999999999e-08,
+            0,
+        ),
+        (
+            "tmd",
+            "TrueMap .tmd",
+            300,
+            300,
+            6.318866729736329e-05,
+            6.318866729736329e-05,
+            0,
+        ),
+        (
+            "matrix",
+            "ASCII matrix",
+            650,
+            650,
+            3.69862e-07,
+            3.69862e-07,
+            0,
+        ),
     ] {
         let stats = parquet(t.path(), &format!("{stage}-surface/stats.parquet"));
         let int = |c: &str| stats.i64(c).unwrap()[0];
@@ -922,6 +988,17 @@ fn lab_files_go_in_as_the_instruments_wrote_them() {
         );
         let said = format!("{stage} {format}: {nx} × {ny} points");
         assert!(stderr.contains(&said), "no `{said}` in:\n{stderr}");
+    }
+    // Read only: too small for a PSD, or a profile. The AFM file's note
+    // names the channel read among the four it holds.
+    for said in [
+        "gwyddion ASCII matrix: 3 × 4 points",
+        "nc NetCDF .nc: 5 × 10 points",
+        "dektak Dektak .csv: a line scan of 9600 points",
+        "di Bruker Nanoscope .di: 512 × 512 points",
+        "channel `Height` read (the file's channels: 0: Height; 1: ",
+    ] {
+        assert!(stderr.contains(said), "no `{said}` in:\n{stderr}");
     }
 
     let out = run_pipeline(t.path(), "pipelines/lab-dic.yaml", &[]);

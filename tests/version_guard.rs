@@ -230,7 +230,7 @@ fn every_stage_gives_its_recorded_bytes_or_has_a_new_version() {
         stale.is_empty(),
         "tests/guard/hashes.json is stale (a version was bumped or a fixture input changed); \
          record it again with HYPERCONTACT_RECORD_GUARD=1 cargo test --workspace --release \
-         --test integration -- version_guard:::\n{}",
+         --test integration -- version_guard::\n{}",
         stale.join("\n")
     );
 }

@@ -1,7 +1,7 @@
 //! Stage `height-map`: loads one height map, from a `.npy` array or from an
-//! instrument's own file (X3P, Digital Surf .sur, Sensofar .plu, Zygo
-//! MetroPro .dat and .datx, Wyko .opd), the format told by the file's first
-//! bytes.
+//! instrument's own file (the formats of `hypercontact-formats`: optical
+//! profilometers, AFMs, stylus profiles, text exports), the format told by
+//! the file's first bytes; one channel of a multi-channel file.
 
 use hypercontact_core::{
     Checked, Context, Field, InputPath, Inputs, OutputSpec, Outputs, Stage, StageError, StageInfo,
@@ -11,11 +11,15 @@ use std::io::{Read, Seek, SeekFrom};
 
 use hypercontact_formats::{Format, Topography};
 
+use crate::channel_param::ChannelParam;
+
 /// Parameters of `height-map`.
 #[params]
 pub struct HeightMapParams {
-    /// the height map: .npy (2-D float64/float32, axis 0 = x, NaN = missing) or an instrument file (.x3p, .sur, .plu, MetroPro .dat, .datx, .opd)
+    /// the height map: .npy (2-D float64/float32, axis 0 = x, NaN = missing) or an instrument file of a format listed below
     pub path: InputPath,
+    /// the channel of a multi-channel file (AFM height, deflection, phase ...): its position from 0 in the list the note gives, or its name (default: the height channel SurfaceTopography reads first)
+    pub channel: Option<ChannelParam>,
     /// grid spacing along x (needed for .npy; for an instrument file it replaces the file's)
     #[param(unit = "m", positive)]
     pub pixel_m: Option<f64>,
@@ -38,14 +42,24 @@ static INFO: StageInfo = StageInfo {
     version: 2,
     summary: "Load a height map (.npy or an instrument file) with its grid spacing",
     doc: "Reads a height map as the instrument wrote it. The format is told by the first \
-          bytes, not the extension: ISO 25178-72 X3P, Digital Surf .sur, Sensofar .plu, Zygo \
-          MetroPro .dat and .datx, Wyko .opd, read with their units and pixel size (non-square pixels \
-          kept; missing points NaN), or a 2-D .npy array (float64 or float32) whose axis 0 is \
-          x, as the SurfaceTopography package writes it, which holds no spacing: `pixel_m` is \
-          then required and values are multiplied by `scale_to_m`. For an instrument file \
-          `pixel_m` / `pixel_y_m` replace the file's spacing (a recalibration; the note says \
-          by how much) and `scale_to_m` must stay 1. The note names the format, the grid and \
-          the missing points.",
+          bytes, the extension only where bytes cannot tell (text): optical profilers and \
+          interferometers (ISO 25178-72 X3P, Digital Surf .sur and MountainsMap .mnt, Sensofar \
+          .plu, Zygo MetroPro .dat and .datx, Wyko .opd, Alicona .al3d, FRT .frt, TrueMap/GelSight \
+          .tmd), AFMs (Bruker Nanoscope .di, Nanosurf .nid, Asylum/Igor .ibw, Molecular Imaging \
+          .mi), NetCDF .nc as SurfaceTopography writes it, text (an ASCII matrix with or without \
+          a header stating grid, pixel size and units; Gwyddion's ASCII export) and the Dektak \
+          stylus .csv (a line scan: an n x 1 map along x), each with its units and pixel size \
+          (non-square pixels kept; missing points NaN) and equal to what SurfaceTopography 1.x \
+          reads; or a 2-D .npy array (float64 or float32) whose axis 0 is x, as the \
+          SurfaceTopography package writes it, which holds no spacing: `pixel_m` is then \
+          required and values are multiplied by `scale_to_m`. CHANNELS: a multi-channel file \
+          gives its height channel (the one SurfaceTopography reads by default) unless \
+          `channel` names another by position or name; the note lists the channels found. For \
+          an instrument file `pixel_m` / `pixel_y_m` replace the file's spacing (a \
+          recalibration; the note says by how much) and `scale_to_m` must stay 1. The note \
+          names the format, the grid, the missing points and the instrument where the file \
+          says. A file no reader knows is refused naming what its bytes look like and the \
+          formats read.",
     inputs: &[],
     outputs: &[OutputSpec::field(
         "height",
@@ -95,6 +109,12 @@ fn read_map(p: &HeightMapParams, ctx: &Context) -> Result<Field, StageError> {
         .read_to_end(&mut magic)
         .map_err(io_error)?;
     if magic == b"\x93NUMPY" {
+        if p.channel.is_some() {
+            return Err(StageError::file(
+                path,
+                "is a .npy array, which holds one map: leave out `channel`",
+            ));
+        }
         file.seek(SeekFrom::Start(0)).map_err(io_error)?;
         return read_npy(p, file, file_bytes);
     }
@@ -203,7 +223,10 @@ fn read_instrument_file(
     bytes: &[u8],
     ctx: &Context,
 ) -> Result<Field, StageError> {
-    let channel = hypercontact_formats::Channel::Default;
+    let channel = p.channel.as_ref().map_or(
+        hypercontact_formats::Channel::Default,
+        ChannelParam::to_channel,
+    );
     let map: Topography =
         hypercontact_formats::read_bytes_limited(bytes, Some(&p.path), &channel, p.max_points)
             .map_err(|e| StageError::file(&p.path, e.to_string()))?;
@@ -222,17 +245,24 @@ fn read_instrument_file(
     let dy_m = p.pixel_y_m.or(p.pixel_m).unwrap_or(map.dy_m);
     let (nx, ny) = map.heights_m.dim();
     let missing = map.heights_m.iter().filter(|h| h.is_nan()).count();
-    let mut note = format!(
-        "{}: {nx} × {ny} points at {} × {} µm, {missing} missing",
-        map.format.name(),
-        micrometres(map.dx_m),
-        micrometres(map.dy_m),
-    );
+    let mut note = if map.is_line_scan() {
+        format!(
+            "{}: a line scan of {nx} points at {}, {missing} missing",
+            map.format.name(),
+            spacing(map.dx_m, None),
+        )
+    } else {
+        format!(
+            "{}: {nx} × {ny} points at {}, {missing} missing",
+            map.format.name(),
+            spacing(map.dx_m, Some(map.dy_m)),
+        )
+    };
+    note.push_str(&channel_note(&map));
     if (dx_m, dy_m) != (map.dx_m, map.dy_m) {
         note.push_str(&format!(
-            "; spacing replaced by the parameters: {} × {} µm ({:+.3} % along x)",
-            micrometres(dx_m),
-            micrometres(dy_m),
+            "; spacing replaced by the parameters: {} ({:+.3} % along x)",
+            spacing(dx_m, Some(dy_m)),
             100.0 * (dx_m / map.dx_m - 1.0)
         ));
     }
@@ -247,9 +277,29 @@ fn read_instrument_file(
     Field::new(map.heights_m, dx_m, dy_m).map_err(|e| StageError::file(&p.path, e.to_string()))
 }
 
-/// A spacing in micrometres, as many digits as a note needs.
-fn micrometres(m: f64) -> String {
-    format!("{:.4}", m * 1e6)
+/// Which channel was read, and the others, when the file holds more than
+/// one (the formats crate's `channel` and `channels` metadata).
+fn channel_note(map: &Topography) -> String {
+    match (map.meta("channel"), map.meta("channels")) {
+        (Some(read), Some(all)) if all.contains(';') => {
+            format!("; channel `{read}` read (the file's channels: {all})")
+        }
+        _ => String::new(),
+    }
+}
+
+/// Spacings for a note, `1.5000 × 2.5000 µm`, in nanometres below 0.1 µm
+/// (an AFM's 0.9766 nm pixels would read 0.0010 µm).
+fn spacing(dx_m: f64, dy_m: Option<f64>) -> String {
+    let (unit, per_m) = if dx_m.max(dy_m.unwrap_or(dx_m)) < 1e-7 {
+        ("nm", 1e9)
+    } else {
+        ("µm", 1e6)
+    };
+    match dy_m {
+        Some(dy_m) => format!("{:.4} × {:.4} {unit}", dx_m * per_m, dy_m * per_m),
+        None => format!("{:.4} {unit}", dx_m * per_m),
+    }
 }
 
 #[cfg(test)]
@@ -269,6 +319,7 @@ mod tests {
         let params = HeightMapParams {
             path: path.clone().into(),
             pixel_m: Some(2e-5),
+            channel: None,
             pixel_y_m: None,
             scale_to_m: 1e-6,
             max_points: 1 << 26,
@@ -320,6 +371,7 @@ mod tests {
                 path: path.clone().into(),
                 pixel_m,
                 pixel_y_m: None,
+                channel: None,
                 scale_to_m,
                 max_points: 1 << 26,
             }
@@ -364,6 +416,7 @@ mod tests {
             path: npy.into(),
             pixel_m: None,
             pixel_y_m: None,
+            channel: None,
             scale_to_m: 1.0,
             max_points: 1 << 26,
         }
@@ -391,6 +444,7 @@ mod tests {
                 path: path.into(),
                 pixel_m: None,
                 pixel_y_m: None,
+                channel: None,
                 scale_to_m: 1.0,
                 max_points,
             }
@@ -460,6 +514,7 @@ mod tests {
                 path: path.to_owned().into(),
                 pixel_m: None,
                 pixel_y_m: None,
+                channel: None,
                 scale_to_m: 1.0,
                 max_points,
             }
@@ -503,5 +558,103 @@ mod tests {
             assert_eq!(e.contains("bytes, more than"), by_size, "{len}: {e}");
         }
         std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// A file of the shared reference folder (beside the repository).
+    fn more_reference(name: &str) -> std::path::PathBuf {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../../shared/reference/topography/more")
+            .join(name);
+        assert!(
+            path.exists(),
+            "{} is missing: clone the repository beside shared/",
+            path.display()
+        );
+        path
+    }
+
+    /// The map `channel` of `path`, and the stage's notes.
+    fn read_channel(
+        path: &std::path::Path,
+        channel: Option<ChannelParam>,
+    ) -> Result<(Field, Vec<String>), String> {
+        let params = HeightMapParams {
+            path: path.to_path_buf().into(),
+            pixel_m: None,
+            pixel_y_m: None,
+            channel,
+            scale_to_m: 1.0,
+            max_points: 1 << 26,
+        }
+        .check()
+        .unwrap();
+        let ctx = Context::new("afm");
+        let out = HeightMap
+            .run(&params, &Inputs::new(), &ctx)
+            .map_err(|e| e.to_string())?;
+        let Some(hypercontact_core::Product::Field(h)) = out.get("height") else {
+            panic!("no height output")
+        };
+        Ok((h.clone(), ctx.notes()))
+    }
+
+    // The reference is what SurfaceTopography 1.x reads by default from
+    // di-1.di (shared/reference/topography/more/index.json: channel 0,
+    // "Height", of 4).
+    #[test]
+    fn a_channel_is_chosen_by_position_or_name_and_the_note_lists_them() {
+        let di = more_reference("di-1.di");
+        let npy = more_reference("di-1_m.npy");
+        let bytes = std::fs::metadata(&npy).unwrap().len();
+        let file = std::io::BufReader::new(std::fs::File::open(&npy).unwrap());
+        let reference = Field::read_npy_file(file, bytes, 1.0, 1.0, 1 << 26).unwrap();
+
+        // Equal to the reference within 1e-12 of its range (the issue's bar).
+        let range_m = reference.values.iter().fold(0.0_f64, |m, v| m.max(v.abs())) * 2.0;
+        let same = |a: &Field| {
+            a.values.dim() == reference.values.dim()
+                && a.values
+                    .iter()
+                    .zip(&reference.values)
+                    .all(|(x, y)| (x - y).abs() <= 1e-12 * range_m)
+        };
+        let (default, notes) = read_channel(&di, None).unwrap();
+        assert!(same(&default));
+        assert!((default.dx_m / 9.765625e-10 - 1.0).abs() < 1e-9);
+        assert!(
+            notes[0].contains("512 × 512 points") && notes[0].contains("channel `Height` read"),
+            "{notes:?}"
+        );
+        assert!(notes[0].contains("0: Height; 1: "), "{notes:?}");
+        assert!(notes[0].contains("at 0.9766 × 0.9766 nm"), "{notes:?}");
+
+        let by_name = read_channel(&di, Some(ChannelParam::Name("height".into()))).unwrap();
+        assert!(same(&by_name.0));
+        let by_index = read_channel(&di, Some(ChannelParam::Index(0))).unwrap();
+        assert_eq!(by_index.0.values, default.values);
+        let (other, notes) = read_channel(&di, Some(ChannelParam::Index(1))).unwrap();
+        assert!(!same(&other), "{notes:?}");
+
+        let e = read_channel(&di, Some(ChannelParam::Name("Topography".into()))).unwrap_err();
+        assert!(e.contains("Height"), "the channels are listed: {e}");
+        let e = read_channel(&di, Some(ChannelParam::Index(9))).unwrap_err();
+        assert!(e.contains("Height"), "the channels are listed: {e}");
+        let e = read_channel(&npy, Some(ChannelParam::Index(0))).unwrap_err();
+        assert!(e.contains("leave out `channel`"), "{e}");
+    }
+
+    // The Dektak stylus export is a profile: an n × 1 map along x.
+    #[test]
+    fn a_stylus_profile_is_a_line_scan_along_x() {
+        let (line, notes) = read_channel(&more_reference("dektak-1.csv"), None).unwrap();
+        assert_eq!((line.nx(), line.ny()), (9600, 1));
+        // The header's length, 1500 µm, over 9600 points (the formats
+        // crate's test says why this differs from the reference's 1499.8).
+        assert!(
+            (line.dx_m / (1500e-6 / 9600.0) - 1.0).abs() < 3e-8,
+            "{}",
+            line.dx_m
+        );
+        assert!(notes[0].contains("a line scan of 9600 points"), "{notes:?}");
     }
 }

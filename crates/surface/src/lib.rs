@@ -3,6 +3,7 @@
 
 pub mod analysis;
 pub mod blend;
+pub mod channel_param;
 pub mod crop;
 pub mod error;
 pub mod filter;

@@ -402,6 +402,7 @@ def greenwood_williamson(
 def height_map(
     *,
     path: Union[str, PathLike[str]],
+    channel: Optional[Any] = None,
     pixel_m: Optional[float] = None,
     pixel_y_m: Optional[float] = None,
     scale_to_m: float = 1.0,
@@ -411,10 +412,11 @@ def height_map(
 ) -> Field:
     """Load a height map (.npy or an instrument file) with its grid spacing
 
-    Reads a height map as the instrument wrote it. The format is told by the first bytes, not the extension: ISO 25178-72 X3P, Digital Surf .sur, Sensofar .plu, Zygo MetroPro .dat and .datx, Wyko .opd, read with their units and pixel size (non-square pixels kept; missing points NaN), or a 2-D .npy array (float64 or float32) whose axis 0 is x, as the SurfaceTopography package writes it, which holds no spacing: `pixel_m` is then required and values are multiplied by `scale_to_m`. For an instrument file `pixel_m` / `pixel_y_m` replace the file's spacing (a recalibration; the note says by how much) and `scale_to_m` must stay 1. The note names the format, the grid and the missing points.
+    Reads a height map as the instrument wrote it. The format is told by the first bytes, the extension only where bytes cannot tell (text): optical profilers and interferometers (ISO 25178-72 X3P, Digital Surf .sur and MountainsMap .mnt, Sensofar .plu, Zygo MetroPro .dat and .datx, Wyko .opd, Alicona .al3d, FRT .frt, TrueMap/GelSight .tmd), AFMs (Bruker Nanoscope .di, Nanosurf .nid, Asylum/Igor .ibw, Molecular Imaging .mi), NetCDF .nc as SurfaceTopography writes it, text (an ASCII matrix with or without a header stating grid, pixel size and units; Gwyddion's ASCII export) and the Dektak stylus .csv (a line scan: an n x 1 map along x), each with its units and pixel size (non-square pixels kept; missing points NaN) and equal to what SurfaceTopography 1.x reads; or a 2-D .npy array (float64 or float32) whose axis 0 is x, as the SurfaceTopography package writes it, which holds no spacing: `pixel_m` is then required and values are multiplied by `scale_to_m`. CHANNELS: a multi-channel file gives its height channel (the one SurfaceTopography reads by default) unless `channel` names another by position or name; the note lists the channels found. For an instrument file `pixel_m` / `pixel_y_m` replace the file's spacing (a recalibration; the note says by how much) and `scale_to_m` must stay 1. The note names the format, the grid, the missing points and the instrument where the file says. A file no reader knows is refused naming what its bytes look like and the formats read.
 
     Parameters (keywords, as in a pipeline's `with:` block):
-        path (required): the height map: .npy (2-D float64/float32, axis 0 = x, NaN = missing) or an instrument file (.x3p, .sur, .plu, MetroPro .dat, .datx, .opd)
+        path (required): the height map: .npy (2-D float64/float32, axis 0 = x, NaN = missing) or an instrument file of a format listed below
+        channel (optional): the channel of a multi-channel file (AFM height, deflection, phase ...): its position from 0 in the list the note gives, or its name (default: the height channel SurfaceTopography reads first)
         pixel_m (optional) [m]: grid spacing along x (needed for .npy; for an instrument file it replaces the file's)
         pixel_y_m (optional) [m]: grid spacing along y (default: pixel_m, or the file's)
         scale_to_m (default 1.0) [m/unit]: factor from .npy units to metres (1e-6 for micrometres; instrument files state their units)
