@@ -135,10 +135,19 @@ struct Reference {
     /// numpy 3-D cross products, `0.5*np.linalg.norm(np.cross(q-p, r-p))`
     /// (an independent evaluation; SurfaceTopography has no Sdr)
     sdr_percent: f64,
+    /// f_ACF at the lags [`ACF_LAGS`] by direct numpy products over the
+    /// overlapping measured points, `z = z − np.nanmean(z)`,
+    /// `np.nanmean(z[i0:i1, j0:j1]*z[i0+a:i1+a, j0+b:j1+b])/np.nanmean(z*z)`
+    /// (SurfaceTopography's areal ACF is the radially averaged
+    /// height-difference one, another quantity)
+    acf: [f64; 6],
     /// `100*t.bearing_area()(0.0)`: the area fraction above the mean plane
     /// of the map interpolated linearly on two triangles per cell
     bearing_at_mean_percent: f64,
 }
+
+/// The lags (a, b) in pixels of [`Reference::acf`].
+const ACF_LAGS: [(isize, isize); 6] = [(1, 0), (0, 1), (3, 2), (-5, 7), (20, -10), (100, 40)];
 
 const REFERENCES: [Reference; 3] = [
     Reference {
@@ -167,6 +176,14 @@ const REFERENCES: [Reference; 3] = [
             10339683.215257427,
         ],
         sdr_percent: 19.308121526100418,
+        acf: [
+            0.9999709661382279,
+            0.9966520110410992,
+            0.9915082735562261,
+            0.9823968298367962,
+            0.9464304415865656,
+            0.08282560712984682,
+        ],
         bearing_at_mean_percent: 49.99766374279684,
     },
     Reference {
@@ -195,6 +212,14 @@ const REFERENCES: [Reference; 3] = [
             60.39284780855563,
         ],
         sdr_percent: 0.019490637132801858,
+        acf: [
+            0.6041901486989358,
+            0.25108757821723776,
+            0.1524348877475023,
+            0.15019744534036913,
+            0.03631400652683338,
+            0.039608219782001367,
+        ],
         bearing_at_mean_percent: 53.07717625547228,
     },
     Reference {
@@ -223,6 +248,14 @@ const REFERENCES: [Reference; 3] = [
             1.8087526059762824,
         ],
         sdr_percent: 0.007373191503612375,
+        acf: [
+            0.8918308564762334,
+            0.037612264228954286,
+            0.03674664719997495,
+            0.03544090972778154,
+            0.034889739554799654,
+            0.023670762357772778,
+        ],
         bearing_at_mean_percent: 70.09144107184798,
     },
 ];
@@ -288,6 +321,14 @@ fn real_maps_agree_with_surface_topography() {
             assert!(
                 relative(ours, theirs) < 1e-9,
                 "{f} curvature {k}: {ours} vs {theirs}"
+            );
+        }
+        let acf = autocorrelation(&h, r.dx_m, r.dy_m).unwrap();
+        for (&(a, b), &theirs) in ACF_LAGS.iter().zip(&r.acf) {
+            let ours = acf.at(a, b);
+            assert!(
+                (ours - theirs).abs() < 1e-9,
+                "{f} f_ACF({a}, {b}): {ours} vs {theirs}"
             );
         }
         let smr = MaterialRatio::new(&h).unwrap().smr_percent(0.0);
