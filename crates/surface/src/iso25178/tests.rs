@@ -341,6 +341,18 @@ fn real_maps_agree_with_surface_topography() {
     }
 }
 
+/// Every sum in a fixed order, the sort total and the FFT thread-blind: the
+/// same bits on one thread and on two.
+#[test]
+fn one_and_two_threads_give_the_same_bits() {
+    let mut h = smoothed_noise(150, 130, 2.0, 3.0, 8);
+    h[[7, 9]] = f64::NAN;
+    h[[100, 3]] = f64::NAN;
+    let run = || format!("{:?}", areal_parameters(&h, 1e-6, 2e-6).unwrap());
+    let one = hypercontact_fuzz::on_threads(1, run);
+    assert_eq!(one, hypercontact_fuzz::on_threads(2, run));
+}
+
 /// The whole set on a 2048² map (run with `--ignored` to time it).
 #[test]
 #[ignore = "a timing, not a check: run with --ignored"]
