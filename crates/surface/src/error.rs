@@ -41,6 +41,26 @@ pub enum SurfaceError {
     Disconnected { file: String, first: String },
     #[error("{0}")]
     Input(String),
+    /// An areal parameter (ISO 25178) asked of a map with too few measured
+    /// points for it.
+    #[error(
+        "{quantity} needs at least {needed} measured points, the map has {found} of {points} \
+         (the rest NaN)"
+    )]
+    TooFewPoints {
+        /// What was asked: `the height parameters`, `Sdr`.
+        quantity: &'static str,
+        found: usize,
+        needed: usize,
+        points: usize,
+    },
+    /// An areal parameter (ISO 25178) asked with an argument it cannot use,
+    /// or of a map it cannot use (the message says which and why).
+    #[error("{quantity}: {message}")]
+    Areal {
+        quantity: &'static str,
+        message: String,
+    },
     #[error(
         "{map} has heights up to {largest_m:e} m, too large for f64: {quantity} overflows \
          (is the map in metres?)"

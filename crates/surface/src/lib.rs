@@ -10,6 +10,7 @@ pub mod filter;
 pub mod height_map;
 pub mod hurst;
 pub mod infill;
+pub mod iso25178;
 pub mod plane;
 pub mod psd;
 pub mod register;
