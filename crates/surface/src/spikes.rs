@@ -34,12 +34,13 @@
 //! window's own MAD is itself noisy (it is 0 whenever 5 of 9 heights
 //! agree, as on quantised data, which would flag every other point), while
 //! the deviations d of a smooth rough surface are, away from spikes, of one
-//! scale across the map. Gwyddion's "mask of outliers" marks points beyond
-//! 3 standard deviations from the mean of the whole image, which a few
-//! large spikes inflate (they raise the σ they are judged by); this is the
-//! global rule [`remove_outliers`], made robust with the median and MAD.
-//! (SurfaceTopography, as far as we found, has no spike filter; we could
-//! not check MountainsMap's rule, which is not published.)
+//! scale across the map. Gwyddion's "mask of outliers" marks, as we
+//! remember its user guide (not checked again here), the points beyond 3
+//! standard deviations from the mean of the whole image, a σ that a few
+//! large spikes inflate (they raise the threshold they are judged by); that
+//! is the global rule [`remove_outliers`], made robust with the median and
+//! MAD. SurfaceTopography has, as far as we know, no spike filter, and
+//! MountainsMap's rule is not published; neither was checked here.
 
 use ndarray::Array2;
 use rayon::prelude::*;
@@ -222,7 +223,7 @@ fn flag(
 }
 
 /// Lists up to 5 points, then how many more.
-fn where_(points: &[(usize, usize)]) -> String {
+fn listed(points: &[(usize, usize)]) -> String {
     let mut s: Vec<String> = points
         .iter()
         .take(5)
@@ -248,7 +249,7 @@ pub fn remove_spikes(height_m: &Array2<f64>, rule: &LocalRule) -> Result<Spikes,
     }
     let judged_count = judged.len();
     let (centre, sigma_m) = robust_spread(&mut judged);
-    if !(sigma_m > 0.0) {
+    if sigma_m.is_nan() || sigma_m <= 0.0 {
         return Err(SpikeError::NoSpread {
             what: "deviations from their neighbours' estimates",
         });
@@ -364,7 +365,7 @@ fn local_description(
     let found = if points.is_empty() {
         String::new()
     } else {
-        format!(": {}", where_(points))
+        format!(": {}", listed(points))
     };
     let unjudged = if not_judged > 0 {
         format!(
@@ -393,7 +394,7 @@ pub fn remove_outliers(height_m: &Array2<f64>, k: f64) -> Result<Spikes, SpikeEr
     }
     let count = measured.len();
     let (centre, sigma_m) = robust_spread(&mut measured);
-    if !(sigma_m > 0.0) {
+    if sigma_m.is_nan() || sigma_m <= 0.0 {
         return Err(SpikeError::NoSpread { what: "heights" });
     }
     let limit = k * sigma_m;
@@ -405,7 +406,7 @@ pub fn remove_outliers(height_m: &Array2<f64>, k: f64) -> Result<Spikes, SpikeEr
         if points.is_empty() {
             String::new()
         } else {
-            format!(": {}", where_(&points))
+            format!(": {}", listed(&points))
         },
     );
     Ok(Spikes {

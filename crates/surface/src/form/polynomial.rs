@@ -218,7 +218,7 @@ pub fn remove_polynomial(
     // The normal matrix's condition number is the square of the design
     // matrix's: 1e12 here is 1e6 there, far beyond any map whose measured
     // points span the plane, and well inside what the SVD resolves.
-    if !(smallest > 1e-12 * largest) {
+    if smallest.is_nan() || smallest <= 1e-12 * largest {
         return Err(FormError::Degenerate {
             form: form(),
             why: format!(

@@ -99,7 +99,7 @@ impl Form for Cylinder {
 /// ∂s/∂q = c/(2g); None where c²q ≥ 1 (beyond the circle's edge).
 fn sag(c: f64, q: f64) -> Option<(f64, f64, f64)> {
     let g2 = 1.0 - c * c * q;
-    if !(g2 > 0.0) {
+    if g2.is_nan() || g2 <= 0.0 {
         return None;
     }
     let g = g2.sqrt();
@@ -184,13 +184,14 @@ impl<'a> Frame<'a> {
             }
         });
         let scale: [f64; K] = std::array::from_fn(|k| sums[k * K + k].sqrt());
-        if scale.iter().any(|s| !(*s > 0.0)) {
+        if scale.iter().any(|s| s.is_nan() || *s <= 0.0) {
             return None;
         }
         let gram = DMatrix::from_fn(K, K, |k, l| sums[k * K + l] / (scale[k] * scale[l]));
         let rhs = DVector::from_fn(K, |k, _| sums[K * K + k] / scale[k]);
         let svd = gram.svd(true, true);
-        if !(svd.singular_values.min() > 1e-13 * svd.singular_values.max()) {
+        let (smallest, largest) = (svd.singular_values.min(), svd.singular_values.max());
+        if smallest.is_nan() || smallest <= 1e-13 * largest {
             return None;
         }
         let a = svd.solve(&rhs, 0.0).ok()?;

@@ -452,24 +452,46 @@ fn lengths_read_in_the_unit_that_fits() {
     assert_eq!(length(2.0), "2.00 m");
 }
 
-/// Timing on 2048² (run with `--ignored --nocapture`): polynomial of degree
-/// 3 with NaN holes.
+/// Timing on 2048² (run with `--ignored --nocapture`): polynomials of
+/// degree 3 and 6, a sphere and the 3 × 3 spike rule, on a map with NaN
+/// holes.
 #[test]
 #[ignore = "timing, not a check: run by hand"]
-fn polynomial_degree_3_on_2048_squared_timing() {
+fn form_removal_on_2048_squared_timing() {
     let n = 2048;
     let mut draws = Draws(5);
     let h = with_holes(Array2::from_shape_fn((n, n), |(i, j)| {
         let (x, y) = (i as f64 / n as f64, j as f64 / n as f64);
         1e-6 * (x * x * y - 0.3 * y * y + x) + 1e-9 * draws.next()
     }));
-    for _ in 0..3 {
-        let start = std::time::Instant::now();
-        let fit = remove_polynomial(&h, 1e-6, 1e-6, 3).unwrap();
-        println!(
-            "degree 3 on {n}²: {:.3} s ({})",
-            start.elapsed().as_secs_f64(),
-            fit.description()
-        );
-    }
+    let time = |what: &str, run: &dyn Fn() -> String| {
+        for _ in 0..3 {
+            let start = std::time::Instant::now();
+            let note = run();
+            println!(
+                "{what} on {n}²: {:.3} s ({note})",
+                start.elapsed().as_secs_f64()
+            );
+        }
+    };
+    time("degree 3", &|| {
+        remove_polynomial(&h, 1e-6, 1e-6, 3).unwrap().description()
+    });
+    time("degree 6", &|| {
+        remove_polynomial(&h, 1e-6, 1e-6, 6).unwrap().description()
+    });
+    let cap = with_holes(sphere_map(
+        (n, n, 0.5e-6, 0.5e-6),
+        12e-3,
+        (0.3e-3, 0.6e-3, -12e-3),
+        Cap::Up,
+    ));
+    let cap = cap.mapv(|z| z + 1e-9 * draws.next());
+    time("sphere", &|| {
+        remove_sphere(&cap, 0.5e-6, 0.5e-6).unwrap().description()
+    });
+    let rule = crate::spikes::LocalRule::default();
+    time("spikes (3 × 3)", &|| {
+        crate::spikes::remove_spikes(&h, &rule).unwrap().description
+    });
 }

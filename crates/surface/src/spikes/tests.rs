@@ -1,3 +1,5 @@
+use std::f64::consts::TAU;
+
 use ndarray::Array2;
 
 use super::*;
@@ -13,8 +15,8 @@ fn smooth_rough(nx: usize, ny: usize) -> Array2<f64> {
             .wrapping_add(1_442_695_040_888_963_407);
         let jitter = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
         let (x, y) = (i as f64, j as f64);
-        1e-6 * ((x / 40.0 * 6.283).sin() + 0.5 * (y / 23.0 * 6.283 + 1.0).sin())
-            + 0.2e-6 * ((x + 2.0 * y) / 30.0 * 6.283).sin()
+        1e-6 * ((x / 40.0 * TAU).sin() + 0.5 * (y / 23.0 * TAU + 1.0).sin())
+            + 0.2e-6 * ((x + 2.0 * y) / 30.0 * TAU).sin()
             + 10e-9 * jitter
     })
 }
