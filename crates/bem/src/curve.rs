@@ -48,6 +48,11 @@ pub struct Step {
     pub mean_pressure: f64,
     /// Iterations of every solve spent on this step.
     pub iterations: usize,
+    /// Solves spent on this step (the accepted one and the trials).
+    pub solves: usize,
+    /// Iterations of the accepted solve alone (the rest of `iterations`
+    /// went into trials that were not kept).
+    pub accepted_iterations: usize,
     /// The accepted solve's residual.
     pub residual: f64,
 }
@@ -84,6 +89,8 @@ pub fn solve_curve(
         contact_pixels: 0,
         mean_pressure: 0.0,
         iterations: 0,
+        solves: 0,
+        accepted_iterations: 0,
         residual: 0.0,
     }];
     // Every (approach, area fraction) solved so far, by approach.
@@ -102,7 +109,7 @@ pub fn solve_curve(
         // Best so far: one that reaches the top (last step) before one that
         // misses the target by less.
         let mut best: Option<(Solution, (bool, f64))> = None;
-        let mut iterations = 0;
+        let (mut iterations, mut solves) = (0, 0);
         for _ in 0..MAX_SOLVES_PER_STEP * if last { 2 } else { 1 } {
             let approach_m = short_of_full_contact(
                 predict(&known, target, &bearing),
@@ -124,6 +131,7 @@ pub fn solve_curve(
                     source,
                 })?;
             iterations += solution.iterations;
+            solves += 1;
 
             let fraction = solution.contact_pixels as f64 / measured;
             let at = known.partition_point(|&(d, _)| d < approach_m);
@@ -152,6 +160,8 @@ pub fn solve_curve(
             contact_pixels: solution.contact_pixels,
             mean_pressure: solution.mean_pressure,
             iterations,
+            solves,
+            accepted_iterations: solution.iterations,
             residual: solution.residual,
         };
         on_step(k, &row, &solution);
