@@ -1,9 +1,8 @@
 //! The integration tests of `hypercontact` as one test binary: one link instead of
-//! 6, which keeps the cold build of the tests within budget (#35). Each module
+//! 5, which keeps the cold build of the tests within budget (#35). Each module
 //! is one file of this folder; run one with
 //! `cargo test --workspace --release --test integration -- MODULE::`.
 
-mod bad_inputs;
 mod cli;
 mod common;
 mod determinism;
