@@ -29,8 +29,8 @@ fn main() {
         return;
     }
     let mut dump = None;
-    let mut map = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../data/reference/topography/plu-1.plu");
+    let mut map =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/reference/topography/plu-1.plu");
     let mut rest = args.iter();
     while let Some(arg) = rest.next() {
         if arg == "--dump" {
@@ -176,7 +176,12 @@ fn read_rows(dir: &Path) -> Vec<(f64, f64, usize, f64)> {
         .map(|line| {
             let f: Vec<&str> = line.split_whitespace().collect();
             let bits = |s: &str| f64::from_bits(u64::from_str_radix(s, 16).expect("hex bits"));
-            (bits(f[0]), bits(f[1]), f[4].parse().expect("pixels"), bits(f[2]))
+            (
+                bits(f[0]),
+                bits(f[1]),
+                f[4].parse().expect("pixels"),
+                bits(f[2]),
+            )
         })
         .collect()
 }
@@ -195,11 +200,7 @@ fn compare(a: &Path, b: &Path) {
     let mut worst_pixels = 0;
     println!(" k  d(approach)  d(area)     d(load)     pixels differing (A only, B only)");
     for (k, (x, y)) in ra.iter().zip(&rb).enumerate().skip(1) {
-        let (da, dr, dl) = (
-            relative(x.0, y.0),
-            relative(x.1, y.1),
-            relative(x.3, y.3),
-        );
+        let (da, dr, dl) = (relative(x.0, y.0), relative(x.1, y.1), relative(x.3, y.3));
         let ma = std::fs::read(a.join(format!("mask_{k}.bin"))).expect("mask A");
         let mb = std::fs::read(b.join(format!("mask_{k}.bin"))).expect("mask B");
         let only = |p: &[u8], q: &[u8]| -> u32 {

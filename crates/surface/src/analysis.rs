@@ -20,14 +20,19 @@ use crate::plane;
 use crate::psd::{Spectrum, Window, psd_radial, psd_x, psd_y};
 use crate::stats::{Reference, reference_height, rms_slope, sigma};
 use crate::surface_stage::{Detrend, Fill, ReferenceKind, SurfaceParams};
-use crate::surface_tables::{PsdTable, StatsTable};
+use crate::surface_tables::{ArealTable, MaterialRatioTable, PsdTable, StatsTable};
 
 /// Everything the stage computes from a stitched map at its measured grid.
 pub struct Analysis {
     pub height: Field,
     pub psd: PsdTable,
     pub stats: StatsTable,
+    pub areal: ArealTable,
+    pub material_ratio: MaterialRatioTable,
 }
+
+/// Points of the `material_ratio` output: every whole per cent.
+pub const MATERIAL_RATIO_POINTS: usize = 101;
 
 /// An rms height after detrending below this fraction of the largest
 /// |height| is the detrending's rounding noise, not roughness: a flat map.
@@ -130,6 +135,9 @@ pub fn analyse_measured(
     // maps only lose their mean.
     detrend(&mut h, if p.periodic { Detrend::Mean } else { p.detrend })?;
     let (sigma_m, slope) = roughness(&h, (dx_m, dy_m), largest_m, source)?;
+    // ISO 25178-2 about the mean plane of the detrended map, before the
+    // height reference moves it.
+    let (areal, ratio) = crate::iso25178::areal_parameters_and_curve(&h, dx_m, dy_m)?;
     if nan_fraction > p.max_missing_fraction {
         return Err(SurfaceError::TooMuchMissing {
             map: source.to_owned(),
@@ -172,6 +180,8 @@ pub fn analyse_measured(
         height: Field::new(h, dx_m, dy_m).map_err(StageError::other)?,
         psd,
         stats,
+        areal: ArealTable::new(&areal),
+        material_ratio: MaterialRatioTable::new(&ratio, MATERIAL_RATIO_POINTS),
     })
 }
 
@@ -505,6 +515,54 @@ fn hurst_warning(direction: &str, fit: &PowerLaw, dimension: Dimension) -> Optio
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    // An egg-crate A sin(2πx/P) sin(2πy/P), P = 32 samples, over whole
+    // periods (no plane to remove): the stage's areal table against closed
+    // forms of the sampled wave (Sq = A/2; Sa = A·m², m = 2cot(π/P)/P the
+    // mean |sin| over the samples; Ssk = 0; Sku = (3/8)²/(1/2)⁴ = 9/4;
+    // Sp = Sv = A as the samples hit the crests), Sq against the stats
+    // table's σ, the table against the module on the output map (shifted by
+    // the height reference, which the mean plane takes out again), and the
+    // material-ratio curve from Sp down to −Sv.
+    #[test]
+    fn an_egg_crate_has_its_areal_parameters_and_curve() {
+        use hypercontact_core::Params;
+        let (a_m, period, n) = (2e-6, 32usize, 128usize);
+        let wave = |i: usize| (TAU * i as f64 / period as f64).sin();
+        let h = Array2::from_shape_fn((n, n), |(i, j)| a_m * wave(i) * wave(j));
+        let map = Field::new(h, 1e-6, 1e-6).unwrap();
+        let p = SurfaceParams::default().check().unwrap();
+        let a = analyse(map, &p, &Context::new("s")).unwrap();
+        let close = |x: f64, y: f64, what: &str| {
+            assert!((x - y).abs() <= 1e-9 * a_m, "{what}: {x} against {y}");
+        };
+        let areal = &a.areal;
+        close(areal.sq_m[0], a_m / 2.0, "Sq");
+        close(areal.sq_m[0], a.stats.sigma_m[0], "Sq against σ");
+        let m = 2.0 / (std::f64::consts::PI / period as f64).tan() / period as f64;
+        close(areal.sa_m[0], a_m * m * m, "Sa");
+        assert!(areal.ssk[0].abs() < 1e-9, "Ssk {}", areal.ssk[0]);
+        assert!((areal.sku[0] - 2.25).abs() < 1e-9, "Sku {}", areal.sku[0]);
+        close(areal.sp_m[0], a_m, "Sp");
+        close(areal.sv_m[0], a_m, "Sv");
+        close(areal.sz_m[0], 2.0 * a_m, "Sz");
+        let again = crate::iso25178::areal_parameters(&a.height.values, 1e-6, 1e-6).unwrap();
+        let sdr = areal.sdr_percent[0];
+        assert!((again.sdr_percent / sdr - 1.0).abs() < 1e-12, "Sdr {sdr}");
+        close(again.sal_m, areal.sal_m[0], "Sal");
+        let curve = &a.material_ratio;
+        assert_eq!(curve.material_ratio_percent.len(), MATERIAL_RATIO_POINTS);
+        assert_eq!(curve.material_ratio_percent[50], 50.0);
+        close(curve.height_m[0], a_m, "curve at 0 %");
+        close(curve.height_m[100], -a_m, "curve at 100 %");
+        assert!(curve.height_m.windows(2).all(|w| w[1] <= w[0]));
+        // Heights symmetric about the mean: half the area lies above it.
+        assert!(
+            curve.height_m[50].abs() < 1e-9 * a_m,
+            "{}",
+            curve.height_m[50]
+        );
+    }
 
     #[test]
     fn flagged_fits_get_a_warning_naming_r2_and_range() {

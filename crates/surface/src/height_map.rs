@@ -4,17 +4,18 @@
 //! the file's first bytes; one channel of a multi-channel file.
 
 use hypercontact_core::{
-    Checked, Context, Field, InputPath, Inputs, OutputSpec, Outputs, Stage, StageError, StageInfo,
-    params,
+    Checked, Context, Field, InputPath, Inputs, OutputSpec, Outputs, ParamError, Stage, StageError,
+    StageInfo, params,
 };
 use std::io::{Read, Seek, SeekFrom};
 
 use hypercontact_formats::{Format, Topography};
 
 use crate::channel_param::ChannelParam;
+use crate::prepare::{FormKind, SpikeRule, prepare};
 
 /// Parameters of `height-map`.
-#[params]
+#[params(check = one_window)]
 pub struct HeightMapParams {
     /// the height map: .npy (2-D float64/float32, axis 0 = x, NaN = missing) or an instrument file of a format listed below
     pub path: InputPath,
@@ -29,9 +30,42 @@ pub struct HeightMapParams {
     /// factor from .npy units to metres (1e-6 for micrometres; instrument files state their units)
     #[param(default = 1.0, unit = "m/unit", positive)]
     pub scale_to_m: f64,
+    /// a window in points, [x0, y0, nx, ny] (axis 0 = x), cut out first
+    pub crop_points: Option<[usize; 4]>,
+    /// a window in metres from the map's first point, [x0_m, y0_m, lx_m, ly_m] (instead of crop_points)
+    #[param(unit = "m")]
+    pub crop_m: Option<[f64; 4]>,
+    /// keep only the disc [xc_m, yc_m, radius_m] (metres from the map's first point); the rest becomes NaN
+    #[param(unit = "m")]
+    pub circle_m: Option<[f64; 3]>,
+    /// spikes set to NaN (after the window, before the form)
+    #[param(default = SpikeRule::None)]
+    pub spikes: SpikeRule,
+    /// spike threshold, in robust standard deviations (1.4826 MAD)
+    #[param(default = 5.0, positive)]
+    pub spike_k: f64,
+    /// half-width of the neighbourhood of the local spike rule: 1 = 3 x 3, 2 = 5 x 5, 3 = 7 x 7
+    #[param(default = 1, range = 1..=3)]
+    pub spike_radius: usize,
+    /// the form subtracted last
+    #[param(default = FormKind::None)]
+    pub form: FormKind,
+    /// total degree of the polynomial form
+    #[param(default = 2, range = 0..=6)]
+    pub form_degree: usize,
     /// the most points a map may have (default 2^26 = 67 108 864, 512 MiB of heights); a file whose header claims more is refused before its data is read or inflated
     #[param(default = 67_108_864, range = 1..=2_147_483_647)]
     pub max_points: usize,
+}
+
+fn one_window(p: &HeightMapParams) -> Result<(), ParamError> {
+    if p.crop_points.is_some() && p.crop_m.is_some() {
+        return Err(ParamError::new(
+            "crop_m",
+            "give the window once: crop_points or crop_m, not both",
+        ));
+    }
+    Ok(())
 }
 
 /// The `height-map` stage.
@@ -59,7 +93,19 @@ static INFO: StageInfo = StageInfo {
           recalibration; the note says by how much) and `scale_to_m` must stay 1. The note \
           names the format, the grid, the missing points and the instrument where the file \
           says. A file no reader knows is refused naming what its bytes look like and the \
-          formats read.",
+          formats read. PREPARATION, in this order, each step in a note with what it removed: \
+          a window (`crop_points`, or `crop_m` from the map's first point: first point \
+          round(x0/dx), end round((x0 + lx)/dx)); a disc kept (`circle_m`, the rest NaN); \
+          spikes set to NaN (`spikes: local`: a point farther than spike_k robust standard \
+          deviations (1.4826 MAD of all such deviations) from the median of what its \
+          neighbours within spike_radius predict along each direction, confirmed with the \
+          other candidates left out; `global`: farther than spike_k robust σ from the median \
+          height); a form subtracted (`form`: a least-squares polynomial of total degree \
+          form_degree in Legendre polynomials of centred, scaled coordinates; a sphere or a \
+          cylinder (axis along x, y or fitted in the plane), Levenberg-Marquardt from an \
+          algebraic (Kasa) start on the vertical residual). Spikes go before the form, which \
+          they would pull. All are off by default: the map is given as measured, and `surface` \
+          removes a plane.",
     inputs: &[],
     outputs: &[OutputSpec::field(
         "height",
@@ -80,7 +126,7 @@ impl Stage for HeightMap {
         _: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let field = read_map(p, ctx)?;
+        let field = prepare(read_map(p, ctx)?, p, ctx)?;
         if field.values.iter().all(|h| h.is_nan()) {
             return Err(StageError::file(&p.path, "every point is NaN"));
         }
@@ -320,6 +366,14 @@ mod tests {
             path: path.clone().into(),
             pixel_m: Some(2e-5),
             channel: None,
+            crop_points: None,
+            crop_m: None,
+            circle_m: None,
+            spikes: SpikeRule::None,
+            spike_k: 5.0,
+            spike_radius: 1,
+            form: FormKind::None,
+            form_degree: 2,
             pixel_y_m: None,
             scale_to_m: 1e-6,
             max_points: 1 << 26,
@@ -372,6 +426,14 @@ mod tests {
                 pixel_m,
                 pixel_y_m: None,
                 channel: None,
+                crop_points: None,
+                crop_m: None,
+                circle_m: None,
+                spikes: SpikeRule::None,
+                spike_k: 5.0,
+                spike_radius: 1,
+                form: FormKind::None,
+                form_degree: 2,
                 scale_to_m,
                 max_points: 1 << 26,
             }
@@ -417,6 +479,14 @@ mod tests {
             pixel_m: None,
             pixel_y_m: None,
             channel: None,
+            crop_points: None,
+            crop_m: None,
+            circle_m: None,
+            spikes: SpikeRule::None,
+            spike_k: 5.0,
+            spike_radius: 1,
+            form: FormKind::None,
+            form_degree: 2,
             scale_to_m: 1.0,
             max_points: 1 << 26,
         }
@@ -445,6 +515,14 @@ mod tests {
                 pixel_m: None,
                 pixel_y_m: None,
                 channel: None,
+                crop_points: None,
+                crop_m: None,
+                circle_m: None,
+                spikes: SpikeRule::None,
+                spike_k: 5.0,
+                spike_radius: 1,
+                form: FormKind::None,
+                form_degree: 2,
                 scale_to_m: 1.0,
                 max_points,
             }
@@ -515,6 +593,14 @@ mod tests {
                 pixel_m: None,
                 pixel_y_m: None,
                 channel: None,
+                crop_points: None,
+                crop_m: None,
+                circle_m: None,
+                spikes: SpikeRule::None,
+                spike_k: 5.0,
+                spike_radius: 1,
+                form: FormKind::None,
+                form_degree: 2,
                 scale_to_m: 1.0,
                 max_points,
             }
@@ -583,6 +669,14 @@ mod tests {
             pixel_m: None,
             pixel_y_m: None,
             channel,
+            crop_points: None,
+            crop_m: None,
+            circle_m: None,
+            spikes: SpikeRule::None,
+            spike_k: 5.0,
+            spike_radius: 1,
+            form: FormKind::None,
+            form_degree: 2,
             scale_to_m: 1.0,
             max_points: 1 << 26,
         }
@@ -656,5 +750,113 @@ mod tests {
             line.dx_m
         );
         assert!(notes[0].contains("a line scan of 9600 points"), "{notes:?}");
+    }
+
+    // A tilted bowl of known radius with two spikes, as a .npy: the window,
+    // the spikes and the sphere each leave their note, the spikes are NaN
+    // and what is left is the bowl's residual (zero to rounding).
+    #[test]
+    fn window_spikes_and_form_are_removed_in_order_with_notes() {
+        let dir = tempfile_dir("prepare");
+        let (n, dx_m, r_m) = (64usize, 1e-6, 2e-3);
+        let bowl = |i: usize, j: usize| {
+            let (x, y) = (i as f64 * dx_m - 30e-6, j as f64 * dx_m - 20e-6);
+            r_m - (r_m * r_m - x * x - y * y).sqrt() + 1e-4 * x
+        };
+        // ±1 nm of texture (a fixed pseudo-random sequence), so the robust
+        // σ of the spike rule is the texture's.
+        let texture = |i: usize, j: usize| {
+            let k = (i * 7919 + j * 104_729) as u64;
+            let u = (k.wrapping_mul(6_364_136_223_846_793_005) >> 11) as f64 / (1u64 << 53) as f64;
+            2e-9 * (u - 0.5)
+        };
+        let mut h = ndarray::Array2::from_shape_fn((n, n), |(i, j)| bowl(i, j) + texture(i, j));
+        h[[20, 30]] += 5e-7;
+        h[[40, 12]] -= 5e-7;
+        let path = dir.join("bowl.npy");
+        let map = Field::new(h, 1.0, 1.0).unwrap();
+        map.write_npy(std::fs::File::create(&path).unwrap())
+            .unwrap();
+        let mut params = HeightMapParams {
+            path: path.into(),
+            pixel_m: Some(dx_m),
+            pixel_y_m: None,
+            channel: None,
+            crop_points: Some([2, 2, 60, 60]),
+            crop_m: None,
+            circle_m: None,
+            spikes: SpikeRule::Local,
+            spike_k: 5.0,
+            spike_radius: 1,
+            form: FormKind::Sphere,
+            form_degree: 2,
+            scale_to_m: 1.0,
+            max_points: 1 << 26,
+        };
+        let run = |params: &HeightMapParams| {
+            let ctx = Context::new("bowl");
+            let out = HeightMap.run(&params.clone().check().unwrap(), &Inputs::new(), &ctx);
+            (out.map_err(|e| e.to_string()), ctx.notes())
+        };
+        let (out, notes) = run(&params);
+        let out = out.unwrap();
+        let Some(hypercontact_core::Product::Field(f)) = out.get("height") else {
+            panic!("no height output")
+        };
+        assert_eq!(f.values.dim(), (60, 60));
+        let nan: Vec<(usize, usize)> = f
+            .values
+            .indexed_iter()
+            .filter(|(_, v)| v.is_nan())
+            .map(|(ij, _)| ij)
+            .collect();
+        assert_eq!(nan, [(18, 28), (38, 10)], "{notes:?}");
+        // What is left is the texture: within its ±1 nm, plus the fit's error.
+        let worst = f
+            .values
+            .iter()
+            .filter(|v| !v.is_nan())
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
+        assert!(worst < 1.5e-9, "residual {worst} m: {notes:?}");
+        assert_eq!(notes.len(), 3, "{notes:?}");
+        assert!(notes[0].starts_with("crop: x 2..62, y 2..62"), "{notes:?}");
+        assert!(
+            notes[1].starts_with("spikes: 2 of 3600 points"),
+            "{notes:?}"
+        );
+        assert!(
+            notes[2].starts_with("form: sphere R = 2.00 mm removed"),
+            "{notes:?}"
+        );
+
+        // Without texture the robust σ is rounding noise: refused, not 28 %
+        // of the map set to NaN.
+        let smooth = dir.join("smooth.npy");
+        let map = Field::new(
+            ndarray::Array2::from_shape_fn((n, n), |(i, j)| bowl(i, j)),
+            1.0,
+            1.0,
+        );
+        map.unwrap()
+            .write_npy(std::fs::File::create(&smooth).unwrap())
+            .unwrap();
+        let mut on_smooth = params.clone();
+        on_smooth.path = smooth.into();
+        let e = run(&on_smooth).0.unwrap_err();
+        assert!(e.contains("more than spikes can be"), "{e}");
+
+        params.crop_m = Some([0.0, 0.0, 10e-6, 10e-6]);
+        let e = params.clone().check().unwrap_err();
+        assert_eq!(e.param, "crop_m");
+        params.crop_points = None;
+        params.crop_m = Some([0.0, 0.0, 1e-3, 10e-6]);
+        let e = run(&params).0.unwrap_err();
+        assert!(e.contains("lx_m") || e.contains("crop"), "{e}");
+    }
+
+    fn tempfile_dir(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("hc-hm-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
     }
 }

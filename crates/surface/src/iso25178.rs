@@ -104,13 +104,24 @@ pub fn areal_parameters(
     dx_m: f64,
     dy_m: f64,
 ) -> Result<ArealParameters, SurfaceError> {
+    areal_parameters_and_curve(h, dx_m, dy_m).map(|(parameters, _)| parameters)
+}
+
+/// [`areal_parameters`] and the material ratio curve they were read from
+/// (its heights sorted once for both).
+pub fn areal_parameters_and_curve(
+    h: &Array2<f64>,
+    dx_m: f64,
+    dy_m: f64,
+) -> Result<(ArealParameters, MaterialRatio), SurfaceError> {
     let heights = height_parameters(h)?;
     let sdq = sdq(h, dx_m, dy_m)?;
     let sdr_percent = sdr_percent(h, dx_m, dy_m)?;
     let acf = autocorrelation(h, dx_m, dy_m)?;
     let decay = acf.decay_lengths(ISO_DECAY_THRESHOLD)?;
-    let functional = MaterialRatio::new(h)?.functional();
-    Ok(ArealParameters {
+    let ratio = MaterialRatio::new(h)?;
+    let functional = ratio.functional();
+    let parameters = ArealParameters {
         sa_m: heights.sa_m,
         sq_m: heights.sq_m,
         ssk: heights.ssk,
@@ -128,7 +139,8 @@ pub fn areal_parameters(
         smr1_percent: functional.smr1_percent,
         smr2_percent: functional.smr2_percent,
         correlation_length_m: acf.correlation_length_m(),
-    })
+    };
+    Ok((parameters, ratio))
 }
 
 /// A map's heights in row-major order (axis 1 contiguous), borrowed when

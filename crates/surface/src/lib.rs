@@ -13,6 +13,7 @@ pub mod hurst;
 pub mod infill;
 pub mod iso25178;
 pub mod plane;
+pub mod prepare;
 pub mod psd;
 pub mod region;
 pub mod register;

@@ -16,7 +16,9 @@ use crate::blend::StitchedRows;
 use crate::stitch::{covered_region, place};
 use crate::tiles::read_tiles;
 
-pub use crate::surface_tables::{PsdTable, StatsTable, StitchTable};
+pub use crate::surface_tables::{
+    ArealTable, MaterialRatioTable, PsdTable, StatsTable, StitchTable,
+};
 
 /// Where heights are measured from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Choice)]
@@ -107,7 +109,7 @@ pub struct Surface;
 
 static INFO: StageInfo = StageInfo {
     kind: "surface",
-    version: 4,
+    version: 5,
     summary: "Stitch interferometer tiles, filter to a lateral resolution, PSD, σ and Hurst exponent",
     doc: "Source: exactly one of input `tiles` (a Files product: tile_NNN.npy + positions.csv, as \
           synth-surface writes), param `dir` (a folder of the same layout, real data) or input \
@@ -161,7 +163,18 @@ static INFO: StageInfo = StageInfo {
           median bin within 1 %); \
           what was filled is \
           in stats (fill, filled_points, filled_fraction) and a note. STATS: sigma_m = areal rms height Sq (not profile Rq); rms_slope = \
-          √⟨|∇h|²⟩ by forward differences. HURST: least squares of ln C on ln q, C ∝ q^(−1−2H) \
+          √⟨|∇h|²⟩ by forward differences. AREAL (ISO 25178-2, of the detrended map about its \
+          mean plane, measured points only): Sa, Sq, Ssk, Sku, Sp, Sv, Sz; Sdq (as rms_slope); Sdr \
+          (cells with four measured corners, the two triangulations averaged); Sal and Str from \
+          the areal autocorrelation (FFT, normalised by the overlap count, mean removed) at s = \
+          0.2, searched along 360 directions out to half the map (Str is an upper bound where \
+          some direction never decays there); Sk, Spk, Svk, Smr1, Smr2 of ISO 13565-2 (the \
+          equivalence line is the 40 % secant of least slope); the correlation length where the \
+          radially averaged ACF falls to 1/e. They match SurfaceTopography 1.27 to 1e-9 where it \
+          defines the same quantity (Sq, Sa, Ssk, Sku, Sp, Sv, the ACF); its Sdq differs on maps \
+          with holes (it drops points next to holes). `material_ratio` is the Abbott-Firestone \
+          curve at every whole per cent. Parameters are of the map analysed: after the filter, \
+          if any. HURST: least squares of ln C on ln q, C ∝ q^(−1−2H) \
           (1-D) and q^(−2−2H) (radial), over wavelengths hurst_lambda_min_m … hurst_lambda_max_m \
           (default 4·dx … L/4; on a map this stage filtered, from the wavelength where the \
           Gaussian still passes 90 % of the power, 3.6 cut-offs = 7.3·resolution_m, so the filter's \
@@ -185,6 +198,11 @@ static INFO: StageInfo = StageInfo {
         OutputSpec::table::<PsdTable>("psd", "binned PSDs"),
         OutputSpec::table::<StatsTable>("stats", "one row"),
         OutputSpec::table::<StitchTable>("stitch", "per tile"),
+        OutputSpec::table::<ArealTable>("areal", "one row: ISO 25178-2 areal parameters"),
+        OutputSpec::table::<MaterialRatioTable>(
+            "material_ratio",
+            "the Abbott-Firestone curve at every whole per cent",
+        ),
     ],
 };
 
@@ -280,7 +298,9 @@ impl Stage for Surface {
             .field("height", analysis.height)
             .table("psd", analysis.psd.into_table())
             .table("stats", analysis.stats.into_table())
-            .table("stitch", stitch_table.into_table()))
+            .table("stitch", stitch_table.into_table())
+            .table("areal", analysis.areal.into_table())
+            .table("material_ratio", analysis.material_ratio.into_table()))
     }
 }
 

@@ -4,6 +4,7 @@
 
 use hypercontact_core::Schema;
 
+use crate::iso25178::{ArealParameters, MaterialRatio};
 use crate::psd::Spectrum;
 use crate::stitch::TileFit;
 use crate::tiles::TileSet;
@@ -164,6 +165,107 @@ impl StitchTable {
             piston_m: column(|t| t.piston_m),
             overlap_correlation: column(|t| t.correlation),
             pairs_rejected: fits.iter().map(|t| t.pairs_rejected as i64).collect(),
+        }
+    }
+}
+
+/// Output `areal`: one row, the ISO 25178-2 areal parameters of the
+/// analysed map about its mean plane (see [`crate::iso25178`]).
+#[derive(Clone, Debug, Default, PartialEq, Schema)]
+pub struct ArealTable {
+    /// arithmetical mean height Sa = ⟨|z|⟩
+    #[column(unit = "m")]
+    pub sa_m: Vec<f64>,
+    /// root mean square height Sq (= stats' sigma_m up to rounding)
+    #[column(unit = "m")]
+    pub sq_m: Vec<f64>,
+    /// skewness Ssk = ⟨z³⟩/Sq³
+    pub ssk: Vec<f64>,
+    /// kurtosis Sku = ⟨z⁴⟩/Sq⁴ (3 for Gaussian heights)
+    pub sku: Vec<f64>,
+    /// maximum peak height Sp
+    #[column(unit = "m")]
+    pub sp_m: Vec<f64>,
+    /// maximum pit depth Sv (positive)
+    #[column(unit = "m")]
+    pub sv_m: Vec<f64>,
+    /// maximum height Sz = Sp + Sv
+    #[column(unit = "m")]
+    pub sz_m: Vec<f64>,
+    /// root mean square gradient Sdq (forward differences, as stats' rms_slope)
+    pub sdq: Vec<f64>,
+    /// developed interfacial area ratio Sdr (cells with four measured corners, two triangulations averaged)
+    #[column(unit = "%")]
+    pub sdr_percent: Vec<f64>,
+    /// autocorrelation length Sal: shortest lag at which the ACF falls to 0.2
+    #[column(unit = "m")]
+    pub sal_m: Vec<f64>,
+    /// texture aspect ratio Str: shortest / longest decay length to 0.2 (an upper bound where a direction never decays within half the map)
+    pub str: Vec<f64>,
+    /// core height Sk (ISO 13565-2 equivalence line over 40 % of material ratio)
+    #[column(unit = "m")]
+    pub sk_m: Vec<f64>,
+    /// reduced peak height Spk
+    #[column(unit = "m")]
+    pub spk_m: Vec<f64>,
+    /// reduced valley depth Svk
+    #[column(unit = "m")]
+    pub svk_m: Vec<f64>,
+    /// material ratio at the top of the core Smr1
+    #[column(unit = "%")]
+    pub smr1_percent: Vec<f64>,
+    /// material ratio at the bottom of the core Smr2
+    #[column(unit = "%")]
+    pub smr2_percent: Vec<f64>,
+    /// lag at which the radially averaged ACF falls to 1/e
+    #[column(unit = "m")]
+    pub correlation_length_m: Vec<f64>,
+}
+
+impl ArealTable {
+    /// The one row of `a`.
+    pub fn new(a: &ArealParameters) -> Self {
+        Self {
+            sa_m: vec![a.sa_m],
+            sq_m: vec![a.sq_m],
+            ssk: vec![a.ssk],
+            sku: vec![a.sku],
+            sp_m: vec![a.sp_m],
+            sv_m: vec![a.sv_m],
+            sz_m: vec![a.sz_m],
+            sdq: vec![a.sdq],
+            sdr_percent: vec![a.sdr_percent],
+            sal_m: vec![a.sal_m],
+            str: vec![a.str],
+            sk_m: vec![a.sk_m],
+            spk_m: vec![a.spk_m],
+            svk_m: vec![a.svk_m],
+            smr1_percent: vec![a.smr1_percent],
+            smr2_percent: vec![a.smr2_percent],
+            correlation_length_m: vec![a.correlation_length_m],
+        }
+    }
+}
+
+/// Output `material_ratio`: the Abbott–Firestone curve, heights about the
+/// mean plane against the share of the area at or above them.
+#[derive(Clone, Debug, Default, PartialEq, Schema)]
+pub struct MaterialRatioTable {
+    /// material ratio Smr, 0 … 100 in even steps
+    #[column(unit = "%")]
+    pub material_ratio_percent: Vec<f64>,
+    /// height Smc at that ratio, about the mean plane
+    #[column(unit = "m")]
+    pub height_m: Vec<f64>,
+}
+
+impl MaterialRatioTable {
+    /// The curve of `ratio` at `points` even steps of material ratio.
+    pub fn new(ratio: &MaterialRatio, points: usize) -> Self {
+        let (material_ratio_percent, height_m) = ratio.curve(points);
+        Self {
+            material_ratio_percent,
+            height_m,
         }
     }
 }
