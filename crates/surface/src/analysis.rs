@@ -135,9 +135,7 @@ pub fn analyse_measured(
     // maps only lose their mean.
     detrend(&mut h, if p.periodic { Detrend::Mean } else { p.detrend })?;
     let (sigma_m, slope) = roughness(&h, (dx_m, dy_m), largest_m, source)?;
-    // ISO 25178-2 about the mean plane of the detrended map, before the
-    // height reference moves it.
-    let (areal, ratio) = crate::iso25178::areal_parameters_and_curve(&h, dx_m, dy_m)?;
+    let (areal, material_ratio) = areal_tables(&h, (dx_m, dy_m), ctx);
     if nan_fraction > p.max_missing_fraction {
         return Err(SurfaceError::TooMuchMissing {
             map: source.to_owned(),
@@ -180,9 +178,33 @@ pub fn analyse_measured(
         height: Field::new(h, dx_m, dy_m).map_err(StageError::other)?,
         psd,
         stats,
-        areal: ArealTable::new(&areal),
-        material_ratio: MaterialRatioTable::new(&ratio, MATERIAL_RATIO_POINTS),
+        areal,
+        material_ratio,
     })
+}
+
+/// The ISO 25178-2 parameters about the mean plane of the detrended map
+/// (before the height reference moves it) and its material-ratio curve. A
+/// map whose heights pass σ but whose fourth powers overflow (Sku; heights
+/// beyond ~1e77 m, a map in the wrong unit) gets NaN parameters, no curve
+/// and a warning, rather than losing the PSDs the stage can still give.
+fn areal_tables(
+    h: &Array2<f64>,
+    (dx_m, dy_m): (f64, f64),
+    ctx: &Context,
+) -> (ArealTable, MaterialRatioTable) {
+    match crate::iso25178::areal_parameters_and_curve(h, dx_m, dy_m) {
+        Ok((areal, ratio)) => (
+            ArealTable::new(&areal),
+            MaterialRatioTable::new(&ratio, MATERIAL_RATIO_POINTS),
+        ),
+        Err(e) => {
+            ctx.note(&format!(
+                "warning: no ISO 25178 parameters (table `areal` is NaN, `material_ratio` empty): {e}"
+            ));
+            (ArealTable::unknown(), MaterialRatioTable::default())
+        }
+    }
 }
 
 /// The PSD directions, in the order of the tables, with the dimension of

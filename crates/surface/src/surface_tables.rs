@@ -223,6 +223,30 @@ pub struct ArealTable {
 }
 
 impl ArealTable {
+    /// One row of NaN: parameters that could not be computed.
+    pub fn unknown() -> Self {
+        let nan = f64::NAN;
+        Self::new(&ArealParameters {
+            sa_m: nan,
+            sq_m: nan,
+            ssk: nan,
+            sku: nan,
+            sp_m: nan,
+            sv_m: nan,
+            sz_m: nan,
+            sdq: nan,
+            sdr_percent: nan,
+            sal_m: nan,
+            str: nan,
+            sk_m: nan,
+            spk_m: nan,
+            svk_m: nan,
+            smr1_percent: nan,
+            smr2_percent: nan,
+            correlation_length_m: nan,
+        })
+    }
+
     /// The one row of `a`.
     pub fn new(a: &ArealParameters) -> Self {
         Self {
