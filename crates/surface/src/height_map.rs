@@ -355,6 +355,26 @@ mod tests {
     use ndarray::array;
     use serde_json::json;
 
+    /// Every parameter at its default (no path: each test gives its own).
+    fn with_defaults() -> HeightMapParams {
+        HeightMapParams {
+            path: std::path::PathBuf::new().into(),
+            channel: None,
+            pixel_m: None,
+            pixel_y_m: None,
+            scale_to_m: 1.0,
+            crop_points: None,
+            crop_m: None,
+            circle_m: None,
+            spikes: SpikeRule::None,
+            spike_k: 5.0,
+            spike_radius: 1,
+            form: FormKind::None,
+            form_degree: 2,
+            max_points: 1 << 26,
+        }
+    }
+
     #[test]
     fn loads_and_scales_a_map() {
         let dir = std::env::temp_dir().join(format!("hc-hm-{}", std::process::id()));
@@ -366,17 +386,10 @@ mod tests {
             path: path.clone().into(),
             pixel_m: Some(2e-5),
             channel: None,
-            crop_points: None,
-            crop_m: None,
-            circle_m: None,
-            spikes: SpikeRule::None,
-            spike_k: 5.0,
-            spike_radius: 1,
-            form: FormKind::None,
-            form_degree: 2,
             pixel_y_m: None,
             scale_to_m: 1e-6,
             max_points: 1 << 26,
+            ..with_defaults()
         }
         .check()
         .unwrap();
@@ -426,16 +439,9 @@ mod tests {
                 pixel_m,
                 pixel_y_m: None,
                 channel: None,
-                crop_points: None,
-                crop_m: None,
-                circle_m: None,
-                spikes: SpikeRule::None,
-                spike_k: 5.0,
-                spike_radius: 1,
-                form: FormKind::None,
-                form_degree: 2,
                 scale_to_m,
                 max_points: 1 << 26,
+                ..with_defaults()
             }
             .check()
             .unwrap();
@@ -479,16 +485,9 @@ mod tests {
             pixel_m: None,
             pixel_y_m: None,
             channel: None,
-            crop_points: None,
-            crop_m: None,
-            circle_m: None,
-            spikes: SpikeRule::None,
-            spike_k: 5.0,
-            spike_radius: 1,
-            form: FormKind::None,
-            form_degree: 2,
             scale_to_m: 1.0,
             max_points: 1 << 26,
+            ..with_defaults()
         }
         .check()
         .unwrap();
@@ -515,16 +514,9 @@ mod tests {
                 pixel_m: None,
                 pixel_y_m: None,
                 channel: None,
-                crop_points: None,
-                crop_m: None,
-                circle_m: None,
-                spikes: SpikeRule::None,
-                spike_k: 5.0,
-                spike_radius: 1,
-                form: FormKind::None,
-                form_degree: 2,
                 scale_to_m: 1.0,
                 max_points,
+                ..with_defaults()
             }
             .check()
             .unwrap();
@@ -593,16 +585,9 @@ mod tests {
                 pixel_m: None,
                 pixel_y_m: None,
                 channel: None,
-                crop_points: None,
-                crop_m: None,
-                circle_m: None,
-                spikes: SpikeRule::None,
-                spike_k: 5.0,
-                spike_radius: 1,
-                form: FormKind::None,
-                form_degree: 2,
                 scale_to_m: 1.0,
                 max_points,
+                ..with_defaults()
             }
             .check()
             .unwrap();
@@ -669,16 +654,9 @@ mod tests {
             pixel_m: None,
             pixel_y_m: None,
             channel,
-            crop_points: None,
-            crop_m: None,
-            circle_m: None,
-            spikes: SpikeRule::None,
-            spike_k: 5.0,
-            spike_radius: 1,
-            form: FormKind::None,
-            form_degree: 2,
             scale_to_m: 1.0,
             max_points: 1 << 26,
+            ..with_defaults()
         }
         .check()
         .unwrap();

@@ -123,15 +123,15 @@ fn without_form(
     p: &HeightMapParams,
     ctx: &Context,
 ) -> Result<Array2<f64>, StageError> {
-    let (residual_m, description) = match p.form {
+    let (description, residual_m) = match p.form {
         FormKind::None => return Ok(h),
         FormKind::Polynomial => {
             let f = remove_polynomial(&h, dx_m, dy_m, p.form_degree)?;
-            (f.residual_m.clone(), f.description())
+            (f.description(), f.residual_m)
         }
         FormKind::Sphere => {
             let f = remove_sphere(&h, dx_m, dy_m)?;
-            (f.residual_m.clone(), f.description())
+            (f.description(), f.residual_m)
         }
         FormKind::CylinderX | FormKind::CylinderY | FormKind::Cylinder => {
             let axis = match p.form {
@@ -140,7 +140,7 @@ fn without_form(
                 _ => CylinderAxis::Fitted,
             };
             let f = remove_cylinder(&h, dx_m, dy_m, axis)?;
-            (f.residual_m.clone(), f.description())
+            (f.description(), f.residual_m)
         }
     };
     ctx.note(&description);
