@@ -122,6 +122,29 @@ impl<'a> Bytes<'a> {
             .collect())
     }
 
+    /// `count` integers of `bits` (8, 16; any other width reads as 32)
+    /// bits, signed or not, from `offset`, as f64 (exact: every such
+    /// integer is a double).
+    pub(crate) fn integers(
+        &self,
+        offset: usize,
+        count: usize,
+        (bits, signed): (u32, bool),
+        what: &str,
+    ) -> Result<Vec<f64>, FormatError> {
+        fn widen<T: Into<f64>>(values: Vec<T>) -> Vec<f64> {
+            values.into_iter().map(Into::into).collect()
+        }
+        Ok(match (bits, signed) {
+            (8, true) => widen(self.values::<i8>(offset, count, what)?),
+            (8, false) => widen(self.values::<u8>(offset, count, what)?),
+            (16, true) => widen(self.values::<i16>(offset, count, what)?),
+            (16, false) => widen(self.values::<u16>(offset, count, what)?),
+            (_, true) => widen(self.values::<i32>(offset, count, what)?),
+            (_, false) => widen(self.values::<u32>(offset, count, what)?),
+        })
+    }
+
     /// A fixed-width text field as [`latin1`] reads it.
     pub(crate) fn text(
         &self,
@@ -307,6 +330,31 @@ mod tests {
         assert_eq!(bytes.values::<u16>(0, 2, "v").unwrap(), [1, 2]);
         assert!(bytes.values::<u16>(0, 3, "v").is_err());
         assert!(bytes.values::<u16>(0, usize::MAX, "v").is_err());
+    }
+
+    #[test]
+    fn integers_of_each_width_and_sign_widen_exactly() {
+        let raw = [0xff, 0xff, 0xff, 0xff, 0x01, 0x00, 0x00, 0x80];
+        let bytes = Bytes::new(&raw, "t", ByteOrder::Little);
+        assert_eq!(bytes.integers(0, 2, (8, true), "v").unwrap(), [-1.0, -1.0]);
+        assert_eq!(
+            bytes.integers(0, 2, (8, false), "v").unwrap(),
+            [255.0, 255.0]
+        );
+        assert_eq!(bytes.integers(2, 2, (16, true), "v").unwrap(), [-1.0, 1.0]);
+        assert_eq!(
+            bytes.integers(2, 2, (16, false), "v").unwrap(),
+            [65535.0, 1.0]
+        );
+        assert_eq!(
+            bytes.integers(0, 2, (32, true), "v").unwrap(),
+            [-1.0, -2_147_483_647.0]
+        );
+        assert_eq!(
+            bytes.integers(0, 2, (32, false), "v").unwrap(),
+            [4_294_967_295.0, 2_147_483_649.0]
+        );
+        assert!(bytes.integers(0, 3, (32, false), "v").is_err());
     }
 
     #[test]

@@ -179,36 +179,14 @@ fn layer(bytes: &Bytes, wave: &Wave, index: usize) -> Result<Vec<f64>, FormatErr
             .map(f64::from)
             .collect(),
         (4, _) => bytes.values::<f64>(at, n, &what)?,
-        (8, false) => bytes
-            .values::<i8>(at, n, &what)?
-            .into_iter()
-            .map(f64::from)
-            .collect(),
-        (8, true) => bytes
-            .values::<u8>(at, n, &what)?
-            .into_iter()
-            .map(f64::from)
-            .collect(),
-        (0x10, false) => bytes
-            .values::<i16>(at, n, &what)?
-            .into_iter()
-            .map(f64::from)
-            .collect(),
-        (0x10, true) => bytes
-            .values::<u16>(at, n, &what)?
-            .into_iter()
-            .map(f64::from)
-            .collect(),
-        (_, false) => bytes
-            .values::<i32>(at, n, &what)?
-            .into_iter()
-            .map(f64::from)
-            .collect(),
-        (_, true) => bytes
-            .values::<u32>(at, n, &what)?
-            .into_iter()
-            .map(f64::from)
-            .collect(),
+        (kind, unsigned) => {
+            let bits = match kind {
+                8 => 8,
+                0x10 => 16,
+                _ => 32,
+            };
+            bytes.integers(at, n, (bits, !unsigned), &what)?
+        }
     })
 }
 

@@ -180,38 +180,7 @@ fn image(
 fn counts(bytes: &Bytes, image: &Image, at: usize) -> Result<Vec<f64>, FormatError> {
     let n = image.nx * image.ny;
     let what = format!("channel {} at byte {at}", image.name);
-    Ok(match (image.bits, image.signed) {
-        (8, true) => bytes
-            .values::<i8>(at, n, &what)?
-            .into_iter()
-            .map(f64::from)
-            .collect(),
-        (8, false) => bytes
-            .values::<u8>(at, n, &what)?
-            .into_iter()
-            .map(f64::from)
-            .collect(),
-        (16, true) => bytes
-            .values::<i16>(at, n, &what)?
-            .into_iter()
-            .map(f64::from)
-            .collect(),
-        (16, false) => bytes
-            .values::<u16>(at, n, &what)?
-            .into_iter()
-            .map(f64::from)
-            .collect(),
-        (_, true) => bytes
-            .values::<i32>(at, n, &what)?
-            .into_iter()
-            .map(f64::from)
-            .collect(),
-        (_, false) => bytes
-            .values::<u32>(at, n, &what)?
-            .into_iter()
-            .map(f64::from)
-            .collect(),
-    })
+    bytes.integers(at, n, (image.bits, image.signed), &what)
 }
 
 /// Reads the channel `asked` for.
