@@ -174,11 +174,17 @@ fn fitted_hurst(periodic: bool, seed: u64) -> (f64, f64) {
 #[test]
 fn a_self_affine_profile_gives_its_hurst_exponent_back() {
     let (periodic, r2) = fitted_hurst(true, 3);
-    assert!((periodic - 0.7).abs() < 0.01 && r2 > 0.999, "{periodic} {r2}");
+    assert!(
+        (periodic - 0.7).abs() < 0.01 && r2 > 0.999,
+        "{periodic} {r2}"
+    );
     let windowed: Vec<f64> = (1..=8).map(|seed| fitted_hurst(false, seed).0).collect();
     let mean = windowed.iter().sum::<f64>() / 8.0;
     assert!((mean - 0.7).abs() < 0.03, "{mean}: {windowed:?}");
-    assert!(windowed.iter().all(|h| (h - 0.7).abs() < 0.1), "{windowed:?}");
+    assert!(
+        windowed.iter().all(|h| (h - 0.7).abs() < 0.1),
+        "{windowed:?}"
+    );
 }
 
 // The independent check: a line's PSD, Hurst exponent, σ and slope equal
