@@ -989,8 +989,22 @@ fn lab_files_go_in_as_the_instruments_wrote_them() {
         let said = format!("{stage} {format}: {nx} × {ny} points");
         assert!(stderr.contains(&said), "no `{said}` in:\n{stderr}");
     }
-    // Read only: too small for a PSD, or a profile. The AFM file's note
-    // names the channel read among the four it holds.
+    // The stylus profile goes through `surface` as a line scan: its PSD
+    // along x, Hurst exponent and σ (Rq), with a note saying so.
+    let stats = parquet(t.path(), "dektak-surface/stats.parquet");
+    let num = |c: &str| stats.f64(c).unwrap()[0];
+    assert_eq!(
+        (stats.i64("nx").unwrap()[0], stats.i64("ny").unwrap()[0]),
+        (9600, 1)
+    );
+    for column in ["hurst_x", "sigma_m", "rms_slope"] {
+        assert!(num(column).is_finite() && num(column) > 0.0, "{column}");
+    }
+    assert!(num("hurst_y").is_nan() && num("hurst_radial").is_nan());
+    let said = "dektak-surface line scan: a profile of 9600 points along x";
+    assert!(stderr.contains(said), "no `{said}` in:\n{stderr}");
+    // Read only: too small for a PSD. The AFM file's note names the
+    // channel read among the four it holds.
     for said in [
         "gwyddion ASCII matrix: 3 × 4 points",
         "nc NetCDF .nc: 5 × 10 points",

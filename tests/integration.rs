@@ -7,5 +7,6 @@ mod cli;
 mod common;
 mod determinism;
 mod layout;
+mod line_scans;
 mod new_model;
 mod version_guard;

@@ -195,7 +195,7 @@ impl Stage for Bem {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let surface = inputs.field("surface")?;
+        let surface = inputs.areal_field("surface", "bem")?;
         let heights_m = checked_heights(surface).map_err(StageError::other)?;
         let modulus = (p.law)
             .modulus_from_table(inputs.table("material")?, ctx)

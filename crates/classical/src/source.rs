@@ -19,6 +19,8 @@ pub struct SourceOptions {
     pub nominal_area_m2: Option<f64>,
     pub bins_per_decade: usize,
     pub periodic: bool,
+    /// The stage kind reading the spectrum, for errors.
+    pub kind: &'static str,
 }
 
 /// The spectrum the theory integrates and where it came from.
@@ -46,6 +48,7 @@ pub fn read(inputs: &Inputs, options: &SourceOptions) -> Result<Source, StageErr
             let psd: PsdTable = inputs.read("psd")?;
             let area = if has("stats") {
                 let stats: StatsTable = inputs.read("stats")?;
+                refuse_line_scan(&stats, options.kind)?;
                 Some(stats_area_m2(&stats)?)
             } else {
                 None
@@ -60,7 +63,7 @@ pub fn read(inputs: &Inputs, options: &SourceOptions) -> Result<Source, StageErr
                 )
                 .into());
             }
-            let (spectrum, area) = from_map(inputs.field("surface")?, options)?;
+            let (spectrum, area) = from_map(inputs.areal_field("surface", options.kind)?, options)?;
             (spectrum, Some(area), "surface")
         }
     };
@@ -105,7 +108,7 @@ fn radial(psd: &PsdTable) -> Result<Spectrum, StageError> {
     if q.is_empty() {
         return Err(ClassicalError::Input(
             "input `psd` has no row with direction `radial` (the theories need the isotropic \
-             2-D spectrum)"
+             2-D spectrum of a height map; `surface` gives none for a line scan)"
                 .into(),
         )
         .into());
@@ -114,6 +117,22 @@ fn radial(psd: &PsdTable) -> Result<Spectrum, StageError> {
         Spectrum::from_surface_topography(&q, &c)
             .map_err(|e| ClassicalError::Spectrum("psd", e))?,
     )
+}
+
+/// An error when `stats` is of a line scan (one point across): its PSD
+/// has no radial rows and its A0 no meaning.
+fn refuse_line_scan(stats: &StatsTable, kind: &'static str) -> Result<(), StageError> {
+    if let (Some(&nx), Some(&ny)) = (stats.nx.first(), stats.ny.first())
+        && (nx == 1) != (ny == 1)
+    {
+        return Err(StageError::LineScan {
+            kind,
+            input: "psd".into(),
+            nx: usize::try_from(nx).unwrap_or(0),
+            ny: usize::try_from(ny).unwrap_or(0),
+        });
+    }
+    Ok(())
 }
 
 /// A0 = nx ny dx² (1 − nan_fraction), as `bem` counts measured pixels.

@@ -321,7 +321,7 @@ impl Stage for PerssonStage {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let (source, modulus) = setup(inputs, &p.spectrum, ctx)?;
+        let (source, modulus) = setup(inputs, &p.spectrum, PERSSON.kind, ctx)?;
         let variant = match p.variant {
             PerssonVariant::Original => Variant::Original,
             PerssonVariant::YangPersson => Variant::YangPersson { gamma: p.gamma },
@@ -435,7 +435,7 @@ impl Stage for GreenwoodWilliamson {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let (source, modulus) = setup(inputs, &p.spectrum, ctx)?;
+        let (source, modulus) = setup(inputs, &p.spectrum, GW.kind, ctx)?;
         let m = source.spectrum.moments();
         let asperities = Asperities::from_moments(m)
             .map_err(|e| ClassicalError::Input(format!("input `{}`: {e}", source.input)))?;
@@ -499,6 +499,7 @@ impl Stage for GreenwoodWilliamson {
 fn setup(
     inputs: &Inputs,
     p: &SpectrumParams,
+    kind: &'static str,
     ctx: &Context,
 ) -> Result<(Source, CompositeModulus), StageError> {
     let source = read(
@@ -509,6 +510,7 @@ fn setup(
             nominal_area_m2: p.nominal_area_m2,
             bins_per_decade: p.bins_per_decade,
             periodic: p.periodic,
+            kind,
         },
     )?;
     let modulus = (p.law)

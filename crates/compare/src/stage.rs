@@ -305,9 +305,9 @@ impl Stage for ContactCompare {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
+        let surface = inputs.areal_field("surface", INFO.kind)?;
         let contact: ContactTable = inputs.read("contact")?;
         let observed = read_observed(inputs)?;
-        let surface = inputs.field("surface")?;
         let predictions = Predictions {
             truncation: Truncation::new(surface),
             models: read_model_maps(inputs)?,

@@ -26,6 +26,18 @@ pub enum StageError {
     File { path: PathBuf, message: String },
     #[error("{0}")]
     Invalid(String),
+    /// A stage that needs a 2-D height map was given a line scan.
+    #[error(
+        "{kind}: input `{input}` is a line scan ({nx} × {ny} points, a profile): {kind} needs \
+         a 2-D height map (a line scan goes through `surface` for its profile PSD, Hurst \
+         exponent and roughness, and no further)"
+    )]
+    LineScan {
+        kind: &'static str,
+        input: String,
+        nx: usize,
+        ny: usize,
+    },
     #[error(transparent)]
     Other(Box<dyn std::error::Error + Send + Sync>),
 }

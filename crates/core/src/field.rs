@@ -131,6 +131,13 @@ impl Field {
             .then_some(SurfaceProblem::Flat(first))
     }
 
+    /// Whether the map is a line scan (a profile): one point across and
+    /// more along, n × 1 (along x) or 1 × n (along y).
+    pub fn is_line_scan(&self) -> bool {
+        let (nx, ny) = self.values.dim();
+        (nx == 1) != (ny == 1)
+    }
+
     pub fn grid(&self) -> Grid {
         Grid {
             nx: self.nx(),

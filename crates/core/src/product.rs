@@ -145,6 +145,22 @@ impl Inputs {
         }
     }
 
+    /// A field input that must be a 2-D map: a line scan (see
+    /// [`Field::is_line_scan`]) is refused naming the stage `kind` and the
+    /// input, as every stage that models contact on an area must.
+    pub fn areal_field(&self, name: &str, kind: &'static str) -> Result<&Field, StageError> {
+        let field = self.field(name)?;
+        if field.is_line_scan() {
+            return Err(StageError::LineScan {
+                kind,
+                input: name.to_owned(),
+                nx: field.nx(),
+                ny: field.ny(),
+            });
+        }
+        Ok(field)
+    }
+
     pub fn files(&self, name: &str) -> Result<&Files, StageError> {
         match self.require(name)? {
             Product::Files(f) => Ok(f),

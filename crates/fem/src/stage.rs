@@ -227,7 +227,7 @@ impl Stage for Fem {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let surface = inputs.field("surface")?;
+        let surface = inputs.areal_field("surface", "fem")?;
         let window = Window::of(&p.window, surface.values.dim())?;
         let patch = window.cut(surface)?;
         let heights_m = checked_patch(&patch, &window, p)?;

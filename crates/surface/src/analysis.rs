@@ -16,6 +16,7 @@ use crate::error::SurfaceError;
 use crate::filter::{self, Grid, MapRows};
 use crate::hurst::{Dimension, Flag, PowerLaw, R2_MIN, fit_power_law};
 use crate::infill::{fill_harmonic, fill_zero};
+use crate::line::{LineAxis, analyse_line};
 use crate::plane;
 use crate::psd::{Spectrum, Window, psd_radial, psd_x, psd_y};
 use crate::stats::{Reference, reference_height, rms_slope, sigma};
@@ -72,7 +73,7 @@ impl MeasuredMap<'_> {
     }
 
     /// The map held whole.
-    fn into_field(self) -> Result<Field, StageError> {
+    pub(crate) fn into_field(self) -> Result<Field, StageError> {
         match self {
             MeasuredMap::Whole(map) => Ok(map),
             MeasuredMap::Rows { rows, dx_m, dy_m } => {
@@ -117,8 +118,11 @@ pub fn analyse_measured(
     p: &Checked<SurfaceParams>,
     ctx: &Context,
 ) -> Result<Analysis, StageError> {
-    let progress = ctx.progress(3, "filter, PSD");
     let measured = map.grid()?;
+    if let Some(axis) = LineAxis::of(measured.nx, measured.ny) {
+        return analyse_line(map.into_field()?, axis, source, p, ctx);
+    }
+    let progress = ctx.progress(3, "filter, PSD");
     let filtered = filtered(map, &measured, p, ctx)?;
     progress.inc(1);
     let grid = grid_of(&filtered);
@@ -215,7 +219,7 @@ const DIRECTIONS: [(&str, Dimension); 3] = [
     ("radial", Dimension::Areal),
 ];
 
-fn grid_of(map: &Field) -> Grid {
+pub(crate) fn grid_of(map: &Field) -> Grid {
     Grid {
         nx: map.nx(),
         ny: map.ny(),
@@ -226,7 +230,7 @@ fn grid_of(map: &Field) -> Grid {
 
 /// The map low-pass filtered and resampled to `resolution_m` (with notes on
 /// the grids), or as it is when that is not coarser than its grid.
-fn filtered(
+pub(crate) fn filtered(
     map: MeasuredMap,
     measured: &Grid,
     p: &SurfaceParams,
@@ -278,7 +282,7 @@ fn missing_share(h: &Array2<f64>, resolution_m: f64) -> Result<(usize, f64), Sur
 
 /// σ and the rms slope of the detrended map; an error when either
 /// overflows or when σ is rounding noise against the largest |height|.
-fn roughness(
+pub(crate) fn roughness(
     h: &Array2<f64>,
     (dx_m, dy_m): (f64, f64),
     largest_m: f64,
@@ -304,7 +308,7 @@ fn roughness(
 
 /// The map named `source`, heights up to `largest_m`, overflows f64 in
 /// `quantity`.
-fn overflow(source: &str, largest_m: f64, quantity: &'static str) -> SurfaceError {
+pub(crate) fn overflow(source: &str, largest_m: f64, quantity: &'static str) -> SurfaceError {
     SurfaceError::Overflow {
         map: source.to_owned(),
         largest_m,
@@ -313,7 +317,7 @@ fn overflow(source: &str, largest_m: f64, quantity: &'static str) -> SurfaceErro
 }
 
 /// Removes a least-squares plane or the mean of the measured points.
-fn detrend(h: &mut Array2<f64>, detrend: Detrend) -> Result<(), SurfaceError> {
+pub(crate) fn detrend(h: &mut Array2<f64>, detrend: Detrend) -> Result<(), SurfaceError> {
     match detrend {
         Detrend::Plane => {
             let fit = plane::fit_plane(h).ok_or_else(|| {
@@ -408,7 +412,7 @@ fn hurst_fits(
 
 /// The `stats` row: σ and slope, the three Hurst fits, the filtered and
 /// measured grids, and what was filled.
-fn stats_table(
+pub(crate) fn stats_table(
     (sigma_m, slope): (f64, f64),
     fits: &[PowerLaw; 3],
     (filtered, measured): (&Grid, &Grid),
@@ -461,7 +465,7 @@ const HURST_MIN_POINTS: usize = 5;
 
 /// Fits H for one PSD over the wavelength range of the parameters, with a
 /// note when the default range had to reach into the filter's roll-off.
-fn hurst(
+pub(crate) fn hurst(
     spectrum: &Spectrum,
     direction: &'static str,
     (spacing_m, length_m): (f64, f64),
@@ -513,7 +517,11 @@ fn hurst(
 }
 
 /// The warning for a flagged Hurst fit, None when it is fine.
-fn hurst_warning(direction: &str, fit: &PowerLaw, dimension: Dimension) -> Option<String> {
+pub(crate) fn hurst_warning(
+    direction: &str,
+    fit: &PowerLaw,
+    dimension: Dimension,
+) -> Option<String> {
     let h = fit.hurst(dimension);
     let over = format!(
         "R² = {:.3} over q = {:.3e} … {:.3e} rad/m, {} bins",

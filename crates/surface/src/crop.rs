@@ -84,7 +84,7 @@ impl Stage for Crop {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let surface = inputs.field("surface")?;
+        let surface = inputs.areal_field("surface", "crop")?;
         let window = Window::of(p, surface.values.dim())?;
         let patch = window.cut(surface)?;
         let (nx, ny) = patch.values.dim();

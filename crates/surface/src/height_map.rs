@@ -38,6 +38,8 @@ pub struct HeightMapParams {
     /// keep only the disc [xc_m, yc_m, radius_m] (metres from the map's first point); the rest becomes NaN
     #[param(unit = "m")]
     pub circle_m: Option<[f64; 3]>,
+    /// points to keep: a .npy (2-D bool, uint8 or float 0/1, axis 0 = x) of the map's shape as read; its false/0 points become NaN first, before the window
+    pub mask: Option<InputPath>,
     /// spikes set to NaN (after the window, before the form)
     #[param(default = SpikeRule::None)]
     pub spikes: SpikeRule,
@@ -94,7 +96,10 @@ static INFO: StageInfo = StageInfo {
           names the format, the grid, the missing points and the instrument where the file \
           says. A file no reader knows is refused naming what its bytes look like and the \
           formats read. PREPARATION, in this order, each step in a note with what it removed: \
-          a window (`crop_points`, or `crop_m` from the map's first point: first point \
+          a mask (`mask`: a .npy file of the map's shape as read, axis 0 = x, bool true or \
+          uint8/float 1 = keep, false/0 = drop, any other value refused; its dropped points \
+          become NaN; a mask of another shape is refused naming both shapes; crop_m already \
+          gives a rectangle); a window (`crop_points`, or `crop_m` from the map's first point: first point \
           round(x0/dx), end round((x0 + lx)/dx)); a disc kept (`circle_m`, the rest NaN); \
           spikes set to NaN (`spikes: local`: a point farther than spike_k robust standard \
           deviations (1.4826 MAD of all such deviations) from the median of what its \
@@ -366,6 +371,7 @@ mod tests {
             crop_points: None,
             crop_m: None,
             circle_m: None,
+            mask: None,
             spikes: SpikeRule::None,
             spike_k: 5.0,
             spike_radius: 1,
@@ -763,6 +769,7 @@ mod tests {
             crop_points: Some([2, 2, 60, 60]),
             crop_m: None,
             circle_m: None,
+            mask: None,
             spikes: SpikeRule::Local,
             spike_k: 5.0,
             spike_radius: 1,
@@ -830,6 +837,85 @@ mod tests {
         params.crop_m = Some([0.0, 0.0, 1e-3, 10e-6]);
         let e = run(&params).0.unwrap_err();
         assert!(e.contains("lx_m") || e.contains("crop"), "{e}");
+    }
+
+    // A hand mask of the map as read removes exactly its false points
+    // (before the window, which then cuts the masked map); a mask of
+    // another shape is refused naming the file and both shapes.
+    #[test]
+    fn a_mask_file_removes_exactly_its_points() {
+        use ndarray_npy::WriteNpyExt;
+        let dir = tempfile_dir("mask");
+        let map = Field::new(
+            ndarray::Array2::from_shape_fn((4, 3), |(i, j)| (10 * i + j) as f64),
+            1.0,
+            1.0,
+        )
+        .unwrap();
+        let path = dir.join("map.npy");
+        map.write_npy(std::fs::File::create(&path).unwrap())
+            .unwrap();
+        let keep = ndarray::Array2::from_shape_fn((4, 3), |(i, j)| !(i == j || (i, j) == (3, 0)));
+        let mask = dir.join("keep.npy");
+        keep.write_npy(std::fs::File::create(&mask).unwrap())
+            .unwrap();
+        let run = |mask: &std::path::Path, crop_points: Option<[usize; 4]>| {
+            let params = HeightMapParams {
+                path: path.clone().into(),
+                pixel_m: Some(1e-6),
+                mask: Some(mask.to_owned().into()),
+                crop_points,
+                ..with_defaults()
+            }
+            .check()
+            .unwrap();
+            let ctx = Context::new("mask");
+            let out = HeightMap.run(&params, &Inputs::new(), &ctx);
+            (out.map_err(|e| e.to_string()), ctx.notes())
+        };
+        let (out, notes) = run(&mask, None);
+        let out = out.unwrap();
+        let Some(hypercontact_core::Product::Field(h)) = out.get("height") else {
+            panic!("no height output")
+        };
+        for ((i, j), v) in h.values.indexed_iter() {
+            if keep[[i, j]] {
+                assert_eq!(*v, (10 * i + j) as f64, "[{i}, {j}]");
+            } else {
+                assert!(v.is_nan(), "[{i}, {j}]");
+            }
+        }
+        assert!(
+            notes[0].starts_with("mask: 4 of 12 points (33.3 %) outside the given mask")
+                && notes[0].contains("keep.npy"),
+            "{notes:?}"
+        );
+        // The window cuts the masked map: [1, 1] stays NaN at [0, 0].
+        let (out, _) = run(&mask, Some([1, 1, 3, 2]));
+        let out = out.unwrap();
+        let Some(hypercontact_core::Product::Field(h)) = out.get("height") else {
+            panic!("no height output")
+        };
+        assert!(h.values[[0, 0]].is_nan() && h.values[[0, 1]] == 12.0);
+
+        let wrong = dir.join("wrong.npy");
+        ndarray::Array2::from_elem((3, 4), 1u8)
+            .write_npy(std::fs::File::create(&wrong).unwrap())
+            .unwrap();
+        let e = run(&wrong, None).0.unwrap_err();
+        assert!(
+            e.contains("wrong.npy")
+                && e.contains("the mask has shape (3, 4) but the map has (4, 3)"),
+            "{e}"
+        );
+        let not_npy = dir.join("mask.txt");
+        std::fs::write(&not_npy, "1 0 1").unwrap();
+        let e = run(&not_npy, None).0.unwrap_err();
+        assert!(
+            e.contains("mask.txt") && e.contains("not a .npy file"),
+            "{e}"
+        );
+        std::fs::remove_dir_all(dir).unwrap();
     }
 
     fn tempfile_dir(name: &str) -> std::path::PathBuf {

@@ -12,6 +12,8 @@ pub mod height_map;
 pub mod hurst;
 pub mod infill;
 pub mod iso25178;
+pub mod line;
+pub mod mask_file;
 pub mod plane;
 pub mod prepare;
 pub mod psd;

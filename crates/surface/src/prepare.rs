@@ -1,4 +1,4 @@
-//! `height-map`'s preparation of a map as read: a window, a circular
+//! `height-map`'s preparation of a map as read: a mask from a file, a window, a circular
 //! region, spikes set to NaN and a form subtracted, in that order, each
 //! step's effect in a note. Spikes go before the form: a least-squares form
 //! is pulled by them, while the spike rule's local estimates follow the form.
@@ -9,6 +9,7 @@ use ndarray::Array2;
 
 use crate::form::{CylinderAxis, remove_cylinder, remove_polynomial, remove_sphere};
 use crate::height_map::HeightMapParams;
+use crate::mask_file::read_mask;
 use crate::region::{Keep, Shape, Window, apply_mask, crop};
 use crate::spikes::{LocalRule, remove_outliers, remove_spikes};
 
@@ -49,6 +50,22 @@ pub enum FormKind {
 pub fn prepare(map: Field, p: &HeightMapParams, ctx: &Context) -> Result<Field, StageError> {
     let (dx_m, dy_m) = (map.dx_m, map.dy_m);
     let mut h = map.values;
+    if let Some(path) = &p.mask {
+        let keep = read_mask(path.path(), p.max_points)?;
+        let region =
+            apply_mask(&h, dx_m, dy_m, &Shape::Points(keep), Keep::Inside).map_err(|e| {
+                StageError::file(
+                    path.path(),
+                    format!("mask: {e} (the map as read, axis 0 = x, before any window)"),
+                )
+            })?;
+        ctx.note(&format!(
+            "{} ({})",
+            region.description,
+            path.path().display()
+        ));
+        h = region.height_m;
+    }
     let window = match (p.crop_points, p.crop_m) {
         (Some([x0, y0, nx, ny]), _) => Some(Window::Points { x0, y0, nx, ny }),
         (None, Some([x0_m, y0_m, lx_m, ly_m])) => Some(Window::Metres {

@@ -13,6 +13,7 @@ pub use crate::analysis::{
     Analysis, FLAT_RELATIVE, MeasuredMap, analyse, analyse_measured, analyse_named,
 };
 use crate::blend::StitchedRows;
+use crate::line::LineAxis;
 use crate::stitch::{covered_region, place};
 use crate::tiles::read_tiles;
 
@@ -181,7 +182,27 @@ static INFO: StageInfo = StageInfo {
           roll-off does not steepen the slope). Each fit reports its R² (ln C on ln q) and the q \
           range of the bins it used (hurst_*_r2, hurst_*_q_min_per_m, hurst_*_q_max_per_m) and a \
           flag (hurst_*_flag): \"poor power law (R² < 0.9)\" first, else \"outside 0…1\", else \
-          \"ok\"; a flagged fit also gets a note starting with \"warning:\".",
+          \"ok\"; a flagged fit also gets a note starting with \"warning:\". \
+          LINE SCANS: a map one point across (n x 1: a profile along x; 1 x n: along y), e.g. \
+          a stylus profile, is analysed as the profile it is (a note says so): the filter is \
+          the same Gaussian along the line (ISO 16610-21's profile filter, cut-off \
+          2·resolution_m; resolution_m is judged against the spacing along the line); \
+          `detrend: plane` removes the least-squares line, `mean` the mean; missing points \
+          are filled by linear interpolation between measured neighbours (the harmonic \
+          in-fill in 1-D; ends held at the nearest measured height, a periodic profile \
+          interpolated across the wrap), max_missing_fraction applies; the PSD along the \
+          line is the x PSD's (same normalisation, window and bins; equal to the x PSD of a \
+          map of identical copies of the line) and its Hurst exponent goes in hurst_x (or \
+          hurst_y); the other direction and radial have no PSD rows, NaN exponents and the \
+          flag \"not defined (line scan)\"; sigma_m is the profile's Rq and rms_slope its \
+          forward-difference rms slope; the `areal` table holds the profile parameters of the \
+          same definitions: Ra, Rq, Rsk, Rku, Rp, Rv, Rz (ISO 4287) in Sa … Sz, Rdq in Sdq, \
+          Rk, Rpk, Rvk, Mr1, Mr2 (ISO 13565-2) in Sk … Smr2, the lag where the profile's \
+          autocorrelation falls to 0.2 in Sal and to 1/e in the correlation length; Sdr and \
+          Str need an area and are NaN. Tiles that are line scans are not stitched (one \
+          line scan alone is analysed). The stages that need a 2-D map (truncation, bem, \
+          fem, crop, persson, greenwood-williamson, synth-contact, contact-compare) refuse a \
+          line scan, naming themselves.",
     inputs: &[
         InputSpec::files("tiles", Arity::Optional, "tile_NNN.npy + positions.csv"),
         InputSpec::field(
@@ -217,6 +238,20 @@ fn analysed_tiles(
     ctx: &Context,
 ) -> Result<(Analysis, StitchTable), StageError> {
     let set = read_tiles(source)?;
+    if set.heights.len() > 1
+        && let Some((name, heights)) = set
+            .names
+            .iter()
+            .zip(&set.heights)
+            .find(|(_, h)| LineAxis::of(h.nrows(), h.ncols()).is_some())
+    {
+        return Err(StageError::invalid(format!(
+            "surface: tile {name} of {named} is a line scan ({} × {} points): stitching needs \
+             2-D tiles; give each line scan alone (input `height`, or a one-tile set)",
+            heights.nrows(),
+            heights.ncols()
+        )));
+    }
     let progress = ctx.progress(1, "stitch tiles");
     let (placement, tiles) = place(&set, p.min_overlap_px)?;
     progress.inc(1);

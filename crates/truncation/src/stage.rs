@@ -119,7 +119,7 @@ impl Stage for Truncation {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let surface = inputs.field("surface")?;
+        let surface = inputs.areal_field("surface", "truncation")?;
         let measured = surface.values.iter().filter(|h| !h.is_nan()).count();
         let bar = ctx.progress(measured as u64, "pixels swept");
         let options = TruncationOptions {

@@ -335,7 +335,10 @@ impl Stage for SynthContact {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let surface = filtered(inputs.field("surface")?, p.resolution_m)?;
+        let surface = filtered(
+            inputs.areal_field("surface", "synth-contact")?,
+            p.resolution_m,
+        )?;
         let modulus = (p.law)
             .modulus_from_table(inputs.table("material")?, ctx)
             .map_err(|e| StageError::invalid(format!("material: {e}")))?;
