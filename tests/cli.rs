@@ -221,8 +221,8 @@ fn a_study_gathers_one_table() {
         hypercontact_io::read_parquet_file(&t.path().join("study/contact.response.parquet"))
             .unwrap();
     assert_eq!(
-        &table.column_names()[..2],
-        ["contact.scheme", "trunc.levels"]
+        &table.column_names()[..3],
+        ["variant", "contact.scheme", "trunc.levels"]
     );
     let levels = table.i64("trunc.levels").unwrap();
     assert!(levels.contains(&250) && levels.contains(&1000));
@@ -231,9 +231,108 @@ fn a_study_gathers_one_table() {
     let meta = columns_meta(&t.path().join("study/contact.response.parquet"));
     assert_eq!(meta, declared_columns("icm", "response"));
     assert_eq!(
-        table.column_names()[2..],
+        table.column_names()[3..],
         meta.iter().map(|m| m.name.as_str()).collect::<Vec<_>>()[..]
     );
+    // Notes name their variant (stderr is no terminal: plain lines).
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("variant 1/4: trunc 251 planes"), "{err}");
+    assert!(err.contains("variant 2/4: trunc 1001 planes"), "{err}");
+
+    // Without --out, the study has its own folder beside the run's.
+    let default = bin()
+        .arg("study")
+        .arg(&pipeline)
+        .arg("-q")
+        .current_dir(t.path())
+        .output()
+        .unwrap();
+    assert!(default.status.success(), "{}", text(&default));
+    let study = t.path().join("runs/demo/study");
+    assert!(study.join("contact.response.parquet").is_file());
+    assert!(study.join("study.json").is_file());
+    assert!(
+        study
+            .join("variants/004/contact/response.parquet")
+            .is_file()
+    );
+    assert!(!t.path().join("runs/demo/contact.response.parquet").exists());
+}
+
+/// Issue #37, item 1, through the binary: the demo with a second branch
+/// whose height map is corrupt. By default the run keeps going: the
+/// demo's products are written, the summary shows what ran, failed and was
+/// not run, the error lists the failure with its cause, and the exit code
+/// is 1. `--fail-fast` stops at the failure, before the demo's contact.
+#[test]
+fn a_failed_branch_leaves_the_others_to_run() {
+    let with_bad_branch = |dir: &Path| {
+        let pipeline = demo_in(dir);
+        let yaml = std::fs::read_to_string(&pipeline).unwrap().replace(
+            "  trunc:\n",
+            "  bad:\n    uses: height-map\n    with: { path: corrupt.npy, pixel_m: 1.0e-6 }\n  \
+             bad-trunc:\n    uses: truncation\n    inputs: { surface: bad }\n  trunc:\n",
+        );
+        std::fs::write(&pipeline, yaml).unwrap();
+        std::fs::write(dir.join("corrupt.npy"), b"\x93NUMPY this is no array").unwrap();
+        pipeline
+    };
+    let t = tempfile::tempdir().unwrap();
+    let pipeline = with_bad_branch(t.path());
+    let run_it = |args: &[&str]| {
+        (bin()
+            .arg("run")
+            .arg(&pipeline)
+            .arg("--out")
+            .arg(t.path().join("out")))
+        .args(args)
+        .output()
+        .unwrap()
+    };
+    let out = run_it(&[]);
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stdout.contains("  FAILED  bad "), "{stdout}");
+    assert!(stdout.contains(" not run  bad-trunc "), "{stdout}");
+    assert!(
+        stdout.contains("5 ran, 0 cached, 1 failed, 1 not run in "),
+        "{stdout}"
+    );
+    assert!(
+        stderr.contains(
+            "demo.yaml: 1 stage failed, 1 not run because it depends on a failed one; every other \
+             stage ran and is cached\n  stage `bad` (height-map): "
+        ),
+        "{stderr}"
+    );
+    assert!(stderr.contains("corrupt.npy"), "{stderr}");
+    assert!(
+        stderr.contains("`bad-trunc` not run: it depends on `bad`"),
+        "{stderr}"
+    );
+    assert!(t.path().join("out/contact/response.parquet").is_file());
+    assert!(t.path().join("out/provenance.json").is_file());
+
+    let t = tempfile::tempdir().unwrap();
+    let pipeline = with_bad_branch(t.path());
+    let out = bin()
+        .arg("run")
+        .arg(&pipeline)
+        .arg("--fail-fast")
+        .arg("--out")
+        .arg(t.path().join("out"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out));
+    assert!(
+        text(&out).contains("stage `bad` (height-map) failed"),
+        "{}",
+        text(&out)
+    );
+    assert!(!t.path().join("out/contact").exists());
+    let both = run_it(&["--keep-going", "--fail-fast"]);
+    assert_eq!(both.status.code(), Some(2), "{}", text(&both));
 }
 
 #[test]

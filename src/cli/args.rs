@@ -25,7 +25,8 @@ pub struct Cli {
 pub struct RunArgs {
     /// The pipeline file (YAML).
     pub pipeline: PathBuf,
-    /// Output folder [default: runs/<pipeline name>/].
+    /// Output folder [default: runs/<pipeline name>/ for `run`,
+    /// runs/<pipeline name>/study/ for `study`].
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Cache folder [default: .hypercontact/cache next to the pipeline file].
@@ -40,6 +41,16 @@ pub struct RunArgs {
     /// No progress bars and no summary.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Keep going after a stage fails (the default, as Slurm jobs do):
+    /// every stage that does not depend on a failed one still runs and is
+    /// cached and exported; then the summary, each failure with its cause,
+    /// the stages not run because of it, and a non-zero exit code.
+    #[arg(long, conflicts_with = "fail_fast")]
+    pub keep_going: bool,
+    /// Stop at the first stage that fails (with the local executor; Slurm
+    /// jobs are scheduled at once and always keep going).
+    #[arg(long)]
+    pub fail_fast: bool,
     /// Where stages run: here, or as Slurm batch jobs on a cluster sharing
     /// the cache folder (see README, "Running on a Slurm cluster").
     #[arg(long, value_enum, default_value_t = Executor::Local)]
@@ -106,7 +117,9 @@ pub enum Command {
     Status {
         /// The pipeline file (YAML).
         pipeline: PathBuf,
-        /// Output folder of the run or study [default: runs/<pipeline name>/].
+        /// Output folder of the run or study [default: runs/<pipeline
+        /// name>/, or runs/<pipeline name>/study/ where only a study was
+        /// submitted].
         #[arg(long)]
         out: Option<PathBuf>,
     },

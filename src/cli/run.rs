@@ -8,7 +8,7 @@ use anyhow::{Result, bail};
 use hypercontact_core::Registry;
 use hypercontact_runner::provenance::Provenance;
 use hypercontact_runner::slurm::PipelineRun;
-use hypercontact_runner::{PlanOptions, RunReport};
+use hypercontact_runner::{PlanOptions, RunError, RunReport};
 
 use super::args::{Executor, RunArgs};
 use super::prepare::prepare;
@@ -43,7 +43,14 @@ pub fn run(
         options.plan.force.clear();
         options.remote = remote;
     }
-    let report = hypercontact_runner::run(&pipeline, &options)?;
+    let (report, failed) = match hypercontact_runner::run(&pipeline, &options) {
+        Ok(report) => (report, None),
+        Err(RunError::Failed(report)) => {
+            let text = report.failure_text();
+            (*report, Some(text))
+        }
+        Err(e) => return Err(e.into()),
+    };
     if args.dry_run {
         say_text(report.plan.describe());
     } else if !args.quiet {
@@ -53,7 +60,11 @@ pub fn run(
         say!("");
         say_text(hypercontact_runner::timings::table(&report.provenance));
     }
-    Ok(())
+    match failed {
+        // The summary first, then every failure with its causes.
+        Some(text) => bail!("{text}"),
+        None => Ok(()),
+    }
 }
 
 /// `hypercontact timings RUN_DIR`: the table of a finished run.
@@ -76,8 +87,13 @@ fn say_summary(report: &RunReport, started: Instant, out_dir: &Path) {
         0 => String::new(),
         n => format!(", {n} temporary not needed"),
     };
+    let failed = match (report.failures.len(), report.blocked.len()) {
+        (0, _) => String::new(),
+        (f, 0) => format!(", {f} failed"),
+        (f, b) => format!(", {f} failed, {b} not run"),
+    };
     say!(
-        "{} ran, {} cached{temps} in {:.2} s; outputs in {}",
+        "{} ran, {} cached{temps}{failed} in {:.2} s; outputs in {}",
         report.computed(),
         report.hits(),
         // On Slurm, the whole wait, not only the export.

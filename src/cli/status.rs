@@ -10,7 +10,15 @@ use hypercontact_runner::{Pipeline, RunOptions};
 
 pub fn status(pipeline: &Path, out: Option<PathBuf>, registry: &Registry) -> Result<()> {
     let pipeline = Pipeline::load(pipeline, registry)?;
-    let out = out.unwrap_or_else(|| RunOptions::for_pipeline(&pipeline).out_dir);
+    let out = out.unwrap_or_else(|| {
+        // A run's submission, else a study's (in its own folder).
+        let run = RunOptions::for_pipeline(&pipeline).out_dir;
+        let study = hypercontact_runner::study::default_dir(&pipeline);
+        match Submission::path(&run.join("slurm")).exists() || !study.join("slurm").exists() {
+            true => run,
+            false => study,
+        }
+    });
     slurm_status(&out.join("slurm"))
 }
 

@@ -252,7 +252,7 @@ pub fn run_stage(
     let bars = MultiProgress::new();
     let sink: Option<Box<dyn ProgressSink + '_>> = match show {
         Show::Quiet => None,
-        Show::Terminal => Some(Box::new(TerminalProgress(&bars))),
+        Show::Terminal => Some(Box::new(TerminalProgress::new(&bars))),
         // Lines every two seconds: enough to see a long stage move.
         Show::Lines(writer) => Some(Box::new(LineProgress::new(
             writer,

@@ -38,8 +38,9 @@ pub struct RunOutcome {
     pub cached: usize,
 }
 
-/// A finished study: its folder (with `study.json` and the variants'
-/// folders) and the gathered tables, `stage.output` → file.
+/// A finished study: its folder (`runs/<name>/study/` by default, with
+/// `study.json` and the variants' folders) and the gathered tables,
+/// `stage.output` → file.
 #[derive(Clone, Debug)]
 pub struct StudyOutcome {
     pub out_dir: PathBuf,
@@ -81,11 +82,14 @@ pub fn run_pipeline(registry: &Registry, request: &RunRequest) -> Result<RunOutc
 
 /// Runs a pipeline's `study:` sweep as `hypercontact study` does.
 pub fn run_study(registry: &Registry, request: &RunRequest) -> Result<StudyOutcome, String> {
-    let (pipeline, options) = prepare(registry, request)?;
+    let (pipeline, mut options) = prepare(registry, request)?;
+    if request.out.is_none() {
+        options.out_dir = hypercontact_runner::study::default_dir(&pipeline);
+    }
     let report =
         hypercontact_runner::study::run_study(&pipeline, &options).map_err(|e| chain(&e))?;
     Ok(StudyOutcome {
-        out_dir: absolute(&options.out_dir),
+        out_dir: absolute(&report.dir),
         tables: report.tables,
     })
 }

@@ -10,14 +10,16 @@ use std::sync::{Arc, Weak};
 use std::time::Instant;
 
 use hypercontact_core::{Context, Inputs, Outputs, Product, ProductKind, ProgressSink};
-use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::MultiProgress;
 
 use crate::cache::{Cache, EntryState, MANIFEST_FORMAT, Manifest, short_key, unix_now};
+use crate::outcome::{Blocked, StageFailure, blocked_by};
 use crate::pipeline::{Pipeline, PipelineError};
 use crate::plan::{Plan, PlanOptions, PlannedStage, Reason};
-use crate::progress::TerminalProgress;
+use crate::progress::{RunBar, TerminalProgress};
 use crate::provenance::{CacheUse, Provenance, StageRecord};
 use crate::store::{self, OutputRecord, StoreError};
+use crate::timings::History;
 
 /// How to run.
 #[derive(Clone, Debug)]
@@ -40,6 +42,19 @@ pub struct RunOptions {
     /// Entries computed by cluster jobs of this run (key → job id), so
     /// provenance counts them as this run's work.
     pub remote: BTreeMap<String, String>,
+    /// After a stage fails, run every stage that does not read it (the
+    /// default, as the Slurm executor does), then fail listing every
+    /// failure ([`RunError::Failed`]); false stops at the first failure.
+    pub keep_going: bool,
+    /// Entries that failed earlier in this invocation (a study's earlier
+    /// variant), key → cause: not computed again, failed at once.
+    pub known_failures: BTreeMap<String, String>,
+    /// What the bars and notes of this run are prefixed with (a study's
+    /// `variant 3/6`).
+    pub label: Option<String>,
+    /// Recorded stage times from earlier runs, for the ETAs (the previous
+    /// record in `out_dir` is added to it).
+    pub history: History,
 }
 
 impl RunOptions {
@@ -80,6 +95,10 @@ impl RunOptions {
             export: true,
             keep_temps: false,
             remote: BTreeMap::new(),
+            keep_going: true,
+            known_failures: BTreeMap::new(),
+            label: None,
+            history: History::default(),
         }
     }
 }
@@ -140,6 +159,15 @@ pub enum RunError {
     /// by a concurrent run; [`run`] plans again and regenerates it.
     #[error("the entry of temporary stage `{stage}` was removed by another run")]
     TempGone { stage: String },
+    /// A run that kept going past failed stages: every stage that did not
+    /// read a failed one ran and was exported; the report says which failed
+    /// (with their causes) and which were not run because of them.
+    #[error("{}", .0.failure_text())]
+    Failed(Box<RunReport>),
+    /// A study whose variants kept going past failed stages: the tables of
+    /// the variants that ran are gathered; the report says what failed.
+    #[error("{}", .0.failure_text())]
+    StudyFailed(Box<crate::study::StudyReport>),
 }
 
 /// What a run did.
@@ -147,6 +175,11 @@ pub enum RunError {
 pub struct RunReport {
     pub plan: Plan,
     pub provenance: Provenance,
+    /// Stages that failed in this run (kept going past them).
+    pub failures: Vec<StageFailure>,
+    /// Stages not run because a stage they read (directly or through
+    /// others) failed.
+    pub blocked: Vec<Blocked>,
 }
 
 impl RunReport {
@@ -179,6 +212,10 @@ impl RunReport {
     pub fn summary(&self) -> String {
         let mut out = String::new();
         for s in &self.plan.stages {
+            if let Some(line) = self.not_run_line(&s.name, &s.kind) {
+                out.push_str(&line);
+                continue;
+            }
             let Some(r) = self.provenance.stages.get(&s.name) else {
                 continue;
             };
@@ -204,6 +241,16 @@ impl RunReport {
             ));
         }
         out
+    }
+}
+
+/// A report of the stages run so far (the dry run, the end of a run).
+fn report(plan: Plan, provenance: Provenance) -> RunReport {
+    RunReport {
+        plan,
+        provenance,
+        failures: Vec::new(),
+        blocked: Vec::new(),
     }
 }
 
@@ -249,17 +296,20 @@ fn run_once(
     let provenance_path = options.out_dir.join("provenance.json");
     let previous = Provenance::read(&provenance_path)?;
     let plan = Plan::build(pipeline, &cache, &options.plan, previous.as_ref())?;
-    let mut provenance = new_provenance(pipeline, options, started_unix_s);
+    let provenance = new_provenance(pipeline, options, started_unix_s);
     if options.dry_run {
-        return Ok(RunReport { plan, provenance });
+        return Ok(report(plan, provenance));
     }
 
-    let (multi, overall) = progress_bars(options.quiet, plan.stages.len());
+    let history = options.history.clone().with(previous.as_ref());
+    let multi = (!options.quiet).then(MultiProgress::new);
+    let overall = RunBar::new(multi.as_ref(), &plan, &history, options.label.as_deref());
     let scope = RunScope {
         pipeline,
         plan: &plan,
         cache: &cache,
         options,
+        history: &history,
     };
     let mut state = RunState {
         memory: Memory::for_plan(&plan),
@@ -267,17 +317,40 @@ fn run_once(
         dropped: Vec::new(),
         deferred: BTreeMap::new(),
     };
-    for planned in &plan.stages {
-        overall.set_message(planned.name.clone());
+    let mut outcome = report(plan.clone(), provenance);
+    for (index, planned) in plan.stages.iter().enumerate() {
+        overall.start(index, &planned.name);
         if !matches!(planned.reason, Reason::NotSelected | Reason::TempNotNeeded) {
-            let record = run_stage(&scope, planned, &mut state, multi.as_ref(), after_file)
-                .inspect_err(|_| write_deferred(&scope, &mut state, after_file))?;
-            provenance.stages.insert(planned.name.clone(), record);
+            match run_or_block(
+                &scope,
+                planned,
+                &mut state,
+                &mut outcome,
+                multi.as_ref(),
+                after_file,
+            ) {
+                Ok(Some(record)) => {
+                    outcome
+                        .provenance
+                        .stages
+                        .insert(planned.name.clone(), record);
+                }
+                Ok(None) => {}
+                Err(e) => {
+                    write_deferred(&scope, &mut state, after_file);
+                    return Err(e);
+                }
+            }
         }
-        overall.inc(1);
+        overall.done(index);
     }
-    overall.finish_and_clear();
-
+    overall.finish();
+    let RunReport {
+        mut provenance,
+        failures,
+        blocked,
+        ..
+    } = outcome;
     provenance.wall_s = started.elapsed().as_secs_f64();
     provenance.peak_rss_mb = crate::provenance::peak_rss_mb();
     if options.export {
@@ -289,7 +362,58 @@ fn run_once(
                 cause,
             })?;
     }
-    Ok(RunReport { plan, provenance })
+    let report = RunReport {
+        plan,
+        provenance,
+        failures,
+        blocked,
+    };
+    if report.failures.is_empty() {
+        Ok(report)
+    } else {
+        Err(RunError::Failed(Box::new(report)))
+    }
+}
+
+/// One stage of a run that keeps going: not run when a stage it reads
+/// failed (listed in `outcome.blocked`), failed at once when an earlier
+/// variant of the study failed on the same entry, else run; a failure is
+/// listed in `outcome.failures` (Ok(None)) unless the run stops at the
+/// first one (Err). A concurrent run's removal of a temporary entry is
+/// always an Err: [`run_with_hook`] plans again.
+fn run_or_block(
+    scope: &RunScope,
+    planned: &PlannedStage,
+    state: &mut RunState,
+    outcome: &mut RunReport,
+    multi: Option<&MultiProgress>,
+    after_file: AfterFile,
+) -> Result<Option<StageRecord>, RunError> {
+    if let Some(because) = blocked_by(planned, &outcome.failures, &outcome.blocked) {
+        outcome.blocked.push(Blocked {
+            stage: planned.name.clone(),
+            because,
+        });
+        state.memory.release(planned);
+        return Ok(None);
+    }
+    let earlier = (scope.options.known_failures.get(&planned.key))
+        .filter(|_| planned.reason != Reason::Cached);
+    let failure = match earlier {
+        Some(cause) => StageFailure::earlier(planned, cause),
+        None => match run_stage(scope, planned, state, multi, after_file) {
+            Ok(record) => return Ok(Some(record)),
+            Err(e @ RunError::TempGone { .. }) => return Err(e),
+            Err(e) if !scope.options.keep_going => return Err(e),
+            Err(e) => StageFailure::new(planned, &e),
+        },
+    };
+    outcome.failures.push(failure);
+    // The temporary entries held for readers: written now, before this
+    // stage's reads leave memory, so the next run finds them.
+    write_deferred(scope, state, after_file);
+    state.memory.release(planned);
+    Ok(None)
 }
 
 /// Refuses an output folder inside the cache or a cache inside the output
@@ -367,32 +491,14 @@ fn new_provenance(pipeline: &Pipeline, options: &RunOptions, started_unix_s: u64
     }
 }
 
-/// The bar of the whole run, and the group each stage adds its own bars to
-/// (none, and a hidden bar, when quiet).
-fn progress_bars(quiet: bool, stages: usize) -> (Option<MultiProgress>, ProgressBar) {
-    let multi = (!quiet).then(MultiProgress::new);
-    let overall = match &multi {
-        Some(m) => {
-            let bar = m.add(ProgressBar::new(stages as u64));
-            bar.set_style(
-                ProgressStyle::with_template("{prefix:>14.bold} [{bar:30}] {pos}/{len} {msg}")
-                    .expect("valid template")
-                    .progress_chars("=> "),
-            );
-            bar.set_prefix("stages");
-            bar
-        }
-        None => ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden()),
-    };
-    (multi, overall)
-}
-
 /// What every stage of one run reads.
 struct RunScope<'a> {
     pipeline: &'a Pipeline,
     plan: &'a Plan,
     cache: &'a Cache,
     options: &'a RunOptions,
+    /// Earlier runs' stage times, for the stages' ETAs.
+    history: &'a History,
 }
 
 /// What the stages of a run have left for the stages after them.
@@ -518,6 +624,11 @@ fn run_stage(
 ) -> Result<StageRecord, RunError> {
     let t0 = Instant::now();
     let defer = defers_write(scope, planned);
+    let sink = multi.map(|m| {
+        TerminalProgress::new(m)
+            .labelled(scope.options.label.as_deref())
+            .recorded(scope.history.seconds(planned))
+    });
     let Obtained {
         manifest,
         mut use_,
@@ -529,7 +640,7 @@ fn run_stage(
         scope.cache,
         &state.manifests,
         &mut state.memory.products,
-        multi,
+        sink.as_ref().map(|s| s as &dyn ProgressSink),
         after_file,
         defer,
     )?;
@@ -707,7 +818,7 @@ fn obtain_entry(
     cache: &Cache,
     manifests: &HashMap<String, Manifest>,
     products: &mut HashMap<(String, String), Arc<Product>>,
-    multi: Option<&MultiProgress>,
+    sink: Option<&dyn ProgressSink>,
     after_file: AfterFile,
     defer_write: bool,
 ) -> Result<Obtained, RunError> {
@@ -733,13 +844,8 @@ fn obtain_entry(
         .expect("the plan only names pipeline stages");
     let inputs = gather_inputs(plan, planned, cache, manifests, products)?;
     let reader = hypercontact_io::RunnerReader;
-    let sink = multi.map(TerminalProgress);
-    let ctx = Context::with(
-        &planned.name,
-        sink.as_ref().map(|s| s as &dyn ProgressSink),
-        &reader,
-    )
-    .with_upstream(upstream_record(plan, planned, pipeline));
+    let ctx = Context::with(&planned.name, sink, &reader)
+        .with_upstream(upstream_record(plan, planned, pipeline));
     let t_compute = Instant::now();
     let outputs = decl
         .stage
@@ -1010,16 +1116,26 @@ fn write_entry<'a>(
 ) -> Result<Manifest, RunError> {
     let cache_err = cache_error(cache.root());
     let staging = cache.staging_dir(&planned.key).map_err(&cache_err)?;
-    let mut records: BTreeMap<String, OutputRecord> = BTreeMap::new();
-    for (name, product) in outputs {
-        // check_contract refused an undeclared output before this.
-        let columns = info.output(name).map_or(&[][..], |spec| spec.columns);
-        let record = store::write_product(&staging, name, product, columns, after_file)?;
-        records.insert(name.to_owned(), record);
+    let write = || -> Result<Manifest, RunError> {
+        let mut records: BTreeMap<String, OutputRecord> = BTreeMap::new();
+        for (name, product) in outputs {
+            // check_contract refused an undeclared output before this.
+            let columns = info.output(name).map_or(&[][..], |spec| spec.columns);
+            let record = store::write_product(&staging, name, product, columns, after_file)?;
+            records.insert(name.to_owned(), record);
+        }
+        let manifest = manifest_of(planned, records, compute_s, notes);
+        cache.commit(&staging, &manifest).map_err(&cache_err)?;
+        Ok(manifest)
+    };
+    let written = write();
+    if written.is_err() {
+        // What a failed write left is no entry (never renamed into place);
+        // a run that keeps going leaves no debris of it either. (A killed
+        // run's staging folder is removed by the next writer or `cache gc`.)
+        let _ = std::fs::remove_dir_all(&staging);
     }
-    let manifest = manifest_of(planned, records, compute_s, notes);
-    cache.commit(&staging, &manifest).map_err(cache_err)?;
-    Ok(manifest)
+    written
 }
 
 /// The manifest of a stage computed now with these output records.

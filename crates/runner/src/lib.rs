@@ -3,8 +3,10 @@
 
 pub mod cache;
 pub mod error;
+pub mod eta;
 pub mod exec;
 pub mod hash;
+pub mod outcome;
 pub mod pipeline;
 pub mod plan;
 pub mod producer;

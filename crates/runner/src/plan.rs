@@ -228,6 +228,12 @@ impl Plan {
 
     /// The plan as a human reads it: one line per stage.
     pub fn describe(&self) -> String {
+        self.describe_with(&|_| None)
+    }
+
+    /// [`Plan::describe`], where a stage for which `shared` says why (a
+    /// study's entry an earlier variant computes) shows as `shared`.
+    pub fn describe_with(&self, shared: &dyn Fn(&PlannedStage) -> Option<String>) -> String {
         // Widths in characters, as `{:<w$}` pads: a `µ` is one column.
         let width = self
             .stages
@@ -248,12 +254,15 @@ impl Plan {
                 Reason::NotSelected | Reason::TempNotNeeded => "skip",
                 _ => "RUN",
             };
+            let (verb, why) = match shared(s) {
+                Some(why) => ("shared", why),
+                None => (verb, s.reason.to_string()),
+            };
             out.push_str(&format!(
-                "{verb:>6}  {:<width$}  {:<kind_width$}  {}  {}\n",
+                "{verb:>6}  {:<width$}  {:<kind_width$}  {}  {why}\n",
                 s.name,
                 s.kind,
                 &s.key[..12],
-                s.reason
             ));
         }
         out

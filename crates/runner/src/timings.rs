@@ -7,7 +7,62 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
+use crate::hash::canonical_json;
+use crate::plan::PlannedStage;
 use crate::provenance::{CacheUse, Provenance};
+
+/// Stage times recorded by earlier runs (each record's `compute_s`, the
+/// time of the computation that made the entry), for the ETAs of
+/// [`crate::eta`]: looked up by kind and cache key (the same computation),
+/// else by kind and parameters (the same work on other inputs: another
+/// sample, another variant's upstream), taking the longest such record.
+#[derive(Clone, Debug, Default)]
+pub struct History {
+    by_key: BTreeMap<(String, String), f64>,
+    by_params: BTreeMap<(String, String), f64>,
+}
+
+impl History {
+    /// Adds every stage of a run's record.
+    pub fn add(&mut self, provenance: &Provenance) {
+        for record in provenance.stages.values() {
+            self.add_stage(&record.kind, &record.key, &record.params, record.compute_s);
+        }
+    }
+
+    /// Adds one computation's time.
+    pub fn add_stage(&mut self, kind: &str, key: &str, params: &serde_json::Value, seconds: f64) {
+        if !(seconds.is_finite() && seconds >= 0.0) {
+            return;
+        }
+        self.by_key
+            .insert((kind.to_owned(), key.to_owned()), seconds);
+        let slot = (self.by_params)
+            .entry((kind.to_owned(), canonical_json(params)))
+            .or_insert(seconds);
+        *slot = slot.max(seconds);
+    }
+
+    /// This history with a run's record added (if there is one).
+    pub fn with(mut self, provenance: Option<&Provenance>) -> Self {
+        if let Some(p) = provenance {
+            self.add(p);
+        }
+        self
+    }
+
+    /// The recorded time of a planned stage's computation: its own entry's
+    /// (a forced stage), else by key, else by parameters.
+    pub fn seconds(&self, planned: &PlannedStage) -> Option<f64> {
+        if let Some(m) = &planned.manifest {
+            return Some(m.compute_s);
+        }
+        let kind = planned.kind.clone();
+        (self.by_key.get(&(kind.clone(), planned.key.clone())))
+            .or_else(|| self.by_params.get(&(kind, canonical_json(&planned.params))))
+            .copied()
+    }
+}
 
 /// One stage's line: name, kind, what the run did, seconds in this run.
 struct Line<'a> {
@@ -171,5 +226,54 @@ mod tests {
         );
         assert!(text.contains("4 stages: 3 computed, 1 cached; 10.0 s in stages, run wall 10.3 s; peak memory 2.00 GB"), "{text}");
         assert!(!text.contains("gone"));
+    }
+
+    /// A stage's recorded time: its own entry's, else the same key's,
+    /// else the longest of the same kind and parameters.
+    #[test]
+    fn history_finds_a_stage_by_key_then_by_parameters() {
+        let mut stages = BTreeMap::new();
+        let mut bem = record("bem", CacheUse::Miss, 30.0);
+        bem.key = "k1".to_owned();
+        bem.params = serde_json::json!({ "steps": 40, "model": "linear" });
+        stages.insert("t1-bem".to_owned(), bem.clone());
+        bem.key = "k2".to_owned();
+        bem.compute_s = 50.0;
+        stages.insert("t2-bem".to_owned(), bem);
+        let provenance = Provenance {
+            pipeline: "p".to_owned(),
+            pipeline_file: "p.yaml".to_owned(),
+            pipeline_blake3: String::new(),
+            hypercontact_version: String::new(),
+            producer: None,
+            overrides: Vec::new(),
+            started_unix_s: 0,
+            wall_s: 80.0,
+            peak_rss_mb: None,
+            stages,
+        };
+        let history = History::default().with(Some(&provenance));
+        let mut planned = crate::plan::PlannedStage {
+            name: "t1-bem".to_owned(),
+            kind: "bem".to_owned(),
+            version: 1,
+            key: "k1".to_owned(),
+            // Key order does not matter.
+            params: serde_json::json!({ "model": "linear", "steps": 40 }),
+            files: BTreeMap::new(),
+            inputs: Vec::new(),
+            runs: true,
+            reason: crate::plan::Reason::New,
+            temp: false,
+            manifest: None,
+        };
+        assert_eq!(history.seconds(&planned), Some(30.0));
+        planned.key = "k3".to_owned();
+        assert_eq!(history.seconds(&planned), Some(50.0), "the longest alike");
+        planned.params = serde_json::json!({ "model": "linear", "steps": 80 });
+        assert_eq!(history.seconds(&planned), None);
+        planned.kind = "icm".to_owned();
+        planned.key = "k1".to_owned();
+        assert_eq!(history.seconds(&planned), None, "another kind");
     }
 }

@@ -368,9 +368,244 @@ fn a_study_shares_upstream_stages_and_gathers_tables() {
     let computed: usize = report.runs.iter().map(|(_, r)| r.computed()).sum();
     assert_eq!(computed, 2 + 6, "two sources, six scales");
     let table = hypercontact_io::read_parquet_file(&o.out_dir.join("double.t.parquet")).unwrap();
-    assert_eq!(table.column_names(), ["double.factor", "src.n", "x"]);
+    assert_eq!(
+        table.column_names(),
+        ["variant", "double.factor", "src.n", "x"]
+    );
     assert_eq!(table.n_rows(), 3 * (2 + 4));
     assert_eq!(table.i64("double.factor").unwrap()[table.n_rows() - 1], 3);
+    assert_eq!(table.i64("variant").unwrap()[table.n_rows() - 1], 6);
+}
+
+/// Issue #37, item 2: a stage the varied parameter does not reach has the
+/// same entry in every variant, and its rows come once (under variant 1,
+/// with no parameter column); the varied stage's rows come per variant
+/// with `variant` and the parameter. Variants export to
+/// `<study>/variants/001…`, `study.json` numbers them the same way, and a
+/// dry run shows the shared entry as RUN once and then as shared.
+#[test]
+fn a_study_collects_each_entry_once_with_its_variant() {
+    let t = tempfile::tempdir().unwrap();
+    let text = format!(
+        "{BASIC}study:\n  grid:\n    double.factor: [1, 2, 3]\n  collect: [src.t, double.t]\n"
+    );
+    let p = load(t.path(), "p.yaml", &text);
+    let o = RunOptions::in_folders(t.path().join("study"), t.path().join("cache"));
+    let dry = hypercontact_runner::study::run_study(
+        &p,
+        &RunOptions {
+            dry_run: true,
+            ..o.clone()
+        },
+    )
+    .unwrap()
+    .describe();
+    let src_lines: Vec<&str> = dry.lines().filter(|l| l.contains(" src ")).collect();
+    assert_eq!(src_lines.len(), 3, "{dry}");
+    assert!(src_lines[0].trim_start().starts_with("RUN"), "{dry}");
+    for line in &src_lines[1..] {
+        assert!(
+            line.trim_start().starts_with("shared")
+                && line.ends_with("computed once, by variant 1"),
+            "{dry}"
+        );
+    }
+    assert!(dry.starts_with("variant 1/3: double.factor=1\n"), "{dry}");
+    assert!(
+        dry.ends_with(
+            "study: 4 entries to compute (1 of them shared by several variants), 0 cached\n"
+        ),
+        "{dry}"
+    );
+
+    let report = hypercontact_runner::study::run_study(&p, &o).unwrap();
+    assert_eq!(report.dir, o.out_dir);
+    let src = hypercontact_io::read_parquet_file(&o.out_dir.join("src.t.parquet")).unwrap();
+    assert_eq!(src.column_names(), ["variant", "x"]);
+    assert_eq!(src.n_rows(), 5, "one source, not three copies of it");
+    assert_eq!(src.i64("variant").unwrap(), [1; 5]);
+    let double = hypercontact_io::read_parquet_file(&o.out_dir.join("double.t.parquet")).unwrap();
+    assert_eq!(double.column_names(), ["variant", "double.factor", "x"]);
+    assert_eq!(double.n_rows(), 15);
+    assert_eq!(double.i64("variant").unwrap()[5..10], [2; 5]);
+    assert_eq!(double.i64("double.factor").unwrap()[10..], [3; 5]);
+    // x = 2e-5·i times the factor, the third variant's.
+    assert_eq!(double.f64("x").unwrap()[14], 3.0 * 4.0 * 2.0e-5);
+    for k in ["001", "002", "003"] {
+        assert!(
+            o.out_dir
+                .join("variants")
+                .join(k)
+                .join("double/t.parquet")
+                .is_file()
+        );
+    }
+    let record: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(o.out_dir.join("study.json")).unwrap()).unwrap();
+    assert_eq!(record[2]["index"], 3);
+    assert_eq!(record[2]["values"]["double.factor"], 3);
+}
+
+/// Two independent branches under one pipeline: `bad` fails at run time
+/// (its CSV has no column x) and `after` depends on it through `later`;
+/// `src` and `double` do not depend on it.
+const BRANCHES: &str = "\
+name: branches
+stages:
+  bad:
+    uses: source
+    with: { n: 1, path: y.csv }
+  later:
+    uses: scale
+    inputs: { t: bad }
+  after:
+    uses: gather
+    inputs:
+      parts: { a: later, b: src }
+  src:
+    uses: source
+    with: { value: 2.0e-5, n: 5 }
+  double:
+    uses: scale
+    inputs: { t: src }
+    with: { factor: 2 }
+";
+
+/// Issue #37, item 1: a run keeps going past a failed stage (the default):
+/// the independent branch is computed, cached and exported with its
+/// provenance, the failure is listed with its cause and the stages that
+/// depend on it as not run, nothing of the failed stage is in the cache,
+/// and the run is an error. With `keep_going` off, the run stops at the
+/// failure: the other branch (later in the order) is not run.
+#[test]
+fn a_run_keeps_going_past_a_failed_branch() {
+    let t = tempfile::tempdir().unwrap();
+    write(t.path(), "y.csv", "y\n1\n");
+    let p = load(t.path(), "p.yaml", BRANCHES);
+    let o = options(t.path());
+    let order: Vec<String> = dry_plan(&p, &o)
+        .stages
+        .into_iter()
+        .map(|s| s.name)
+        .collect();
+    assert_eq!(order, ["bad", "later", "src", "after", "double"]);
+
+    let stopped = run(
+        &p,
+        &RunOptions {
+            keep_going: false,
+            ..o.clone()
+        },
+    )
+    .unwrap_err();
+    assert!(
+        matches!(stopped, hypercontact_runner::RunError::Stage { .. }),
+        "{stopped}"
+    );
+    assert!(
+        !o.out_dir.join("src").exists(),
+        "nothing after the failure ran"
+    );
+
+    let hypercontact_runner::RunError::Failed(report) = run(&p, &o).unwrap_err() else {
+        panic!("a run with a failed stage is an error");
+    };
+    let failed: Vec<(&str, &str)> = (report.failures.iter())
+        .map(|f| (f.stage.as_str(), f.kind.as_str()))
+        .collect();
+    assert_eq!(failed, [("bad", "source")]);
+    assert_eq!(report.failures[0].cause, "no column `x` (the table has: y)");
+    let blocked: Vec<(&str, &str)> = (report.blocked.iter())
+        .map(|b| (b.stage.as_str(), b.because.as_str()))
+        .collect();
+    assert_eq!(blocked, [("later", "bad"), ("after", "bad")]);
+    assert_eq!(report.computed(), 2, "src and double");
+    let cache = Cache::open(&o.cache_dir).unwrap();
+    for name in ["src", "double"] {
+        let key = &report.plan.stage(name).unwrap().key;
+        assert!(
+            matches!(cache.check(key), EntryState::Valid(_)),
+            "{name} cached"
+        );
+        assert_eq!(report.provenance.stages[name].cache, CacheUse::Miss);
+    }
+    assert!(o.out_dir.join("double/t.parquet").is_file());
+    let bad_key = &report.plan.stage("bad").unwrap().key;
+    assert!(matches!(cache.check(bad_key), EntryState::Missing));
+    let debris: Vec<_> = walk(&o.cache_dir)
+        .into_iter()
+        .filter(|f| f.to_string_lossy().contains(bad_key.as_str()))
+        // Its lock file is no entry (gc removes it with the debris).
+        .filter(|f| !f.starts_with(o.cache_dir.join("locks")))
+        .collect();
+    assert!(debris.is_empty(), "{debris:?}");
+    let recorded: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(o.out_dir.join("provenance.json")).unwrap()).unwrap();
+    assert_eq!(recorded["stages"]["double"]["cache"], "miss");
+    assert!(recorded["stages"].get("bad").is_none());
+    // The summary and the error say it all.
+    let summary = report.summary();
+    assert!(summary.contains("  FAILED  bad "), "{summary}");
+    assert!(
+        summary.contains(" not run  after ") && summary.contains("(`bad` failed)"),
+        "{summary}"
+    );
+    let said = hypercontact_runner::RunError::Failed(report).to_string();
+    assert!(
+        said.starts_with(&format!("{}: 1 stage failed, 2 not run", p.file.display()))
+            && said.contains(": 1 stage failed, 2 not run because they depend on a failed one; every other stage ran and is cached\n  stage `bad` (source): "),
+        "{said}"
+    );
+    assert!(
+        said.ends_with("\n  `after` not run: it depends on `bad`, which failed"),
+        "{said}"
+    );
+
+    // Fixed: what ran is cached, the rest runs now.
+    write(t.path(), "y.csv", "x\n1\n");
+    let fixed = run(&p, &o).unwrap();
+    assert_eq!((fixed.computed(), fixed.hits()), (3, 2));
+}
+
+/// A study keeps going past a failed variant, computes a failing entry
+/// its variants share only once, gathers the variants that ran, and
+/// fails naming the variants.
+#[test]
+fn a_study_keeps_going_past_a_failed_variant() {
+    let t = tempfile::tempdir().unwrap();
+    write(t.path(), "y.csv", "y\n1\n");
+    let text = format!(
+        "{BRANCHES}study:\n  grid:\n    double.factor: [1, 2]\n  collect: [double.t, after.rows]\n"
+    );
+    let p = load(t.path(), "p.yaml", &text);
+    let o = RunOptions::in_folders(t.path().join("study"), t.path().join("cache"));
+    let err = hypercontact_runner::study::run_study(&p, &o).unwrap_err();
+    let hypercontact_runner::RunError::StudyFailed(report) = &err else {
+        panic!("{err}");
+    };
+    let second = &report.runs[1].1.failures[0];
+    assert!(
+        second
+            .cause
+            .contains("failed in an earlier variant; not run again"),
+        "{}",
+        second.cause
+    );
+    let said = err.to_string();
+    assert!(said.starts_with("variant 1/2: "), "{said}");
+    assert!(said.contains("p.yaml: 1 stage failed"), "{said}");
+    assert!(said.contains("\nvariant 2/2: "), "{said}");
+    let double = hypercontact_io::read_parquet_file(&o.out_dir.join("double.t.parquet")).unwrap();
+    assert_eq!(double.i64("variant").unwrap(), [[1; 5], [2; 5]].concat());
+    assert!(
+        !o.out_dir.join("after.rows.parquet").exists(),
+        "no variant ran `after`"
+    );
+    assert_eq!(report.tables.len(), 1);
+    let record: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(o.out_dir.join("study.json")).unwrap()).unwrap();
+    assert_eq!(record[0]["failed"], serde_json::json!(["bad"]));
+    assert_eq!(record[1]["not_run"], serde_json::json!(["later", "after"]));
 }
 
 fn error_of(text: &str, files: &[(&str, &str)]) -> String {
@@ -704,6 +939,10 @@ fn a_run_stopped_by_an_error_writes_the_temporary_entries_its_readers_still_need
     let order: Vec<&str> = plan.stages.iter().map(|s| s.name.as_str()).collect();
     assert_eq!(order, ["src", "double", "bad", "triple"]);
     let src_key = plan.stage("src").unwrap().key.clone();
+    let o = RunOptions {
+        keep_going: false,
+        ..o
+    };
     let err = run(&p, &o).unwrap_err().to_string();
     assert!(err.contains("bad"), "{err}");
     assert!(entry_exists(t.path(), &src_key), "written for `triple`");
