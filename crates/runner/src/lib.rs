@@ -4,6 +4,7 @@
 pub mod cache;
 pub mod error;
 pub mod exec;
+pub mod graph;
 pub mod hash;
 pub mod pipeline;
 pub mod plan;
@@ -19,7 +20,7 @@ pub mod yaml;
 
 pub use exec::{RunError, RunOptions, RunReport, run};
 pub use pipeline::{Pipeline, PipelineError};
-pub use plan::{Plan, PlanOptions, Reason};
+pub use plan::{Action, Plan, PlanOptions, Reason};
 
 use std::io::Write;
 use std::path::Path;
