@@ -6,6 +6,8 @@
 mod cli;
 mod common;
 mod determinism;
+mod export;
+mod graph;
 mod layout;
 mod new_model;
 mod version_guard;
