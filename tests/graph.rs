@@ -185,6 +185,15 @@ fn paper() -> Pipeline {
     .unwrap()
 }
 
+/// The real parsers accept these texts. Checked once by hand (2026-11-27)
+/// on `hypercontact graph pipelines/paper.yaml` with a cold cache: Mermaid
+/// 11.17.2 (`npm install mermaid@11 jsdom` in a throwaway folder,
+/// `await mermaid.parse(text)` under a jsdom window) returned
+/// `{"diagramType":"flowchart-v2"}` for it and for a small pipeline's graph
+/// with a stale stage, and rejected the same text with one edge label left
+/// unclosed; pydot 4.0.1 (`pip install pydot` in a throwaway venv,
+/// `pydot.graph_from_dot_file`) read the `--format dot` text as 113 nodes
+/// and 386 edges, the counts of the Mermaid text.
 #[test]
 fn paper_graph_has_every_stage_and_edge_of_the_plan() {
     let t = tempfile::tempdir().unwrap();
