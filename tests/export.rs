@@ -210,3 +210,20 @@ fn assert_csv_is(csv: &Path, parquet: &Path) {
         }
     }
 }
+
+/// A folder that holds no run is refused, naming the record it looked for.
+#[test]
+fn a_folder_without_a_run_is_refused_by_name() {
+    let t = tempfile::tempdir().unwrap();
+    let out = bin()
+        .args(["export", "--format", "csv"])
+        .arg(t.path())
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let said = text(&out);
+    assert!(
+        said.contains("provenance.json") && said.contains("runs/<name>"),
+        "{said}"
+    );
+}
