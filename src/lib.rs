@@ -1,9 +1,12 @@
 //! hypercontact: reruns a rough-surface contact study of hyperelastic rubber
-//! end to end. This library part only assembles the stage registry; the
-//! stages live in `crates/`, the runner in `crates/runner`.
+//! end to end. This library part assembles the stage registry and exports a
+//! run's products (`export`); the stages live in `crates/`, the runner in
+//! `crates/runner`.
 
 use hypercontact_core::{DynStage, Registry};
 use serde_json::{Value, json};
+
+pub mod export;
 
 /// Every stage kind this build knows, by the name used after `uses:`.
 pub fn registry() -> Registry {

@@ -6,6 +6,8 @@
 mod cli;
 mod common;
 mod determinism;
+mod export;
+mod graph;
 mod layout;
 mod line_scans;
 mod new_model;

@@ -75,6 +75,59 @@ pub enum Executor {
     Slurm,
 }
 
+/// `hypercontact graph`'s arguments.
+#[derive(clap::Args, Clone)]
+pub struct GraphArgs {
+    /// The pipeline file (YAML).
+    pub pipeline: PathBuf,
+    /// Mermaid (`flowchart LR`) or Graphviz (`dot -Tsvg`).
+    #[arg(long, value_enum, default_value_t = GraphFormatArg::Mermaid)]
+    pub format: GraphFormatArg,
+    /// Output folder whose last run explains why a stage is stale
+    /// [default: runs/<pipeline name>/].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Cache folder [default: .hypercontact/cache next to the pipeline file].
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
+    /// Override a parameter: STAGE.PARAM=VALUE (VALUE is YAML). Repeatable.
+    #[arg(long = "set", value_name = "STAGE.PARAM=VALUE")]
+    pub set: Vec<String>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum GraphFormatArg {
+    Mermaid,
+    Dot,
+}
+
+/// `hypercontact export`'s arguments.
+#[derive(clap::Args, Clone)]
+pub struct ExportArgs {
+    /// A finished run's output folder [e.g. runs/paper].
+    pub run_dir: PathBuf,
+    /// `vtk`: every field (.npy with its grid, and the .npy maps a files
+    /// index lists with their spacing) as VTK ImageData (.vti, raw
+    /// little-endian float64, NaN kept), the array named `QUANTITY [UNIT]`.
+    /// `csv`: every Parquet table as CSV, a first line of column names and a
+    /// second of units: the unit the stage declares for the column, else
+    /// the one its name's suffix gives (`_m` m, `_um` µm, `_pa` Pa, `_mpa`
+    /// MPa, `_n` N, `_s` s, `_hz` Hz, `_deg` deg, `_rad` rad, `_px` px,
+    /// `_mb` MB; none: empty).
+    #[arg(long, value_enum)]
+    pub format: ExportFormat,
+    /// Where to write [default: RUN_DIR/export-vtk or RUN_DIR/export-csv],
+    /// one folder per stage.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ExportFormat {
+    Vtk,
+    Csv,
+}
+
 #[derive(Subcommand)]
 pub enum Command {
     /// Run a pipeline, reusing every cached stage whose inputs are unchanged.
@@ -103,6 +156,20 @@ pub enum Command {
     Study {
         #[command(flatten)]
         args: RunArgs,
+    },
+    /// The pipeline as a graph on stdout (Mermaid or Graphviz dot): stages
+    /// with their kind, edges labelled `output → input`, and each stage
+    /// marked cached, stale (would run, and why) or temporary (not needed),
+    /// as `run --dry-run` plans it against the cache.
+    Graph {
+        #[command(flatten)]
+        args: GraphArgs,
+    },
+    /// Export a finished run's fields to VTK (.vti, for ParaView) or its
+    /// tables to CSV with a units line.
+    Export {
+        #[command(flatten)]
+        args: ExportArgs,
     },
     /// Describe the stage kinds: parameters (defaults, units), inputs, outputs.
     Stages {

@@ -6,6 +6,8 @@ mod say;
 mod args;
 mod cache;
 mod exec_stage;
+mod export;
+mod graph;
 mod prepare;
 mod run;
 mod slurm;
@@ -30,6 +32,8 @@ pub fn dispatch(cli: Cli) -> Result<()> {
         } => run::run(&args, force, only, timings, &registry),
         Command::Timings { run_dir } => run::timings(&run_dir),
         Command::Study { args } => study::study(&args, &registry),
+        Command::Graph { args } => graph::graph(&args, &registry),
+        Command::Export { args } => export::export(&args),
         Command::Stages { kind, json } => crate::stages::print(&registry, kind.as_deref(), json),
         Command::Status { pipeline, out } => status::status(&pipeline, out, &registry),
         Command::ExecStage { job } => exec_stage::exec_stage(&job, &registry),

@@ -181,50 +181,97 @@ fn file_names(files: &Map<String, Value>) -> Vec<(String, String)> {
     names
 }
 
-/// The provenance section at the bottom of the page: the record the runner
-/// hands the stage (versions, parameters, keys, input-file hashes of every
-/// upstream stage, without what differs from run to run), or a placeholder
-/// when the report is rendered outside a run.
+/// The provenance section at the bottom of the page, folded: a
+/// `<details>` element whose summary counts the stages behind the report,
+/// with one line per stage (name, kind and version, cache-key prefix) and,
+/// unfolded further, the record the runner hands the stage (versions,
+/// parameters, keys, input-file hashes of every upstream stage, without
+/// what differs from run to run), or a placeholder when the report is
+/// rendered outside a run.
+///
+/// Whether a stage ran or came from the cache, and its wall time, differ
+/// from run to run while the page is the same bytes on every run (it is a
+/// cached product), so the page points to `provenance.json` and
+/// `hypercontact timings` for them instead of showing them.
 pub fn provenance_section(provenance: Option<&serde_json::Value>) -> String {
     let mut html = String::from("<section id=\"provenance\">\n<h2>Provenance</h2>\n");
-    match provenance.map(reproducible_record) {
-        None => html.push_str(
+    let Some(value) = provenance.map(reproducible_record) else {
+        html.push_str(
             "<p class=\"note\">No provenance record was passed to the report stage \
              (versions, parameters and input hashes of the run). The runner's \
-             record of this run lists them, with its timings.</p>\n",
-        ),
-        Some(value) => {
-            if let Some(object) = value.as_object() {
-                let scalars: Vec<Vec<String>> = object
-                    .iter()
-                    .filter(|(_, v)| !v.is_object() && !v.is_array())
-                    .map(|(k, v)| {
-                        let text = match v {
-                            serde_json::Value::String(s) => s.clone(),
-                            other => other.to_string(),
-                        };
-                        vec![escape(k), escape(&text)]
-                    })
-                    .collect();
-                if !scalars.is_empty() {
-                    html.push_str(&simple_table(
-                        "",
-                        &["item".to_owned(), "value".to_owned()],
-                        &scalars,
-                    ));
-                }
-            }
-            if let Some(upstream) = value.get("upstream").and_then(|u| u.as_object()) {
-                html.push_str(&upstream_table(upstream));
-            }
-            let pretty = serde_json::to_string_pretty(&value).unwrap_or_else(|_| value.to_string());
-            html.push_str(&format!(
-                "<details><summary>Full record (JSON)</summary>\n<pre>{}</pre>\n</details>\n",
-                escape(&pretty)
+             record of this run lists them, with its timings.</p>\n</section>\n",
+        );
+        return html;
+    };
+    let upstream = value.get("upstream").and_then(|u| u.as_object());
+    let count = upstream.map_or(0, |u| u.len());
+    html.push_str(&format!(
+        "<details class=\"provenance\">\n<summary>{count} stage{} behind this report{}</summary>\n",
+        if count == 1 { "" } else { "s" },
+        match value.get("pipeline").and_then(|p| p.as_str()) {
+            Some(name) => format!(" (pipeline <code>{}</code>)", escape(name)),
+            None => String::new(),
+        }
+    ));
+    if let Some(upstream) = upstream {
+        html.push_str(&stage_lines(upstream));
+    }
+    html.push_str(
+        "<p class=\"note\">Whether each stage ran or came from the cache, and its wall time, \
+         are in the run's <code>provenance.json</code> (<code>hypercontact timings \
+         runs/&lt;name&gt;</code>): they change from run to run, and this page does not.</p>\n",
+    );
+    if let Some(object) = value.as_object() {
+        let scalars: Vec<Vec<String>> = object
+            .iter()
+            .filter(|(_, v)| !v.is_object() && !v.is_array())
+            .map(|(k, v)| {
+                let text = match v {
+                    serde_json::Value::String(s) => s.clone(),
+                    other => other.to_string(),
+                };
+                vec![escape(k), escape(&text)]
+            })
+            .collect();
+        if !scalars.is_empty() {
+            html.push_str(&simple_table(
+                "",
+                &["item".to_owned(), "value".to_owned()],
+                &scalars,
             ));
         }
     }
-    html.push_str("</section>\n");
+    if let Some(upstream) = upstream {
+        html.push_str(&upstream_table(upstream));
+    }
+    let pretty = serde_json::to_string_pretty(&value).unwrap_or_else(|_| value.to_string());
+    html.push_str(&format!(
+        "<details><summary>Full record (JSON)</summary>\n<pre>{}</pre>\n</details>\n",
+        escape(&pretty)
+    ));
+    html.push_str("</details>\n</section>\n");
+    html
+}
+
+/// One line per upstream stage: `name · kind vN · key 0123456789ab`.
+fn stage_lines(upstream: &serde_json::Map<String, serde_json::Value>) -> String {
+    let text = |v: Option<&serde_json::Value>| match v {
+        Some(serde_json::Value::String(s)) => s.clone(),
+        Some(other) => other.to_string(),
+        None => String::new(),
+    };
+    let mut html = String::from("<ul class=\"stage-lines\">\n");
+    for (name, r) in upstream {
+        let key = text(r.get("key"));
+        html.push_str(&format!(
+            "<li><code>{}</code> · {} v{} · key <code>{}</code></li>\n",
+            escape(name),
+            escape(&text(r.get("kind"))),
+            escape(&text(r.get("version"))),
+            escape(&key.chars().take(12).collect::<String>())
+        ));
+    }
+    html.push_str("</ul>\n");
     html
 }
 
@@ -304,6 +351,8 @@ pub fn page(title: &str, body: &str) -> String {
   .note {{ color: #555; font-size: 9.5pt; }}
   .skipped {{ background: #f6f6f6; border-left: 3px solid #999; padding: 4px 10px; }}
   #provenance td {{ text-align: left; overflow-wrap: anywhere; font-size: 8pt; vertical-align: top; }}
+  #provenance summary {{ cursor: pointer; font-weight: bold; }}
+  #provenance ul.stage-lines {{ font-size: 9pt; padding-left: 1.2em; margin: 0.5em 0; }}
   pre {{ font-size: 8pt; white-space: pre-wrap; background: #f6f6f6; padding: 6px; }}
   @media print {{ body {{ margin: 0 auto; }} h2 {{ page-break-after: avoid; }} }}
 </style>
@@ -368,6 +417,39 @@ mod tests {
                 }
             }
         })
+    }
+
+    /// Folded: everything after the heading is inside one `<details>`,
+    /// whose summary counts the stages, with one line per stage giving its
+    /// kind, version and the first 12 characters of its key.
+    #[test]
+    fn provenance_is_folded_with_a_line_per_stage() {
+        let mut record = record("/data", 0.5);
+        record["upstream"]["t1"] = serde_json::json!({
+            "kind": "surface", "version": 5, "key": "fedcba9876543210ff", "params": {},
+        });
+        let html = provenance_section(Some(&record));
+        let body = &html[html.find("</h2>\n").unwrap() + 6..];
+        assert!(
+            body.starts_with(
+                "<details class=\"provenance\">\n<summary>2 stages behind \
+                                  this report (pipeline <code>quick</code>)</summary>"
+            ),
+            "{body}"
+        );
+        assert!(body.ends_with("</details>\n</section>\n"), "{body}");
+        let lines: Vec<&str> = body.lines().filter(|l| l.starts_with("<li>")).collect();
+        assert_eq!(
+            lines,
+            [
+                "<li><code>fit</code> · material-fit v1 · key <code>0123456789ab</code></li>",
+                "<li><code>t1</code> · surface v5 · key <code>fedcba987654</code></li>",
+            ]
+        );
+        // The full table and record are still there, one level further in.
+        assert!(body.contains("<td>fit</td>") && body.contains("Full record (JSON)"));
+        assert_eq!(body.matches("<details").count(), 2);
+        assert_eq!(body.matches("</details>").count(), 2);
     }
 
     #[test]

@@ -679,3 +679,76 @@ fn the_experiment_adds_fig6_its_points_in_fig7_and_the_agreement_table() {
         "{e}"
     );
 }
+
+/// The x of every `<text>` of an SVG, with its content.
+fn svg_texts(svg: &str) -> Vec<(f64, String)> {
+    let mut reader = quick_xml::Reader::from_str(svg);
+    let mut out = Vec::new();
+    let mut x = None;
+    loop {
+        match reader.read_event() {
+            Ok(Event::Eof) => break,
+            Ok(Event::Start(e)) if e.name().as_ref() == b"text" => {
+                x = e
+                    .try_get_attribute("x")
+                    .unwrap()
+                    .map(|a| String::from_utf8_lossy(&a.value).parse::<f64>().unwrap());
+            }
+            Ok(Event::Text(t)) => {
+                if let Some(x) = x.take() {
+                    out.push((x, String::from_utf8_lossy(&t).trim().to_owned()));
+                }
+            }
+            Ok(_) => {}
+            Err(e) => panic!("malformed SVG: {e}"),
+        }
+    }
+    out
+}
+
+/// Issue #37, 6: with one sample, Figs. 7 and 9 are one panel across the
+/// figure (not a half-width panel with an empty second column, as two
+/// panels a row drew it), the key in the column right beside it. Checked
+/// on the SVG: the figure is the single panel's 1000 × 680; the panel's
+/// x-axis labels reach past 60 % of the width (the half-width panel ended
+/// at 525 of 1300 px, 40 %); the key's labels sit right of the panel,
+/// within the last 250 px.
+#[test]
+fn one_sample_draws_figs_7_and_9_as_one_full_width_panel_with_the_key_beside() {
+    let mut inputs = Inputs::new();
+    let (label, _, _, _, scale) = SAMPLES[0];
+    let table = |t: Table| std::sync::Arc::new(Product::Table(t));
+    inputs.insert(
+        &format!("responses.{label}.icm"),
+        table(common::response(LEVELS, scale, false)),
+    );
+    inputs.insert(
+        &format!("responses.{label}.bem"),
+        table(common::response(LEVELS, 1.25 * scale, false)),
+    );
+    let files = run(&inputs);
+    for fig in ["fig7", "fig9"] {
+        let svg = text(&files, &format!("{fig}.svg"));
+        assert_svg(fig, &svg, 1000, 680);
+        assert!(svg.contains("width=\"1000\"") && svg.contains("height=\"680\""));
+        let png = image::load_from_memory(&files.files[&format!("{fig}.png")]).unwrap();
+        assert_eq!(png.width() * 680, png.height() * 1000, "{fig}: aspect");
+        let texts = svg_texts(&svg);
+        let key: Vec<f64> = texts
+            .iter()
+            .filter(|(_, t)| t == "icm" || t == "bem")
+            .map(|(x, _)| *x)
+            .collect();
+        assert_eq!(key.len(), 2, "{fig}: {texts:?}");
+        assert!(
+            key.iter().all(|&x| x > 750.0 && x < 1000.0),
+            "{fig}: key at {key:?}"
+        );
+        let panel_right = texts
+            .iter()
+            .map(|(x, _)| *x)
+            .filter(|&x| x < 750.0)
+            .fold(0.0, f64::max);
+        assert!(panel_right > 600.0, "{fig}: panel ends at {panel_right}");
+    }
+}

@@ -5,6 +5,7 @@ pub mod cache;
 pub mod error;
 pub mod eta;
 pub mod exec;
+pub mod graph;
 pub mod hash;
 pub mod outcome;
 pub mod pipeline;
@@ -21,7 +22,7 @@ pub mod yaml;
 
 pub use exec::{RunError, RunOptions, RunReport, run};
 pub use pipeline::{Pipeline, PipelineError};
-pub use plan::{Plan, PlanOptions, Reason};
+pub use plan::{Action, Plan, PlanOptions, Reason};
 
 use std::io::Write;
 use std::path::Path;

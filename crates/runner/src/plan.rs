@@ -92,7 +92,28 @@ pub struct PlannedStage {
     pub manifest: Option<Manifest>,
 }
 
+/// What a run does with a planned stage: the verdict `run --dry-run`
+/// prints and `hypercontact graph` draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Action {
+    /// Computed (new, changed, forced or missing from the cache).
+    Run,
+    /// Served from its valid cache entry.
+    Cached,
+    /// Left out: not needed for `--only`, or a temporary stage no reader needs.
+    Skip,
+}
+
 impl PlannedStage {
+    /// What a run does with this stage.
+    pub fn action(&self) -> Action {
+        match self.reason {
+            Reason::Cached => Action::Cached,
+            Reason::NotSelected | Reason::TempNotNeeded => Action::Skip,
+            _ => Action::Run,
+        }
+    }
+
     /// The provenance view of the inputs.
     pub fn input_records(&self) -> BTreeMap<String, InputRecord> {
         self.inputs
@@ -249,10 +270,10 @@ impl Plan {
             .unwrap_or(0);
         let mut out = String::new();
         for s in &self.stages {
-            let verb = match s.reason {
-                Reason::Cached => "cached",
-                Reason::NotSelected | Reason::TempNotNeeded => "skip",
-                _ => "RUN",
+            let verb = match s.action() {
+                Action::Cached => "cached",
+                Action::Skip => "skip",
+                Action::Run => "RUN",
             };
             let (verb, why) = match shared(s) {
                 Some(why) => ("shared", why),

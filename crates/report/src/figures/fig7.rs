@@ -203,8 +203,15 @@ impl Fig7<'_> {
             || self.models.iter().any(families)
     }
 
+    /// Panels per row: [`COLUMNS`], or fewer when there are fewer samples
+    /// (one sample is one full-width panel, not a half-width one in a
+    /// corner with the legend far from it).
+    fn columns(&self) -> usize {
+        self.samples.len().clamp(1, COLUMNS)
+    }
+
     fn rows(&self) -> usize {
-        self.samples.len().div_ceil(COLUMNS).max(1)
+        self.samples.len().div_ceil(self.columns()).max(1)
     }
 
     fn ranges(&self) -> Ranges {
@@ -310,9 +317,13 @@ impl Fig7<'_> {
         &self,
         plot: &DrawingArea<DB, Shift>,
     ) -> Result<Vec<LegendEntry>, ReportError> {
-        let sizes = TextSizes::panel(20.0);
+        // One panel is drawn at the single-panel figure's sizes.
+        let sizes = match self.columns() {
+            1 => TextSizes::for_width(1000),
+            _ => TextSizes::panel(20.0),
+        };
         let ranges = self.ranges();
-        let panels = plot.split_evenly((self.rows(), COLUMNS));
+        let panels = plot.split_evenly((self.rows(), self.columns()));
         let measured = EXPERIMENT_COLOUR.stroke_width(2);
         for (area, s) in panels.iter().zip(&self.samples) {
             let mut curves: Vec<_> = s
@@ -370,8 +381,10 @@ impl Figure for Fig7<'_> {
         if self.comparison { "fig9" } else { "fig7" }
     }
 
+    /// The single panel's size, also for one sample drawn per sample; two
+    /// panels a row otherwise.
     fn size_px(&self) -> (u32, u32) {
-        if self.per_sample() {
+        if self.per_sample() && self.columns() > 1 {
             (1300, 40 + 460 * self.rows() as u32)
         } else {
             (1000, 680)
