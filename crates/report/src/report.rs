@@ -469,8 +469,8 @@ const CAPTIONS: [(&str, &str, &str); 9] = [
         "Fig. 4b",
         "Material-ratio (Abbott–Firestone) curve of each sample: the height about the mean \
          plane against the share Smr of the measured area at or above it (the surface \
-         stage's curve at every whole per cent, linear between). Shaded: the core of ISO \
-         13565-2 (as ISO 25178-2 adopts it), between the heights where the equivalence line \
+         stage's curve at every whole per cent, linear between). The tinted band is the core of \
+         ISO 13565-2 (as ISO 25178-2 adopts it), between the heights where the equivalence line \
          (dashed: the secant over 40 % of material ratio of least slope, extended to 0 and \
          100 %) starts and ends; its span is S<sub>k</sub>. Dotted: S<sub>mr1</sub> and \
          S<sub>mr2</sub>, where the curve crosses the core's limits; the peaks above the core \
