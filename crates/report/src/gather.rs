@@ -110,6 +110,9 @@ pub struct Sample<'a> {
     pub stats: Option<SurfaceStats>,
     /// A/A0 against z/σ.
     pub profile: Option<Series>,
+    /// The areal parameters, ACF, distributions and scale-dependent
+    /// statistics of the surface stage (each absent when not wired).
+    pub extras: crate::surface_stats::SurfaceExtras,
     /// Every contact model's response, in the roster's order.
     pub models: Vec<ModelResponse>,
     /// Each model's 5–95 % bootstrap band by label (tables without rows
@@ -284,7 +287,7 @@ macro_rules! finite {
     };
 }
 
-fn check_finite(input: &str, column: &str, values: &[f64]) -> Result<(), ReportError> {
+pub(crate) fn check_finite(input: &str, column: &str, values: &[f64]) -> Result<(), ReportError> {
     match values.iter().position(|v| !v.is_finite()) {
         Some(row) => Err(ReportError::input(
             input,
@@ -295,7 +298,7 @@ fn check_finite(input: &str, column: &str, values: &[f64]) -> Result<(), ReportE
 }
 
 /// Sorts parallel columns by the first one (stable, so ties keep row order).
-fn sort_by_first<const N: usize>(columns: [&[f64]; N]) -> [Vec<f64>; N] {
+pub(crate) fn sort_by_first<const N: usize>(columns: [&[f64]; N]) -> [Vec<f64>; N] {
     let mut order: Vec<usize> = (0..columns[0].len()).collect();
     order.sort_by(|&a, &b| columns[0][a].total_cmp(&columns[0][b]));
     columns.map(|c| order.iter().map(|&i| c[i]).collect())
@@ -361,7 +364,7 @@ fn read_stability(table: StabilityTable) -> Result<Vec<StabilityRange>, ReportEr
 
 /// The products of a many-input by label, each read by `read` under its
 /// input name (`psd.T1`).
-fn labelled<'a, T>(
+pub(crate) fn labelled<'a, T>(
     inputs: &'a Inputs,
     name: &str,
     read: impl Fn(&str, &'a Product) -> Result<T, ReportError>,
@@ -374,7 +377,7 @@ fn labelled<'a, T>(
 }
 
 /// A per-sample table read into schema `S`.
-fn sample_table<S: Schema>(input: &str, product: &Product) -> Result<S, ReportError> {
+pub(crate) fn sample_table<S: Schema>(input: &str, product: &Product) -> Result<S, ReportError> {
     read(input, as_table(input, product)?)
 }
 
@@ -395,9 +398,9 @@ fn nested<'a, T>(
 }
 
 /// The samples by label while they are gathered.
-type Slots<'a> = BTreeMap<String, Sample<'a>>;
+pub(crate) type Slots<'a> = BTreeMap<String, Sample<'a>>;
 
-fn slot<'m, 'a>(map: &'m mut Slots<'a>, label: &str) -> &'m mut Sample<'a> {
+pub(crate) fn slot<'m, 'a>(map: &'m mut Slots<'a>, label: &str) -> &'m mut Sample<'a> {
     map.entry(label.to_owned()).or_insert_with(|| Sample {
         label: label.to_owned(),
         ..Default::default()
@@ -446,7 +449,7 @@ fn read_surfaces<'a>(inputs: &'a Inputs, map: &mut Slots<'a>) -> Result<(), Repo
     for (label, profile) in profiles {
         slot(map, label).profile = Some(profile);
     }
-    Ok(())
+    crate::surface_stats::read_extras(inputs, map)
 }
 
 /// Every contact model's response, band and summary, by sample and label.

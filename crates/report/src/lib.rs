@@ -12,6 +12,8 @@
 //! - [`table1`]: Table 1 as HTML, with the bootstrap intervals and the
 //!   fit's constraint;
 //! - [`figures`]: one file per figure, shared plotting helpers;
+//! - [`surface_stats`]: the surface stage's areal parameters, ACF,
+//!   distributions and scale-dependent statistics, and their table;
 //! - [`summary`], [`html`]: the numbers and the page;
 //! - [`report`]: decides what can be drawn and assembles the files;
 //! - [`stage`]: the `report` stage kind.
@@ -34,6 +36,7 @@ pub mod report;
 pub mod roster;
 pub mod stage;
 pub mod summary;
+pub mod surface_stats;
 pub mod table1;
 
 pub use error::ReportError;

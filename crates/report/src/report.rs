@@ -11,6 +11,8 @@ use serde_json::Value;
 use crate::ReportError;
 use crate::figures::fig2::Fig2;
 use crate::figures::fig4::Fig4;
+use crate::figures::fig4b::{Fig4b, Fig4c};
+use crate::figures::fig4d::{Fig4d, Fig4e};
 use crate::figures::fig7::{Drawn, Fig7, SampleResponses};
 use crate::figures::fig8::Fig8;
 use crate::figures::{Rendered, render};
@@ -234,9 +236,13 @@ fn figure_outcomes(
     data: &ReportData<'_>,
     chosen: &Chosen<'_>,
 ) -> Result<Vec<Outcome>, ReportError> {
-    let jobs: [FigureJob; 5] = [
+    let jobs: [FigureJob; 9] = [
         fig2_outcome,
         fig4_outcome,
+        fig4b_outcome,
+        fig4c_outcome,
+        fig4d_outcome,
+        fig4e_outcome,
         fig7_outcome,
         fig8_outcome,
         fig9_outcome,
@@ -312,6 +318,84 @@ fn fig4_outcome(data: &ReportData<'_>, _: &Chosen<'_>) -> Result<Outcome, Report
     Ok(drawn(render(&Fig4 { samples: surfaces })?, notes))
 }
 
+/// The samples (with their colour index) for which `has` holds, and the
+/// notes on the samples with surface statistics that lack `input`.
+fn with_statistic<'a>(
+    data: &'a ReportData<'a>,
+    input: &str,
+    has: fn(&Sample<'_>) -> bool,
+) -> (Vec<(&'a Sample<'a>, usize)>, Vec<String>) {
+    let mut notes = Vec::new();
+    let mut samples = Vec::new();
+    for (i, s) in data.samples.iter().enumerate() {
+        if has(s) {
+            samples.push((s, i));
+        } else if s.extras != Default::default() || s.stats.is_some() {
+            notes.push(format!("{}: no `{input}`", s.label));
+        }
+    }
+    (samples, notes)
+}
+
+/// The reason a surface-statistics figure is not drawn.
+fn statistic_skipped(name: &str, input: &str) -> Outcome {
+    skipped(
+        name,
+        format!(
+            "input `{input}` (an output of the surface stage from version 6) is not wired for              any sample"
+        ),
+    )
+}
+
+fn fig4b_outcome(data: &ReportData<'_>, _: &Chosen<'_>) -> Result<Outcome, ReportError> {
+    let (samples, notes) = with_statistic(data, "material_ratio", |s| {
+        s.extras.material_ratio.is_some()
+    });
+    if samples.is_empty() {
+        return Ok(statistic_skipped("fig4b", "material_ratio"));
+    }
+    Ok(drawn(render(&Fig4b { samples })?, notes))
+}
+
+fn fig4c_outcome(data: &ReportData<'_>, _: &Chosen<'_>) -> Result<Outcome, ReportError> {
+    let (samples, notes) = with_statistic(data, "acf", |s| {
+        s.extras
+            .acf
+            .as_ref()
+            .is_some_and(|a| !a.radial.x.is_empty())
+    });
+    if samples.is_empty() {
+        return Ok(statistic_skipped("fig4c", "acf"));
+    }
+    Ok(drawn(render(&Fig4c { samples })?, notes))
+}
+
+fn fig4d_outcome(data: &ReportData<'_>, _: &Chosen<'_>) -> Result<Outcome, ReportError> {
+    let (samples, notes) = with_statistic(data, "scale_dependent", |s| {
+        s.extras
+            .scale_dependent
+            .as_ref()
+            .is_some_and(|c| !c.slope.x.is_empty() || !c.curvature_per_m.x.is_empty())
+    });
+    if samples.is_empty() {
+        return Ok(statistic_skipped("fig4d", "scale_dependent"));
+    }
+    Ok(drawn(render(&Fig4d { samples })?, notes))
+}
+
+fn fig4e_outcome(data: &ReportData<'_>, _: &Chosen<'_>) -> Result<Outcome, ReportError> {
+    let (samples, notes) = with_statistic(data, "distributions", |s| {
+        s.extras
+            .distributions
+            .as_ref()
+            .is_some_and(|d| d.height.is_some() || d.slope.is_some())
+    });
+    if samples.is_empty() {
+        return Ok(statistic_skipped("fig4e", "distributions"));
+    }
+    Ok(drawn(render(&Fig4e { samples })?, notes))
+}
+
 fn fig7_outcome(data: &ReportData<'_>, chosen: &Chosen<'_>) -> Result<Outcome, ReportError> {
     let samples = responses(data, &chosen.fig7, Plot::LoadArea);
     if samples.is_empty() {
@@ -361,7 +445,7 @@ fn fig9_outcome(data: &ReportData<'_>, chosen: &Chosen<'_>) -> Result<Outcome, R
     Ok(drawn(render(&fig)?, Vec::new()))
 }
 
-const CAPTIONS: [(&str, &str, &str); 5] = [
+const CAPTIONS: [(&str, &str, &str); 9] = [
     (
         "fig2",
         "Fig. 2",
@@ -379,6 +463,54 @@ const CAPTIONS: [(&str, &str, &str); 5] = [
          measured; bar = scale); PSD C(q) along x and along y with the power law \
          C ∝ q<sup>−1−2H</sup> (dashed); contact area fraction A/A<sub>0</sub> of a plane \
          truncating the surface at height z (σ = rms height).",
+    ),
+    (
+        "fig4b",
+        "Fig. 4b",
+        "Material-ratio (Abbott–Firestone) curve of each sample: the height about the mean \
+         plane against the share Smr of the measured area at or above it (the surface \
+         stage's curve at every whole per cent, linear between). The tinted band is the core of \
+         ISO 13565-2 (as ISO 25178-2 adopts it), between the heights where the equivalence line \
+         (dashed: the secant over 40 % of material ratio of least slope, extended to 0 and \
+         100 %) starts and ends; its span is S<sub>k</sub>. Dotted: S<sub>mr1</sub> and \
+         S<sub>mr2</sub>, where the curve crosses the core's limits; the peaks above the core \
+         give S<sub>pk</sub>, the valleys below it S<sub>vk</sub> (values in the table \
+         above).",
+    ),
+    (
+        "fig4c",
+        "Fig. 4c",
+        "Autocorrelation ACF(τ) = ⟨z(<b>r</b>) z(<b>r</b> + <b>τ</b>)⟩/⟨z²⟩ of each sample \
+         (z about the mean plane; each lag averaged over the pairs of measured points that \
+         far apart, so ACF(0) = 1): radially averaged (solid; rings one pixel wide, each at \
+         the mean |τ| of its lags) and along x (dashed) and y (dotted). Grey: the level 1/e, \
+         where the radial average gives the correlation length (circle), and s = 0.2, ISO \
+         25178-2's threshold of S<sub>al</sub> (the shortest decay length over all \
+         directions, so it can fall short of where these curves cross 0.2). Lags are drawn \
+         up to six correlation lengths; the surface stage's table <code>acf</code> goes to \
+         half the map.",
+    ),
+    (
+        "fig4d",
+        "Fig. 4d",
+        "Scale-dependent (variable-bandwidth) rms slope (a) and rms curvature (b) of each \
+         sample, as SurfaceTopography's <code>scale_dependent_statistical_property</code> \
+         defines them: at scale ℓ = kΔ (Δ the mean grid spacing, k = 1, 2, 4, …) the slope \
+         from upwind differences over k pixels, √⟨g<sub>x</sub>² + g<sub>y</sub>²⟩ with \
+         g<sub>x</sub> = (h(x + k dx, y) − h(x, y))/(k dx), and the curvature ∇²h/2 from \
+         central second differences of step k/2 (a stencil ℓ long), each over the points \
+         where its stencil is measured. On a self-affine surface of Hurst exponent H they fall \
+         as ℓ<sup>H−1</sup> and ℓ<sup>H−2</sup>; the finest scale of (a) is SurfaceTopography's \
+         rms gradient.",
+    ),
+    (
+        "fig4e",
+        "Fig. 4e",
+        "Probability densities (histograms normalised to unit area; equal-width bins from \
+         the smallest to the largest value) of the height about the mean plane (a) and of the \
+         slope |∇h| (b), the slope by central differences at the points whose four neighbours \
+         are measured. The curvature histogram is in the surface stage's table \
+         <code>distributions</code>.",
     ),
     (
         "fig7",
@@ -806,6 +938,7 @@ pub fn build_report(
     if let Some(o) = by_name("fig4") {
         body.push_str(&figure_html(o, ""));
     }
+    body.push_str(&surface_statistics_html(data, &outcomes));
     let (fig6_html, fig6_images) = crate::experiment::fig6(data)?;
     body.push_str(&contact_sections(
         data, &chosen, &summary, &outcomes, &fig6_html,
@@ -829,6 +962,39 @@ pub fn build_report(
             .with(&format!("{}.svg", r.name), r.svg.into_bytes());
     }
     Ok(files)
+}
+
+/// The areal parameters' table and Figs. 4b–4e, or a note on what is not
+/// wired (a pipeline or cache from before the surface stage wrote them).
+fn surface_statistics_html(data: &ReportData<'_>, outcomes: &[Outcome]) -> String {
+    let mut html = crate::surface_stats::areal_table_html(&data.samples);
+    let any_surface = data
+        .samples
+        .iter()
+        .any(|s| s.height.is_some() || s.stats.is_some() || s.extras != Default::default());
+    if html.is_empty() && any_surface {
+        html.push_str(
+            "<p class=\"skipped\"><b>Areal parameters</b> not shown: input `areal` (an output \
+             of the surface stage from version 6) is not wired for any sample.</p>\n",
+        );
+    }
+    let missing = crate::surface_stats::missing_notes(&data.samples);
+    if !missing.is_empty() {
+        html.push_str(&format!(
+            "<p class=\"note\">Surface statistics not wired: {}.</p>\n",
+            escape(&missing.join("; "))
+        ));
+    }
+    for name in ["fig4b", "fig4c", "fig4d", "fig4e"] {
+        if let Some(o) = outcomes
+            .iter()
+            .find(|o| o.status.name == name)
+            .filter(|o| o.status.rendered || any_surface)
+        {
+            html.push_str(&figure_html(o, ""));
+        }
+    }
+    html
 }
 
 /// The list of figures not drawn, with the reasons.

@@ -13,7 +13,10 @@ use hypercontact_material::fit_stage::{
     ComparisonTable, CurvesTable, ParamsTable, QualityTable, StabilityTable,
 };
 use hypercontact_material::table::MaterialTable;
-use hypercontact_surface::surface_stage::{PsdTable, StatsTable};
+use hypercontact_surface::surface_stage::{
+    AcfTable, ArealTable, DistributionsTable, MaterialRatioTable, PsdTable, ScaleDependentTable,
+    StatsTable,
+};
 use hypercontact_truncation::stage::ProfileTable;
 
 use hypercontact_material::Poisson;
@@ -79,7 +82,7 @@ pub struct Report;
 
 static INFO: StageInfo = StageInfo {
     kind: "report",
-    version: 11,
+    version: 12,
     summary: "HTML report with the paper's Figs. 2, 4, 6, 7, 8, a model comparison (Fig. 9; PNG + \
               SVG), Table 1 and a summary",
     doc: "Every input is optional: a figure whose inputs are not wired is skipped and the \
@@ -94,7 +97,15 @@ static INFO: StageInfo = StageInfo {
           say (a response whose tangent_ratio is 1 everywhere is linear: dashed). Fig. 2 \
           needs `curves` (R² from `quality`, limits from `stability`); Fig. 4 any of \
           `heights`, `psd`, `profiles` (the H of the drawn power law comes from `stats` when \
-          wired, otherwise from a log-log least-squares fit); Fig. 7 the `fig7_models` \
+          wired, otherwise from a log-log least-squares fit); the surface stage's \
+          statistics per sample (`areal`, `material_ratio`, `acf`, `scale_dependent`, \
+          `distributions`, each optional) give a table of the ISO 25178-2 areal parameters \
+          (one column per sample, lengths in µm), Fig. 4b (the Abbott–Firestone curve with \
+          the ISO 13565-2 core band, equivalence line, Smr1 and Smr2), Fig. 4c (the ACF \
+          radially averaged and along x and y, with the 1/e and s = 0.2 levels, up to six \
+          correlation lengths), Fig. 4d (rms slope and curvature against scale, log–log) and \
+          Fig. 4e (height and slope densities); a sample without one of them is named in a \
+          note, and a figure none of whose inputs is wired is skipped with the reason; Fig. 7 the `fig7_models` \
           (default every wired model) with the measured points of `experiments` \
           (contact-images' contact, the force over the models' E0* A0) and the agreement \
           table of `agreement` and `load_ratio` (contact-compare) under it, then each \
@@ -170,6 +181,31 @@ static INFO: StageInfo = StageInfo {
         InputSpec::table::<PsdTable>("psd", Arity::Many, "PSD per sample"),
         InputSpec::table::<StatsTable>("stats", Arity::Many, "surface statistics per sample"),
         InputSpec::table::<ProfileTable>("profiles", Arity::Many, "truncation profile per sample"),
+        InputSpec::table::<ArealTable>(
+            "areal",
+            Arity::Many,
+            "surface stage's ISO 25178-2 areal parameters per sample: the areal table",
+        ),
+        InputSpec::table::<MaterialRatioTable>(
+            "material_ratio",
+            Arity::Many,
+            "surface stage's Abbott-Firestone curve per sample: Fig. 4b",
+        ),
+        InputSpec::table::<AcfTable>(
+            "acf",
+            Arity::Many,
+            "surface stage's autocorrelation per sample: Fig. 4c",
+        ),
+        InputSpec::table::<ScaleDependentTable>(
+            "scale_dependent",
+            Arity::Many,
+            "surface stage's scale-dependent rms slope and curvature per sample: Fig. 4d",
+        ),
+        InputSpec::table::<DistributionsTable>(
+            "distributions",
+            Arity::Many,
+            "surface stage's height, slope and curvature histograms per sample: Fig. 4e",
+        ),
         InputSpec::table::<ResponseTable>(
             "responses",
             Arity::Nested,

@@ -7,3 +7,4 @@ mod bands;
 mod common;
 mod icm_normalisation;
 mod render;
+mod surface_statistics;

@@ -21,7 +21,10 @@ use crate::plane;
 use crate::psd::{Spectrum, Window, psd_radial, psd_x, psd_y};
 use crate::stats::{Reference, reference_height, rms_slope, sigma};
 use crate::surface_stage::{Detrend, Fill, ReferenceKind, SurfaceParams};
-use crate::surface_tables::{ArealTable, MaterialRatioTable, PsdTable, StatsTable};
+use crate::surface_tables::{
+    AcfTable, ArealTable, DistributionsTable, MaterialRatioTable, PsdTable, ScaleDependentTable,
+    StatsTable,
+};
 
 /// Everything the stage computes from a stitched map at its measured grid.
 pub struct Analysis {
@@ -30,6 +33,9 @@ pub struct Analysis {
     pub stats: StatsTable,
     pub areal: ArealTable,
     pub material_ratio: MaterialRatioTable,
+    pub distributions: DistributionsTable,
+    pub acf: AcfTable,
+    pub scale_dependent: ScaleDependentTable,
 }
 
 /// Points of the `material_ratio` output: every whole per cent.
@@ -139,7 +145,14 @@ pub fn analyse_measured(
     // maps only lose their mean.
     detrend(&mut h, if p.periodic { Detrend::Mean } else { p.detrend })?;
     let (sigma_m, slope) = roughness(&h, (dx_m, dy_m), largest_m, source)?;
-    let (areal, material_ratio) = areal_tables(&h, (dx_m, dy_m), ctx);
+    let areal = areal_tables(&h, (dx_m, dy_m), ctx);
+    let distributions = distributions_table(&h, (dx_m, dy_m), p.histogram_bins, ctx);
+    let scale_dependent = ScaleDependentTable::new(&h, dx_m, dy_m).unwrap_or_else(|e| {
+        ctx.note(&format!(
+            "warning: no scale-dependent statistics (table `scale_dependent` empty): {e}"
+        ));
+        ScaleDependentTable::default()
+    });
     if nan_fraction > p.max_missing_fraction {
         return Err(SurfaceError::TooMuchMissing {
             map: source.to_owned(),
@@ -182,33 +195,72 @@ pub fn analyse_measured(
         height: Field::new(h, dx_m, dy_m).map_err(StageError::other)?,
         psd,
         stats,
-        areal,
-        material_ratio,
+        areal: areal.areal,
+        material_ratio: areal.material_ratio,
+        distributions,
+        acf: areal.acf,
+        scale_dependent,
     })
 }
 
+/// The tables read off the areal autocorrelation and the sorted heights.
+struct ArealTables {
+    areal: ArealTable,
+    material_ratio: MaterialRatioTable,
+    acf: AcfTable,
+}
+
 /// The ISO 25178-2 parameters about the mean plane of the detrended map
-/// (before the height reference moves it) and its material-ratio curve. A
-/// map whose heights pass σ but whose fourth powers overflow (Sku; heights
-/// beyond ~1e77 m, a map in the wrong unit) gets NaN parameters, no curve
-/// and a warning, rather than losing the PSDs the stage can still give.
-fn areal_tables(
-    h: &Array2<f64>,
-    (dx_m, dy_m): (f64, f64),
-    ctx: &Context,
-) -> (ArealTable, MaterialRatioTable) {
-    match crate::iso25178::areal_parameters_and_curve(h, dx_m, dy_m) {
-        Ok((areal, ratio)) => (
-            ArealTable::new(&areal),
-            MaterialRatioTable::new(&ratio, MATERIAL_RATIO_POINTS),
-        ),
+/// (before the height reference moves it), its material-ratio curve and
+/// its autocorrelation. A map whose heights pass σ but whose fourth powers
+/// overflow (Sku; heights beyond ~1e77 m, a map in the wrong unit) gets NaN
+/// parameters, no curve, no ACF and a warning, rather than losing the PSDs
+/// the stage can still give.
+fn areal_tables(h: &Array2<f64>, (dx_m, dy_m): (f64, f64), ctx: &Context) -> ArealTables {
+    match crate::iso25178::areal_parameters_curve_and_acf(h, dx_m, dy_m) {
+        Ok((areal, ratio, acf)) => ArealTables {
+            areal: ArealTable::new(&areal),
+            material_ratio: MaterialRatioTable::new(&ratio, MATERIAL_RATIO_POINTS),
+            acf: AcfTable::new(&acf),
+        },
         Err(e) => {
             ctx.note(&format!(
-                "warning: no ISO 25178 parameters (table `areal` is NaN, `material_ratio` empty): {e}"
+                "warning: no ISO 25178 parameters (table `areal` is NaN, `material_ratio` and \
+                 `acf` empty): {e}"
             ));
-            (ArealTable::unknown(), MaterialRatioTable::default())
+            ArealTables {
+                areal: ArealTable::unknown(),
+                material_ratio: MaterialRatioTable::default(),
+                acf: AcfTable::default(),
+            }
         }
     }
+}
+
+/// The height, slope and curvature histograms of the detrended map in
+/// `bins` bins; a quantity that cannot be had is left out with a warning.
+fn distributions_table(
+    h: &Array2<f64>,
+    (dx_m, dy_m): (f64, f64),
+    bins: usize,
+    ctx: &Context,
+) -> DistributionsTable {
+    let mut table = DistributionsTable::default();
+    let warn = |what: &str, e: SurfaceError| {
+        ctx.note(&format!("warning: no {what} in table `distributions`: {e}"));
+    };
+    match crate::iso25178::height_histogram(h, bins) {
+        Ok(heights) => table.push("height", "m", &heights),
+        Err(e) => warn("height histogram", e),
+    }
+    match crate::iso25178::slope_and_curvature_histograms(h, dx_m, dy_m, bins) {
+        Ok((slope, curvature)) => {
+            table.push("slope", "1", &slope);
+            table.push("curvature", "1/m", &curvature);
+        }
+        Err(e) => warn("slope and curvature histograms", e),
+    }
+    table
 }
 
 /// The PSD directions, in the order of the tables, with the dimension of
@@ -592,6 +644,48 @@ mod tests {
             "{}",
             curve.height_m[50]
         );
+        // The new tables are the core's functions of the output map (the
+        // height reference shifts it; differences and the ACF ignore that).
+        let near = |x: &[f64], y: &[f64], what: &str| {
+            assert_eq!(x.len(), y.len(), "{what}");
+            // the lag of a whole period has a slope of rounding size
+            let largest = x
+                .iter()
+                .filter(|u| u.is_finite())
+                .fold(0.0, |m: f64, u| m.max(u.abs()));
+            for (u, v) in x.iter().zip(y) {
+                let ok = (u - v).abs() <= 1e-9 * largest || (u.is_nan() && v.is_nan());
+                assert!(ok, "{what}: {u} against {v}");
+            }
+        };
+        let acf = crate::iso25178::autocorrelation(&a.height.values, 1e-6, 1e-6).unwrap();
+        let again = AcfTable::new(&acf);
+        assert_eq!(a.acf.direction, again.direction);
+        near(&a.acf.lag_m, &again.lag_m, "ACF lags");
+        near(&a.acf.acf, &again.acf, "ACF");
+        let again = ScaleDependentTable::new(&a.height.values, 1e-6, 1e-6).unwrap();
+        assert_eq!(a.scale_dependent.lag_px, [1, 2, 4, 8, 16, 32]);
+        near(&a.scale_dependent.rms_slope, &again.rms_slope, "slope");
+        near(
+            &a.scale_dependent.rms_curvature_per_m,
+            &again.rms_curvature_per_m,
+            "curvature",
+        );
+        // At one pixel the slope is Sdq up to O(1/n): Sdq averages gx² and
+        // gy² over their own rows (see iso25178::hybrid).
+        let sdq = areal.sdq[0];
+        assert!((a.scale_dependent.rms_slope[0] / sdq - 1.0).abs() < 2.0 / n as f64);
+        let d = &a.distributions;
+        assert_eq!(d.count.len(), 3 * 64, "default histogram_bins");
+        let points = |q: &str| -> i64 {
+            (0..d.count.len())
+                .filter(|&r| d.quantity[r] == q)
+                .map(|r| d.count[r])
+                .sum()
+        };
+        assert_eq!(points("height"), (n * n) as i64);
+        assert_eq!(points("slope"), ((n - 2) * (n - 2)) as i64);
+        assert_eq!(points("curvature"), ((n - 2) * (n - 2)) as i64);
     }
 
     #[test]

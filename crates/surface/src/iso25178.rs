@@ -36,10 +36,11 @@ use ndarray::Array2;
 
 use crate::SurfaceError;
 
-pub use acf::{Autocorrelation, DecayLengths, autocorrelation};
+pub use acf::{Autocorrelation, Axis, DecayLengths, autocorrelation};
 pub use distributions::{
     Histogram, ScaleSeries, curvature_histogram, height_histogram, lag_ladder,
-    scale_dependent_curvature, scale_dependent_slope, slope_histogram,
+    scale_dependent_curvature, scale_dependent_slope, slope_and_curvature_histograms,
+    slope_histogram,
 };
 pub use height::{HeightParameters, height_parameters};
 pub use hybrid::{sdq, sdr_percent};
@@ -114,6 +115,16 @@ pub fn areal_parameters_and_curve(
     dx_m: f64,
     dy_m: f64,
 ) -> Result<(ArealParameters, MaterialRatio), SurfaceError> {
+    areal_parameters_curve_and_acf(h, dx_m, dy_m).map(|(parameters, ratio, _)| (parameters, ratio))
+}
+
+/// [`areal_parameters_and_curve`] and the autocorrelation Sal, Str and the
+/// correlation length were read from (its FFT computed once for all).
+pub fn areal_parameters_curve_and_acf(
+    h: &Array2<f64>,
+    dx_m: f64,
+    dy_m: f64,
+) -> Result<(ArealParameters, MaterialRatio, Autocorrelation), SurfaceError> {
     let heights = height_parameters(h)?;
     let sdq = sdq(h, dx_m, dy_m)?;
     let sdr_percent = sdr_percent(h, dx_m, dy_m)?;
@@ -140,7 +151,7 @@ pub fn areal_parameters_and_curve(
         smr2_percent: functional.smr2_percent,
         correlation_length_m: acf.correlation_length_m(),
     };
-    Ok((parameters, ratio))
+    Ok((parameters, ratio, acf))
 }
 
 /// A map's heights in row-major order (axis 1 contiguous), borrowed when

@@ -18,7 +18,8 @@ use crate::stitch::{covered_region, place};
 use crate::tiles::read_tiles;
 
 pub use crate::surface_tables::{
-    ArealTable, MaterialRatioTable, PsdTable, StatsTable, StitchTable,
+    AcfTable, ArealTable, DistributionsTable, MaterialRatioTable, PsdTable, ScaleDependentTable,
+    StatsTable, StitchTable,
 };
 
 /// Where heights are measured from.
@@ -88,6 +89,9 @@ pub struct SurfaceParams {
     /// longest wavelength of the Hurst fit (default L/4)
     #[param(unit = "m", positive)]
     pub hurst_lambda_max_m: Option<f64>,
+    /// bins of each histogram of output `distributions` (height, slope, curvature)
+    #[param(default = 64, range = 1..=4096)]
+    pub histogram_bins: usize,
     /// least overlap (both directions) for a tile pair
     #[param(default = 16, unit = "px", range = 4..)]
     pub min_overlap_px: usize,
@@ -110,8 +114,8 @@ pub struct Surface;
 
 static INFO: StageInfo = StageInfo {
     kind: "surface",
-    version: 5,
-    summary: "Stitch interferometer tiles, filter to a lateral resolution, PSD, σ and Hurst exponent",
+    version: 6,
+    summary: "Stitch interferometer tiles, filter to a lateral resolution, PSD, σ and Hurst exponent, ISO 25178 parameters, ACF, distributions",
     doc: "Source: exactly one of input `tiles` (a Files product: tile_NNN.npy + positions.csv, as \
           synth-surface writes), param `dir` (a folder of the same layout, real data) or input \
           `height` (an already stitched map, e.g. from height-map). positions.csv has columns tile, \
@@ -175,7 +179,23 @@ static INFO: StageInfo = StageInfo {
           defines the same quantity (Sq, Sa, Ssk, Sku, Sp, Sv, the ACF); its Sdq differs on maps \
           with holes (it drops points next to holes). `material_ratio` is the Abbott-Firestone \
           curve at every whole per cent. Parameters are of the map analysed: after the filter, \
-          if any. HURST: least squares of ln C on ln q, C ∝ q^(−1−2H) \
+          if any. `acf`: the normalised ACF (as for Sal) radially averaged over the lags \
+          within the search ellipse (rings one finer spacing wide, each at the mean |τ| of its \
+          lags: direction radial), and along the x and y axes out to ⌊(n − 1)/2⌋ pixels \
+          (directions x, y); NaN where no pair of measured points lies that far apart. \
+          `distributions`: histograms (histogram_bins equal-width bins from the smallest to the \
+          largest value) of the height about the mean plane (m), the slope |∇h| (1) and the \
+          curvature ∇²h/2 (1/m), both by central differences at the points whose four \
+          neighbours are measured (the map's edge left out); each row gives its unit, the \
+          count and the density count/(points · bin width). `scale_dependent` (variable \
+          bandwidth, SurfaceTopography's scale_dependent_statistical_property): at scales \
+          k·Δ, k = 1, 2, 4, … ≤ ⌊(min(nx, ny) − 1)/2⌋, Δ = (dx + dy)/2, the rms slope \
+          ⟨gx² + gy²⟩^½ with gx = (h[i+k, j] − h[i, j])/(k·dx), gy likewise, averaged where both exist (k = 1: SurfaceTopography's \
+          rms_gradient; Sdq averages gx² and gy² apart), and \
+          the rms curvature ∇²h/2 by central second differences of step k/2 (a stencil k \
+          pixels long; none at k = 1), over the points whose stencil is measured; NaN for \
+          fewer than 4 values. Of a self-affine map the slope goes as scale^(H−1), the \
+          curvature as scale^(H−2). HURST: least squares of ln C on ln q, C ∝ q^(−1−2H) \
           (1-D) and q^(−2−2H) (radial), over wavelengths hurst_lambda_min_m … hurst_lambda_max_m \
           (default 4·dx … L/4; on a map this stage filtered, from the wavelength where the \
           Gaussian still passes 90 % of the power, 3.6 cut-offs = 7.3·resolution_m, so the filter's \
@@ -223,6 +243,18 @@ static INFO: StageInfo = StageInfo {
         OutputSpec::table::<MaterialRatioTable>(
             "material_ratio",
             "the Abbott-Firestone curve at every whole per cent",
+        ),
+        OutputSpec::table::<DistributionsTable>(
+            "distributions",
+            "histograms of height, slope and curvature (long format)",
+        ),
+        OutputSpec::table::<AcfTable>(
+            "acf",
+            "the autocorrelation radially averaged and along x and y, against lag",
+        ),
+        OutputSpec::table::<ScaleDependentTable>(
+            "scale_dependent",
+            "rms slope and rms curvature against scale",
         ),
     ],
 };
@@ -335,7 +367,10 @@ impl Stage for Surface {
             .table("stats", analysis.stats.into_table())
             .table("stitch", stitch_table.into_table())
             .table("areal", analysis.areal.into_table())
-            .table("material_ratio", analysis.material_ratio.into_table()))
+            .table("material_ratio", analysis.material_ratio.into_table())
+            .table("distributions", analysis.distributions.into_table())
+            .table("acf", analysis.acf.into_table())
+            .table("scale_dependent", analysis.scale_dependent.into_table()))
     }
 }
 

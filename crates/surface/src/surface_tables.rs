@@ -4,7 +4,13 @@
 
 use hypercontact_core::Schema;
 
-use crate::iso25178::{ArealParameters, MaterialRatio};
+use ndarray::Array2;
+
+use crate::SurfaceError;
+use crate::iso25178::{
+    ArealParameters, Autocorrelation, Axis, Histogram, MaterialRatio, lag_ladder,
+    scale_dependent_curvature, scale_dependent_slope,
+};
 use crate::psd::Spectrum;
 use crate::stitch::TileFit;
 use crate::tiles::TileSet;
@@ -291,5 +297,334 @@ impl MaterialRatioTable {
             material_ratio_percent,
             height_m,
         }
+    }
+}
+
+/// Output `distributions`: the histograms of height (about the mean
+/// plane), slope |∇h| and curvature ∇²h/2 (central differences), one after
+/// another, equal-width bins from each quantity's smallest value to its
+/// largest (see [`crate::iso25178::distributions`]).
+#[derive(Clone, Debug, Default, PartialEq, Schema)]
+pub struct DistributionsTable {
+    /// height, slope or curvature
+    pub quantity: Vec<String>,
+    /// the unit of bin_lo and bin_hi on this row: m (height), 1 (slope, dimensionless) or 1/m (curvature)
+    pub unit: Vec<String>,
+    /// lower edge of the bin
+    #[column(unit = "m (height), 1 (slope) or 1/m (curvature): see unit")]
+    pub bin_lo: Vec<f64>,
+    /// upper edge of the bin (the last bin holds its upper edge)
+    #[column(unit = "m (height), 1 (slope) or 1/m (curvature): see unit")]
+    pub bin_hi: Vec<f64>,
+    /// points in the bin
+    pub count: Vec<i64>,
+    /// probability density count / (points · bin width), integrating to 1 (NaN for a bin of zero width)
+    #[column(unit = "1/m (height), 1 (slope) or m (curvature): 1 over unit")]
+    pub density: Vec<f64>,
+}
+
+impl DistributionsTable {
+    /// Appends the bins of `histogram` as `quantity` in `unit`.
+    pub fn push(&mut self, quantity: &str, unit: &str, histogram: &Histogram) {
+        let bins = histogram.counts.len();
+        self.quantity
+            .extend(std::iter::repeat_n(quantity.to_owned(), bins));
+        self.unit.extend(std::iter::repeat_n(unit.to_owned(), bins));
+        self.bin_lo.extend_from_slice(&histogram.edges[..bins]);
+        self.bin_hi.extend_from_slice(&histogram.edges[1..]);
+        self.count.extend(
+            histogram
+                .counts
+                .iter()
+                .map(|&c| i64::try_from(c).unwrap_or(i64::MAX)),
+        );
+        self.density.extend(histogram.density());
+    }
+}
+
+/// Output `acf`: the normalised areal autocorrelation f_ACF (see
+/// [`crate::iso25178::acf`]) radially averaged, and along the x and y axes,
+/// one after another.
+#[derive(Clone, Debug, Default, PartialEq, Schema)]
+pub struct AcfTable {
+    /// radial (mean over a ring of lags), x or y
+    pub direction: Vec<String>,
+    /// lag length (radial: mean |τ| of the ring's lags)
+    #[column(unit = "m")]
+    pub lag_m: Vec<f64>,
+    /// f_ACF = ⟨z(r) z(r + τ)⟩ / ⟨z²⟩ over pairs of measured points (1 at lag 0; NaN where no pair)
+    pub acf: Vec<f64>,
+}
+
+impl AcfTable {
+    /// The radial average and the two axis profiles of `acf`.
+    pub fn new(acf: &Autocorrelation) -> Self {
+        let mut table = Self::default();
+        for (direction, (lag_m, values)) in [
+            ("radial", acf.radial_average()),
+            ("x", acf.axis_profile(Axis::X)),
+            ("y", acf.axis_profile(Axis::Y)),
+        ] {
+            table
+                .direction
+                .extend(std::iter::repeat_n(direction.to_owned(), lag_m.len()));
+            table.lag_m.extend(lag_m);
+            table.acf.extend(values);
+        }
+        table
+    }
+}
+
+/// Output `scale_dependent`: rms slope and rms curvature at the scales
+/// k·Δ, k = 1, 2, 4, … ≤ ⌊(min(nx, ny) − 1)/2⌋, Δ = (dx + dy)/2 (see
+/// [`crate::iso25178::distributions`]): the slope by upwind differences
+/// over k pixels, the curvature by central second differences of step k/2
+/// (a stencil k pixels long, so both are read at the same scale).
+#[derive(Clone, Debug, Default, PartialEq, Schema)]
+pub struct ScaleDependentTable {
+    /// scale k·Δ: the slope's lag and the curvature stencil's length
+    #[column(unit = "m")]
+    pub scale_m: Vec<f64>,
+    /// k, the scale in pixels
+    #[column(unit = "px")]
+    pub lag_px: Vec<i64>,
+    /// rms gradient ⟨gx² + gy²⟩^½, gx = (h[i+k, j] − h[i, j])/(k dx) (fewer than 4 values: NaN)
+    pub rms_slope: Vec<f64>,
+    /// rms of ∇²h/2 by central second differences of step k/2 (NaN at k = 1 and for fewer than 4 values)
+    #[column(unit = "1/m")]
+    pub rms_curvature_per_m: Vec<f64>,
+}
+
+impl ScaleDependentTable {
+    /// The table of the levelled map `h` (NaN = not measured) with
+    /// spacings `dx_m`, `dy_m`.
+    pub fn new(h: &Array2<f64>, dx_m: f64, dy_m: f64) -> Result<Self, SurfaceError> {
+        let (nx, ny) = h.dim();
+        let lags = lag_ladder(nx, ny);
+        let slope = scale_dependent_slope(h, dx_m, dy_m, &lags)?;
+        let steps: Vec<usize> = lags
+            .iter()
+            .filter(|&&k| k % 2 == 0)
+            .map(|k| k / 2)
+            .collect();
+        let curvature = scale_dependent_curvature(h, dx_m, dy_m, &steps)?;
+        let rms_curvature_per_m = lags
+            .iter()
+            .map(|&k| {
+                let at = curvature.lags.iter().position(|&step| 2 * step == k);
+                at.map_or(f64::NAN, |i| curvature.value[i])
+            })
+            .collect();
+        Ok(Self {
+            scale_m: slope.scale_m,
+            lag_px: lags.iter().map(|&k| k as i64).collect(),
+            rms_slope: slope.value,
+            rms_curvature_per_m,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::f64::consts::TAU;
+
+    use super::*;
+    use crate::iso25178::{autocorrelation, height_histogram, slope_and_curvature_histograms};
+
+    const A_M: f64 = 1.5e-6;
+    const PERIOD: usize = 24;
+    const NX: usize = 4 * PERIOD;
+    const NY: usize = 40;
+    const DX_M: f64 = 1e-6;
+    const DY_M: f64 = 1.5e-6;
+
+    /// h = A sin(θi), θ = 2π/P, over whole periods along x, constant
+    /// along y (so every y-row is the same profile).
+    fn sinusoid() -> Array2<f64> {
+        let theta = TAU / PERIOD as f64;
+        Array2::from_shape_fn((NX, NY), |(i, _)| A_M * (theta * i as f64).sin())
+    }
+
+    /// Σ_{i=0}^{n−1} cos(α + 2θi) in closed form (a geometric sum).
+    fn cos_sum(n: usize, alpha: f64, theta: f64) -> f64 {
+        (n as f64 * theta).sin() * (alpha + (n as f64 - 1.0) * theta).cos() / theta.sin()
+    }
+
+    fn close(x: f64, y: f64, tol: f64, what: &str) {
+        assert!(
+            (x - y).abs() <= tol * y.abs().max(1e-300),
+            "{what}: {x} against {y}"
+        );
+    }
+
+    /// The ACF of the sinusoid along x is, with the overlap-count
+    /// normalisation over N = n − a pairs, cos(θa) − Σ cos(θ(2i + a))/N
+    /// (the sum in closed form): cos(2π·lag/P) up to the end effect of a
+    /// partial period; along y it is 1 at every lag. The radial rows are
+    /// the core's radial average.
+    #[test]
+    fn the_acf_table_of_a_sinusoid_is_its_finite_sum_and_the_cores_radial_average() {
+        let h = sinusoid();
+        let acf = autocorrelation(&h, DX_M, DY_M).unwrap();
+        let table = AcfTable::new(&acf);
+        let theta = TAU / PERIOD as f64;
+        let rows = |d: &str| -> Vec<usize> {
+            (0..table.direction.len())
+                .filter(|&r| table.direction[r] == d)
+                .collect()
+        };
+        let x = rows("x");
+        assert_eq!(x.len(), (NX - 1) / 2 + 1, "lags 0 … ⌊(nx − 1)/2⌋");
+        for (a, &r) in x.iter().enumerate() {
+            close(table.lag_m[r], a as f64 * DX_M, 1e-15, "lag");
+            let n = NX - a;
+            let expected =
+                (theta * a as f64).cos() - cos_sum(n, theta * a as f64, theta) / n as f64;
+            assert!(
+                (table.acf[r] - expected).abs() < 1e-12,
+                "lag {a}: {} against {expected}",
+                table.acf[r]
+            );
+            // and near cos(2π lag/P): the end effect is O(1/(N sin θ))
+            let bound = 1.0 / (n as f64 * theta.sin());
+            assert!((table.acf[r] - (theta * a as f64).cos()).abs() <= bound);
+        }
+        let y = rows("y");
+        assert_eq!(y.len(), (NY - 1) / 2 + 1);
+        for (b, &r) in y.iter().enumerate() {
+            close(table.lag_m[r], b as f64 * DY_M, 1e-15, "lag");
+            assert!((table.acf[r] - 1.0).abs() < 1e-12, "y lag {b}");
+        }
+        let (radial_m, radial) = acf.radial_average();
+        let radial_rows = rows("radial");
+        assert_eq!(radial_rows, (0..radial_m.len()).collect::<Vec<_>>());
+        for (k, &r) in radial_rows.iter().enumerate() {
+            assert_eq!((table.lag_m[r], table.acf[r]), (radial_m[k], radial[k]));
+        }
+        assert_eq!(table.acf[radial_rows[0]], 1.0);
+        let t = table.into_table();
+        assert_eq!(t.column_names(), ["direction", "lag_m", "acf"]);
+    }
+
+    /// Upwind differences over k pixels of A sin(θi): gx = (2A/(k dx))
+    /// sin(θk/2) cos(θ(i + k/2)), gy = 0, so the rms over the N = nx − k
+    /// columns is (2A|sin(θk/2)|/(k dx))·(½ + Σ cos(θk + 2θi)/(2N))^½;
+    /// central second differences of step s = k/2 give ∇²h/2 =
+    /// −(2A sin²(θs/2)/(s dx)²) sin(θi) over i = s … nx − s − 1, rms
+    /// (2A sin²(θs/2)/(s dx)²)(½ − Σ cos(2θs + 2θi)/(2N))^½, N = nx − 2s.
+    /// For whole periods these are 2A sin(πk dx/L)/(k dx)/√2 and its
+    /// second-difference analogue.
+    #[test]
+    fn the_scale_dependent_table_of_a_sinusoid_has_the_stencils_finite_sums() {
+        let h = sinusoid();
+        let table = ScaleDependentTable::new(&h, DX_M, DY_M).unwrap();
+        let theta = TAU / PERIOD as f64;
+        assert_eq!(table.lag_px, [1, 2, 4, 8, 16], "⌊(40 − 1)/2⌋ = 19");
+        for (r, &k) in table.lag_px.iter().enumerate() {
+            let k = k as usize;
+            close(
+                table.scale_m[r],
+                k as f64 * (DX_M + DY_M) / 2.0,
+                1e-15,
+                "scale",
+            );
+            let n = NX - k;
+            let kf = k as f64;
+            let amplitude = 2.0 * A_M * (theta * kf / 2.0).sin().abs() / (kf * DX_M);
+            let mean_cos2 = 0.5 + cos_sum(n, theta * kf, theta) / (2.0 * n as f64);
+            close(
+                table.rms_slope[r],
+                amplitude * mean_cos2.sqrt(),
+                1e-10,
+                &format!("slope at k = {k}"),
+            );
+            if k == 1 {
+                assert!(table.rms_curvature_per_m[r].is_nan());
+                continue;
+            }
+            let s = kf / 2.0;
+            let n = NX - k;
+            let amplitude = 2.0 * A_M * (theta * s / 2.0).sin().powi(2) / (s * DX_M).powi(2);
+            let mean_sin2 = 0.5 - cos_sum(n, 2.0 * theta * s, theta) / (2.0 * n as f64);
+            close(
+                table.rms_curvature_per_m[r],
+                amplitude * mean_sin2.sqrt(),
+                1e-9,
+                &format!("curvature at k = {k}"),
+            );
+        }
+        // The same numbers as the core's functions at their own lags.
+        let core = scale_dependent_slope(&h, DX_M, DY_M, &[1, 2, 4, 8, 16]).unwrap();
+        assert_eq!(core.value, table.rms_slope);
+        let core = scale_dependent_curvature(&h, DX_M, DY_M, &[1, 2, 4, 8]).unwrap();
+        assert_eq!(core.value, table.rms_curvature_per_m[1..]);
+        let units: Vec<(&str, &str)> = ScaleDependentTable::COLUMNS
+            .iter()
+            .map(|c| (c.name, c.unit))
+            .collect();
+        assert_eq!(
+            units,
+            [
+                ("scale_m", "m"),
+                ("lag_px", "px"),
+                ("rms_slope", ""),
+                ("rms_curvature_per_m", "1/m")
+            ]
+        );
+    }
+
+    /// The sinusoid's heights span ±A, its central-difference slopes
+    /// |A cos(θi) sin θ/dx| span 0 … A sin θ/dx and its curvatures
+    /// −A(1 − cos θ) sin(θi)/dx² span ±A(1 − cos θ)/dx²; every point is
+    /// counted once and each density integrates to 1.
+    #[test]
+    fn the_distributions_table_holds_the_three_histograms_with_units() {
+        let h = sinusoid();
+        let bins = 16;
+        let mut table = DistributionsTable::default();
+        let heights = height_histogram(&h, bins).unwrap();
+        let (slope, curvature) = slope_and_curvature_histograms(&h, DX_M, DY_M, bins).unwrap();
+        table.push("height", "m", &heights);
+        table.push("slope", "1", &slope);
+        table.push("curvature", "1/m", &curvature);
+        assert_eq!(table.count.len(), 3 * bins);
+        let theta = TAU / PERIOD as f64;
+        let interior = ((NX - 2) * (NY - 2)) as i64;
+        for (quantity, unit, points, lo, hi) in [
+            ("height", "m", (NX * NY) as i64, -A_M, A_M),
+            ("slope", "1", interior, 0.0, A_M * theta.sin() / DX_M),
+            (
+                "curvature",
+                "1/m",
+                interior,
+                -A_M * (1.0 - theta.cos()) / DX_M.powi(2),
+                A_M * (1.0 - theta.cos()) / DX_M.powi(2),
+            ),
+        ] {
+            let rows: Vec<usize> = (0..table.quantity.len())
+                .filter(|&r| table.quantity[r] == quantity)
+                .collect();
+            assert_eq!(rows.len(), bins);
+            assert!(rows.iter().all(|&r| table.unit[r] == unit));
+            let count: i64 = rows.iter().map(|&r| table.count[r]).sum();
+            assert_eq!(count, points, "{quantity}");
+            let scale = hi - lo;
+            assert!(
+                (table.bin_lo[rows[0]] - lo).abs() < 1e-9 * scale,
+                "{quantity} lo"
+            );
+            assert!(
+                (table.bin_hi[rows[bins - 1]] - hi).abs() < 1e-9 * scale,
+                "{quantity} hi"
+            );
+            let integral: f64 = rows
+                .iter()
+                .map(|&r| table.density[r] * (table.bin_hi[r] - table.bin_lo[r]))
+                .sum();
+            assert!((integral - 1.0).abs() < 1e-12, "{quantity}: {integral}");
+        }
+        let h = Array2::from_elem((3, 3), 2.0);
+        let flat = height_histogram(&h, 4).unwrap();
+        assert!(flat.density().iter().all(|d| d.is_nan()), "zero width");
     }
 }

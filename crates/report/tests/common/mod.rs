@@ -245,6 +245,36 @@ pub fn psd(n: usize, h_x: f64, h_y: f64, sigma_m: f64) -> Table {
         .with("c", c)
 }
 
+/// The surface stage's statistics tables of a map, by the report's input
+/// names, from the surface crate's own functions (as its stage builds
+/// them: 101 points of material ratio, 64 histogram bins).
+pub fn surface_statistics(field: &Field) -> Vec<(&'static str, Table)> {
+    use hypercontact_surface::iso25178;
+    use hypercontact_surface::surface_stage::{
+        AcfTable, ArealTable, DistributionsTable, MaterialRatioTable, ScaleDependentTable,
+    };
+    let (h, dx, dy) = (&field.values, field.dx_m, field.dy_m);
+    let (areal, ratio, acf) = iso25178::areal_parameters_curve_and_acf(h, dx, dy).unwrap();
+    let mut distributions = DistributionsTable::default();
+    distributions.push("height", "m", &iso25178::height_histogram(h, 64).unwrap());
+    let (slope, curvature) = iso25178::slope_and_curvature_histograms(h, dx, dy, 64).unwrap();
+    distributions.push("slope", "1", &slope);
+    distributions.push("curvature", "1/m", &curvature);
+    vec![
+        ("areal", ArealTable::new(&areal).into_table()),
+        (
+            "material_ratio",
+            MaterialRatioTable::new(&ratio, 101).into_table(),
+        ),
+        ("acf", AcfTable::new(&acf).into_table()),
+        (
+            "scale_dependent",
+            ScaleDependentTable::new(h, dx, dy).unwrap().into_table(),
+        ),
+        ("distributions", distributions.into_table()),
+    ]
+}
+
 pub fn stats(sigma_m: f64, h_x: f64, h_y: f64) -> Table {
     let fit = |h: f64| {
         (
@@ -465,9 +495,13 @@ pub fn inputs_at(wiring: Wiring, map_n: usize, levels: usize, poisson: f64) -> I
     }
     for (i, (label, sigma, hx, hy, scale)) in SAMPLES.iter().enumerate() {
         if wiring.surfaces {
+            let map = height(map_n, *sigma, i as u64);
+            for (name, t) in surface_statistics(&map) {
+                inputs.insert(&format!("{name}.{label}"), table(t));
+            }
             inputs.insert(
                 &format!("heights.{label}"),
-                std::sync::Arc::new(Product::Field(height(map_n, *sigma, i as u64))),
+                std::sync::Arc::new(Product::Field(map)),
             );
             inputs.insert(&format!("psd.{label}"), table(psd(120, *hx, *hy, *sigma)));
             inputs.insert(&format!("stats.{label}"), table(stats(*sigma, *hx, *hy)));

@@ -54,6 +54,13 @@ pub struct Autocorrelation {
     pub dy_m: f64,
 }
 
+/// A lag axis of the map: x (array axis 0) or y (axis 1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Axis {
+    X,
+    Y,
+}
+
 /// Decay lengths of f_ACF to a threshold s over directions.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DecayLengths {
@@ -325,6 +332,27 @@ impl Autocorrelation {
         sums.into_iter()
             .filter(|ring| ring.0 > 0)
             .map(|(n, r, value)| (r / n as f64, value / n as f64))
+            .unzip()
+    }
+
+    /// f_ACF along the x axis (`Axis::X`, lags (a·dx, 0)) or the y axis
+    /// (lags (0, b·dy)) from lag 0 out to the search extent, ⌊(n − 1)/2⌋
+    /// pixels (as far as [`Self::radial_average`] reaches along it): (lag,
+    /// m; f_ACF), NaN where no pair of measured points lies that far apart.
+    pub fn axis_profile(&self, axis: Axis) -> (Vec<f64>, Vec<f64>) {
+        let (hx, hy) = self.search_extent();
+        let (reach, spacing_m) = match axis {
+            Axis::X => (hx as isize, self.dx_m),
+            Axis::Y => (hy as isize, self.dy_m),
+        };
+        (0..=reach)
+            .map(|k| {
+                let value = match axis {
+                    Axis::X => self.at(k, 0),
+                    Axis::Y => self.at(0, k),
+                };
+                (k as f64 * spacing_m, value)
+            })
             .unzip()
     }
 

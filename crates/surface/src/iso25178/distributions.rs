@@ -168,6 +168,46 @@ pub fn curvature_histogram(
     histogram(&curvatures, bins, QUANTITY)
 }
 
+/// [`slope_histogram`] and [`curvature_histogram`] from one pass of the
+/// central differences over the map.
+pub fn slope_and_curvature_histograms(
+    h: &Array2<f64>,
+    dx_m: f64,
+    dy_m: f64,
+    bins: usize,
+) -> Result<(Histogram, Histogram), SurfaceError> {
+    const QUANTITY: &str = "the slope and curvature histograms";
+    let derivatives = central_derivatives(h, dx_m, dy_m, QUANTITY)?;
+    let slopes: Vec<f64> = derivatives.iter().map(|d| d[0].hypot(d[1])).collect();
+    let slope = histogram(&slopes, bins, "the slope histogram")?;
+    drop(slopes);
+    let curvatures: Vec<f64> = derivatives.iter().map(|d| (d[2] + d[3]) / 2.0).collect();
+    drop(derivatives);
+    let curvature = histogram(&curvatures, bins, "the curvature histogram")?;
+    Ok((slope, curvature))
+}
+
+impl Histogram {
+    /// The probability density of each bin, count / (total count · bin
+    /// width), in 1 over the values' unit (it integrates to 1); NaN for a
+    /// bin of zero width (all values equal).
+    pub fn density(&self) -> Vec<f64> {
+        let total: u64 = self.counts.iter().sum();
+        self.counts
+            .iter()
+            .zip(self.edges.windows(2))
+            .map(|(&count, edge)| {
+                let width = edge[1] - edge[0];
+                if width > 0.0 && total > 0 {
+                    count as f64 / (total as f64 * width)
+                } else {
+                    f64::NAN
+                }
+            })
+            .collect()
+    }
+}
+
 /// The lags 1, 2, 4, … up to ⌊(min(nx, ny) − 1)/2⌋ pixels: a ladder at which
 /// both scale-dependent statistics have points.
 pub fn lag_ladder(nx: usize, ny: usize) -> Vec<usize> {
