@@ -46,7 +46,10 @@ use crate::iso25178::{
 use crate::psd::{Spectrum, Window, psd_x};
 use crate::stats::{Reference, reference_height, rms_slope};
 use crate::surface_stage::{Detrend, Fill, ReferenceKind, SurfaceParams};
-use crate::surface_tables::{ArealTable, MaterialRatioTable, PsdTable, StatsTable};
+use crate::surface_tables::{
+    AcfTable, ArealTable, DistributionsTable, MaterialRatioTable, PsdTable, ScaleDependentTable,
+    StatsTable,
+};
 
 /// The flag of the Hurst columns a line scan has no PSD for.
 pub const NOT_DEFINED: &str = "not defined (line scan)";
@@ -289,6 +292,7 @@ pub fn analyse_line(
     }
     let (sigma_m, slope) = roughness(&h, (spacing_m, spacing_m), largest_m, source)?;
     let (areal, material_ratio) = profile_tables(&h, spacing_m, ctx);
+    let (distributions, acf) = profile_distributions(&h, spacing_m, axis, p.histogram_bins, ctx);
     if nan_fraction > p.max_missing_fraction {
         return Err(SurfaceError::TooMuchMissing {
             map: source.to_owned(),
@@ -329,7 +333,44 @@ pub fn analyse_line(
         stats,
         areal,
         material_ratio,
+        distributions,
+        acf,
+        // (scale-dependent slope and curvature are areal here: ⟨gx² + gy²⟩
+        // and ∇²h/2 need both directions)
+        scale_dependent: ScaleDependentTable::default(),
     })
+}
+
+/// The `distributions` and `acf` tables of a profile: the height histogram
+/// (the slope and curvature ones are areal: |∇h| and ∇²h/2) and the
+/// autocorrelation along the line, labelled with its axis.
+fn profile_distributions(
+    h: &Array2<f64>,
+    spacing_m: f64,
+    axis: LineAxis,
+    bins: usize,
+    ctx: &Context,
+) -> (DistributionsTable, AcfTable) {
+    let mut distributions = DistributionsTable::default();
+    match crate::iso25178::height_histogram(h, bins) {
+        Ok(heights) => distributions.push("height", "m", &heights),
+        Err(e) => ctx.note(&format!(
+            "warning: no height histogram in table `distributions`: {e}"
+        )),
+    }
+    let mut acf = AcfTable::default();
+    match crate::iso25178::autocorrelation(h, spacing_m, spacing_m) {
+        Ok(correlation) => {
+            // The profile is held n × 1, along x, whatever its axis.
+            let (lag_m, values) = correlation.axis_profile(crate::iso25178::Axis::X);
+            acf.direction
+                .extend(std::iter::repeat_n(axis.name().to_owned(), lag_m.len()));
+            acf.lag_m.extend(lag_m);
+            acf.acf.extend(values);
+        }
+        Err(e) => ctx.note(&format!("warning: table `acf` empty: {e}")),
+    }
+    (distributions, acf)
 }
 
 /// The note that says the map is analysed as a profile, and what it lacks.
@@ -343,7 +384,9 @@ fn line_note(axis: LineAxis, measured: &Grid, ctx: &Context) {
          PSD and Hurst exponent along {along} only (none along {other}, no radial PSD); sigma_m \
          is its Rq; the areal table holds Ra, Rq, Rsk, Rku, Rp, Rv, Rz, Rdq, Rk, Rpk, Rvk, \
          Mr1, Mr2 and the profile's autocorrelation lengths in the S columns; Sdr and Str \
-         need a 2-D map and are NaN",
+         need a 2-D map and are NaN; `distributions` holds the height histogram, `acf` the \
+         autocorrelation along the line, and `scale_dependent` is empty (slope and curvature \
+         histograms and their scale dependence are areal)",
         measured.nx, measured.dx_m
     ));
 }

@@ -219,7 +219,9 @@ static INFO: StageInfo = StageInfo {
           same definitions: Ra, Rq, Rsk, Rku, Rp, Rv, Rz (ISO 4287) in Sa … Sz, Rdq in Sdq, \
           Rk, Rpk, Rvk, Mr1, Mr2 (ISO 13565-2) in Sk … Smr2, the lag where the profile's \
           autocorrelation falls to 0.2 in Sal and to 1/e in the correlation length; Sdr and \
-          Str need an area and are NaN. Tiles that are line scans are not stitched (one \
+          Str need an area and are NaN; `distributions` holds the height histogram only, `acf` \
+          the autocorrelation along the line (direction x or y), `scale_dependent` is empty \
+          (slope and curvature statistics are areal). Tiles that are line scans are not stitched (one \
           line scan alone is analysed). The stages that need a 2-D map (truncation, bem, \
           fem, crop, persson, greenwood-williamson, synth-contact, contact-compare) refuse a \
           line scan, naming themselves.",

@@ -226,6 +226,45 @@ fn a_line_matches_a_map_of_its_copies() {
         same(one.areal.sa_m[0], map.areal.sa_m[0], "Ra = Sa");
         assert_eq!(one.stats.nx, map.stats.nx);
         assert_eq!(one.height.values.dim(), (map.stats.nx[0] as usize, 1));
+        // The autocorrelation along the line is the map's along x; the
+        // height histogram has the map's densities (a copy's counts);
+        // the slope, curvature and scale-dependent statistics are areal.
+        let along: Vec<usize> = (0..map.acf.direction.len())
+            .filter(|&i| map.acf.direction[i] == "x")
+            .collect();
+        assert!(one.acf.direction.iter().all(|d| d == "x"));
+        assert_eq!(one.acf.lag_m.len(), along.len());
+        for (k, &i) in along.iter().enumerate() {
+            same(
+                one.acf.lag_m[k].max(1e-300),
+                map.acf.lag_m[i].max(1e-300),
+                "lag",
+            );
+            assert!(
+                (one.acf.acf[k] - map.acf.acf[i]).abs() < 1e-12,
+                "ACF at lag {k}"
+            );
+        }
+        assert!(one.distributions.quantity.iter().all(|q| q == "height"));
+        let heights = map
+            .distributions
+            .quantity
+            .iter()
+            .filter(|q| *q == "height")
+            .count();
+        assert_eq!(one.distributions.count.len(), heights);
+        let copies_kept = map.stats.ny[0]; // 400, or fewer once filtered
+        for k in 0..heights {
+            assert_eq!(
+                copies_kept * one.distributions.count[k],
+                map.distributions.count[k]
+            );
+            assert!(
+                (one.distributions.density[k] - map.distributions.density[k]).abs()
+                    <= 1e-12 * map.distributions.density[k].abs()
+            );
+        }
+        assert!(one.scale_dependent.scale_m.is_empty());
     }
 }
 
