@@ -131,27 +131,48 @@ pub fn areal_parameters_curve_and_acf(
     let acf = autocorrelation(h, dx_m, dy_m)?;
     let decay = acf.decay_lengths(ISO_DECAY_THRESHOLD)?;
     let ratio = MaterialRatio::new(h)?;
-    let functional = ratio.functional();
-    let parameters = ArealParameters {
-        sa_m: heights.sa_m,
-        sq_m: heights.sq_m,
-        ssk: heights.ssk,
-        sku: heights.sku,
-        sp_m: heights.sp_m,
-        sv_m: heights.sv_m,
-        sz_m: heights.sz_m,
-        sdq,
-        sdr_percent,
-        sal_m: decay.sal_m(),
-        str: decay.str(),
-        sk_m: functional.sk_m,
-        spk_m: functional.spk_m,
-        svk_m: functional.svk_m,
-        smr1_percent: functional.smr1_percent,
-        smr2_percent: functional.smr2_percent,
-        correlation_length_m: acf.correlation_length_m(),
-    };
+    let parameters = ArealParameters::assemble(
+        &heights,
+        (sdq, sdr_percent),
+        (decay.sal_m(), decay.str()),
+        &ratio.functional(),
+        acf.correlation_length_m(),
+    );
     Ok((parameters, ratio, acf))
+}
+
+impl ArealParameters {
+    /// The parameters from their groups: the height parameters, (Sdq,
+    /// Sdr), (Sal, Str), the functional ones of the material ratio, and the
+    /// correlation length (a profile's analysis passes NaN for what needs
+    /// an area).
+    pub(crate) fn assemble(
+        heights: &HeightParameters,
+        (sdq, sdr_percent): (f64, f64),
+        (sal_m, str): (f64, f64),
+        functional: &FunctionalParameters,
+        correlation_length_m: f64,
+    ) -> Self {
+        Self {
+            sa_m: heights.sa_m,
+            sq_m: heights.sq_m,
+            ssk: heights.ssk,
+            sku: heights.sku,
+            sp_m: heights.sp_m,
+            sv_m: heights.sv_m,
+            sz_m: heights.sz_m,
+            sdq,
+            sdr_percent,
+            sal_m,
+            str,
+            sk_m: functional.sk_m,
+            spk_m: functional.spk_m,
+            svk_m: functional.svk_m,
+            smr1_percent: functional.smr1_percent,
+            smr2_percent: functional.smr2_percent,
+            correlation_length_m,
+        }
+    }
 }
 
 /// A map's heights in row-major order (axis 1 contiguous), borrowed when

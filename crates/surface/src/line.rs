@@ -184,26 +184,13 @@ pub fn profile_parameters(
     let acf = autocorrelation(h, spacing_m, spacing_m)?;
     let decay = acf.decay_lengths(ISO_DECAY_THRESHOLD)?;
     let ratio = MaterialRatio::new(h)?;
-    let functional = ratio.functional();
-    let parameters = ArealParameters {
-        sa_m: heights.sa_m,
-        sq_m: heights.sq_m,
-        ssk: heights.ssk,
-        sku: heights.sku,
-        sp_m: heights.sp_m,
-        sv_m: heights.sv_m,
-        sz_m: heights.sz_m,
-        sdq: rms_slope(h, spacing_m, spacing_m),
-        sdr_percent: f64::NAN,
-        sal_m: decay.sal_m(),
-        str: f64::NAN,
-        sk_m: functional.sk_m,
-        spk_m: functional.spk_m,
-        svk_m: functional.svk_m,
-        smr1_percent: functional.smr1_percent,
-        smr2_percent: functional.smr2_percent,
-        correlation_length_m: acf.correlation_length_m(),
-    };
+    let parameters = ArealParameters::assemble(
+        &heights,
+        (rms_slope(h, spacing_m, spacing_m), f64::NAN),
+        (decay.sal_m(), f64::NAN),
+        &ratio.functional(),
+        acf.correlation_length_m(),
+    );
     Ok((parameters, ratio))
 }
 
