@@ -36,7 +36,12 @@ fn main() -> Result<(), Failure> {
     let out_path = args.get(1).filter(|a| !is_pick(a)).map(PathBuf::from);
     let picks: Vec<&String> = args.iter().skip(1).filter(|a| is_pick(a)).collect();
     let wanted = |name: &str| {
-        let family: Vec<_> = picks.iter().filter(|p| p.starts_with(&name[..1])).collect();
+        // A sample is picked among the samples, a strain among the strains.
+        let sample = |p: &str| p.starts_with('t');
+        let family: Vec<_> = picks
+            .iter()
+            .filter(|p| sample(p) == sample(name) && p.as_str() != "direct")
+            .collect();
         family.is_empty() || family.iter().any(|p| p.as_str() == name)
     };
     let (finite_law, small_law) = laws(&dir)?;
@@ -49,14 +54,15 @@ fn main() -> Result<(), Failure> {
                 continue;
             }
             let (started, cpu_started_s) = (Instant::now(), cpu_s());
-            let curve = run(&heights_m, nx, ny, pixel_m, law.clone())?;
+            let direct = picks.iter().any(|p| p.as_str() == "direct");
+            let (curve, solves) = run(&heights_m, nx, ny, pixel_m, law.clone(), direct)?;
             let seconds = started.elapsed().as_secs_f64();
             let cpu_seconds = cpu_s() - cpu_started_s;
             total_s += seconds;
             total_cpu_s += cpu_seconds;
             let per_step: Vec<usize> = curve.steps.iter().map(|s| s.iterations).collect();
             println!(
-                "{sample}-{strain}: {seconds:.2} s ({cpu_seconds:.2} s CPU), {} iterations {per_step:?}, fingerprint {:016x}",
+                "{sample}-{strain}: {seconds:.2} s ({cpu_seconds:.2} s CPU), {} iterations {per_step:?}, {solves}, fingerprint {:016x}",
                 per_step.iter().sum::<usize>(),
                 fingerprint(&curve)
             );
@@ -90,7 +96,10 @@ fn cpu_s() -> f64 {
 }
 
 fn is_pick(arg: &str) -> bool {
-    matches!(arg, "t1" | "t2" | "t3" | "t4" | "finite" | "small")
+    matches!(
+        arg,
+        "t1" | "t2" | "t3" | "t4" | "finite" | "small" | "direct"
+    )
 }
 
 /// The fitted Ogden-6 at finite strain (bulk ratio 5000) and its small-strain
@@ -129,7 +138,17 @@ fn patch(dir: &Path, sample: &str) -> Result<(Vec<f64>, usize, usize, f64), Fail
 
 /// The stage's `solve` on one patch: first step at the bearing approach of
 /// A/A0 = 0.3 / 20 (at least 1e-3 of the height range), then aimed steps.
-fn run(heights_m: &[f64], nx: usize, ny: usize, pixel_m: f64, law: Law) -> Result<Curve, Failure> {
+/// The curve, and the factorisations and conjugate-gradient iterations it
+/// took (`direct`: a factorisation for every Newton direction, as before
+/// the conjugate gradients).
+fn run(
+    heights_m: &[f64],
+    nx: usize,
+    ny: usize,
+    pixel_m: f64,
+    law: Law,
+    direct: bool,
+) -> Result<(Curve, String), Failure> {
     let map = HeightMap {
         heights_m,
         nx,
@@ -139,6 +158,7 @@ fn run(heights_m: &[f64], nx: usize, ny: usize, pixel_m: f64, law: Law) -> Resul
     };
     let mesh = Mesh::new(&map, &MeshOptions::default())?;
     let mut problem = ContactProblem::new(mesh, law, Lateral::Mirror, NewtonOptions::default())?;
+    problem.set_krylov(!direct);
     let (lo, hi) = heights_m
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &h| {
@@ -162,7 +182,13 @@ fn run(heights_m: &[f64], nx: usize, ny: usize, pixel_m: f64, law: Law) -> Resul
             step.iterations, step.area_fraction
         );
     };
-    Ok(solve_area_steps(&mut problem, &options, &mut on_step)?)
+    let curve = solve_area_steps(&mut problem, &options, &mut on_step)?;
+    let solves = format!(
+        "{} factorisations, {} CG iterations",
+        problem.factorizations(),
+        problem.krylov_iterations()
+    );
+    Ok((curve, solves))
 }
 
 /// A hash of the bits of every product the stage writes from the curve.

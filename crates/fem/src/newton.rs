@@ -103,7 +103,8 @@ pub fn solve(
         let chord = placed
             && !set_changed
             && residual_n <= options.chord_contraction * previous_n
-            && factored_held.as_ref() == Some(&held);
+            && factored_held.as_ref() == Some(&held)
+            && problem.factored_with(&held);
         let (direction, pending_force_n) = if chord {
             (problem.chord_direction(&evaluation.residual_n, &held), 0.0)
         } else {

@@ -180,6 +180,9 @@ fn chord_steps_reach_the_newton_solution_with_fewer_factorisations() {
             ..NewtonOptions::default()
         };
         let mut problem = ContactProblem::new(mesh, paper_epdm(), Lateral::Mirror, newton).unwrap();
+        // Chord steps alone: conjugate gradients on the kept factorisation
+        // would take the iterations they save.
+        problem.set_krylov(false);
         let options = CurveOptions {
             // Steps small enough for Newton's convergence range (larger
             // ones are cut back, and chord steps then save nothing).
@@ -210,5 +213,68 @@ fn chord_steps_reach_the_newton_solution_with_fewer_factorisations() {
     assert!(
         chord_factorizations < newton_factorizations,
         "{chord_factorizations} factorisations with chord steps, {newton_factorizations} without"
+    );
+}
+
+/// At small strain (a constant tangent), Newton directions by conjugate
+/// gradients on a kept factorisation, the default there, give the curve of
+/// a fresh factorisation at every iteration (the same contact sets, loads
+/// within Newton's tolerance) for fewer factorisations.
+#[test]
+fn conjugate_gradients_on_a_kept_factorisation_save_factorisations() {
+    let n = 12;
+    let h = surface(n);
+    let shear_pa = paper_epdm().shear_modulus_pa();
+    let run = |krylov: bool| {
+        let map = HeightMap {
+            heights_m: &h,
+            nx: n,
+            ny: n,
+            dx_m: 20e-6,
+            dy_m: 20e-6,
+        };
+        let options = MeshOptions {
+            layers: 4,
+            ..MeshOptions::default()
+        };
+        let mesh = Mesh::new(&map, &options).unwrap();
+        let law = Law::linear_elastic(shear_pa, 5000.0).unwrap();
+        let mut problem =
+            ContactProblem::new(mesh, law, Lateral::Mirror, NewtonOptions::default()).unwrap();
+        if !krylov {
+            problem.set_krylov(false);
+        }
+        let options = CurveOptions {
+            approaches_m: approaches(&h, 0.4, 8),
+            snapshot_area_fractions: vec![0.05, 0.1],
+            ..Default::default()
+        };
+        let curve = solve_curve(&mut problem, &options).unwrap();
+        (curve, problem.factorizations(), problem.krylov_iterations())
+    };
+    let (direct, direct_factorizations, none) = run(false);
+    let (krylov, krylov_factorizations, iterations) = run(true);
+    eprintln!(
+        "{direct_factorizations} factorisations without conjugate gradients; \
+         {krylov_factorizations} and {iterations} CG iterations with"
+    );
+    assert_eq!(none, 0);
+    assert!(direct.steps.last().unwrap().area_fraction > 0.1);
+    for (a, b) in direct.steps.iter().zip(&krylov.steps) {
+        assert_eq!(a.area_fraction, b.area_fraction);
+        assert!(
+            (a.load_n / b.load_n - 1.0).abs() < 1e-6,
+            "{} vs {} N",
+            a.load_n,
+            b.load_n
+        );
+    }
+    for (a, b) in direct.snapshots.iter().zip(&krylov.snapshots) {
+        assert_eq!(a.contact, b.contact);
+    }
+    assert!(
+        iterations > 0 && krylov_factorizations < direct_factorizations,
+        "{krylov_factorizations} factorisations with conjugate gradients, \
+         {direct_factorizations} without"
     );
 }
