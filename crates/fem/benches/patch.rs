@@ -1,22 +1,81 @@
-//! The issue's speed targets: a 32 × 32 patch with 8 layers and 20
-//! approach steps (under 20 s on 2 cores), and a 64 × 64 patch (under
-//! 3 min), on the deterministic sample surface (20 µm pixels, rms slope
-//! ≈ 0.2, the paper's EPDM), up to ~30 % contact.
+//! The measurements of issue #48: a rough patch of n × n surface nodes and
+//! `layers` element layers, pressed in aimed steps to A/A0 = 0.3 as the
+//! `fem` stage steps it, at finite or small strain, with the wall time, the
+//! CPU time, the peak resident memory and its share per node, the Newton
+//! iterations per step and the factorisations.
 //!
-//! Run: `cargo bench -p hypercontact-fem --bench patch` (`-- 64` for the
-//! larger patch, `-- neo` for the neo-Hookean solid of the felupe timing;
-//! RAYON_NUM_THREADS=1 for one thread).
+//! The surface is the deterministic sample surface (20 µm pixels, H = 0.8,
+//! 8 modes, rms ≈ 3 µm per 32 pixels, rms slope ≈ 0.2); the material the
+//! paper's EPDM (or, with `neo`, a neo-Hookean μ = 1 MPa, the felupe
+//! comparison's solid), κ = 5000 μ, mirror faces, 8 layers graded 8 : 1.
+//!
+//! Run: `cargo bench -p hypercontact-fem --bench patch -- [N ...] [small]
+//! [neo] [layers=L] [steps=S]` (default: 32 and 48, finite strain, 20
+//! steps). Each N runs in a process of its own (the bench re-executes
+//! itself), so the peak memory is that run's alone. RAYON_NUM_THREADS=1
+//! for one thread.
 
 use std::time::Instant;
 
 use hypercontact_fem::sample::SampleSurface;
 use hypercontact_fem::{
-    ContactProblem, CurveOptions, HeightMap, Lateral, Law, Mesh, MeshOptions, NewtonOptions,
-    solve_curve,
+    AreaSteps, ContactProblem, HeightMap, Lateral, Law, Mesh, MeshOptions, NewtonOptions,
+    bearing_approach_m, solve_area_steps,
 };
 
-fn run(n: usize, steps: usize, neo_hookean: bool) {
+/// One run's set-up.
+struct Run {
+    n: usize,
+    layers: usize,
+    steps: usize,
+    finite: bool,
+    neo_hookean: bool,
+}
+
+/// The process's CPU time (user + system, all threads) from /proc, s.
+fn cpu_s() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let rest = stat.rsplit_once(')').map_or("", |(_, rest)| rest);
+    let ticks: f64 = rest
+        .split_whitespace()
+        .skip(11)
+        .take(2)
+        .filter_map(|v| v.parse::<f64>().ok())
+        .sum();
+    ticks / 100.0
+}
+
+/// The process's peak resident memory (VmHWM), bytes.
+fn peak_rss_bytes() -> f64 {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    status
+        .lines()
+        .find(|l| l.starts_with("VmHWM:"))
+        .and_then(|l| l.split_whitespace().nth(1))
+        .and_then(|kb| kb.parse::<f64>().ok())
+        .map_or(f64::NAN, |kb| kb * 1024.0)
+}
+
+fn law(run: &Run) -> Law {
+    let hyperelastic = if run.neo_hookean {
+        Law::hyperelastic(
+            &hypercontact_material::NeoHookean::new(0.5e6).unwrap(),
+            5000.0,
+        )
+    } else {
+        Law::hyperelastic(&hypercontact_material::presets::paper_epdm(), 5000.0)
+    }
+    .unwrap();
+    if run.finite {
+        hyperelastic
+    } else {
+        Law::linear_elastic(hyperelastic.shear_modulus_pa(), 5000.0).unwrap()
+    }
+}
+
+fn measure(run: &Run) {
     let pixel_m = 20e-6;
+    let n = run.n;
     let surface = SampleSurface {
         nx: n,
         ny: n,
@@ -27,7 +86,7 @@ fn run(n: usize, steps: usize, neo_hookean: bool) {
         seed: 1,
     };
     let heights = surface.heights_m();
-    let started = Instant::now();
+    let (started, cpu_started) = (Instant::now(), cpu_s());
     let map = HeightMap {
         heights_m: &heights,
         nx: n,
@@ -35,51 +94,102 @@ fn run(n: usize, steps: usize, neo_hookean: bool) {
         dx_m: pixel_m,
         dy_m: pixel_m,
     };
-    let mesh = Mesh::new(&map, &MeshOptions::default()).unwrap();
-    let law = if neo_hookean {
-        // μ = 1 MPa: the felupe comparison's solid.
-        Law::hyperelastic(
-            &hypercontact_material::NeoHookean::new(0.5e6).unwrap(),
-            5000.0,
-        )
-        .unwrap()
-    } else {
-        Law::hyperelastic(&hypercontact_material::presets::paper_epdm(), 5000.0).unwrap()
+    let options = MeshOptions {
+        layers: run.layers,
+        ..MeshOptions::default()
     };
+    let mesh = Mesh::new(&map, &options).unwrap();
+    let nodes = mesh.nodes_m.len();
     let mut problem =
-        ContactProblem::new(mesh, law, Lateral::Mirror, NewtonOptions::default()).unwrap();
-    let setup = started.elapsed();
-    let top = heights.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let mean = heights.iter().sum::<f64>() / heights.len() as f64;
-    let options = CurveOptions::uniform(0.9 * (top - mean), steps);
-    let curve = solve_curve(&mut problem, &options).unwrap();
-    let total = started.elapsed();
-    let iterations: usize = curve.steps.iter().map(|s| s.iterations).sum();
+        ContactProblem::new(mesh, law(run), Lateral::Mirror, NewtonOptions::default()).unwrap();
+    let (lo, hi) = heights
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &h| {
+            (lo.min(h), hi.max(h))
+        });
+    // The stage's stepping (stage.rs, `solve`).
+    let max_area_fraction = 0.3;
+    let steps = AreaSteps {
+        steps: run.steps,
+        max_area_fraction,
+        first_approach_m: bearing_approach_m(&heights, max_area_fraction / run.steps as f64)
+            .max(1e-3 * (hi - lo)),
+        snapshot_area_fractions: Vec::new(),
+        max_steps: 4 * run.steps + 10,
+    };
+    let curve = solve_area_steps(&mut problem, &steps, &mut |_| {}).unwrap();
+    let (wall_s, cpu) = (started.elapsed().as_secs_f64(), cpu_s() - cpu_started);
+    let per_step: Vec<usize> = curve.steps.iter().map(|s| s.iterations).collect();
+    let newton: usize = per_step.iter().sum();
+    let peak = peak_rss_bytes();
     let last = curve.steps.last().unwrap();
     println!(
-        "{n} × {n} × 8, {}, {steps} steps, {} threads: {total:.2?} (set-up {setup:.2?}), {iterations} \
-         Newton iterations, final area fraction {:.3}, load {:.4e} N",
-        if neo_hookean {
-            "neo-Hookean μ = 1 MPa"
+        "{n}² × {}, {}, {}: {} nodes, {wall_s:.1} s wall, {cpu:.1} s CPU, {} threads; peak RSS \
+         {:.0} MB ({:.1} kB per node); {} steps, {newton} Newton iterations ({:.1} per step) \
+         {per_step:?}; {} factorisations, {} CG iterations; A/A0 {:.3}, load {:.5e} N",
+        run.layers,
+        if run.finite { "finite" } else { "small" },
+        if run.neo_hookean {
+            "neo-Hookean"
         } else {
             "paper EPDM"
         },
+        nodes,
         rayon::current_num_threads(),
+        peak / 1e6,
+        peak / nodes as f64 / 1e3,
+        curve.steps.len(),
+        newton as f64 / curve.steps.len() as f64,
+        problem.factorizations(),
+        problem.krylov_iterations(),
         last.area_fraction,
         last.load_n
     );
 }
 
 fn main() {
-    let which: Vec<String> = std::env::args()
+    let args: Vec<String> = std::env::args()
         .skip(1)
         .filter(|a| !a.starts_with('-'))
         .collect();
-    let neo_hookean = which.iter().any(|a| a == "neo");
-    if which.iter().all(|a| a != "64") || which.iter().any(|a| a == "32") {
-        run(32, 20, neo_hookean);
+    let value = |key: &str, default: usize| {
+        args.iter()
+            .find_map(|a| a.strip_prefix(key)?.strip_prefix('=')?.parse().ok())
+            .unwrap_or(default)
+    };
+    let sizes: Vec<usize> = args.iter().filter_map(|a| a.parse().ok()).collect();
+    let run = |n| Run {
+        n,
+        layers: value("layers", 8),
+        steps: value("steps", 20),
+        finite: !args.iter().any(|a| a == "small"),
+        neo_hookean: args.iter().any(|a| a == "neo"),
+    };
+    if std::env::var_os("HYPERCONTACT_BENCH_CHILD").is_some() || sizes.len() == 1 {
+        for &n in &sizes {
+            measure(&run(n));
+        }
+        return;
     }
-    if which.iter().any(|a| a == "64") {
-        run(64, 20, neo_hookean);
+    let sizes = if sizes.is_empty() {
+        vec![32, 48]
+    } else {
+        sizes
+    };
+    // One process per size, so each peak RSS is its run's own.
+    let exe = std::env::current_exe().unwrap();
+    for n in sizes {
+        let mut child_args: Vec<String> = args
+            .iter()
+            .filter(|a| a.parse::<usize>().is_err())
+            .cloned()
+            .collect();
+        child_args.push(n.to_string());
+        let status = std::process::Command::new(&exe)
+            .args(&child_args)
+            .env("HYPERCONTACT_BENCH_CHILD", "1")
+            .status()
+            .unwrap();
+        assert!(status.success(), "the {n}² run failed");
     }
 }
