@@ -102,6 +102,7 @@ fn measure(run: &Run) {
     let nodes = mesh.nodes_m.len();
     let mut problem =
         ContactProblem::new(mesh, law(run), Lateral::Mirror, NewtonOptions::default()).unwrap();
+    let estimate = problem.memory_estimate_bytes() as f64;
     let (lo, hi) = heights
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &h| {
@@ -125,7 +126,7 @@ fn measure(run: &Run) {
     let last = curve.steps.last().unwrap();
     println!(
         "{n}² × {}, {}, {}: {} nodes, {wall_s:.1} s wall, {cpu:.1} s CPU, {} threads; peak RSS \
-         {:.0} MB ({:.1} kB per node); {} steps, {newton} Newton iterations ({:.1} per step) \
+         {:.0} MB ({:.1} kB per node; estimated {:.0} MB); {} steps, {newton} Newton iterations ({:.1} per step) \
          {per_step:?}; {} factorisations, {} CG iterations; A/A0 {:.3}, load {:.5e} N",
         run.layers,
         if run.finite { "finite" } else { "small" },
@@ -138,6 +139,7 @@ fn measure(run: &Run) {
         rayon::current_num_threads(),
         peak / 1e6,
         peak / nodes as f64 / 1e3,
+        estimate / 1e6,
         curve.steps.len(),
         newton as f64 / curve.steps.len() as f64,
         problem.factorizations(),

@@ -101,6 +101,12 @@ impl Pattern {
         rows.binary_search(&row).ok().map(|k| start + k)
     }
 
+    /// The memory its arrays hold, bytes.
+    pub fn heap_bytes(&self) -> usize {
+        std::mem::size_of::<usize>() * (self.col_ptr.len() + self.row_idx.len())
+            + std::mem::size_of::<u32>() * self.entries.len()
+    }
+
     /// The index of the diagonal entry of each column.
     pub fn diagonal_positions(&self) -> Vec<usize> {
         // The diagonal is the last (largest) row of each upper column.

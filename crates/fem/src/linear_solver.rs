@@ -83,6 +83,8 @@ pub struct LinearSolver {
     /// a fresh one per Newton iteration cost its allocation and page faults
     /// every time.
     scratch: MemBuffer,
+    /// Its size, bytes.
+    scratch_bytes: usize,
 }
 
 /// The full (both triangles) pattern for LU, with the source of each value
@@ -140,14 +142,13 @@ impl LinearSolver {
             factorize_symbolic_cholesky(upper.as_ref(), Side::Upper, ordering, Default::default())
                 .map_err(|e| solver_error("symbolic Cholesky", e))?;
         let par = Par::Seq;
-        let scratch = MemBuffer::new(
-            symbolic
-                .factorize_numeric_llt_scratch::<f64>(par, Default::default())
-                .or(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()))
-                .or(symbolic.solve_in_place_scratch::<f64>(1, par)),
-        );
+        let scratch_req = symbolic
+            .factorize_numeric_llt_scratch::<f64>(par, Default::default())
+            .or(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()))
+            .or(symbolic.solve_in_place_scratch::<f64>(1, par));
         Ok(Self {
-            scratch,
+            scratch_bytes: scratch_req.size_bytes(),
+            scratch: MemBuffer::new(scratch_req),
             factor_values: vec![0.0; symbolic.len_val()],
             upper,
             symbolic,
@@ -161,6 +162,14 @@ impl LinearSolver {
     /// Stored values of the Cholesky factor (fill included).
     pub fn factor_len(&self) -> usize {
         self.symbolic.len_val()
+    }
+
+    /// The memory a Cholesky factorisation holds: the factor's values and
+    /// the work space of the factorisation, bytes (the index structures,
+    /// 4 bytes per stored entry of the pattern, aside; an LU fallback, for
+    /// an indefinite tangent, needs more).
+    pub fn factor_bytes(&self) -> usize {
+        8 * self.factor_len() + self.scratch_bytes
     }
 
     /// Factorises the matrix with `values` on the pattern.

@@ -81,9 +81,12 @@ pub struct FemParams {
     /// Newton iterations per attempt before the increment is halved (four times at most)
     #[param(default = 30, range = 2..=1000)]
     pub max_iterations: usize,
-    /// the most mesh nodes accepted (memory: about 3 kB per node with the sparse factor)
+    /// the most mesh nodes accepted, checked before meshing (measured: 16–20 kB per node at 8 layers on 24²–128² patches, about 30 kB at 16 layers; see max_memory_gb)
     #[param(default = 200_000, range = 8..=10_000_000)]
     pub max_nodes: usize,
+    /// the most memory the solve may hold, checked before it starts from the sparse factor's exact size (the estimate is in the notes)
+    #[param(default = 8.0, positive, range = ..=1.0e4)]
+    pub max_memory_gb: f64,
 }
 
 fn maps_within_curve(p: &FemParams) -> Result<(), ParamError> {
@@ -257,6 +260,7 @@ impl Stage for Fem {
         };
         let mut problem =
             ContactProblem::new(mesh, law, lateral, newton).map_err(StageError::other)?;
+        check_memory(&problem, p, ctx)?;
         // At first touch, before any step: the undeformed top's mean gap.
         let first_gap_m = problem.mean_gap_m(0.0);
         let curve = solve(&mut problem, &heights_m, p, ctx)?;
@@ -268,6 +272,26 @@ impl Stage for Fem {
             .table("response", table.into_table())
             .files("contact_maps", files))
     }
+}
+
+/// Refuses a solve whose memory estimate (from the symbolic factorisation,
+/// before any numeric work) exceeds `max_memory_gb`; notes it otherwise.
+fn check_memory(problem: &ContactProblem, p: &FemParams, ctx: &Context) -> Result<(), StageError> {
+    let estimate_gb = problem.memory_estimate_bytes() as f64 / 1e9;
+    let factor_gb = problem.factor_bytes() as f64 / 1e9;
+    let nodes = problem.mesh.nodes_m.len();
+    let per_node_kb = estimate_gb * 1e6 / nodes as f64;
+    let (nx, ny) = (problem.mesh.nx, problem.mesh.ny);
+    if estimate_gb > p.max_memory_gb {
+        return Err(StageError::invalid(format!(
+            "a {nx} × {ny} patch with {} layers ({nodes} nodes, {} unknowns) needs about              {estimate_gb:.2} GB ({per_node_kb:.1} kB per node; the sparse factor {factor_gb:.2}              GB of it), above max_memory_gb = {}: take fewer layers, a smaller window or coarsen              it, or raise max_memory_gb",
+            p.layers, problem.dofs.count, p.max_memory_gb
+        )));
+    }
+    ctx.note(&format!(
+        "memory: about {estimate_gb:.2} GB for {nodes} nodes ({per_node_kb:.1} kB per node; the          sparse factor {factor_gb:.2} GB of it)"
+    ));
+    Ok(())
 }
 
 /// The patch's heights (`i * ny + j`), refused if a point is missing or the
@@ -295,8 +319,9 @@ fn checked_patch(patch: &Field, window: &Window, p: &FemParams) -> Result<Vec<f6
     let nodes = nx * ny * (p.layers + 1);
     if nodes > p.max_nodes {
         return Err(StageError::invalid(format!(
-            "a {nx} × {ny} patch with {} layers has {nodes} nodes, above max_nodes = {} (about \
-             3 kB each): take a smaller window, coarsen it, or raise max_nodes",
+            "a {nx} × {ny} patch with {} layers has {nodes} nodes, above max_nodes = {} (the \
+             solve holds 16–20 kB per node at 8 layers, more with more layers): take a smaller \
+             window, coarsen it, or raise max_nodes",
             p.layers, p.max_nodes
         )));
     }

@@ -206,6 +206,15 @@ fn refusals_name_what_is_wrong() {
         message.contains("1296 nodes, above max_nodes = 100"),
         "{message}"
     );
+    // 12² × 9 levels: a factor of a few MB, above 1 MB.
+    let tight = params(
+        r#"{"steps": 2, "max_area_fraction": 0.1, "map_fractions": [0.1], "max_memory_gb": 0.001}"#,
+    );
+    let message = error(patch(12, 1), &tight);
+    assert!(
+        message.contains("(1296 nodes,") && message.contains("above max_memory_gb = 0.001"),
+        "{message}"
+    );
     let flat = Field::new(Array2::zeros((8, 8)), PIXEL_M, PIXEL_M).unwrap();
     assert!(error(flat, &p).contains("flat"));
     let outside =
