@@ -2,7 +2,15 @@
 //! ([`crate::contact`]): each iteration factorises the tangent, takes the
 //! step −K⁻¹r on the free unknowns, halves it until the residual or the
 //! energy decreases enough (Armijo's condition on either; Nocedal & Wright,
-//! Numerical Optimization, § 3.1), then updates the active set.
+//! Numerical Optimization, § 3.1), then updates the active set: free nodes
+//! that penetrate the plane enter at once; held nodes that pull leave only
+//! once the free residual is within √tolerance of the reactions. A
+//! reaction's sign far from equilibrium is not the answer's: at finite
+//! strain a node released there was carried back above the plane by the
+//! next step, held again, pulled again, for ever (a 2-cycle seen on rough
+//! patches of rms slope 0.3; the nested "equilibrate, then release" order
+//! of the classical active-set loops, e.g. Wriggers, Computational Contact
+//! Mechanics, 2nd ed., § 6.3.1, applied to releases only).
 //!
 //! Chord steps: an iteration keeps the last factorisation (the step
 //! −K_old⁻¹ r) when the one before it, with the same held set and every
@@ -14,7 +22,14 @@
 //! Methods for Linear and Nonlinear Equations, SIAM 1995, § 5.4, the
 //! Shamanskii method); it also makes the last iteration of a step, the one
 //! that finds the residual at the round-off floor of the assembly, cheap.
-//! A chord step that contracts less hands back to Newton.
+//! A chord step that contracts less hands back to Newton. A chord step
+//! follows only an iteration that itself had every held node on the plane
+//! and the same set (its contraction then measures Newton's range; after a
+//! move of held nodes it measured nothing and the chord step was damped).
+//!
+//! Held nodes within the round-off of the plane count as on it: their
+//! pending move is taken as zero, so that the energy, a merit only when no
+//! held node still has to move, judges the line search.
 
 use crate::FemError;
 use crate::assembly::Evaluation;
@@ -28,6 +43,11 @@ const MAX_HALVINGS: usize = 8;
 
 /// Armijo's sufficient-decrease factor.
 const ARMIJO: f64 = 1e-4;
+
+/// An attempt that may still be halved is cut as soon as its line search
+/// damps a move of held nodes to this step length or below (the
+/// first-touch cut of [`crate::contact::ContactProblem`]'s `advance`).
+pub const CUT_DAMPING: f64 = 0.25;
 
 /// The 2-norm of the residual on the free unknowns.
 fn free_norm(residual_n: &[f64], held: &[bool]) -> f64 {
@@ -52,11 +72,15 @@ fn is_small(before: &[f64], after: &[f64]) -> bool {
 }
 
 /// Iterates the current state of `problem` to equilibrium at `approach_m`
-/// with a converged active set; returns the number of iterations.
+/// with a converged active set; returns the number of iterations. With
+/// `may_cut`, fails (as not converged) as soon as a line search damps the
+/// held nodes' move to η ≤ [`CUT_DAMPING`], for the caller to halve the
+/// increment.
 pub fn solve(
     problem: &mut ContactProblem,
     step: usize,
     approach_m: f64,
+    may_cut: bool,
 ) -> Result<usize, FemError> {
     let options = problem.options();
     let plane = problem.plane_at(approach_m);
@@ -75,8 +99,11 @@ pub fn solve(
     let mut full_step = true;
     loop {
         let held = problem.held();
-        let pending = problem.pending_m(plane);
+        let mut pending = problem.pending_m(plane);
         let placed = pending.iter().all(|d| d.abs() <= reach_m);
+        if placed {
+            pending.fill(0.0);
+        }
         let scale_n = problem.reaction_norm_n(&evaluation.residual_n).max(floor_n);
         let residual_n = free_norm(&evaluation.residual_n, &held);
         let tolerance_n = options.tolerance * scale_n;
@@ -100,8 +127,11 @@ pub fn solve(
         if iterations >= options.max_iterations {
             return Err(at.not_converged(problem, ""));
         }
+        // previous_n is finite only after an iteration with every held node
+        // placed and the set unchanged.
         let chord = placed
             && !set_changed
+            && previous_n.is_finite()
             && residual_n <= options.chord_contraction * previous_n
             && factored_held.as_ref() == Some(&held);
         let (direction, pending_force_n) = if chord {
@@ -136,9 +166,17 @@ pub fn solve(
             )
         })?;
         full_step = eta == 1.0;
+        if may_cut && pending_force_n > 0.0 && eta <= CUT_DAMPING {
+            return Err(at.not_converged(
+                problem,
+                format!("; the held nodes' move damped to η = {eta}: the increment is cut"),
+            ));
+        }
         small_update = placed && is_small(problem.unknowns(), &unknowns);
         problem.set_unknowns(unknowns);
-        let released = problem.release_tensile(&trial.residual_n, scale_n);
+        let settled = small_update
+            || free_norm(&trial.residual_n, &held) <= options.tolerance.sqrt() * scale_n;
+        let released = settled && problem.release_tensile(&trial.residual_n, scale_n);
         let added = problem.add_penetrating(plane, approach_m);
         set_changed = released || added;
         // The active set does not move the unknowns, so the trial's
