@@ -22,36 +22,27 @@ type Failure = Box<dyn std::error::Error>;
 
 const PIXEL_M: f64 = 20e-6;
 
-/// The sample surface scaled to rms slope `slope` (central differences on
-/// the periodic grid, |∇h| averaged over both axes).
+/// The sample surface scaled to rms slope `slope`
+/// ([`hypercontact_fem::sample::rms_slope`]).
 fn surface(n: usize, slope: f64, modes: usize, seed: u64) -> Vec<f64> {
-    let recipe = |rms_m| SampleSurface {
+    SampleSurface {
         nx: n,
         ny: n,
         pixel_m: PIXEL_M,
-        rms_m,
+        rms_m: 1e-6,
         hurst: 0.8,
         modes,
         seed,
-    };
-    let unit = recipe(1e-6).heights_m();
-    recipe(1e-6 * slope / rms_slope(&unit, n)).heights_m()
-}
-
-fn rms_slope(heights_m: &[f64], n: usize) -> f64 {
-    let at = |i: usize, j: usize| heights_m[(i % n) * n + j % n];
-    let mut sum = 0.0;
-    for i in 0..n {
-        for j in 0..n {
-            let gx = (at(i + 1, j) - at(i + n - 1, j)) / (2.0 * PIXEL_M);
-            let gy = (at(i, j + 1) - at(i, j + n - 1)) / (2.0 * PIXEL_M);
-            sum += gx * gx + gy * gy;
-        }
     }
-    (sum / (n * n) as f64).sqrt()
+    .with_rms_slope(slope)
+    .heights_m()
 }
 
-fn run(heights_m: &[f64], n: usize, layers: usize, law: Law) -> Result<Curve, Failure> {
+fn run(
+    heights_m: &[f64],
+    (n, layers, cut_damping): (usize, usize, f64),
+    law: Law,
+) -> Result<Curve, Failure> {
     let map = HeightMap {
         heights_m,
         nx: n,
@@ -64,7 +55,11 @@ fn run(heights_m: &[f64], n: usize, layers: usize, law: Law) -> Result<Curve, Fa
         ..MeshOptions::default()
     };
     let mesh = Mesh::new(&map, &mesh_options)?;
-    let mut problem = ContactProblem::new(mesh, law, Lateral::Mirror, NewtonOptions::default())?;
+    let newton = NewtonOptions {
+        cut_damping,
+        ..NewtonOptions::default()
+    };
+    let mut problem = ContactProblem::new(mesh, law, Lateral::Mirror, newton)?;
     let (lo, hi) = heights_m
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &h| {
@@ -103,6 +98,10 @@ fn main() -> Result<(), Failure> {
         .iter()
         .find_map(|a| a.strip_prefix("layers="))
         .map_or(Ok(10), str::parse)?;
+    let cut_damping: f64 = args
+        .iter()
+        .find_map(|a| a.strip_prefix("cut="))
+        .map_or(Ok(0.25), str::parse)?;
     let seed: u64 = args
         .iter()
         .find_map(|a| a.strip_prefix("seed="))
@@ -128,7 +127,7 @@ fn main() -> Result<(), Failure> {
         for strain in &strains {
             let law = if *strain == "finite" { &finite } else { &small };
             let started = Instant::now();
-            let result = run(&heights_m, n, layers, law.clone());
+            let result = run(&heights_m, (n, layers, cut_damping), law.clone());
             let seconds = started.elapsed().as_secs_f64();
             match result {
                 Ok(curve) => {

@@ -41,6 +41,11 @@ pub struct NewtonOptions {
     /// plane, cut the residual by at least this factor
     /// ([`crate::newton`]); 0: a factorisation at every iteration.
     pub chord_contraction: f64,
+    /// First-touch cut: while a halving of the increment is left, an
+    /// attempt is abandoned (and the increment halved) as soon as a line
+    /// search damps the held nodes' move to the plane to a step length of
+    /// at most this; 0: never before `max_iterations`.
+    pub cut_damping: f64,
 }
 
 impl Default for NewtonOptions {
@@ -49,6 +54,7 @@ impl Default for NewtonOptions {
             tolerance: 1e-8,
             max_iterations: 30,
             chord_contraction: 0.25,
+            cut_damping: 0.25,
         }
     }
 }
@@ -91,10 +97,11 @@ pub struct ContactProblem {
     /// Per top node: held at the plane.
     active: Vec<bool>,
     /// The last converged state (approach, unknowns), where the next step
-    /// starts: an extrapolation from the last two states, tried before,
-    /// carried nodes at the edge of contact into the block and cost more
-    /// Newton iterations than it saved (rough patches of rms slope 0.3–0.6,
-    /// 145 against 249 iterations).
+    /// starts. The linear extrapolation from the last two states that was
+    /// used before carried nodes at the edge of contact into the block and
+    /// cost more Newton iterations than it saved at finite strain (the
+    /// rough patches of tests/newton.rs: 145 against 249 iterations at rms
+    /// slope 0.3 on 10 × 10 × 4, 368 against 597 at 0.6 on 12 × 12 × 6).
     converged: Option<(f64, Vec<f64>)>,
     /// Residual at the last converged state.
     last: Option<Evaluation>,
@@ -221,12 +228,11 @@ impl ContactProblem {
     ///
     /// First-touch cut: while a halving is left, an attempt is abandoned as
     /// soon as its line search damps the held nodes' move to the plane to
-    /// η ≤ [`crate::newton::CUT_DAMPING`] (the increment carries nodes so
+    /// η ≤ [`NewtonOptions::cut_damping`] (the increment carries nodes so
     /// far into the block that the linearisation fails there, typically in
     /// the first steps, where the approach grows fastest), instead of after
     /// `max_iterations` damped iterations; the last allowed halving still
-    /// iterates to the end. Measured on the 10 × 10 × 4 rough patch of the
-    /// tests (rms slope 0.6): 601 → 356 Newton iterations.
+    /// iterates to the end.
     fn advance(
         &mut self,
         step: usize,

@@ -44,11 +44,6 @@ const MAX_HALVINGS: usize = 8;
 /// Armijo's sufficient-decrease factor.
 const ARMIJO: f64 = 1e-4;
 
-/// An attempt that may still be halved is cut as soon as its line search
-/// damps a move of held nodes to this step length or below (the
-/// first-touch cut of [`crate::contact::ContactProblem`]'s `advance`).
-pub const CUT_DAMPING: f64 = 0.25;
-
 /// The 2-norm of the residual on the free unknowns.
 fn free_norm(residual_n: &[f64], held: &[bool]) -> f64 {
     (residual_n.iter().zip(held))
@@ -74,8 +69,8 @@ fn is_small(before: &[f64], after: &[f64]) -> bool {
 /// Iterates the current state of `problem` to equilibrium at `approach_m`
 /// with a converged active set; returns the number of iterations. With
 /// `may_cut`, fails (as not converged) as soon as a line search damps the
-/// held nodes' move to η ≤ [`CUT_DAMPING`], for the caller to halve the
-/// increment.
+/// held nodes' move to η ≤ [`NewtonOptions::cut_damping`], for the caller
+/// to halve the increment.
 pub fn solve(
     problem: &mut ContactProblem,
     step: usize,
@@ -99,11 +94,7 @@ pub fn solve(
     let mut full_step = true;
     loop {
         let held = problem.held();
-        let mut pending = problem.pending_m(plane);
-        let placed = pending.iter().all(|d| d.abs() <= reach_m);
-        if placed {
-            pending.fill(0.0);
-        }
+        let (pending, placed) = pending_moves(problem, plane, reach_m);
         let scale_n = problem.reaction_norm_n(&evaluation.residual_n).max(floor_n);
         let residual_n = free_norm(&evaluation.residual_n, &held);
         let tolerance_n = options.tolerance * scale_n;
@@ -134,17 +125,11 @@ pub fn solve(
             && previous_n.is_finite()
             && residual_n <= options.chord_contraction * previous_n
             && factored_held.as_ref() == Some(&held);
-        let (direction, pending_force_n) = if chord {
-            (problem.chord_direction(&evaluation.residual_n, &held), 0.0)
-        } else {
-            if evaluation.tangent.is_none() {
-                evaluation = problem.evaluate(problem.unknowns(), true).map_err(|f| {
-                    at.not_converged(problem, format!("; element {} inverted", f.element))
-                })?;
-            }
+        if !chord {
             factored_held = Some(held.clone());
-            problem.newton_direction(&mut evaluation, &held, &pending)?
-        };
+        }
+        let (direction, pending_force_n) =
+            direction(problem, &mut evaluation, chord, (&held, &pending), at)?;
         iterations += 1;
         at.iterations = iterations;
         previous_n = if placed && !set_changed {
@@ -166,7 +151,7 @@ pub fn solve(
             )
         })?;
         full_step = eta == 1.0;
-        if may_cut && pending_force_n > 0.0 && eta <= CUT_DAMPING {
+        if may_cut && pending_force_n > 0.0 && eta <= options.cut_damping {
             return Err(at.not_converged(
                 problem,
                 format!("; the held nodes' move damped to η = {eta}: the increment is cut"),
@@ -176,9 +161,7 @@ pub fn solve(
         problem.set_unknowns(unknowns);
         let settled = small_update
             || free_norm(&trial.residual_n, &held) <= options.tolerance.sqrt() * scale_n;
-        let released = settled && problem.release_tensile(&trial.residual_n, scale_n);
-        let added = problem.add_penetrating(plane, approach_m);
-        set_changed = released || added;
+        set_changed = update_set(problem, &trial, settled, scale_n, approach_m);
         // The active set does not move the unknowns, so the trial's
         // evaluation stands (its tangent is assembled when a factorisation
         // needs it).
@@ -186,7 +169,57 @@ pub fn solve(
     }
 }
 
-/// The residual and tangent at the predicted state, or, if the prediction
+/// A chord step on the kept factorisation, or a Newton step (and the
+/// force owed to held nodes, N), assembling the tangent if `evaluation`
+/// lacks it.
+fn direction(
+    problem: &mut ContactProblem,
+    evaluation: &mut Evaluation,
+    chord: bool,
+    (held, pending): (&[bool], &[f64]),
+    at: Progress,
+) -> Result<(Vec<f64>, f64), FemError> {
+    if chord {
+        return Ok((problem.chord_direction(&evaluation.residual_n, held), 0.0));
+    }
+    if evaluation.tangent.is_none() {
+        *evaluation = problem
+            .evaluate(problem.unknowns(), true)
+            .map_err(|f| at.not_converged(problem, format!("; element {} inverted", f.element)))?;
+    }
+    problem.newton_direction(evaluation, held, pending)
+}
+
+/// The move each held node still owes the plane (per unknown, m), and
+/// whether every one is within `reach_m` of it: the held nodes are then
+/// placed and owe nothing (a leftover of 1e-22 m would keep the energy from
+/// judging the line search).
+fn pending_moves(problem: &ContactProblem, plane_m: f64, reach_m: f64) -> (Vec<f64>, bool) {
+    let mut pending = problem.pending_m(plane_m);
+    let placed = pending.iter().all(|d| d.abs() <= reach_m);
+    if placed {
+        pending.fill(0.0);
+    }
+    (pending, placed)
+}
+
+/// The active set after a step to `trial`: free nodes that penetrate enter;
+/// held nodes that pull leave only when the state has `settled` (free
+/// residual within √tolerance of the reactions, or an update at round-off),
+/// see the module doc. Returns whether the set changed.
+fn update_set(
+    problem: &mut ContactProblem,
+    trial: &Evaluation,
+    settled: bool,
+    scale_n: f64,
+    approach_m: f64,
+) -> bool {
+    let released = settled && problem.release_tensile(&trial.residual_n, scale_n);
+    let added = problem.add_penetrating(problem.plane_at(approach_m), approach_m);
+    released || added
+}
+
+/// The residual and tangent at the state the step starts from, or, if it
 /// inverts an element, at the last converged state.
 fn first_evaluation(
     problem: &mut ContactProblem,
