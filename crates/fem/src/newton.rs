@@ -105,8 +105,13 @@ pub fn solve(
         let stagnant =
             residual_n <= options.tolerance.sqrt() * scale_n && residual_n > 0.5 * previous_n;
         if (residual_n <= tolerance_n || small_update || stagnant) && !set_changed && placed {
-            problem.set_last(evaluation);
-            return Ok(iterations);
+            // Converged, unless a held node pulls (kept by an unsettled trial).
+            if !problem.release_tensile(&evaluation.residual_n, scale_n) {
+                problem.set_last(evaluation);
+                return Ok(iterations);
+            }
+            set_changed = true;
+            continue;
         }
         let mut at = Progress {
             step,
@@ -159,9 +164,7 @@ pub fn solve(
         }
         small_update = placed && is_small(problem.unknowns(), &unknowns);
         problem.set_unknowns(unknowns);
-        let settled = small_update
-            || free_norm(&trial.residual_n, &held) <= options.tolerance.sqrt() * scale_n;
-        set_changed = update_set(problem, &trial, settled, scale_n, approach_m);
+        set_changed = update_set(problem, (&trial, &held), small_update, floor_n, approach_m);
         // The active set does not move the unknowns, so the trial's
         // evaluation stands (its tangent is assembled when a factorisation
         // needs it).
@@ -204,16 +207,19 @@ fn pending_moves(problem: &ContactProblem, plane_m: f64, reach_m: f64) -> (Vec<f
 }
 
 /// The active set after a step to `trial`: free nodes that penetrate enter;
-/// held nodes that pull leave only when the state has `settled` (free
-/// residual within √tolerance of the reactions, or an update at round-off),
-/// see the module doc. Returns whether the set changed.
+/// held nodes that pull leave only when the trial has settled (free
+/// residual within √tolerance of its reactions, or a `small_update`, at
+/// round-off), see the module doc. Returns whether the set changed.
 fn update_set(
     problem: &mut ContactProblem,
-    trial: &Evaluation,
-    settled: bool,
-    scale_n: f64,
+    (trial, held): (&Evaluation, &[bool]),
+    small_update: bool,
+    floor_n: f64,
     approach_m: f64,
 ) -> bool {
+    let scale_n = problem.reaction_norm_n(&trial.residual_n).max(floor_n);
+    let tolerance = problem.options().tolerance;
+    let settled = small_update || free_norm(&trial.residual_n, held) <= tolerance.sqrt() * scale_n;
     let released = settled && problem.release_tensile(&trial.residual_n, scale_n);
     let added = problem.add_penetrating(problem.plane_at(approach_m), approach_m);
     released || added

@@ -160,7 +160,7 @@ static INFO: StageInfo = StageInfo {
           top nodes (a node in contact has its z on the plane, released when its reaction \
           pulls once the free residual is within sqrt(tolerance) of the reactions; a free node \
           that penetrates enters at once), frictionless (x, y free), Newton with line search \
-          from the last converged state, faer's sparse Cholesky with one symbolic \
+          from the last converged state (a linear law's extrapolated from the last two), faer's sparse Cholesky with one symbolic \
           factorisation (once Newton converges, chord steps keep the last factorisation while \
           they cut the residual fourfold); a step that fails is halved up to four times, an \
           attempt whose line search damps the contact nodes' move to the plane to 1/4 or less \
