@@ -2,7 +2,15 @@
 //! ([`crate::contact`]): each iteration factorises the tangent, takes the
 //! step −K⁻¹r on the free unknowns, halves it until the residual or the
 //! energy decreases enough (Armijo's condition on either; Nocedal & Wright,
-//! Numerical Optimization, § 3.1), then updates the active set.
+//! Numerical Optimization, § 3.1), then updates the active set: free nodes
+//! that penetrate the plane enter at once; held nodes that pull leave only
+//! once the free residual is within √tolerance of the reactions. A
+//! reaction's sign far from equilibrium is not the answer's: at finite
+//! strain a node released there was carried back above the plane by the
+//! next step, held again, pulled again, for ever (a 2-cycle seen on rough
+//! patches of rms slope 0.3; the nested "equilibrate, then release" order
+//! of the classical active-set loops, e.g. Wriggers, Computational Contact
+//! Mechanics, 2nd ed., § 6.3.1, applied to releases only).
 //!
 //! Chord steps: an iteration keeps the last factorisation (the step
 //! −K_old⁻¹ r) when the one before it, with the same held set and every
@@ -14,7 +22,14 @@
 //! Methods for Linear and Nonlinear Equations, SIAM 1995, § 5.4, the
 //! Shamanskii method); it also makes the last iteration of a step, the one
 //! that finds the residual at the round-off floor of the assembly, cheap.
-//! A chord step that contracts less hands back to Newton.
+//! A chord step that contracts less hands back to Newton. A chord step
+//! follows only an iteration that itself had every held node on the plane
+//! and the same set (its contraction then measures Newton's range; after a
+//! move of held nodes it measured nothing and the chord step was damped).
+//!
+//! Held nodes within the round-off of the plane count as on it: their
+//! pending move is taken as zero, so that the energy, a merit only when no
+//! held node still has to move, judges the line search.
 
 use crate::FemError;
 use crate::assembly::Evaluation;
@@ -52,11 +67,15 @@ fn is_small(before: &[f64], after: &[f64]) -> bool {
 }
 
 /// Iterates the current state of `problem` to equilibrium at `approach_m`
-/// with a converged active set; returns the number of iterations.
+/// with a converged active set; returns the number of iterations. With
+/// `may_cut`, fails (as not converged) as soon as a line search damps the
+/// held nodes' move to η ≤ [`NewtonOptions::cut_damping`], for the caller
+/// to halve the increment.
 pub fn solve(
     problem: &mut ContactProblem,
     step: usize,
     approach_m: f64,
+    may_cut: bool,
 ) -> Result<usize, FemError> {
     let options = problem.options();
     let plane = problem.plane_at(approach_m);
@@ -75,8 +94,7 @@ pub fn solve(
     let mut full_step = true;
     loop {
         let held = problem.held();
-        let pending = problem.pending_m(plane);
-        let placed = pending.iter().all(|d| d.abs() <= reach_m);
+        let (pending, placed) = pending_moves(problem, plane, reach_m);
         let scale_n = problem.reaction_norm_n(&evaluation.residual_n).max(floor_n);
         let residual_n = free_norm(&evaluation.residual_n, &held);
         let tolerance_n = options.tolerance * scale_n;
@@ -87,8 +105,13 @@ pub fn solve(
         let stagnant =
             residual_n <= options.tolerance.sqrt() * scale_n && residual_n > 0.5 * previous_n;
         if (residual_n <= tolerance_n || small_update || stagnant) && !set_changed && placed {
-            problem.set_last(evaluation);
-            return Ok(iterations);
+            // Converged, unless a held node pulls (kept by an unsettled trial).
+            if !problem.release_tensile(&evaluation.residual_n, scale_n) {
+                problem.set_last(evaluation);
+                return Ok(iterations);
+            }
+            set_changed = true;
+            continue;
         }
         let mut at = Progress {
             step,
@@ -100,22 +123,19 @@ pub fn solve(
         if iterations >= options.max_iterations {
             return Err(at.not_converged(problem, ""));
         }
+        // previous_n is finite only after an iteration with every held node
+        // placed and the set unchanged.
         let chord = placed
             && !set_changed
+            && previous_n.is_finite()
             && residual_n <= options.chord_contraction * previous_n
             && factored_held.as_ref() == Some(&held)
             && problem.factored_with(&held);
-        let (direction, pending_force_n) = if chord {
-            (problem.chord_direction(&evaluation.residual_n, &held), 0.0)
-        } else {
-            if evaluation.tangent.is_none() {
-                evaluation = problem.evaluate(problem.unknowns(), true).map_err(|f| {
-                    at.not_converged(problem, format!("; element {} inverted", f.element))
-                })?;
-            }
+        if !chord {
             factored_held = Some(held.clone());
-            problem.newton_direction(&mut evaluation, &held, &pending)?
-        };
+        }
+        let (direction, pending_force_n) =
+            direction(problem, &mut evaluation, chord, (&held, &pending), at)?;
         iterations += 1;
         at.iterations = iterations;
         previous_n = if placed && !set_changed {
@@ -137,11 +157,15 @@ pub fn solve(
             )
         })?;
         full_step = eta == 1.0;
+        if may_cut && pending_force_n > 0.0 && eta <= options.cut_damping {
+            return Err(at.not_converged(
+                problem,
+                format!("; the held nodes' move damped to η = {eta}: the increment is cut"),
+            ));
+        }
         small_update = placed && is_small(problem.unknowns(), &unknowns);
         problem.set_unknowns(unknowns);
-        let released = problem.release_tensile(&trial.residual_n, scale_n);
-        let added = problem.add_penetrating(plane, approach_m);
-        set_changed = released || added;
+        set_changed = update_set(problem, (&trial, &held), small_update, floor_n, approach_m);
         // The active set does not move the unknowns, so the trial's
         // evaluation stands (its tangent is assembled when a factorisation
         // needs it).
@@ -149,7 +173,60 @@ pub fn solve(
     }
 }
 
-/// The residual and tangent at the predicted state, or, if the prediction
+/// A chord step on the kept factorisation, or a Newton step (and the
+/// force owed to held nodes, N), assembling the tangent if `evaluation`
+/// lacks it.
+fn direction(
+    problem: &mut ContactProblem,
+    evaluation: &mut Evaluation,
+    chord: bool,
+    (held, pending): (&[bool], &[f64]),
+    at: Progress,
+) -> Result<(Vec<f64>, f64), FemError> {
+    if chord {
+        return Ok((problem.chord_direction(&evaluation.residual_n, held), 0.0));
+    }
+    if evaluation.tangent.is_none() {
+        *evaluation = problem
+            .evaluate(problem.unknowns(), true)
+            .map_err(|f| at.not_converged(problem, format!("; element {} inverted", f.element)))?;
+    }
+    problem.newton_direction(evaluation, held, pending)
+}
+
+/// The move each held node still owes the plane (per unknown, m), and
+/// whether every one is within `reach_m` of it: the held nodes are then
+/// placed and owe nothing (a leftover of 1e-22 m would keep the energy from
+/// judging the line search).
+fn pending_moves(problem: &ContactProblem, plane_m: f64, reach_m: f64) -> (Vec<f64>, bool) {
+    let mut pending = problem.pending_m(plane_m);
+    let placed = pending.iter().all(|d| d.abs() <= reach_m);
+    if placed {
+        pending.fill(0.0);
+    }
+    (pending, placed)
+}
+
+/// The active set after a step to `trial`: free nodes that penetrate enter;
+/// held nodes that pull leave only when the trial has settled (free
+/// residual within √tolerance of its reactions, or a `small_update`, at
+/// round-off), see the module doc. Returns whether the set changed.
+fn update_set(
+    problem: &mut ContactProblem,
+    (trial, held): (&Evaluation, &[bool]),
+    small_update: bool,
+    floor_n: f64,
+    approach_m: f64,
+) -> bool {
+    let scale_n = problem.reaction_norm_n(&trial.residual_n).max(floor_n);
+    let tolerance = problem.options().tolerance;
+    let settled = small_update || free_norm(&trial.residual_n, held) <= tolerance.sqrt() * scale_n;
+    let released = settled && problem.release_tensile(&trial.residual_n, scale_n);
+    let added = problem.add_penetrating(problem.plane_at(approach_m), approach_m);
+    released || added
+}
+
+/// The residual and tangent at the state the step starts from, or, if it
 /// inverts an element, at the last converged state.
 fn first_evaluation(
     problem: &mut ContactProblem,

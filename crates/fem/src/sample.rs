@@ -78,6 +78,35 @@ impl SampleSurface {
     }
 }
 
+/// The rms slope √⟨|∇h|²⟩ of heights at `i * ny + j` on a periodic grid of
+/// square pixels, the gradient by central differences (wrapping at the
+/// edges: a [`SampleSurface`] is periodic over nx × ny pixels).
+pub fn rms_slope(heights_m: &[f64], nx: usize, ny: usize, pixel_m: f64) -> f64 {
+    let at = |i: usize, j: usize| heights_m[(i % nx) * ny + j % ny];
+    let mut sum = 0.0;
+    for i in 0..nx {
+        for j in 0..ny {
+            let gx = (at(i + 1, j) - at(i + nx - 1, j)) / (2.0 * pixel_m);
+            let gy = (at(i, j + 1) - at(i, j + ny - 1)) / (2.0 * pixel_m);
+            sum += gx * gx + gy * gy;
+        }
+    }
+    (sum / (nx * ny) as f64).sqrt()
+}
+
+impl SampleSurface {
+    /// This surface with `rms_m` scaled so that its [`rms_slope`] is
+    /// `slope` (heights are linear in `rms_m`).
+    pub fn with_rms_slope(self, slope: f64) -> Self {
+        let unit = Self { rms_m: 1.0, ..self };
+        let measured = rms_slope(&unit.heights_m(), self.nx, self.ny, self.pixel_m);
+        Self {
+            rms_m: slope / measured,
+            ..self
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -99,5 +128,39 @@ mod tests {
         assert!((rms / 5e-6 - 1.0).abs() < 1e-12, "{rms}");
         assert_eq!(h, s.heights_m());
         assert_ne!(h, SampleSurface { seed: 8, ..s }.heights_m());
+    }
+
+    #[test]
+    fn rms_slope_of_a_cosine_is_its_central_difference_amplitude() {
+        // h = a cos(q x), q = 2π m / (n dx): the central difference of the
+        // cosine is −a sin(q dx)/dx · sin(q x), whose mean square over whole
+        // periods is half its amplitude squared.
+        let (n, dx, a, m) = (16, 2e-6, 3e-7, 3.0);
+        let q = std::f64::consts::TAU * m / (n as f64 * dx);
+        let h: Vec<f64> = (0..n)
+            .flat_map(|i| (0..n).map(move |_| a * (q * i as f64 * dx).cos()))
+            .collect();
+        let expected = a * (q * dx).sin() / dx / 2f64.sqrt();
+        let slope = rms_slope(&h, n, n, dx);
+        assert!(
+            (slope / expected - 1.0).abs() < 1e-12,
+            "{slope} vs {expected}"
+        );
+    }
+
+    #[test]
+    fn scaled_to_an_rms_slope() {
+        let s = SampleSurface {
+            nx: 10,
+            ny: 12,
+            pixel_m: 20e-6,
+            rms_m: 1e-6,
+            hurst: 0.8,
+            modes: 3,
+            seed: 5,
+        }
+        .with_rms_slope(0.3);
+        let slope = rms_slope(&s.heights_m(), 10, 12, 20e-6);
+        assert!((slope / 0.3 - 1.0).abs() < 1e-12, "{slope}");
     }
 }

@@ -135,7 +135,7 @@ pub struct Fem;
 
 static INFO: StageInfo = StageInfo {
     kind: "fem",
-    version: 2,
+    version: 3,
     summary: "Finite elements at finite strain: load against contact area of a rough, nearly \
               incompressible hyperelastic block on a rigid flat",
     doc: "The reference the tangent-modulus models are judged against: the rough patch as a \
@@ -161,9 +161,13 @@ static INFO: StageInfo = StageInfo {
           the mixed Q1/P0 hexahedron (displacement, constant pressure and volume ratio per \
           element, condensed), free of volumetric locking. CONTACT: exact active set on the \
           top nodes (a node in contact has its z on the plane, released when its reaction \
-          pulls), frictionless (x, y free), Newton with line search, faer's sparse Cholesky \
-          with one symbolic factorisation (once Newton converges, chord steps keep the last \
-          factorisation while they cut the residual fourfold); a step that fails is halved up to four times, then \
+          pulls once the free residual is within sqrt(tolerance) of the reactions; a free node \
+          that penetrates enters at once), frictionless (x, y free), Newton with line search \
+          from the last converged state (a linear law's extrapolated from the last two), faer's sparse Cholesky with one symbolic \
+          factorisation (once Newton converges, chord steps keep the last factorisation while \
+          they cut the residual fourfold); a step that fails is halved up to four times, an \
+          attempt whose line search damps the contact nodes' move to the plane to 1/4 or less \
+          being halved at once (first-touch cut; the last halving iterates to the end), then \
           the stage fails naming the step, the approach and the residual. STEPS: row 0 is \
           first touch (F = 0); step 1 goes to where the plane's overlap with the undeformed \
           surface covers A/A0 = max_area_fraction / steps (the elastic area is smaller); step \

@@ -6,6 +6,7 @@
 mod common;
 mod felupe;
 mod homogeneous;
+mod newton;
 mod rough_patch;
 mod stage;
 mod tangent;
