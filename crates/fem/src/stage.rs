@@ -84,6 +84,9 @@ pub struct FemParams {
     /// the most mesh nodes accepted (memory: about 3 kB per node with the sparse factor)
     #[param(default = 200_000, range = 8..=10_000_000)]
     pub max_nodes: usize,
+    /// coarsen deep layers laterally: elements 2, 4, 8 … pixels wide where a layer is that many pixels thick (the top layer one pixel), the fine nodes on a coarse face tied to it; fewer nodes and a smaller factor for the same load–area response
+    #[param(default = false)]
+    pub lateral_coarsening: bool,
 }
 
 fn maps_within_curve(p: &FemParams) -> Result<(), ParamError> {
@@ -143,7 +146,13 @@ static INFO: StageInfo = StageInfo {
           top node per map point, node (i, j) at x = i dx, y = j dy, so the block is \
           (nx - 1)dx x (ny - 1)dy; base at z = 0, top node at z = depth_m + h[i, j] - mean(h) \
           (depth_m: default the larger lateral size); `layers` layers of trilinear hexahedra per \
-          column, thicknesses in geometric progression with bottom/top ratio `grading`. \
+          column, thicknesses in geometric progression with bottom/top ratio `grading`; with \
+          lateral_coarsening, layer k's elements are s_k pixels wide in x and y, s_k the \
+          largest power of two not above the layer's thickness in pixels, 1 for the top layer, \
+          at most doubling from one layer to the next one down (the last element of a row \
+          shorter where s_k does not divide it), and the fine nodes on a coarser face below \
+          are hanging: position and displacement interpolated bilinearly from that face's \
+          corners (a conforming mesh). \
           BOUNDARY: base clamped; lateral faces `mirror` (normal displacement zero: the patch is \
           one cell of its mirror-image tiling, which `crop`'s `mirrored` output is, for the \
           periodic models) or `periodic` (node (nx - 1, j) tied to (0, j), and likewise in y: \
@@ -240,12 +249,7 @@ impl Stage for Fem {
             dx_m: patch.dx_m,
             dy_m: patch.dy_m,
         };
-        let mesh_options = MeshOptions {
-            depth_m: p.depth_m,
-            layers: p.layers,
-            grading: p.grading,
-        };
-        let mesh = Mesh::new(&map, &mesh_options).map_err(StageError::other)?;
+        let mesh = Mesh::new(&map, &mesh_options(p)).map_err(StageError::other)?;
         let lateral = match p.boundary {
             FemBoundary::Mirror => Lateral::Mirror,
             FemBoundary::Periodic => Lateral::Periodic,
@@ -267,6 +271,16 @@ impl Stage for Fem {
         Ok(Outputs::new()
             .table("response", table.into_table())
             .files("contact_maps", files))
+    }
+}
+
+/// The mesh parameters of `p`.
+fn mesh_options(p: &FemParams) -> MeshOptions {
+    MeshOptions {
+        depth_m: p.depth_m,
+        layers: p.layers,
+        grading: p.grading,
+        lateral_coarsening: p.lateral_coarsening,
     }
 }
 
@@ -292,7 +306,15 @@ fn checked_patch(patch: &Field, window: &Window, p: &FemParams) -> Result<Vec<f6
             window.y0 + first.1 * window.coarsen,
         )));
     }
-    let nodes = nx * ny * (p.layers + 1);
+    let heights_m: Vec<f64> = patch.values.iter().copied().collect();
+    let map = HeightMap {
+        heights_m: &heights_m,
+        nx,
+        ny,
+        dx_m: patch.dx_m,
+        dy_m: patch.dy_m,
+    };
+    let nodes = Mesh::node_count_of(&map, &mesh_options(p));
     if nodes > p.max_nodes {
         return Err(StageError::invalid(format!(
             "a {nx} × {ny} patch with {} layers has {nodes} nodes, above max_nodes = {} (about \
@@ -300,7 +322,6 @@ fn checked_patch(patch: &Field, window: &Window, p: &FemParams) -> Result<Vec<f6
             p.layers, p.max_nodes
         )));
     }
-    let heights_m: Vec<f64> = patch.values.iter().copied().collect();
     if height_range_m(&heights_m) <= 0.0 {
         return Err(StageError::invalid(
             "the patch is flat: all of it touches at once".to_owned(),
@@ -385,7 +406,7 @@ fn solve(
     ctx.note(&format!(
         "{} steps, {iterations} Newton iterations, {} nodes, A/A0 up to {last:.4}",
         curve.steps.len(),
-        problem.mesh.nodes_m.len(),
+        problem.mesh.node_count(),
     ));
     Ok(curve)
 }

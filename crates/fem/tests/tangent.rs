@@ -41,6 +41,7 @@ fn assembled_tangent_equals_differences_of_the_residual() {
         depth_m: None,
         layers: 3,
         grading: 3.0,
+        lateral_coarsening: false,
     };
     let mesh = Mesh::new(&map, &options).unwrap();
     let dofs = Dofs::new(&mesh, Lateral::Mirror);
