@@ -4,18 +4,18 @@
 //! patches, with and without lateral coarsening (issue #48).
 //!
 //! Run: `cargo run --release -p hypercontact-fem --example mesh_sizes --
-//! [N …] [on|off]` (default 48 96, both meshes). The peak resident memory
-//! printed is the process's so far (VmHWM): run one size and one mesh per
-//! process to read it.
+//! [N …] [on|off] [time]` (default 48 96, both meshes; `time`: assembly
+//! times too). The peak resident memory printed is the process's so far
+//! (VmHWM): run one size and one mesh per process to read it.
 
 use std::time::Instant;
 
-use hypercontact_fem::assembly::Pattern;
+use hypercontact_fem::assembly::{self, Pattern};
 use hypercontact_fem::dofs::Dofs;
 use hypercontact_fem::linear_solver::LinearSolver;
 use hypercontact_fem::ordering::nested_dissection;
 use hypercontact_fem::sample::SampleSurface;
-use hypercontact_fem::{Lateral, Mesh, MeshOptions};
+use hypercontact_fem::{Lateral, Law, Mesh, MeshOptions};
 
 type Failure = Box<dyn std::error::Error>;
 
@@ -35,8 +35,9 @@ fn main() -> Result<(), Failure> {
         Some(which) => vec![which == "on"],
         None => vec![false, true],
     };
+    let time = args.iter().any(|a| a == "time");
     let sizes: Vec<usize> = (args.iter())
-        .filter(|a| *a != "on" && *a != "off")
+        .filter(|a| !["on", "off", "time"].contains(&a.as_str()))
         .map(|a| a.parse())
         .collect::<Result<_, _>>()?;
     let sizes = if sizes.is_empty() {
@@ -86,7 +87,45 @@ fn main() -> Result<(), Failure> {
                 8.0 * solver.factor_len() as f64 / mesh.node_count() as f64,
                 peak_rss_mb(),
             );
+            if time {
+                println!("  assembly: {}", assembly_times(&mesh, &dofs, &pattern));
+            }
         }
     }
     Ok(())
+}
+
+/// The process's CPU time (user + system, all threads) from /proc, s (0
+/// where /proc is missing): on a shared machine it varies less than the
+/// wall time.
+fn cpu_s() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let rest = stat.rsplit_once(')').map_or("", |(_, rest)| rest);
+    let ticks: f64 = (rest.split_whitespace().skip(11).take(2))
+        .filter_map(|v| v.parse::<f64>().ok())
+        .sum();
+    ticks / 100.0
+}
+
+/// The mean CPU time of one assembly over ten, residual alone and with the
+/// tangent, for the paper's EPDM and its small-strain twin at a small
+/// displacement, s (run with RAYON_NUM_THREADS=1).
+fn assembly_times(mesh: &Mesh, dofs: &Dofs, pattern: &Pattern) -> String {
+    let epdm = Law::hyperelastic(&hypercontact_material::presets::paper_epdm(), 5000.0).unwrap();
+    let small = Law::linear_elastic(epdm.shear_modulus_pa(), 5000.0).unwrap();
+    let x: Vec<f64> = (0..dofs.count)
+        .map(|k| 1e-8 * (((k * 37) % 11) as f64 - 5.0))
+        .collect();
+    let mut times = Vec::new();
+    for (name, law) in [("small strain", &small), ("EPDM", &epdm)] {
+        for (what, tangent) in [("residual", None), ("tangent", Some(pattern))] {
+            let started = cpu_s();
+            for _ in 0..10 {
+                let e = assembly::evaluate(mesh, dofs, law, tangent, &x);
+                std::hint::black_box(e.is_ok());
+            }
+            times.push(format!("{name} {what} {:.3} s", (cpu_s() - started) / 10.0));
+        }
+    }
+    times.join(", ")
 }

@@ -48,26 +48,33 @@ pub struct Pattern {
 impl Pattern {
     /// The pattern of `mesh` under `dofs`: column c holds every unknown
     /// r ≤ c that shares an element with c. Built column by column from
-    /// the elements around each unknown, with no list of duplicate pairs.
+    /// the elements around each unknown, with no list of duplicate pairs
+    /// (the components of a node share their elements, hence one sorted
+    /// union).
     pub fn new(mesh: &Mesh, dofs: &Dofs) -> Self {
-        let elements_of = unknown_elements(mesh, dofs);
+        let (element_start, element_unknowns) = all_element_unknowns(mesh, dofs);
+        let unknowns_of = |e: usize| &element_unknowns[element_start[e]..element_start[e + 1]];
+        let (start, elements) = unknown_elements(dofs.count, &element_start, &element_unknowns);
         let mut col_ptr = Vec::with_capacity(dofs.count + 1);
         let mut row_idx = Vec::new();
         col_ptr.push(0);
-        let mut unknowns = Vec::with_capacity(96);
-        let mut rows = Vec::with_capacity(256);
+        let mut union: Vec<usize> = Vec::with_capacity(256);
+        let mut previous: &[usize] = &[];
         for column in 0..dofs.count {
-            rows.clear();
-            for &element in &elements_of.1[elements_of.0[column]..elements_of.0[column + 1]] {
-                element_unknowns(dofs, &mesh.elements[element], &mut unknowns);
-                rows.extend(unknowns.iter().filter(|r| **r <= column));
+            let around = &elements[start[column]..start[column + 1]];
+            if around != previous {
+                union.clear();
+                for &element in around {
+                    union.extend_from_slice(unknowns_of(element));
+                }
+                union.sort_unstable();
+                union.dedup();
+                previous = around;
             }
-            rows.sort_unstable();
-            rows.dedup();
-            row_idx.extend_from_slice(&rows);
+            row_idx.extend_from_slice(&union[..union.partition_point(|r| *r <= column)]);
             col_ptr.push(row_idx.len());
         }
-        drop(elements_of);
+        drop((start, elements));
         let mut pattern = Self {
             size: dofs.count,
             col_ptr,
@@ -76,8 +83,8 @@ impl Pattern {
             entries: Vec::new(),
         };
         pattern.entry_start.push(0);
-        for element in &mesh.elements {
-            element_unknowns(dofs, element, &mut unknowns);
+        for element in 0..mesh.elements.len() {
+            let unknowns = unknowns_of(element);
             for (a, &row) in unknowns.iter().enumerate() {
                 for &col in &unknowns[a..] {
                     let index = pattern
@@ -125,25 +132,39 @@ impl Pattern {
     }
 }
 
-/// For each unknown, the elements whose components involve it, as CSR
-/// (starts, elements), in element order.
-fn unknown_elements(mesh: &Mesh, dofs: &Dofs) -> (Vec<usize>, Vec<usize>) {
+/// Every element's distinct unknowns ([`element_unknowns`]), as CSR
+/// (starts, unknowns).
+fn all_element_unknowns(mesh: &Mesh, dofs: &Dofs) -> (Vec<usize>, Vec<usize>) {
+    let mut start = Vec::with_capacity(mesh.elements.len() + 1);
+    let mut all = Vec::with_capacity(24 * mesh.elements.len());
     let mut unknowns = Vec::with_capacity(96);
-    let mut start = vec![0; dofs.count + 1];
+    start.push(0);
     for element in &mesh.elements {
         element_unknowns(dofs, element, &mut unknowns);
-        for &e in &unknowns {
-            start[e + 1] += 1;
-        }
+        all.extend_from_slice(&unknowns);
+        start.push(all.len());
     }
-    for e in 0..dofs.count {
+    (start, all)
+}
+
+/// For each of `count` unknowns, the elements that involve it, as CSR
+/// (starts, elements), in element order.
+fn unknown_elements(
+    count: usize,
+    element_start: &[usize],
+    element_unknowns: &[usize],
+) -> (Vec<usize>, Vec<usize>) {
+    let mut start = vec![0; count + 1];
+    for &e in element_unknowns {
+        start[e + 1] += 1;
+    }
+    for e in 0..count {
         start[e + 1] += start[e];
     }
     let mut fill = start.clone();
-    let mut elements = vec![0; start[dofs.count]];
-    for (index, element) in mesh.elements.iter().enumerate() {
-        element_unknowns(dofs, element, &mut unknowns);
-        for &e in &unknowns {
+    let mut elements = vec![0; start[count]];
+    for (index, range) in element_start.windows(2).enumerate() {
+        for &e in &element_unknowns[range[0]..range[1]] {
             elements[fill[e]] = index;
             fill[e] += 1;
         }
@@ -258,6 +279,60 @@ impl LocalTerms {
     fn of(&self, p: usize) -> &[(usize, f64)] {
         &self.terms[self.start[p]..self.start[p + 1]]
     }
+
+    /// The component of each of the m local unknowns if T only selects
+    /// (every component one unknown of weight 1 or none, no unknown
+    /// twice), else `None`.
+    fn selection(&self, m: usize) -> Option<[usize; 24]> {
+        if self.start[24] != m {
+            return None;
+        }
+        let mut component = [usize::MAX; 24];
+        for p in 0..24 {
+            match self.of(p) {
+                [] => {}
+                [(a, w)] if *w == 1.0 => component[*a] = p,
+                _ => return None,
+            }
+        }
+        Some(component)
+    }
+}
+
+/// Row a of the upper triangle of an m × m matrix starts at
+/// a m − a(a − 1)/2.
+fn row_start(a: usize, m: usize) -> usize {
+    a * m - a * a.saturating_sub(1) / 2
+}
+
+/// TᵀKT, upper triangle, when T selects `component[a]` for unknown a: the
+/// element's own entries K[p][q] (p, q the components of unknowns a ≤ b).
+fn selected_upper(k: &[[f64; 24]; 24], component: &[usize]) -> Vec<f64> {
+    let m = component.len();
+    let mut upper = Vec::with_capacity(m * (m + 1) / 2);
+    for (a, &p) in component.iter().enumerate() {
+        upper.extend(component[a..].iter().map(|&q| k[p][q]));
+    }
+    upper
+}
+
+/// TᵀKT, upper triangle, for any T: Σ_pq w_pa w_qb K[p][q], summed in the
+/// components' order.
+fn weighted_upper(k: &[[f64; 24]; 24], local: &LocalTerms, m: usize) -> Vec<f64> {
+    let mut upper = vec![0.0; m * (m + 1) / 2];
+    for (p, row) in k.iter().enumerate() {
+        for &(a, wa) in local.of(p) {
+            let offset = row_start(a, m) - a;
+            for (q, value) in row.iter().enumerate() {
+                for &(b, wb) in local.of(q) {
+                    if b >= a {
+                        upper[offset + b] += wa * wb * value;
+                    }
+                }
+            }
+        }
+    }
+    upper
 }
 
 /// Tᵀf and TᵀKT of one element (module docs), each entry summed over the
@@ -273,24 +348,13 @@ fn reduce(dofs: &Dofs, element: &[usize; 8], response: &ElementOutput) -> Reduce
             force_n[a] += w * force;
         }
     }
-    let stiffness = response.stiffness.as_deref().map(|k| {
-        // Row a of the upper triangle starts at a m − a(a − 1)/2.
-        let row_start = |a: usize| a * m - a * a.saturating_sub(1) / 2;
-        let mut upper = vec![0.0; m * (m + 1) / 2];
-        for (p, row) in k.iter().enumerate() {
-            for &(a, wa) in local.of(p) {
-                let offset = row_start(a) - a;
-                for (q, value) in row.iter().enumerate() {
-                    for &(b, wb) in local.of(q) {
-                        if b >= a {
-                            upper[offset + b] += wa * wb * value;
-                        }
-                    }
-                }
-            }
-        }
-        upper
-    });
+    let stiffness = response
+        .stiffness
+        .as_deref()
+        .map(|k| match local.selection(m) {
+            Some(component) => selected_upper(k, &component[..m]),
+            None => weighted_upper(k, &local, m),
+        });
     Reduced {
         energy_j: response.energy_j,
         unknowns,
