@@ -14,11 +14,17 @@
 //!
 //! Lateral coarsening (option `lateral_coarsening`, issue #48): layer k
 //! (between levels k and k + 1) has elements s_k map points wide in x and
-//! y, s_k a power of two: the largest not above the layer's thickness in
-//! pixels (the larger of dx, dy; at the mean column height `depth`), then,
-//! from the top down, s = 1 for the top layer and s_k between s_{k+1} and
-//! 2 s_{k+1} (no finer below a coarser layer, at most a doubling per
-//! level; a layer thinner than two pixels keeps s = 1). A row of layer k
+//! y, s_k a power of two: the largest not above the layer's thickness nor
+//! the depth of its top below the surface, both in pixels (the larger of
+//! dx, dy; at the mean column height `depth`), then, from the top down,
+//! s = 1 for the top layer and s_k between s_{k+1} and 2 s_{k+1} (no finer
+//! below a coarser layer, at most a doubling per level; a layer thinner
+//! than two pixels, or less than two below the surface, keeps s = 1). The
+//! depth bound keeps the fields under the contact spots, which vary on the
+//! scale of the depth, resolved: with the thickness alone the second layer
+//! of the paper's 48² patches (2.2 pixels thick, 1.7 below the surface)
+//! was two pixels wide and the load 0.9–4.3 % above the uniform mesh's at
+//! small strain; with it, 0.4–0.9 % (the first steps; less later). A row of layer k
 //! has corners at i = 0, s_k, 2 s_k, … and nx − 1 (its last element shorter
 //! when s_k does not divide nx − 1), likewise in j. The node lattice and its
 //! numbering stay; lattice nodes that no element uses are unused (no
@@ -378,8 +384,10 @@ pub fn layer_steps(levels: &[f64], depth_px: f64, coarsen: bool) -> Vec<usize> {
     }
     for k in (0..layers.saturating_sub(1)).rev() {
         let thickness_px = (levels[k + 1] - levels[k]) * depth_px;
-        let widest = if thickness_px >= 2.0 {
-            1usize << (thickness_px.log2().floor().min(30.0) as u32)
+        let below_surface_px = (1.0 - levels[k + 1]) * depth_px;
+        let bound_px = thickness_px.min(below_surface_px);
+        let widest = if bound_px >= 2.0 {
+            1usize << (bound_px.log2().floor().min(30.0) as u32)
         } else {
             1
         };
@@ -600,7 +608,7 @@ pub(crate) mod tests {
     }
 
     /// A rough 15 × 13 map (remainders in both directions) under a block
-    /// deep enough for three coarsenings.
+    /// deep enough for three coarsenings (4 layers of 8 pixels).
     pub(crate) fn coarsened(lateral_coarsening: bool) -> Mesh {
         let (nx, ny) = (15, 13);
         let heights: Vec<f64> = (0..nx * ny)
@@ -614,20 +622,21 @@ pub(crate) mod tests {
             dy_m: 1.0,
         };
         let options = MeshOptions {
-            depth_m: Some(16.0),
+            depth_m: Some(32.0),
             layers: 4,
-            grading: 8.0,
+            grading: 1.0,
             lateral_coarsening,
         };
         Mesh::new(&map, &options).unwrap()
     }
 
     #[test]
-    fn layer_steps_follow_the_thickness() {
-        // Thicknesses 8.5, 4.3, 2.1, 1.1 pixels.
+    fn layer_steps_follow_the_thickness_and_the_depth() {
+        // Thicknesses 8.5, 4.3, 2.1, 1.1 pixels, tops 7.5, 3.2, 1.1, 0
+        // pixels below the surface: the third layer stays fine.
         assert_eq!(
             layer_steps(&level_fractions(4, 8.0), 16.0, true),
-            [8, 4, 2, 1]
+            [4, 2, 1, 1]
         );
         assert_eq!(layer_steps(&level_fractions(4, 8.0), 16.0, false), [1; 4]);
         // Uniform 24-pixel layers: the top one stays fine, then doubling.
@@ -657,9 +666,9 @@ pub(crate) mod tests {
         let used = corners(8) + corners(4) + corners(2) + 2 * corners(1);
         assert_eq!(mesh.node_count(), used);
         let options = MeshOptions {
-            depth_m: Some(16.0),
+            depth_m: Some(32.0),
             layers: 4,
-            grading: 8.0,
+            grading: 1.0,
             lateral_coarsening: true,
         };
         let heights: Vec<f64> = (0..15 * 13)
