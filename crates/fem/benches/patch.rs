@@ -10,8 +10,9 @@
 //! comparison's solid), κ = 5000 μ, mirror faces, 8 layers graded 8 : 1.
 //!
 //! Run: `cargo bench -p hypercontact-fem --bench patch -- [N ...] [small]
-//! [neo] [layers=L] [steps=S]` (default: 32 and 48, finite strain, 20
-//! steps). Each N runs in a process of its own (the bench re-executes
+//! [neo] [coarsen] [direct] [layers=L] [steps=S]` (default: 32 and 48,
+//! finite strain, 20 steps; `coarsen` meshes with lateral coarsening,
+//! `direct` turns off the conjugate gradients on the kept factor). Each N runs in a process of its own (the bench re-executes
 //! itself), so the peak memory is that run's alone. RAYON_NUM_THREADS=1
 //! for one thread.
 
@@ -30,6 +31,8 @@ struct Run {
     steps: usize,
     finite: bool,
     neo_hookean: bool,
+    lateral_coarsening: bool,
+    krylov: bool,
 }
 
 /// The process's CPU time (user + system, all threads) from /proc, s.
@@ -96,12 +99,16 @@ fn measure(run: &Run) {
     };
     let options = MeshOptions {
         layers: run.layers,
+        lateral_coarsening: run.lateral_coarsening,
         ..MeshOptions::default()
     };
     let mesh = Mesh::new(&map, &options).unwrap();
-    let nodes = mesh.nodes_m.len();
+    let nodes = mesh.node_count();
     let mut problem =
         ContactProblem::new(mesh, law(run), Lateral::Mirror, NewtonOptions::default()).unwrap();
+    if !run.krylov {
+        problem.set_krylov(false);
+    }
     let estimate = problem.memory_estimate_bytes() as f64;
     let (lo, hi) = heights
         .iter()
@@ -125,10 +132,11 @@ fn measure(run: &Run) {
     let peak = peak_rss_bytes();
     let last = curve.steps.last().unwrap();
     println!(
-        "{n}² × {}, {}, {}: {} nodes, {wall_s:.1} s wall, {cpu:.1} s CPU, {} threads; peak RSS \
+        "{n}² × {}{}, {}, {}: {} nodes, {wall_s:.1} s wall, {cpu:.1} s CPU, {} threads; peak RSS \
          {:.0} MB ({:.1} kB per node; estimated {:.0} MB); {} steps, {newton} Newton iterations ({:.1} per step) \
          {per_step:?}; {} factorisations, {} CG iterations; A/A0 {:.3}, load {:.5e} N",
         run.layers,
+        if run.lateral_coarsening { " coarsened" } else { "" },
         if run.finite { "finite" } else { "small" },
         if run.neo_hookean {
             "neo-Hookean"
@@ -166,6 +174,8 @@ fn main() {
         steps: value("steps", 20),
         finite: !args.iter().any(|a| a == "small"),
         neo_hookean: args.iter().any(|a| a == "neo"),
+        lateral_coarsening: args.iter().any(|a| a == "coarsen"),
+        krylov: !args.iter().any(|a| a == "direct"),
     };
     if std::env::var_os("HYPERCONTACT_BENCH_CHILD").is_some() || sizes.len() == 1 {
         for &n in &sizes {

@@ -11,7 +11,10 @@
 //! DIR [OUT]` with DIR holding tN-patch-height.npy, .grid.json and
 //! fit-material.json; OUT (optional) receives every step's load_n and every
 //! snapshot's mask, one line each, for comparing two versions. Arguments
-//! `t1` … `t4`, `finite`, `small` pick runs (default all).
+//! `t1` … `t4`, `finite`, `small` pick runs (default all); `coarsen` meshes
+//! with lateral coarsening (issue #48); `compare` solves each run on the
+//! coarsened mesh too, at the uniform run's approaches, and prints the
+//! load ratio at every step.
 
 use std::collections::hash_map::DefaultHasher;
 use std::hash::Hasher;
@@ -20,8 +23,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use hypercontact_fem::{
-    AreaSteps, ContactProblem, Curve, HeightMap, Lateral, Law, Mesh, MeshOptions, NewtonOptions,
-    bearing_approach_m, solve_area_steps,
+    AreaSteps, ContactProblem, Curve, CurveOptions, HeightMap, Lateral, Law, Mesh, MeshOptions,
+    NewtonOptions, bearing_approach_m, solve_area_steps, solve_curve,
 };
 use hypercontact_material::Ogden;
 
@@ -40,11 +43,15 @@ fn main() -> Result<(), Failure> {
         let sample = |p: &str| p.starts_with('t');
         let family: Vec<_> = picks
             .iter()
-            .filter(|p| sample(p) == sample(name) && p.as_str() != "direct")
+            .filter(|p| {
+                sample(p) == sample(name) && !matches!(p.as_str(), "direct" | "coarsen" | "compare")
+            })
             .collect();
         family.is_empty() || family.iter().any(|p| p.as_str() == name)
     };
     let (finite_law, small_law) = laws(&dir)?;
+    let coarsen = picks.iter().any(|p| p.as_str() == "coarsen");
+    let compare_meshes = picks.iter().any(|p| p.as_str() == "compare");
     let mut out = out_path.map(std::fs::File::create).transpose()?;
     let (mut total_s, mut total_cpu_s) = (0.0, 0.0);
     for sample in ["t1", "t2", "t3", "t4"].into_iter().filter(|s| wanted(s)) {
@@ -55,7 +62,8 @@ fn main() -> Result<(), Failure> {
             }
             let (started, cpu_started_s) = (Instant::now(), cpu_s());
             let direct = picks.iter().any(|p| p.as_str() == "direct");
-            let (curve, solves) = run(&heights_m, nx, ny, pixel_m, law.clone(), direct)?;
+            let grid = (nx, ny, pixel_m);
+            let (curve, solves) = run(&heights_m, grid, law.clone(), (coarsen, direct))?;
             let seconds = started.elapsed().as_secs_f64();
             let cpu_seconds = cpu_s() - cpu_started_s;
             total_s += seconds;
@@ -68,6 +76,9 @@ fn main() -> Result<(), Failure> {
             );
             if let Some(out) = out.as_mut() {
                 write_products(out, &format!("{sample}-{strain}"), &curve)?;
+            }
+            if compare_meshes {
+                compare(&heights_m, grid, law, &curve)?;
             }
         }
     }
@@ -98,8 +109,69 @@ fn cpu_s() -> f64 {
 fn is_pick(arg: &str) -> bool {
     matches!(
         arg,
-        "t1" | "t2" | "t3" | "t4" | "finite" | "small" | "direct"
+        "t1" | "t2" | "t3" | "t4" | "finite" | "small" | "direct" | "coarsen" | "compare"
     )
+}
+
+fn problem(
+    heights_m: &[f64],
+    (nx, ny, pixel_m): (usize, usize, f64),
+    law: Law,
+    lateral_coarsening: bool,
+) -> Result<ContactProblem, Failure> {
+    let map = HeightMap {
+        heights_m,
+        nx,
+        ny,
+        dx_m: pixel_m,
+        dy_m: pixel_m,
+    };
+    let options = MeshOptions {
+        lateral_coarsening,
+        ..MeshOptions::default()
+    };
+    let mesh = Mesh::new(&map, &options)?;
+    Ok(ContactProblem::new(
+        mesh,
+        law,
+        Lateral::Mirror,
+        NewtonOptions::default(),
+    )?)
+}
+
+/// The coarsened mesh at the approaches of `uniform` (a curve on the
+/// uniform mesh): load and A/A0 ratios per step.
+fn compare(
+    heights_m: &[f64],
+    grid: (usize, usize, f64),
+    law: &Law,
+    uniform: &Curve,
+) -> Result<(), Failure> {
+    let mut coarse = problem(heights_m, grid, law.clone(), true)?;
+    let options = CurveOptions {
+        approaches_m: uniform.steps.iter().map(|s| s.approach_m).collect(),
+        ..Default::default()
+    };
+    let (started, cpu_started_s) = (Instant::now(), cpu_s());
+    let curve = solve_curve(&mut coarse, &options)?;
+    let mut worst: f64 = 0.0;
+    for (u, c) in uniform.steps.iter().zip(&curve.steps) {
+        let change = c.load_n / u.load_n - 1.0;
+        worst = worst.max(change.abs());
+        println!(
+            "  approach {:.4e} m: A/A0 {:.4} uniform, {:.4} coarsened; load {:.6e} N, {:.6e} N \
+             ({change:+.3e})",
+            u.approach_m, u.area_fraction, c.area_fraction, u.load_n, c.load_n
+        );
+    }
+    println!(
+        "  coarsened: {} nodes, {} unknowns, {:.2} s ({:.2} s CPU); largest load change {worst:.3e}",
+        coarse.mesh.node_count(),
+        coarse.dofs.count,
+        started.elapsed().as_secs_f64(),
+        cpu_s() - cpu_started_s
+    );
+    Ok(())
 }
 
 /// The fitted Ogden-6 at finite strain (bulk ratio 5000) and its small-strain
@@ -143,21 +215,11 @@ fn patch(dir: &Path, sample: &str) -> Result<(Vec<f64>, usize, usize, f64), Fail
 /// the conjugate gradients).
 fn run(
     heights_m: &[f64],
-    nx: usize,
-    ny: usize,
-    pixel_m: f64,
+    grid: (usize, usize, f64),
     law: Law,
-    direct: bool,
+    (coarsen, direct): (bool, bool),
 ) -> Result<(Curve, String), Failure> {
-    let map = HeightMap {
-        heights_m,
-        nx,
-        ny,
-        dx_m: pixel_m,
-        dy_m: pixel_m,
-    };
-    let mesh = Mesh::new(&map, &MeshOptions::default())?;
-    let mut problem = ContactProblem::new(mesh, law, Lateral::Mirror, NewtonOptions::default())?;
+    let mut problem = problem(heights_m, grid, law, coarsen)?;
     problem.set_krylov(!direct);
     let (lo, hi) = heights_m
         .iter()

@@ -4,15 +4,18 @@
 //! the tangent-modulus contact models.
 //!
 //! - [`mesh`]: the mapped hexahedral mesh of a height-map patch and its
-//!   boundary sets;
+//!   boundary sets, optionally coarsened laterally with depth (hanging
+//!   nodes tied to the coarse faces, issue #48);
 //! - [`energy`], [`isochoric`], [`law`]: the strain energy of every material
 //!   family (automatic differentiation in the invariants, closed-form
 //!   spectral calculus to C), the isochoric/volumetric split, and a
 //!   small-strain linear law for checks;
 //! - [`hexahedron`]: the locking-free Q1/P0 mixed hexahedron, condensed;
-//! - [`dofs`], [`assembly`], [`linear_solver`]: boundary conditions (base
-//!   clamped, lateral faces mirror or periodic), fixed-order sparse assembly,
-//!   and faer's sparse Cholesky with its symbolic analysis reused;
+//! - [`dofs`], [`assembly`], [`ordering`], [`linear_solver`]: boundary
+//!   conditions (base clamped, lateral faces mirror or periodic) and
+//!   hanging-node ties as (unknown, weight) terms, fixed-order sparse
+//!   assembly, nested dissection, and faer's sparse Cholesky with its
+//!   symbolic analysis reused;
 //! - [`contact`], [`newton`], [`curve`]: exact active-set contact with the
 //!   plane, Newton with line search, approach-controlled steps;
 //! - [`vtk`]: the deformed mesh for ParaView;

@@ -11,6 +11,32 @@
 //!
 //! Heights are indexed `heights_m[i * ny + j]` (x-major, the (nx, ny) layout
 //! of the `bem` crate). Node (i, j, k) is number (k nx + i) ny + j.
+//!
+//! Lateral coarsening (option `lateral_coarsening`, issue #48): layer k
+//! (between levels k and k + 1) has elements s_k map points wide in x and
+//! y, s_k a power of two: the largest not above the layer's thickness nor
+//! the depth of its top below the surface, both in pixels (the larger of
+//! dx, dy; at the mean column height `depth`), then, from the top down,
+//! s = 1 for the top layer and s_k between s_{k+1} and 2 s_{k+1} (no finer
+//! below a coarser layer, at most a doubling per level; a layer thinner
+//! than two pixels, or less than two below the surface, keeps s = 1). The
+//! depth bound keeps the fields under the contact spots, which vary on the
+//! scale of the depth, resolved: with the thickness alone the second layer
+//! of the paper's 48² patches (2.2 pixels thick, 1.7 below the surface)
+//! was two pixels wide and the load 0.9–4.3 % above the uniform mesh's at
+//! small strain; with it, 0.4–0.9 % (the first steps; less later). A row of layer k
+//! has corners at i = 0, s_k, 2 s_k, … and nx − 1 (its last element shorter
+//! when s_k does not divide nx − 1), likewise in j. The node lattice and its
+//! numbering stay; lattice nodes that no element uses are unused (no
+//! unknowns, not counted). Where the layer below a level is coarser than
+//! the one above, the fine corners that are not corners of the coarse face
+//! under them are hanging: their position, and in [`crate::dofs`] their
+//! displacement, is the bilinear interpolation of that face's four corners
+//! (weights from the map indices: ½ on an edge, ¼ at a face centre,
+//! fractions beside a shorter last element), which keeps the mesh
+//! conforming (the usual constraint of hanging nodes on trilinear
+//! elements, e.g. Rheinboldt & Mesztenyi, ACM TOMS 6, 1980). Off, every
+//! layer has s = 1: the mesh is the one above, bit for bit.
 
 use crate::FemError;
 
@@ -47,6 +73,9 @@ pub struct MeshOptions {
     pub layers: usize,
     /// Bottom-layer / top-layer thickness.
     pub grading: f64,
+    /// Coarsen deep layers laterally (module docs); false: one node per
+    /// map point in every layer.
+    pub lateral_coarsening: bool,
 }
 
 impl Default for MeshOptions {
@@ -57,6 +86,7 @@ impl Default for MeshOptions {
             depth_m: None,
             layers: 8,
             grading: 8.0,
+            lateral_coarsening: false,
         }
     }
 }
@@ -72,18 +102,42 @@ pub struct Mesh {
     pub depth_m: f64,
     /// mean(h) that was subtracted, m.
     pub mean_height_m: f64,
-    /// Node coordinates, m.
+    /// Node coordinates of the whole lattice (unused nodes included), m.
     pub nodes_m: Vec<[f64; 3]>,
     /// Hexahedra, VTK node order.
     pub elements: Vec<[usize; 8]>,
+    /// The lateral element size s_k of each layer, in map points (all 1
+    /// without lateral coarsening).
+    pub layer_steps: Vec<usize>,
+    /// Per lattice node: whether an element uses it.
+    pub used: Vec<bool>,
+    /// The hanging nodes, by increasing number.
+    pub hanging: Vec<HangingNode>,
 }
 
-impl Mesh {
-    /// Meshes `map` with `options`.
-    pub fn new(map: &HeightMap<'_>, options: &MeshOptions) -> Result<Self, FemError> {
+/// A node tied to the coarse face under it: its position and displacement
+/// are Σ weight · those of the masters (the face's corners, at the same
+/// level).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HangingNode {
+    pub node: usize,
+    /// (master node, weight), weights summing to 1, none zero.
+    pub masters: Vec<(usize, f64)>,
+}
+
+/// Depth, level fractions and layer steps of a mesh.
+struct Plan {
+    depth_m: f64,
+    mean_m: f64,
+    levels: Vec<f64>,
+    steps: Vec<usize>,
+}
+
+impl Plan {
+    fn new(map: &HeightMap<'_>, options: &MeshOptions) -> Result<Self, FemError> {
         check_map(map)?;
         check_options(options)?;
-        let (nx, ny, layers) = (map.nx, map.ny, options.layers);
+        let (nx, ny) = (map.nx, map.ny);
         let mean = map.heights_m.iter().sum::<f64>() / map.heights_m.len() as f64;
         let depth = options
             .depth_m
@@ -100,27 +154,105 @@ impl Mesh {
                 ),
             });
         }
-        let levels = level_fractions(layers, options.grading);
+        let levels = level_fractions(options.layers, options.grading);
+        let steps = layer_steps(
+            &levels,
+            depth / map.dx_m.max(map.dy_m),
+            options.lateral_coarsening,
+        );
+        Ok(Self {
+            depth_m: depth,
+            mean_m: mean,
+            levels,
+            steps,
+        })
+    }
+
+    /// The step of level k: that of the finer layer it bounds.
+    fn level_step(&self, k: usize) -> usize {
+        self.steps[k.min(self.steps.len() - 1)]
+    }
+
+    /// Whether node (i, j) of level k is an element corner.
+    fn is_used(&self, (nx, ny): (usize, usize), i: usize, j: usize, k: usize) -> bool {
+        let step = self.level_step(k);
+        is_corner(i, nx, step) && is_corner(j, ny, step)
+    }
+}
+
+impl Mesh {
+    /// Meshes `map` with `options`.
+    pub fn new(map: &HeightMap<'_>, options: &MeshOptions) -> Result<Self, FemError> {
+        let plan = Plan::new(map, options)?;
+        let (nx, ny, layers) = (map.nx, map.ny, options.layers);
         let mut nodes_m = Vec::with_capacity((layers + 1) * nx * ny);
-        for fraction in &levels {
+        let mut used = Vec::with_capacity((layers + 1) * nx * ny);
+        for (k, fraction) in plan.levels.iter().enumerate() {
             for i in 0..nx {
                 for j in 0..ny {
-                    let top = depth + map.heights_m[i * ny + j] - mean;
+                    let top = plan.depth_m + map.heights_m[i * ny + j] - plan.mean_m;
                     nodes_m.push([i as f64 * map.dx_m, j as f64 * map.dy_m, fraction * top]);
+                    used.push(plan.is_used((nx, ny), i, j, k));
                 }
             }
         }
-        let node = |i: usize, j: usize, k: usize| (k * nx + i) * ny + j;
-        let mut elements = Vec::with_capacity(layers * (nx - 1) * (ny - 1));
-        for k in 0..layers {
-            for i in 0..nx - 1 {
-                for j in 0..ny - 1 {
+        let mut mesh = Self {
+            nx,
+            ny,
+            layers,
+            dx_m: map.dx_m,
+            dy_m: map.dy_m,
+            depth_m: plan.depth_m,
+            mean_height_m: plan.mean_m,
+            nodes_m,
+            elements: Vec::new(),
+            layer_steps: plan.steps,
+            used,
+            hanging: Vec::new(),
+        };
+        mesh.elements = mesh.build_elements();
+        mesh.hanging = mesh.hanging_nodes();
+        // Conformity: a hanging node lies on the bilinear face of its masters.
+        for hanging in &mesh.hanging {
+            let mut x = [0.0; 3];
+            for (c, value) in x.iter_mut().enumerate() {
+                *value = weighted(&hanging.masters, |m| mesh.nodes_m[m][c]);
+            }
+            mesh.nodes_m[hanging.node] = x;
+        }
+        Ok(mesh)
+    }
+
+    /// The number of nodes that elements use (the lattice's without
+    /// coarsening) for `map` and `options`, without building the mesh; the
+    /// whole lattice's if the options are refused (then by [`Mesh::new`]).
+    pub fn node_count_of(map: &HeightMap<'_>, options: &MeshOptions) -> usize {
+        let (nx, ny) = (map.nx, map.ny);
+        let Ok(plan) = Plan::new(map, options) else {
+            return (options.layers + 1) * nx * ny;
+        };
+        (0..=options.layers)
+            .map(|k| {
+                let step = plan.level_step(k);
+                corner_indices(nx, step).len() * corner_indices(ny, step).len()
+            })
+            .sum()
+    }
+
+    /// Elements layer by layer, then by i, then by j.
+    fn build_elements(&self) -> Vec<[usize; 8]> {
+        let mut elements = Vec::new();
+        for (k, &step) in self.layer_steps.iter().enumerate() {
+            let (columns_i, columns_j) =
+                (corner_indices(self.nx, step), corner_indices(self.ny, step));
+            for pair_i in columns_i.windows(2) {
+                for pair_j in columns_j.windows(2) {
                     let face = |k| {
                         [
-                            node(i, j, k),
-                            node(i + 1, j, k),
-                            node(i + 1, j + 1, k),
-                            node(i, j + 1, k),
+                            self.node(pair_i[0], pair_j[0], k),
+                            self.node(pair_i[1], pair_j[0], k),
+                            self.node(pair_i[1], pair_j[1], k),
+                            self.node(pair_i[0], pair_j[1], k),
                         ]
                     };
                     let (b, t) = (face(k), face(k + 1));
@@ -128,22 +260,61 @@ impl Mesh {
                 }
             }
         }
-        Ok(Self {
-            nx,
-            ny,
-            layers,
-            dx_m: map.dx_m,
-            dy_m: map.dy_m,
-            depth_m: depth,
-            mean_height_m: mean,
-            nodes_m,
-            elements,
-        })
+        elements
+    }
+
+    /// The corners of the layer above each level that are not corners of
+    /// the coarser layer below, with their masters.
+    fn hanging_nodes(&self) -> Vec<HangingNode> {
+        let mut hanging = Vec::new();
+        for k in 1..self.layers {
+            let (fine, coarse) = (self.layer_steps[k], self.layer_steps[k - 1]);
+            if fine == coarse {
+                continue;
+            }
+            for i in corner_indices(self.nx, fine) {
+                for j in corner_indices(self.ny, fine) {
+                    let (along_i, along_j) = (
+                        interpolation(i, self.nx, coarse),
+                        interpolation(j, self.ny, coarse),
+                    );
+                    if along_i.len() == 1 && along_j.len() == 1 {
+                        continue;
+                    }
+                    let masters = along_i
+                        .iter()
+                        .flat_map(|&(a, wa)| along_j.iter().map(move |&(b, wb)| (a, b, wa * wb)))
+                        .map(|(a, b, w)| (self.node(a, b, k), w))
+                        .collect();
+                    hanging.push(HangingNode {
+                        node: self.node(i, j, k),
+                        masters,
+                    });
+                }
+            }
+        }
+        hanging.sort_by_key(|h| h.node);
+        hanging
     }
 
     /// The number of node (i, j, k).
     pub fn node(&self, i: usize, j: usize, k: usize) -> usize {
         (k * self.nx + i) * self.ny + j
+    }
+
+    /// The nodes that elements use.
+    pub fn node_count(&self) -> usize {
+        self.used.iter().filter(|u| **u).count()
+    }
+
+    /// Whether `node` is hanging.
+    pub fn is_hanging(&self, node: usize) -> bool {
+        self.hanging.binary_search_by_key(&node, |h| h.node).is_ok()
+    }
+
+    /// The largest lateral element size, in map points.
+    pub fn largest_step(&self) -> usize {
+        self.layer_steps.iter().copied().max().unwrap_or(1)
     }
 
     /// Top nodes, in map order (i * ny + j).
@@ -152,21 +323,27 @@ impl Mesh {
         (0..self.nx).flat_map(move |i| (0..self.ny).map(move |j| self.node(i, j, k)))
     }
 
-    /// Base nodes (z = 0).
+    /// Base nodes (z = 0) that elements use.
     pub fn base_nodes(&self) -> impl Iterator<Item = usize> + '_ {
-        (0..self.nx).flat_map(move |i| (0..self.ny).map(move |j| self.node(i, j, 0)))
+        (0..self.nx)
+            .flat_map(move |i| (0..self.ny).map(move |j| self.node(i, j, 0)))
+            .filter(|n| self.used[*n])
     }
 
-    /// Nodes on the face x = 0 (`high` false) or x = (nx − 1)dx.
+    /// Used nodes on the face x = 0 (`high` false) or x = (nx − 1)dx.
     pub fn x_face_nodes(&self, high: bool) -> impl Iterator<Item = usize> + '_ {
         let i = if high { self.nx - 1 } else { 0 };
-        (0..=self.layers).flat_map(move |k| (0..self.ny).map(move |j| self.node(i, j, k)))
+        (0..=self.layers)
+            .flat_map(move |k| (0..self.ny).map(move |j| self.node(i, j, k)))
+            .filter(|n| self.used[*n])
     }
 
-    /// Nodes on the face y = 0 (`high` false) or y = (ny − 1)dy.
+    /// Used nodes on the face y = 0 (`high` false) or y = (ny − 1)dy.
     pub fn y_face_nodes(&self, high: bool) -> impl Iterator<Item = usize> + '_ {
         let j = if high { self.ny - 1 } else { 0 };
-        (0..=self.layers).flat_map(move |k| (0..self.nx).map(move |i| self.node(i, j, k)))
+        (0..=self.layers)
+            .flat_map(move |k| (0..self.nx).map(move |i| self.node(i, j, k)))
+            .filter(|n| self.used[*n])
     }
 
     /// The (i, j, k) of a node.
@@ -190,6 +367,63 @@ impl Mesh {
         };
         self.dx_m * self.dy_m * edge(i, self.nx) * edge(j, self.ny)
     }
+}
+
+/// Σ weight · value(master), summed in the masters' order.
+pub(crate) fn weighted(masters: &[(usize, f64)], value: impl Fn(usize) -> f64) -> f64 {
+    masters.iter().map(|&(m, w)| w * value(m)).sum()
+}
+
+/// The lateral element size of each layer, in map points (module docs),
+/// from the level fractions and the mean column height in pixels.
+pub fn layer_steps(levels: &[f64], depth_px: f64, coarsen: bool) -> Vec<usize> {
+    let layers = levels.len() - 1;
+    let mut steps = vec![1; layers];
+    if !coarsen {
+        return steps;
+    }
+    for k in (0..layers.saturating_sub(1)).rev() {
+        let thickness_px = (levels[k + 1] - levels[k]) * depth_px;
+        let below_surface_px = (1.0 - levels[k + 1]) * depth_px;
+        let bound_px = thickness_px.min(below_surface_px);
+        let widest = if bound_px >= 2.0 {
+            1usize << (bound_px.log2().floor().min(30.0) as u32)
+        } else {
+            1
+        };
+        steps[k] = widest.clamp(steps[k + 1], 2 * steps[k + 1]);
+    }
+    steps
+}
+
+/// Whether index i of a row of n points is a corner for element size
+/// `step`.
+fn is_corner(i: usize, n: usize, step: usize) -> bool {
+    i.is_multiple_of(step) || i == n - 1
+}
+
+/// The corners 0, step, 2 step, … below n − 1, and n − 1.
+pub fn corner_indices(n: usize, step: usize) -> Vec<usize> {
+    (0..n - 1)
+        .step_by(step)
+        .chain(std::iter::once(n - 1))
+        .collect()
+}
+
+/// Index i of a row of n points as the linear interpolation of the corners
+/// of element size `step`: itself with weight 1 if it is one, else the two
+/// corners around it with weights from the distances.
+fn interpolation(i: usize, n: usize, step: usize) -> Vec<(usize, f64)> {
+    if is_corner(i, n, step) {
+        return vec![(i, 1.0)];
+    }
+    let low = i / step * step;
+    let high = (low + step).min(n - 1);
+    let span = (high - low) as f64;
+    vec![
+        (low, (high - i) as f64 / span),
+        (high, (i - low) as f64 / span),
+    ]
 }
 
 /// The height fractions z_k / z_top of the node levels k = 0…layers.
@@ -287,7 +521,7 @@ fn check_options(options: &MeshOptions) -> Result<(), FemError> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     #[test]
@@ -371,5 +605,138 @@ mod tests {
             periodic_extension(&h, 2, 2),
             vec![1.0, 2.0, 1.0, 3.0, 4.0, 3.0, 1.0, 2.0, 1.0]
         );
+    }
+
+    /// A rough 15 × 13 map (remainders in both directions) under a block
+    /// deep enough for three coarsenings (4 layers of 8 pixels).
+    pub(crate) fn coarsened(lateral_coarsening: bool) -> Mesh {
+        let (nx, ny) = (15, 13);
+        let heights: Vec<f64> = (0..nx * ny)
+            .map(|p| 0.3 * ((p * 7 % 11) as f64 / 10.0 - 0.5))
+            .collect();
+        let map = HeightMap {
+            heights_m: &heights,
+            nx,
+            ny,
+            dx_m: 1.0,
+            dy_m: 1.0,
+        };
+        let options = MeshOptions {
+            depth_m: Some(32.0),
+            layers: 4,
+            grading: 1.0,
+            lateral_coarsening,
+        };
+        Mesh::new(&map, &options).unwrap()
+    }
+
+    #[test]
+    fn layer_steps_follow_the_thickness_and_the_depth() {
+        // Thicknesses 8.5, 4.3, 2.1, 1.1 pixels, tops 7.5, 3.2, 1.1, 0
+        // pixels below the surface: the third layer stays fine.
+        assert_eq!(
+            layer_steps(&level_fractions(4, 8.0), 16.0, true),
+            [4, 2, 1, 1]
+        );
+        assert_eq!(layer_steps(&level_fractions(4, 8.0), 16.0, false), [1; 4]);
+        // Uniform 24-pixel layers: the top one stays fine, then doubling.
+        assert_eq!(
+            layer_steps(&level_fractions(4, 1.0), 96.0, true),
+            [8, 4, 2, 1]
+        );
+        // Thinner than two pixels: no coarsening.
+        assert_eq!(layer_steps(&level_fractions(3, 1.0), 5.0, true), [1, 1, 1]);
+        // A thick top over thin layers: never finer below.
+        assert_eq!(layer_steps(&level_fractions(3, 0.1), 30.0, true), [2, 2, 1]);
+    }
+
+    #[test]
+    fn coarsened_mesh_is_conforming() {
+        let mesh = coarsened(true);
+        assert_eq!(mesh.layer_steps, [8, 4, 2, 1]);
+        assert_eq!(corner_indices(15, 8), [0, 8, 14]);
+        assert_eq!(corner_indices(13, 4), [0, 4, 8, 12]);
+        // Elements per layer: (2 × 2), (4 × 3), (7 × 6), (14 × 12).
+        assert_eq!(mesh.elements.len(), 4 + 12 + 42 + 168);
+        let lattice = coarsened(false);
+        let counted = |m: &Mesh| m.used.iter().filter(|u| **u).count();
+        assert_eq!(counted(&lattice), 5 * 15 * 13);
+        assert_eq!(mesh.node_count(), counted(&mesh));
+        let corners = |step| corner_indices(15, step).len() * corner_indices(13, step).len();
+        let used = corners(8) + corners(4) + corners(2) + 2 * corners(1);
+        assert_eq!(mesh.node_count(), used);
+        let options = MeshOptions {
+            depth_m: Some(32.0),
+            layers: 4,
+            grading: 1.0,
+            lateral_coarsening: true,
+        };
+        let heights: Vec<f64> = (0..15 * 13)
+            .map(|p| 0.3 * ((p * 7 % 11) as f64 / 10.0 - 0.5))
+            .collect();
+        let map = HeightMap {
+            heights_m: &heights,
+            nx: 15,
+            ny: 13,
+            dx_m: 1.0,
+            dy_m: 1.0,
+        };
+        assert_eq!(Mesh::node_count_of(&map, &options), used);
+        // Every used node of levels 1–3 that is not a corner of the layer
+        // below hangs: level 1 (4 over 8), 2 (2 over 4), 3 (1 over 2).
+        let hanging =
+            (corners(4) - corners(8)) + (corners(2) - corners(4)) + (corners(1) - corners(2));
+        assert_eq!(mesh.hanging.len(), hanging);
+        // Each element's nodes are used, and the bottom face of a fine
+        // element over a coarse one lies on that coarse element's top face:
+        // a hanging node sits where the coarse top face's bilinear map puts
+        // its (i, j).
+        for element in &mesh.elements {
+            assert!(element.iter().all(|n| mesh.used[*n]));
+        }
+        for h in &mesh.hanging {
+            let (i, j, k) = mesh.grid_of(h.node);
+            let coarse = mesh.layer_steps[k - 1];
+            let (i0, j0) = (i / coarse * coarse, j / coarse * coarse);
+            let (i1, j1) = ((i0 + coarse).min(14), (j0 + coarse).min(12));
+            let fraction = |a: usize, a0: usize, a1: usize| {
+                if a1 > a0 {
+                    (a - a0) as f64 / (a1 - a0) as f64
+                } else {
+                    0.0
+                }
+            };
+            let (s, t) = (fraction(i, i0, i1), fraction(j, j0, j1));
+            let z = |a, b| lattice.nodes_m[lattice.node(a, b, k)][2];
+            let expected = (1.0 - s) * (1.0 - t) * z(i0, j0)
+                + s * (1.0 - t) * z(i1, j0)
+                + s * t * z(i1, j1)
+                + (1.0 - s) * t * z(i0, j1);
+            let x = mesh.nodes_m[h.node];
+            assert!((x[2] - expected).abs() < 1e-12, "{:?}", (i, j, k));
+            assert!((x[0] - i as f64).abs() < 1e-12 && (x[1] - j as f64).abs() < 1e-12);
+            let total: f64 = h.masters.iter().map(|m| m.1).sum();
+            assert!((total - 1.0).abs() < 1e-15 && h.masters.iter().all(|m| m.1 > 0.0));
+        }
+        // The remainder: node 12 of a row of 15 between coarse corners 8
+        // and 14 (level 1, 4 over 8) has weights 1/3 and 2/3.
+        let h = &mesh.hanging[mesh
+            .hanging
+            .binary_search_by_key(&mesh.node(12, 0, 1), |h| h.node)
+            .unwrap()];
+        assert_eq!(
+            h.masters,
+            [
+                (mesh.node(8, 0, 1), 2.0 / 6.0),
+                (mesh.node(14, 0, 1), 4.0 / 6.0)
+            ]
+        );
+        // The top keeps one node per map point, none hanging.
+        assert!(
+            mesh.top_nodes()
+                .all(|n| mesh.used[n] && !mesh.is_hanging(n))
+        );
+        // Without the option: the lattice of before.
+        assert!(lattice.hanging.is_empty() && lattice.layer_steps == [1; 4]);
     }
 }

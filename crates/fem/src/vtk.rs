@@ -3,6 +3,9 @@
 //! which ParaView opens: hexahedra (cell type 12) at the deformed node
 //! positions, with the displacement vector, the nodal contact pressure and
 //! the contact flag as point data (pressure and flag 0 below the top).
+//! Every lattice point is written: on a laterally coarsened mesh the unused
+//! ones are points no cell references (at their undeformed place), and
+//! hanging nodes are ordinary points at their interpolated positions.
 
 use std::io::Write;
 

@@ -44,6 +44,7 @@ fn rough_patch_matches_felupe() {
         depth_m: None,
         layers: 4,
         grading: 4.0,
+        lateral_coarsening: false,
     };
     let mesh = Mesh::new(&map, &options).unwrap();
     let law = Law::hyperelastic(&NeoHookean::new(0.5e6).unwrap(), 5000.0).unwrap();

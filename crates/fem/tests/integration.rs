@@ -3,6 +3,7 @@
 //! is one file of this folder; run one with
 //! `cargo test --workspace --release --test integration -- MODULE::`.
 
+mod coarsening;
 mod common;
 mod felupe;
 mod homogeneous;

@@ -161,6 +161,52 @@ fn the_window_and_coarsening_cut_what_they_say() {
     );
 }
 
+/// `lateral_coarsening` reaches the mesh: the deformed mesh keeps the
+/// lattice's points (unused ones unreferenced) with fewer cells, and
+/// `max_nodes` counts the nodes elements use.
+#[test]
+fn lateral_coarsening_meshes_fewer_cells() {
+    let p = params(
+        r#"{"steps": 2, "max_area_fraction": 0.1, "map_fractions": [0.1],
+            "lateral_coarsening": true}"#,
+    );
+    let out = run(&p, patch(16, 3));
+    let files = maps(&out);
+    let index = FemMapIndex::from_table(files.index.as_ref().unwrap()).unwrap();
+    let vtk = String::from_utf8(files.files[&index.mesh_file[0]].clone()).unwrap();
+    assert!(vtk.contains(&format!("POINTS {} double", 16 * 16 * 9)));
+    // 15 pixels deep: layers 4.2, 3.1, 2.3, 1.7 … pixels thick, elements
+    // 4, 2, 2 and then 1 pixel wide: 4² + 2 × 8² + 5 × 15² cells.
+    let cells = 16 + 2 * 64 + 5 * 225;
+    assert!(
+        vtk.contains(&format!("CELLS {cells} {}", 9 * cells)),
+        "{}",
+        &vtk[..300]
+    );
+    let table = response(&out);
+    assert!(*table.response.area_fraction.last().unwrap() >= 0.1);
+    let small = params(
+        r#"{"steps": 2, "max_area_fraction": 0.1, "map_fractions": [0.1], "max_nodes": 100,
+            "lateral_coarsening": true}"#,
+    );
+    let message = Fem
+        .run(
+            &small,
+            &Inputs::new()
+                .with("surface", Product::Field(patch(12, 1)))
+                .with("material", Product::Table(to_table(&paper_epdm()))),
+            &Context::new("fem"),
+        )
+        .unwrap_err()
+        .to_string();
+    // 12² with 8 layers: levels 0 and 1 on every second point (7 × 7).
+    let nodes = 2 * 49 + 7 * 144;
+    assert!(
+        message.contains(&format!("{nodes} nodes, above max_nodes = 100")),
+        "{message}"
+    );
+}
+
 #[test]
 fn the_same_bits_on_one_and_two_threads() {
     let p = params(r#"{"steps": 6, "max_area_fraction": 0.2, "map_fractions": [0.2]}"#);

@@ -41,10 +41,41 @@ fn assembled_tangent_equals_differences_of_the_residual() {
         depth_m: None,
         layers: 3,
         grading: 3.0,
+        lateral_coarsening: false,
     };
-    let mesh = Mesh::new(&map, &options).unwrap();
-    let dofs = Dofs::new(&mesh, Lateral::Mirror);
-    let pattern = Pattern::new(&mesh, &dofs);
+    tangent_equals_differences(&Mesh::new(&map, &options).unwrap());
+}
+
+/// The same on a laterally coarsened mesh (3 layers of 5.3 pixels: element
+/// sizes 4, 2, 1 from the base up, shorter last elements in y): the hanging nodes' rows spread
+/// over their masters (TᵀKT) are the derivative of the spread forces.
+#[test]
+fn assembled_tangent_equals_differences_of_the_residual_with_hanging_nodes() {
+    let surface = SampleSurface {
+        nx: 9,
+        ny: 7,
+        pixel_m: 1e-4,
+        rms_m: 1e-5,
+        hurst: 0.8,
+        modes: 2,
+        seed: 3,
+    };
+    let h = surface.heights_m();
+    let options = MeshOptions {
+        depth_m: Some(16.0 * 1e-4),
+        layers: 3,
+        grading: 1.0,
+        lateral_coarsening: true,
+    };
+    let mesh = Mesh::new(&surface.on_grid(&h), &options).unwrap();
+    assert_eq!(mesh.layer_steps, [4, 2, 1]);
+    assert!(!mesh.hanging.is_empty());
+    tangent_equals_differences(&mesh);
+}
+
+fn tangent_equals_differences(mesh: &Mesh) {
+    let dofs = Dofs::new(mesh, Lateral::Mirror);
+    let pattern = Pattern::new(mesh, &dofs);
     // A few percent of strain, varying from node to node.
     let x: Vec<f64> = (0..dofs.count)
         .map(|k| 3e-6 * (((k * 37) % 11) as f64 - 5.0) / 5.0)
@@ -55,12 +86,12 @@ fn assembled_tangent_equals_differences_of_the_residual() {
     for model in common::every_family() {
         // κ = 50 μ keeps the volumetric terms from hiding the isochoric ones.
         let law = Law::hyperelastic(model.as_ref(), 50.0).unwrap();
-        let e = assembly::evaluate(&mesh, &dofs, &law, Some(&pattern), &x).unwrap();
+        let e = assembly::evaluate(mesh, &dofs, &law, Some(&pattern), &x).unwrap();
         let kv = multiply(&pattern, e.tangent.as_ref().unwrap(), &v);
         let h = 1e-10;
         let shifted = |s: f64| {
             let y: Vec<f64> = x.iter().zip(&v).map(|(a, b)| a + s * b).collect();
-            assembly::evaluate(&mesh, &dofs, &law, None, &y)
+            assembly::evaluate(mesh, &dofs, &law, None, &y)
                 .unwrap()
                 .residual_n
         };
