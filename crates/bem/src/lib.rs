@@ -9,6 +9,7 @@
 //! - [`fft2`]: the convolution with an even kernel it runs on (on the
 //!   workspace's FFT, `hypercontact_numeric::fft2`);
 //! - [`polonsky_keer`]: the constrained conjugate-gradient contact solver;
+//! - [`complement`]: its preconditioner's correction on a contact set;
 //! - [`curve`]: the load steps from first contact to a top area fraction;
 //! - [`shared`]: one solve of a curve for the stages that ask for the same;
 //! - [`stage`]: the `bem` stage.
@@ -16,6 +17,7 @@
 //! Sums over a map run in the fixed order of `hypercontact_numeric::reduce`,
 //! so every product is the same on any number of threads.
 
+pub mod complement;
 pub mod curve;
 pub mod fft2;
 pub mod influence;

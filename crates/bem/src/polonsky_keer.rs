@@ -43,7 +43,13 @@
 //!   preconditioner on the contact set follows E. A. H. Vollebregt, "A new
 //!   solver for the elastic normal contact problem using conjugate
 //!   gradients, deflation, and an FFT-based preconditioner", J. Comput.
-//!   Phys. 257 (2014) 333–351.
+//!   Phys. 257 (2014) 333–351, corrected for the points off the set
+//!   ([`crate::complement`]: a Schur-complement term that K̃⁻¹ restricted
+//!   to a ragged set leaves out), and β is Polak–Ribière's, clipped at
+//!   zero, so conjugacy fades by itself where the set's changes spoil it.
+//!   On the 768 × 576 instrument map's 40-step curve the two together take
+//!   1 151 iterations where K̃⁻¹ on the set with Fletcher–Reeves' β took
+//!   2 166 (Polak–Ribière alone: 1 927).
 //!
 //! While at most a few pressures are clipped, u follows the step (u − τ r,
 //! plus the clipped amounts summed point by point) instead of being
@@ -55,6 +61,7 @@
 use hypercontact_numeric::reduce::{CHUNK, fill_sums, sum, sums};
 use rayon::prelude::*;
 
+use crate::complement::Complement;
 use crate::influence::{Boundary, Influence};
 
 /// At most this many clipped points are added to u directly (each costs one
@@ -158,6 +165,8 @@ pub struct Problem<'a> {
     sigma_m: f64,
     /// See [`Problem::full_contact_approach_m`].
     full_contact_m: Option<f64>,
+    /// The preconditioner's correction on a set.
+    complement: Complement,
 }
 
 impl<'a> Problem<'a> {
@@ -205,6 +214,7 @@ impl<'a> Problem<'a> {
             measured,
             sigma_m: (square / measured as f64).sqrt(),
             full_contact_m: (periodic && everywhere).then_some(top_m - mean),
+            complement: Complement::new(influence),
         })
     }
 
@@ -285,12 +295,12 @@ impl<'a> Problem<'a> {
             // The set the direction lives on: the contact, and under the
             // preconditioner the overlapping points too.
             let count = contact + if pre { entering } else { 0.0 };
-            let rho = self.direction(&mut it, pre, load_control, count);
-            let tau = self.step_length(&mut it, rho, load_control, count);
+            let rhos = self.direction(&mut it, pre, load_control, count);
+            let tau = self.step_length(&mut it, rhos, pre, load_control, count);
             if !(tau.is_finite() && tau > 0.0) {
                 return Err(SolveError::Breakdown { iteration });
             }
-            it.rho_old = rho;
+            it.rho_old = rhos.0;
             let follow = !load_control && (pre || entering == 0.0);
             let clipped = self.step(&mut it, tau, follow);
             it.conjugate = pre || entering == 0.0;
@@ -420,10 +430,14 @@ impl<'a> Problem<'a> {
     }
 
     /// The direction before conjugation into `it.z`, on the set `it.active`
-    /// (made here): the gap there (PK), or the gap through K̃⁻¹
-    /// (preconditioned); under load control centred on the set, so that a
-    /// step keeps the load. Returns ρ = Σ g z.
-    fn direction(&self, it: &mut Iterate, pre: bool, load_control: bool, count: f64) -> f64 {
+    /// (made here): the gap there (PK), or the gap through the
+    /// preconditioner corrected for the points off the set
+    /// ([`crate::complement`]; M_AA alone where that is not a descent
+    /// direction); under load control centred on the set, so that a step
+    /// keeps the load. Returns ρ = Σ g z and Polak–Ribière's
+    /// Σ (g − g_old) z (g_old: the last direction's gap on its set).
+    fn direction(&self, it: &mut Iterate, pre: bool, load_control: bool, count: f64) -> (f64, f64) {
+        std::mem::swap(&mut it.masked, &mut it.masked_old);
         it.masked
             .par_iter_mut()
             .zip(it.active.par_iter_mut())
@@ -433,21 +447,44 @@ impl<'a> Problem<'a> {
                 *a = p > 0.0 || (pre && g < 0.0);
                 *m = if *a { g } else { 0.0 };
             });
-        let direction: &[f64] = if pre {
-            self.influence
-                .precondition(&it.masked, &mut it.r, &mut it.work);
-            &it.r
+        if !pre {
+            return self.fill_direction(it, Source::Gap, load_control, count);
+        }
+        self.influence
+            .precondition(&it.masked, &mut it.r, &mut it.work);
+        let with = (self.influence, &mut it.work);
+        (self.complement).correction(with, &it.active, &it.r, &mut it.s, &mut it.y);
+        let rhos = self.fill_direction(it, Source::Corrected, load_control, count);
+        if rhos.0 > 0.0 {
+            rhos
         } else {
-            &it.masked
+            self.fill_direction(it, Source::Preconditioned, load_control, count)
+        }
+    }
+
+    /// `it.z` from `source` on the set (centred under load control), with
+    /// ρ and Polak–Ribière's numerator (see [`Problem::direction`]).
+    fn fill_direction(
+        &self,
+        it: &mut Iterate,
+        source: Source,
+        load_control: bool,
+        count: f64,
+    ) -> (f64, f64) {
+        let (active, g, g_old) = (&it.active, &it.g, &it.masked_old);
+        let (masked, r, s) = (&it.masked, &it.r, &it.s);
+        let value = |i: usize| match source {
+            Source::Gap => masked[i],
+            Source::Preconditioned => r[i],
+            Source::Corrected => r[i] - s[i],
         };
-        let (active, g) = (&it.active, &it.g);
         // (Off the set g may be +∞: an unmeasured point.)
-        let [z_sum, gz, g_sum] = fill_sums(&mut it.z, |i| {
+        let [z_sum, gz, g_sum, g_old_z, g_old_sum] = fill_sums(&mut it.z, |i| {
             if active[i] {
-                let v = direction[i];
-                (v, [v, g[i] * v, g[i]])
+                let v = value(i);
+                (v, [v, g[i] * v, g[i], g_old[i] * v, g_old[i]])
             } else {
-                (0.0, [0.0; 3])
+                (0.0, [0.0; 5])
             }
         });
         if load_control {
@@ -458,37 +495,62 @@ impl<'a> Problem<'a> {
                     *z -= z_mean
                 }
             });
-            gz - z_mean * g_sum
+            let rho = gz - z_mean * g_sum;
+            (rho, rho - (g_old_z - z_mean * g_old_sum))
         } else {
-            gz
+            (gz, gz - g_old_z)
         }
     }
 
     /// The conjugate direction into `it.t` (and r = K t into `it.r`) and
     /// the step τ along it; if it is not a descent direction (the set
-    /// changed under it), the steepest one's. NaN or τ ≤ 0 is a breakdown.
-    fn step_length(&self, it: &mut Iterate, rho: f64, load_control: bool, count: f64) -> f64 {
+    /// changed under it), the steepest one's, found out before the
+    /// convolution (τ has the sign of Σ g t: the denominator is tᵀ K t on
+    /// the set). β is Fletcher–Reeves' ρ / ρ_old for PK as published, and
+    /// with the preconditioner Polak–Ribière's, clipped at zero
+    /// (max(Σ (g − g_old) z, 0) / ρ_old: J. C. Gilbert and J. Nocedal, SIAM
+    /// J. Optim. 2 (1992) 21–42), which restarts by itself when the set's
+    /// changes have spoilt conjugacy. NaN or τ ≤ 0 is a breakdown.
+    fn step_length(
+        &self,
+        it: &mut Iterate,
+        (rho, rho_pr): (f64, f64),
+        pre: bool,
+        load_control: bool,
+        count: f64,
+    ) -> f64 {
         let mut tau = f64::NAN;
         for restart in [false, true] {
             if restart && !it.conjugate {
                 break;
             }
-            let beta = if it.conjugate && !restart {
-                rho / it.rho_old
-            } else {
-                0.0
+            let beta = match (it.conjugate && !restart, pre) {
+                (false, _) => 0.0,
+                (true, false) => rho / it.rho_old,
+                (true, true) => rho_pr.max(0.0) / it.rho_old,
             };
-            it.t.par_iter_mut()
-                .zip(&it.active)
-                .zip(&it.z)
-                .for_each(|((t, &a), &z)| *t = if a { z + beta * *t } else { 0.0 });
-            self.influence.apply(&it.t, &mut it.r, &mut it.work);
-            let (active, g, t, r) = (&it.active, &it.g, &it.t, &it.r);
-            let [r_sum, gt, rt] = sums(t.len(), |i| {
+            let (active, g, z, t) = (&it.active, &it.g, &it.z, &it.t);
+            // The new direction into r (free until K t), then swapped in.
+            let [gt] = fill_sums(&mut it.r, |i| {
                 if active[i] {
-                    [r[i], g[i] * t[i], r[i] * t[i]]
+                    let v = z[i] + beta * t[i];
+                    (v, [g[i] * v])
                 } else {
-                    [0.0, 0.0, 0.0]
+                    (0.0, [0.0])
+                }
+            });
+            std::mem::swap(&mut it.t, &mut it.r);
+            let descent = gt > 0.0;
+            if !descent && !restart && it.conjugate {
+                continue;
+            }
+            self.influence.apply(&it.t, &mut it.r, &mut it.work);
+            let (active, t, r) = (&it.active, &it.t, &it.r);
+            let [r_sum, rt] = sums(t.len(), |i| {
+                if active[i] {
+                    [r[i], r[i] * t[i]]
+                } else {
+                    [0.0, 0.0]
                 }
             });
             // Under load control r is centred on the set: Σ (r − r̄) t.
@@ -583,6 +645,17 @@ impl<'a> Problem<'a> {
     }
 }
 
+/// Where a direction comes from (see [`Problem::direction`]).
+#[derive(Clone, Copy)]
+enum Source {
+    /// the gap on the set (PK as published)
+    Gap,
+    /// M_AA g
+    Preconditioned,
+    /// M_AA g less the complement correction
+    Corrected,
+}
+
 /// The iterate of a solve and the buffers its steps share.
 struct Iterate {
     /// pressure, displacement K p, gap, conjugate direction, K t, the
@@ -594,6 +667,11 @@ struct Iterate {
     r: Vec<f64>,
     z: Vec<f64>,
     masked: Vec<f64>,
+    /// the last direction's masked gap (Polak–Ribière)
+    masked_old: Vec<f64>,
+    /// the complement correction and its work buffer
+    s: Vec<f64>,
+    y: Vec<f64>,
     /// the set the direction lives on
     active: Vec<bool>,
     work: crate::influence::Workspace,
@@ -611,7 +689,7 @@ struct Iterate {
 impl Iterate {
     fn new(p: Vec<f64>, influence: &Influence) -> Self {
         let n = p.len();
-        let [u, g, t, r, z, masked] = std::array::from_fn(|_| vec![0.0; n]);
+        let [u, g, t, r, z, masked, masked_old, s, y] = std::array::from_fn(|_| vec![0.0; n]);
         Self {
             p,
             u,
@@ -620,6 +698,9 @@ impl Iterate {
             r,
             z,
             masked,
+            masked_old,
+            s,
+            y,
             active: vec![false; n],
             work: influence.workspace(),
             stale: true,

@@ -85,7 +85,7 @@ pub struct Bem;
 
 static INFO: StageInfo = StageInfo {
     kind: "bem",
-    version: 3,
+    version: 4,
     summary: "Boundary elements: load against contact area of a height map on an elastic \
               half-space",
     doc: "The rough surface as a linearly elastic half-space pressed onto a rigid plane, solved \
@@ -98,7 +98,10 @@ static INFO: StageInfo = StageInfo {
           p^(q) / (E* |q|), mean of u zero. SOLVER: Polonsky & Keer's constrained conjugate \
           gradient (Wear 231, 1999) under rigid-plane approach control, with an FFT \
           preconditioner after Vollebregt (J. Comput. Phys. 257, 2014: the operator's inverse on \
-          a transform grid; for free maps the unpadded one, kernel wrapped), each solve warm-started from the previous two; a `bem` run after another on \
+          a transform grid; for free maps the unpadded one, kernel wrapped) corrected on the \
+          contact set by a Schur-complement term for the points off it (two damped Jacobi \
+          terms; Saad, Iterative Methods for Sparse Linear Systems, 2003) and Polak-Ribiere \
+          conjugation, each solve warm-started from the previous two; a `bem` run after another on \
           the same map with the same boundary, steps, max_area_fraction, tolerance and \
           max_iterations in one process (the paper's linear and hyperelastic pair) replays that \
           solve instead of repeating it, with the same bits (the contact set does not depend \

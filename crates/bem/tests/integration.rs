@@ -4,6 +4,7 @@
 //! `cargo test --workspace --release --test integration -- MODULE::`.
 
 mod analytic;
+mod iterations;
 mod material_law;
 mod methods;
 mod mirrored;

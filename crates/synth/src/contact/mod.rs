@@ -252,7 +252,7 @@ pub struct SynthContact;
 
 static INFO: StageInfo = StageInfo {
     kind: "synth-contact",
-    version: 3,
+    version: 4,
     summary: "Synthetic contact experiment: interference frames, frame times and force log \
               of a rough sample pressed onto glass, with the ground truth",
     doc: "The paper's in-situ rig (Section 3, Fig. 3). SAMPLE: the height map (use the \
