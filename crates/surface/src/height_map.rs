@@ -123,8 +123,8 @@ static INFO: StageInfo = StageInfo {
           `polynomial` of degree level_rows_degree (Legendre, in the position along the line) \
           subtracted, or with `median-differences` is shifted so that the median of its height \
           differences to the line before is zero, the shifts then moved by their median; NaN \
-          points take no part, a line with too few measured points (more than the model's \
-          unknowns; for median-differences one shared with the line before) is left as is and \
+          points take no part; a line with no more measured points than the model has unknowns \
+          (for median-differences, without one shared with the line before) is left as is and \
           counted; the note gives the rms of what was removed). The fast axis is the file's \
           where its format states it (the AFM formats read: x, each stored row a scan line), \
           `fast_axis` where given (it overrides the file, the note saying so), x otherwise. \

@@ -33,6 +33,7 @@
 //! point measured both in it and in the line it is compared to. Lines of a
 //! single point, or of no more points than a polynomial's terms, are
 //! refused outright: every line would come out zero.
+//!
 //! Lines are independent (the median differences excepted, which are
 //! accumulated in line order), each computed in a fixed order, and the
 //! statistics are summed line by line in order: the result is the same
@@ -276,7 +277,7 @@ fn fit_line(line: ArrayView1<f64>, model: LineModel) -> LineFit {
     }
     let removed = match model {
         LineModel::Median | LineModel::MedianDifferences => Removed::Offset(median(&mut measured)),
-        // Σ z/n rather than Σ z / n: heights near f64::MAX do not overflow
+        // Σ (z/n) rather than (Σ z)/n: heights near f64::MAX do not overflow
         LineModel::Mean => {
             let n = measured.len() as f64;
             Removed::Offset(measured.iter().map(|z| z / n).sum())
@@ -287,7 +288,7 @@ fn fit_line(line: ArrayView1<f64>, model: LineModel) -> LineFit {
 }
 
 /// The least-squares polynomial of the module doc through the measured
-/// points of `line` (at least degree + 1 of them), at every point.
+/// points of `line` (at least degree + 2 of them), at every point.
 fn polynomial(line: ArrayView1<f64>, degree: usize) -> Vec<f64> {
     let n = line.len();
     let terms = degree + 1;
