@@ -217,6 +217,7 @@ pub(crate) fn read(
         ("vendor".to_string(), "Asylum Research".to_string()),
         ("wave".into(), bytes.text(NAME, 32, "the wave name")?),
     ];
+    let mut scan_points = None;
     for line in crate::text::lines(&wave.note) {
         if let Some((key, value)) = line.split_once(':') {
             let name = match key.trim() {
@@ -224,10 +225,19 @@ pub(crate) fn read(
                 "Date" => "date",
                 "Time" => "time",
                 "IgorFileVersion" => "igor_version",
+                "ScanPoints" => {
+                    scan_points = scan_points.or(value.trim().parse::<usize>().ok());
+                    continue;
+                }
                 _ => continue,
             };
             metadata.push((name.into(), value.trim().to_string()));
         }
+    }
+    // An Asylum image's `ScanPoints` are the points of a scan line: where
+    // they are the wave's first dimension, its rows (x) are the scan lines.
+    if scan_points == Some(nx) {
+        metadata.push((crate::FAST_AXIS.into(), "x".into()));
     }
     let map = Topography::new(FORMAT, heights_m, wave.dx_m, wave.dy_m, metadata);
     Ok(channel::with_channels(map, &wave.names, index))

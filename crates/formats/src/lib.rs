@@ -236,7 +236,20 @@ impl Topography {
     pub fn meta(&self, key: &str) -> Option<&str> {
         lookup(&self.metadata, key).map(String::as_str)
     }
+
+    /// The axis, `x` or `y`, along which the instrument scanned each line
+    /// (its fast axis), where the file says (metadata [`FAST_AXIS`]).
+    pub fn fast_axis(&self) -> Option<&str> {
+        self.meta(FAST_AXIS)
+            .filter(|axis| matches!(*axis, "x" | "y"))
+    }
 }
+
+/// Metadata key of the fast (line) scan axis, `x` or `y`, set by the readers
+/// whose format says how a line was scanned: the AFM formats store a
+/// scan line per row (Nanoscope `Samps/line`, Nanosurf `Points` per line,
+/// Asylum `ScanPoints`, PicoView rows of `xPixels`), which is the map's x.
+pub const FAST_AXIS: &str = "fast_axis";
 
 /// The value of the first pair named `key` in (name, value) pairs, as
 /// headers, attribute lists and metadata hold them.

@@ -176,6 +176,9 @@ pub(crate) fn read(
             metadata.push((name.into(), value.into()));
         }
     }
+    // the counts come in rows of constant y, one scan line each (`scanUp`
+    // says which way the lines followed each other)
+    metadata.push((crate::FAST_AXIS.into(), "x".into()));
     let map = Topography::new(FORMAT, heights_m, dx_m, dy_m, metadata);
     Ok(channel::with_channels(map, &names, index))
 }

@@ -289,6 +289,8 @@ pub(crate) fn read(
     if !image.direction.is_empty() {
         metadata.push(("line_direction".into(), image.direction.clone()));
     }
+    // `Samps/line` counts a scan line's points: each stored row is a line
+    metadata.push((crate::FAST_AXIS.into(), "x".into()));
     FORMAT.check_spacings(
         image.dx_m,
         image.dy_m,

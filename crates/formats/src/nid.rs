@@ -217,6 +217,8 @@ pub(crate) fn read(
             metadata.push((name.into(), value.trim().to_string()));
         }
     }
+    // `Points` per line × `Lines`: each stored row is a scan line
+    metadata.push((crate::FAST_AXIS.into(), "x".into()));
     FORMAT.check_spacings(
         image.dx_m,
         image.dy_m,

@@ -43,6 +43,8 @@ fn di_1_equals_surface_topography() {
     );
     assert_eq!(meta(&map, "instrument"), Some("Dimension V"));
     assert_eq!(meta(&map, "line_direction"), Some("Trace"));
+    // each stored row is a scan line (`Samps/line`): the fast axis is x
+    assert_eq!(map.fast_axis(), Some("x"));
     let bytes = more("di-1.di");
     let retrace = read_bytes_channel(&bytes, None, &Channel::Index(1)).unwrap();
     assert_eq!(meta(&retrace, "line_direction"), Some("Retrace"));
@@ -57,6 +59,7 @@ fn di_1_equals_surface_topography() {
 fn nid_1_equals_surface_topography_and_its_channels_their_rms() {
     let map = read_default("nid-1.nid", "nid-1", Format::Nid);
     assert_eq!(meta(&map, "instrument"), Some("DriveAFM"));
+    assert_eq!(map.fast_axis(), Some("x"));
     assert_eq!(
         meta(&map, "channels"),
         Some(
@@ -86,6 +89,8 @@ fn ibw_equals_surface_topography() {
     let map = read_default("spot_1-1000nm.ibw", "spot_1-1000nm", Format::Ibw);
     assert_eq!(meta(&map, "channel"), Some("HeightTrace"));
     assert_eq!(meta(&map, "instrument"), Some("Cypher"));
+    // the note's `ScanPoints: 256` are the wave's first dimension
+    assert_eq!(map.fast_axis(), Some("x"));
     let channels = meta(&map, "channels").unwrap();
     assert_eq!(channels.split("; ").count(), 8, "{channels}");
 }
@@ -93,6 +98,7 @@ fn ibw_equals_surface_topography() {
 #[test]
 fn mi_1_equals_surface_topography() {
     let map = read_default("mi-1.mi", "mi-1", Format::Mi);
+    assert_eq!(map.fast_axis(), Some("x"));
     assert_eq!(
         meta(&map, "channels"),
         Some("0: Topography; 1: Deflection; 2: Friction; 3: Friction")

@@ -12,7 +12,8 @@ use std::io::{Read, Seek, SeekFrom};
 use hypercontact_formats::{Format, Topography};
 
 use crate::channel_param::ChannelParam;
-use crate::prepare::{FormKind, SpikeRule, prepare};
+use crate::level_rows::Axis;
+use crate::prepare::{FastAxis, FormKind, LevelRows, SpikeRule, StatedFastAxis, prepare};
 
 /// Parameters of `height-map`.
 #[params(check = one_window)]
@@ -49,12 +50,20 @@ pub struct HeightMapParams {
     /// half-width of the neighbourhood of the local spike rule: 1 = 3 x 3, 2 = 5 x 5, 3 = 7 x 7
     #[param(default = 1, range = 1..=3)]
     pub spike_radius: usize,
-    /// the form subtracted last
+    /// the form subtracted (after spikes, before the scan lines are levelled)
     #[param(default = FormKind::None)]
     pub form: FormKind,
     /// total degree of the polynomial form
     #[param(default = 2, range = 0..=6)]
     pub form_degree: usize,
+    /// scan-line levelling, last: each line along the fast axis has its median, mean, least-squares tilt or polynomial subtracted, or is shifted so the median of its differences to the line before is zero; NaN points take no part
+    #[param(default = LevelRows::None)]
+    pub level_rows: LevelRows,
+    /// degree of each scan line's least-squares polynomial for level_rows: polynomial (0 = the mean, 1 = the tilt)
+    #[param(default = 2, range = 0..=6)]
+    pub level_rows_degree: usize,
+    /// the axis along which each scan line ran, for level_rows (default: the file's where its format states it, x for the AFM formats read; otherwise x)
+    pub fast_axis: Option<FastAxis>,
     /// the most points a map may have (default 2^26 = 67 108 864, 512 MiB of heights); a file whose header claims more is refused before its data is read or inflated
     #[param(default = 67_108_864, range = 1..=2_147_483_647)]
     pub max_points: usize,
@@ -108,9 +117,20 @@ static INFO: StageInfo = StageInfo {
           height); a form subtracted (`form`: a least-squares polynomial of total degree \
           form_degree in Legendre polynomials of centred, scaled coordinates; a sphere or a \
           cylinder (axis along x, y or fitted in the plane), Levenberg-Marquardt from an \
-          algebraic (Kasa) start on the vertical residual). Spikes go before the form, which \
-          they would pull. All are off by default: the map is given as measured, and `surface` \
-          removes a plane.",
+          algebraic (Kasa) start on the vertical residual); the scan lines levelled \
+          (`level_rows`, the methods of Gwyddion's Align Rows: each line along the fast axis \
+          has its `median` or `mean` height, its least-squares `tilt` or its least-squares \
+          `polynomial` of degree level_rows_degree (Legendre, in the position along the line) \
+          subtracted, or with `median-differences` is shifted so that the median of its height \
+          differences to the line before is zero, the shifts then moved by their median; NaN \
+          points take no part; a line with no more measured points than the model has unknowns \
+          (for median-differences, without one shared with the line before) is left as is and \
+          counted; the note gives the rms of what was removed). The fast axis is the file's \
+          where its format states it (the AFM formats read: x, each stored row a scan line), \
+          `fast_axis` where given (it overrides the file, the note saying so), x otherwise. \
+          Spikes go before the form, which they would pull; the lines are levelled on what the \
+          form leaves, as a line's own median or tilt would take its share of a curved form. \
+          All are off by default: the map is given as measured, and `surface` removes a plane.",
     inputs: &[],
     outputs: &[OutputSpec::field(
         "height",
@@ -131,7 +151,8 @@ impl Stage for HeightMap {
         _: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError> {
-        let field = prepare(read_map(p, ctx)?, p, ctx)?;
+        let (map, stated) = read_map(p, ctx)?;
+        let field = prepare(map, stated, p, ctx)?;
         if field.values.iter().all(|h| h.is_nan()) {
             return Err(StageError::file(&p.path, "every point is NaN"));
         }
@@ -148,7 +169,11 @@ impl Stage for HeightMap {
 /// The map, its format told by the file's first bytes: a `.npy` array is
 /// judged by its header before its data is read; an instrument file by its
 /// reader, with the points limit; anything else is named for what it is.
-fn read_map(p: &HeightMapParams, ctx: &Context) -> Result<Field, StageError> {
+/// With it, the fast axis where the file states one.
+fn read_map(
+    p: &HeightMapParams,
+    ctx: &Context,
+) -> Result<(Field, Option<StatedFastAxis>), StageError> {
     let path: &std::path::Path = &p.path;
     hypercontact_core::regular_file::check_regular_file(path)?;
     let io_error = |e: std::io::Error| StageError::file(path, e.to_string());
@@ -167,7 +192,7 @@ fn read_map(p: &HeightMapParams, ctx: &Context) -> Result<Field, StageError> {
             ));
         }
         file.seek(SeekFrom::Start(0)).map_err(io_error)?;
-        return read_npy(p, file, file_bytes);
+        return Ok((read_npy(p, file, file_bytes)?, None));
     }
     let bytes = read_bounded(p, file, file_bytes)?;
     match hypercontact_formats::detect(&bytes, Some(path)) {
@@ -268,12 +293,12 @@ fn read_npy(
 }
 
 /// An instrument's file: heights in metres and the spacing it states,
-/// which `pixel_m` / `pixel_y_m` may replace.
+/// which `pixel_m` / `pixel_y_m` may replace; the fast axis it states.
 fn read_instrument_file(
     p: &HeightMapParams,
     bytes: &[u8],
     ctx: &Context,
-) -> Result<Field, StageError> {
+) -> Result<(Field, Option<StatedFastAxis>), StageError> {
     let channel = p.channel.as_ref().map_or(
         hypercontact_formats::Channel::Default,
         ChannelParam::to_channel,
@@ -325,7 +350,13 @@ fn read_instrument_file(
         note.push_str(&format!("; {}: {}", instrument.0, instrument.1));
     }
     ctx.note(&note);
-    Field::new(map.heights_m, dx_m, dy_m).map_err(|e| StageError::file(&p.path, e.to_string()))
+    let stated = map.fast_axis().map(|axis| StatedFastAxis {
+        axis: if axis == "y" { Axis::Y } else { Axis::X },
+        format: map.format.name(),
+    });
+    let field = Field::new(map.heights_m, dx_m, dy_m)
+        .map_err(|e| StageError::file(&p.path, e.to_string()))?;
+    Ok((field, stated))
 }
 
 /// Which channel was read, and the others, when the file holds more than
@@ -377,6 +408,9 @@ mod tests {
             spike_radius: 1,
             form: FormKind::None,
             form_degree: 2,
+            level_rows: LevelRows::None,
+            level_rows_degree: 2,
+            fast_axis: None,
             max_points: 1 << 26,
         }
     }
@@ -777,6 +811,7 @@ mod tests {
             form_degree: 2,
             scale_to_m: 1.0,
             max_points: 1 << 26,
+            ..with_defaults()
         };
         let run = |params: &HeightMapParams| {
             let ctx = Context::new("bowl");

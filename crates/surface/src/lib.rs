@@ -12,6 +12,7 @@ pub mod height_map;
 pub mod hurst;
 pub mod infill;
 pub mod iso25178;
+pub mod level_rows;
 pub mod line;
 pub mod mask_file;
 pub mod plane;

@@ -7,6 +7,7 @@ mod common;
 mod fuzz_positions;
 mod hurst_quality;
 mod inputs;
+mod level_rows;
 mod missing_points;
 mod spectra;
 mod stitching;
