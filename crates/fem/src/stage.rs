@@ -173,9 +173,15 @@ static INFO: StageInfo = StageInfo {
           top nodes (a node in contact has its z on the plane, released when its reaction \
           pulls once the free residual is within sqrt(tolerance) of the reactions; a free node \
           that penetrates enters at once), frictionless (x, y free), Newton with line search \
-          from the last converged state (a linear law's extrapolated from the last two), faer's sparse Cholesky with one symbolic \
-          factorisation (once Newton converges, chord steps keep the last factorisation while \
-          they cut the residual fourfold); a step that fails is halved up to four times, an \
+          from the last converged state (a linear law's extrapolated from the last two), \
+          faer's sparse Cholesky with one symbolic factorisation (once Newton converges, chord \
+          steps keep the last factorisation while they cut the residual fourfold; with a \
+          constant tangent, as at small strain, a direction whose contact set differs from the \
+          factorised one in at most 6 nodes is solved by conjugate gradients preconditioned by \
+          the kept factor, to 1e-8 of the right-hand side in at most 12 iterations); MEMORY: the \
+          symbolic factor's exact size and the assembly's are added up before any numeric work, \
+          noted, and the stage refused above max_memory_gb (measured 16-20 kB per node at 8 \
+          layers); a step that fails is halved up to four times, an \
           attempt whose line search damps the contact nodes' move to the plane to 1/4 or less \
           being halved at once (first-touch cut; the last halving iterates to the end), then \
           the stage fails naming the step, the approach and the residual. STEPS: row 0 is \
