@@ -8,10 +8,9 @@
 //! LDLᵀ factorisation, and if that meets a zero pivot, a sparse LU with
 //! partial pivoting of the full matrix takes over.
 //!
-//! The numeric LLᵀ and LDLᵀ factorisations run on the threads of the rayon
-//! pool the solver is made in (see [`parallelism`] for why their bits do
-//! not depend on their number); the LU fallback and the triangular solves
-//! run on one.
+//! All factorisations run on one thread (`Par::Seq`): their results are
+//! then the same bits whatever the thread pool, and the parallel work is
+//! the element loop.
 //!
 //! A factorisation outlives its matrix: [`LinearSolver::solve_preconditioned`]
 //! solves a later matrix on the same pattern (the next Newton iteration's
@@ -86,8 +85,6 @@ pub struct LinearSolver {
     scratch: MemBuffer,
     /// Its size, bytes.
     scratch_bytes: usize,
-    /// The factorisations' threads (the work space is sized for them).
-    par: Par,
 }
 
 /// The full (both triangles) pattern for LU, with the source of each value
@@ -144,13 +141,12 @@ impl LinearSolver {
         let symbolic =
             factorize_symbolic_cholesky(upper.as_ref(), Side::Upper, ordering, Default::default())
                 .map_err(|e| solver_error("symbolic Cholesky", e))?;
-        let par = parallelism();
+        let par = Par::Seq;
         let scratch_req = symbolic
             .factorize_numeric_llt_scratch::<f64>(par, Default::default())
             .or(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()))
             .or(symbolic.solve_in_place_scratch::<f64>(1, par));
         Ok(Self {
-            par,
             scratch_bytes: scratch_req.size_bytes(),
             scratch: MemBuffer::new(scratch_req),
             factor_values: vec![0.0; symbolic.len_val()],
@@ -179,7 +175,7 @@ impl LinearSolver {
     /// Factorises the matrix with `values` on the pattern.
     pub fn factor(&mut self, values: &[f64]) -> Result<Factorization, FemError> {
         let matrix = SparseColMatRef::new(self.upper.as_ref(), values);
-        let par = self.par;
+        let par = Par::Seq;
         let stack = MemStack::new(&mut self.scratch);
         let llt = self.symbolic.factorize_numeric_llt(
             &mut self.factor_values,
@@ -260,19 +256,6 @@ impl LinearSolver {
                 }
             }
         }
-    }
-}
-
-/// The numeric Cholesky factorisation's threads: those of the rayon pool
-/// it runs in. faer's supernodal LLᵀ is left-looking, supernode after supernode in
-/// a fixed order, each updated by its descendants in a fixed order; only the
-/// dense kernels inside a supernode run on several threads, and they split
-/// the output, not the sums, so the factor is the same bits on any number
-/// of threads (checked by the stage's one-and-two-threads test).
-fn parallelism() -> Par {
-    match rayon::current_num_threads() {
-        n if n > 1 => Par::rayon(n),
-        _ => Par::Seq,
     }
 }
 
