@@ -136,7 +136,11 @@ fn measure(run: &Run) {
          {:.0} MB ({:.1} kB per node; estimated {:.0} MB); {} steps, {newton} Newton iterations ({:.1} per step) \
          {per_step:?}; {} factorisations, {} CG iterations; A/A0 {:.3}, load {:.5e} N",
         run.layers,
-        if run.lateral_coarsening { " coarsened" } else { "" },
+        if run.lateral_coarsening {
+            " coarsened"
+        } else {
+            ""
+        },
         if run.finite { "finite" } else { "small" },
         if run.neo_hookean {
             "neo-Hookean"

@@ -289,7 +289,8 @@ impl LinearSolver {
         for iteration in 1..=control.max_iterations {
             symmetric_product(self.upper.as_ref(), values, &p, &mut q);
             let curvature = dot(&p, &q);
-            if !(curvature > 0.0) {
+            // NaN counts as indefinite too.
+            if curvature.is_nan() || curvature <= 0.0 {
                 return Err(KrylovStop::Indefinite);
             }
             let alpha = rz / curvature;
