@@ -338,7 +338,7 @@ fn check(name: &str, case: Case) {
     }
     let mut command = bin();
     command.args(args_in(&case.args, dir)).current_dir(&cwd);
-    let output = output_within(command, name);
+    let output = output_within(command, name, CASE_LIMITS);
     for ro in &case.read_only {
         set_mode(&dir.join(ro), 0o755);
     }
@@ -401,16 +401,131 @@ fn check(name: &str, case: Case) {
     }
 }
 
-/// How long a case may take before it counts as a hang: far above any
-/// case's run time, far below a test runner's patience.
-const HANG_S: u64 = 20;
+/// When a child counts as hung, judged by its own clocks rather than the
+/// wall clock alone: a loaded machine slows a child down (it waits to run,
+/// gaining no CPU time) without changing what it does, so a verdict on CPU
+/// time and on time spent asleep is the same on a busy laptop as on an idle
+/// CI box (issue #50, item 13).
+#[derive(Clone, Copy, Debug)]
+struct HangLimits {
+    /// CPU time (user + system, all threads) past which a child that keeps
+    /// computing is a hang: a reader of `/dev/zero`, a loop that never ends.
+    cpu_s: f64,
+    /// Wall time a child may spend asleep without a break (every thread
+    /// waiting on something, no CPU time gained): a reader blocked on a
+    /// FIFO nothing writes to. Waiting to be scheduled does not count.
+    asleep_s: f64,
+    /// Wall time past which any child is killed, whatever the load: a
+    /// backstop far above any case's run time on a machine ten times
+    /// oversubscribed, below a test runner's patience.
+    wall_s: f64,
+}
 
-/// The command's output, or a failure naming the case if it runs longer
-/// than [`HANG_S`] (it is killed first): a reader that blocks on a pipe or
-/// reads `/dev/zero` fails its case instead of hanging the suite.
-fn output_within(mut command: Command, name: &str) -> std::process::Output {
+/// The limits every case is held to. The costliest case hashes a 6 GB
+/// sparse `.npy` (`height_map_npy_6_gb_promising_1x1`): 2 s of CPU time on
+/// an idle 2-core machine, 19 s (mostly the kernel's, reading holes) on
+/// this one while another job ran; the others take under 6 s.
+const CASE_LIMITS: HangLimits = HangLimits {
+    cpu_s: 60.0,
+    asleep_s: 20.0,
+    wall_s: 600.0,
+};
+
+/// A child's clocks as `/proc/<pid>` shows them.
+#[derive(Clone, Copy, Debug)]
+struct ChildClocks {
+    /// User and system CPU time of all its threads (and of children it
+    /// waited for), seconds.
+    cpu_s: f64,
+    /// Whether every thread is asleep (`S`): waiting on a pipe, a lock or a
+    /// timer rather than running, waiting to run (`R`), stopped (`T`) or in
+    /// the disk's hands (`D`).
+    asleep: bool,
+}
+
+/// Clock ticks per second of `/proc`'s CPU times (`sysconf(_SC_CLK_TCK)`,
+/// proc(5)); 100 on Linux where `getconf` does not say.
+fn clock_ticks_per_s() -> f64 {
+    static TICKS: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+    *TICKS.get_or_init(|| {
+        Command::new("getconf")
+            .arg("CLK_TCK")
+            .output()
+            .ok()
+            .and_then(|o| String::from_utf8(o.stdout).ok())
+            .and_then(|t| t.trim().parse().ok())
+            .unwrap_or(100.0)
+    })
+}
+
+/// The fields of a `/proc/.../stat` line after the command name (which may
+/// hold spaces and parentheses, so the last `)` ends it): the state first.
+fn stat_fields(stat: &str) -> Option<Vec<&str>> {
+    let close = stat.rfind(')')?;
+    Some(stat[close + 1..].split_whitespace().collect())
+}
+
+/// The clocks of process `pid`, or None once it is gone.
+fn child_clocks(pid: u32) -> Option<ChildClocks> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    let fields = stat_fields(&stat)?;
+    // utime, stime, cutime, cstime: fields 14 to 17 of proc(5), 11 to 14
+    // after the state.
+    let ticks: f64 = fields
+        .get(11..15)?
+        .iter()
+        .map(|f| f.parse::<f64>().unwrap_or(0.0))
+        .sum();
+    let tasks = std::fs::read_dir(format!("/proc/{pid}/task")).ok()?;
+    let asleep = tasks.flatten().all(|task| {
+        std::fs::read_to_string(task.path().join("stat"))
+            .ok()
+            .and_then(|s| stat_fields(&s).map(|f| f.first() == Some(&"S")))
+            // A thread that ended between the listing and the read.
+            .unwrap_or(true)
+    });
+    Some(ChildClocks {
+        cpu_s: ticks / clock_ticks_per_s(),
+        asleep,
+    })
+}
+
+/// Why a child still running counts as hung under `limits`, if it does:
+/// `asleep_s` is how long it has been asleep without a break.
+fn hang_verdict(
+    limits: HangLimits,
+    clocks: ChildClocks,
+    asleep_s: f64,
+    wall_s: f64,
+) -> Option<String> {
+    if clocks.cpu_s > limits.cpu_s {
+        Some(format!(
+            "still running after {:.1} s of CPU time (over {} s: a hang)",
+            clocks.cpu_s, limits.cpu_s
+        ))
+    } else if asleep_s > limits.asleep_s {
+        Some(format!(
+            "asleep for {asleep_s:.1} s without using the CPU (over {} s: blocked, a hang)",
+            limits.asleep_s
+        ))
+    } else if wall_s > limits.wall_s {
+        Some(format!(
+            "still running after {wall_s:.0} s of wall time (over {} s)",
+            limits.wall_s
+        ))
+    } else {
+        None
+    }
+}
+
+/// The command's output, or a failure naming the case if it hangs under
+/// `limits` (it is killed first): a reader that blocks on a pipe or reads
+/// `/dev/zero` fails its case instead of hanging the suite, while a case
+/// that is merely slow because the machine is busy runs to its end.
+fn output_within(mut command: Command, name: &str, limits: HangLimits) -> std::process::Output {
     use std::io::Read;
     use std::process::Stdio;
+    use std::time::{Duration, Instant};
     let mut child = command
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
@@ -426,23 +541,90 @@ fn output_within(mut command: Command, name: &str) -> std::process::Output {
     };
     let stdout = drain(Box::new(child.stdout.take().unwrap()));
     let stderr = drain(Box::new(child.stderr.take().unwrap()));
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(HANG_S);
+    let started = Instant::now();
+    let (mut last_cpu_s, mut asleep_since) = (0.0, None::<Instant>);
     let status = loop {
         if let Some(status) = child.try_wait().unwrap() {
             break status;
         }
-        if std::time::Instant::now() > deadline {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("case `{name}`: still running after {HANG_S} s (a hang); killed");
+        if let Some(clocks) = child_clocks(child.id()) {
+            let now = Instant::now();
+            let idle = clocks.asleep && clocks.cpu_s <= last_cpu_s;
+            asleep_since = idle.then(|| asleep_since.unwrap_or(now));
+            last_cpu_s = clocks.cpu_s;
+            let asleep_s = asleep_since.map_or(0.0, |t| (now - t).as_secs_f64());
+            let wall_s = (now - started).as_secs_f64();
+            if let Some(why) = hang_verdict(limits, clocks, asleep_s, wall_s) {
+                let _ = child.kill();
+                let _ = child.wait();
+                panic!("case `{name}`: {why}; killed");
+            }
         }
-        std::thread::sleep(std::time::Duration::from_millis(20));
+        std::thread::sleep(Duration::from_millis(20));
     };
     std::process::Output {
         status,
         stdout: stdout.join().unwrap(),
         stderr: stderr.join().unwrap(),
     }
+}
+
+// ------------------------------------------------------- the hang detector
+
+/// Limits of a second, so the detector's own tests take a few seconds.
+const TIGHT: HangLimits = HangLimits {
+    cpu_s: 1.0,
+    asleep_s: 1.0,
+    wall_s: 60.0,
+};
+
+/// `sh -c script`.
+fn shell(script: &str) -> Command {
+    let mut command = Command::new("sh");
+    command.args(["-c", script]);
+    command
+}
+
+/// A child held off the CPU for longer than the CPU and sleep limits (here
+/// stopped by a signal for 3 s, as a loaded machine keeps a runnable child
+/// waiting) that then does its little work is not a hang. Before, the wall
+/// clock alone judged a child, and this one was killed after 1 s.
+#[test]
+fn hang_detector_waits_for_a_child_held_off_the_cpu() {
+    let output = output_within(
+        shell("(sleep 3; kill -CONT $$) & kill -STOP $$; echo finished"),
+        "held",
+        TIGHT,
+    );
+    assert!(output.status.success(), "{output:?}");
+    assert_eq!(String::from_utf8_lossy(&output.stdout), "finished\n");
+}
+
+/// A child that has waited 100 s to run (runnable, not asleep) with half a
+/// second of CPU time is not a hang under the cases' limits.
+#[test]
+fn hang_detector_ignores_time_spent_waiting_to_run() {
+    let starved = ChildClocks {
+        cpu_s: 0.5,
+        asleep: false,
+    };
+    assert_eq!(hang_verdict(CASE_LIMITS, starved, 0.0, 100.0), None);
+}
+
+/// A child that sleeps (as a reader blocked on a FIFO does) is a hang once
+/// it has slept past the limit.
+#[test]
+#[should_panic(expected = "case `asleep`: asleep for")]
+fn hang_detector_kills_a_child_asleep_too_long() {
+    output_within(shell("sleep 30"), "asleep", TIGHT);
+}
+
+/// A child that computes without end is a hang once its CPU time passes
+/// the limit.
+#[test]
+#[should_panic(expected = "case `spinning`: still running after")]
+fn hang_detector_kills_a_child_that_spins() {
+    output_within(shell("while :; do :; done"), "spinning", TIGHT);
 }
 
 /// The case's FIFOs, symlinks and sparse files.
