@@ -835,6 +835,23 @@ fn dic_folder(case: Case) -> Case {
     )
 }
 
+/// `hypercontact export` of the tensile run in `<dir>/out` (cache
+/// `<dir>/cache`) as CSV into `out`.
+fn export_into(out: &str) -> Case {
+    Case::new(&["export", "<dir>/out", "--format", "csv", "--out", out])
+        .file("p.yaml", TENSILE)
+        .file("t.csv", CSV)
+        .before(&[
+            "run",
+            "<dir>/p.yaml",
+            "--out",
+            "<dir>/out",
+            "--cache",
+            "<dir>/cache",
+            "-q",
+        ])
+}
+
 /// A pipeline with a study over `grid` (a YAML map, indented 4).
 fn study_over(grid: &str) -> String {
     format!("{TENSILE}study:\n  grid:\n{grid}  collect: [fit.params]\n")
@@ -1062,6 +1079,25 @@ cases! {
         .file("t.csv", CSV)
         .absent("out")
         .mentions(&["overlap", "inside the outputs"]);
+    // `export --out` inside a cache (or at its root), the run folder itself
+    // or a stage's folder is refused before anything is written (#50, 5);
+    // a folder of its own inside the run folder is fine.
+    export_out_inside_the_cache: export_into("<dir>/cache/entries/x")
+        .absent("cache/entries/x")
+        .mentions(&["--out <dir>/cache/entries/x lies inside the cache <dir>/cache"]);
+    export_out_at_the_cache_root: export_into("<dir>/cache")
+        .absent("cache/fit")
+        .mentions(&["--out <dir>/cache is the root of the cache <dir>/cache"]);
+    export_out_inside_the_cache_through_a_link: export_into("<dir>/link/entries/x")
+        .symlink("link", "<dir>/cache")
+        .absent("cache/entries/x")
+        .mentions(&["--out <dir>/link/entries/x lies inside the cache <dir>/link"]);
+    export_out_the_run_folder: export_into("<dir>/out/.")
+        .mentions(&["the run folder <dir>/out itself"]);
+    export_out_in_a_stage_folder: export_into("<dir>/out/fit/csv")
+        .absent("out/fit/csv")
+        .mentions(&["inside <dir>/out/fit, which the run wrote"]);
+    export_out_a_folder_of_its_own_in_the_run: export_into("<dir>/out/tables").exit(0);
     // Listing a cache that is not there says so and creates nothing.
     cache_ls_missing_dir: Case::new(&["cache", "ls", "--cache", "<dir>/missing/dir"])
         .exit(0)
