@@ -729,6 +729,10 @@ fn png() -> Vec<u8> {
     bytes
 }
 
+/// The first lines of a password file: what no message may echo.
+const SHADOW: &str =
+    "root:$6$SECRETSALT$SECRETHASH:19000:0:99999:7:::\ndaemon:*:19000:0:99999:7:::\n";
+
 /// A height map (`map.npy`, 20 µm pixels) into truncation.
 const MAP: &str = "\
 name: map
@@ -1180,6 +1184,24 @@ cases! {
     surface_flat_map: Case::run(SURFACE, &[]).file("map.npy", npy("<f8", "(32, 32)", &f64_bytes([1e-6; 1024])))
         .mentions(&["`stats`"]);
 
+    // --- files whose contents a message must not echo (#50, item 11): a
+    // credentials file given as an input is named by its kind and its
+    // first 8 bytes in hex, never by its text.
+    height_map_credentials_file: Case::run(&MAP.replace("path: map.npy", "path: shadow"), &[]).file("shadow", SHADOW)
+        .lacks("SECRET").lacks("root:")
+        .mentions(&["<dir>/shadow", "text (first bytes 72 6f 6f 74 3a 24 36 24)"]);
+    height_map_credentials_file_named_npy: Case::run(MAP, &[]).file("map.npy", SHADOW)
+        .lacks("SECRET").lacks("root:")
+        .mentions(&["<dir>/map.npy", "not a NumPy .npy file"]);
+    tensile_csv_credentials_file: Case::run(TENSILE, &[]).file("t.csv", SHADOW)
+        .lacks("SECRET").lacks("root:")
+        .mentions(&["<dir>/t.csv", "line 1", "not a CSV header of column names"]);
+    tensile_csv_semicolon_credentials: Case::run(TENSILE, &[]).file("t.csv", "user;password=SECRET\nroot;x\n")
+        .lacks("SECRET")
+        .mentions(&["<dir>/t.csv", "line 1", "separated by semicolons"]);
+    dic_frames_credentials_file: dic_folder(Case::run(DIC, &[])).file("seq/frames.csv", SHADOW)
+        .lacks("SECRET").lacks("root:")
+        .mentions(&["<dir>/seq/frames.csv", "not a CSV header of column names"]);
     // --- images of a DIC folder
     dic_garbage_png: dic_folder(Case::run(DIC, &[]))
         .file("seq/frame_000.png", "not a png\n")
