@@ -18,6 +18,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context as _, Result, bail};
 use hypercontact_core::{ColumnData, Field, Table};
+use hypercontact_runner::folders;
 use hypercontact_runner::provenance::Provenance;
 
 /// What to export.
@@ -44,6 +45,7 @@ pub fn export_run(run_dir: &Path, out_dir: &Path, format: Format) -> Result<Expo
             record.display()
         );
     };
+    check_out_dir(run_dir, out_dir, &provenance)?;
     let mut exported = Exported::default();
     for (stage, files) in stage_files(&provenance) {
         let stage_dir = run_dir.join(&stage);
@@ -80,6 +82,57 @@ pub fn export_run(run_dir: &Path, out_dir: &Path, format: Format) -> Result<Expo
         }
     }
     Ok(exported)
+}
+
+/// Refuses an output folder where the export would mix with what it must
+/// not touch: a cache (its root or anything inside it: files there break
+/// the entries' manifests, and `cache gc` never removes them), the run
+/// folder itself, or a folder the run wrote (a stage's, whose files the
+/// next run replaces). A folder of its own inside the run folder, such as
+/// the default `export-csv`, is fine. Checked as `run` checks `--out`
+/// against the cache ([`folders`]).
+fn check_out_dir(run_dir: &Path, out_dir: &Path, provenance: &Provenance) -> Result<()> {
+    if let Some(cache) = folders::enclosing_cache(out_dir) {
+        let at_root =
+            folders::part_within(out_dir, &cache).is_some_and(|p| p.as_os_str().is_empty());
+        bail!(
+            "--out {} {} the cache {}: the export would write among its entries; \
+             give a folder outside the cache",
+            out_dir.display(),
+            if at_root {
+                "is the root of"
+            } else {
+                "lies inside"
+            },
+            cache.display()
+        );
+    }
+    let Some(below) = folders::part_within(out_dir, run_dir) else {
+        return Ok(());
+    };
+    let first = below
+        .components()
+        .next()
+        .map(|c| c.as_os_str().to_string_lossy());
+    match first {
+        None => bail!(
+            "--out {} is the run folder {} itself: the export would mix with the run's \
+             products; give a folder of its own (without --out: export-vtk or export-csv in it)",
+            out_dir.display(),
+            run_dir.display()
+        ),
+        Some(name)
+            if provenance.stages.contains_key(name.as_ref()) || name == "provenance.json" =>
+        {
+            bail!(
+                "--out {} lies inside {}, which the run wrote: the export would mix with \
+                 the run's products; give a folder of its own",
+                out_dir.display(),
+                run_dir.join(name.as_ref()).display()
+            )
+        }
+        Some(_) => Ok(()),
+    }
 }
 
 /// The run's files per stage (names inside the stage's folder), in order.

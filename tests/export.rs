@@ -227,3 +227,36 @@ fn a_folder_without_a_run_is_refused_by_name() {
         "{said}"
     );
 }
+
+/// The tests of `folders`, which `export` refuses `--out` with: a path
+/// below a folder by name or through `..`, and the cache around a path
+/// found by its marker.
+#[test]
+fn a_folder_below_another_by_name_or_through_dots() {
+    use hypercontact_runner::folders::{is_within, part_within};
+    use std::path::PathBuf;
+    let root = Path::new("/work/run");
+    assert_eq!(
+        part_within(Path::new("/work/run/a/../b"), root),
+        Some(PathBuf::from("b"))
+    );
+    assert_eq!(part_within(root, root), Some(PathBuf::new()));
+    assert!(!is_within(Path::new("/work/runs"), root));
+    assert!(!is_within(Path::new("/work/run/.."), root));
+}
+
+#[test]
+fn the_cache_around_a_path_is_found_by_its_marker() {
+    use hypercontact_runner::cache::MARKER;
+    use hypercontact_runner::folders::enclosing_cache;
+    let t = tempfile::tempdir().unwrap();
+    let cache = t.path().join("c");
+    std::fs::create_dir_all(&cache).unwrap();
+    std::fs::write(cache.join(MARKER), "").unwrap();
+    assert_eq!(
+        enclosing_cache(&cache.join("entries/x")),
+        Some(cache.clone())
+    );
+    assert_eq!(enclosing_cache(&cache), Some(cache.clone()));
+    assert_eq!(enclosing_cache(&t.path().join("elsewhere")), None);
+}

@@ -117,7 +117,8 @@ pub struct ExportArgs {
     #[arg(long, value_enum)]
     pub format: ExportFormat,
     /// Where to write [default: RUN_DIR/export-vtk or RUN_DIR/export-csv],
-    /// one folder per stage.
+    /// one folder per stage; not inside a cache, nor the run folder itself
+    /// or a stage's folder in it.
     #[arg(long)]
     pub out: Option<PathBuf>,
 }

@@ -40,6 +40,7 @@ pub mod regular_file;
 pub mod robust;
 pub mod row_lines;
 pub mod schema;
+pub mod shown;
 pub mod stage;
 pub mod table;
 

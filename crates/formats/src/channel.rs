@@ -97,15 +97,18 @@ pub(crate) fn with_channels(mut map: Topography, names: &[String], index: usize)
     map
 }
 
-/// What an unknown file starts with, for the error: its first bytes in hex
-/// and, where they are text, as text.
+/// What an unknown file is, for the error: the format its signature
+/// names, else whether it reads as text, and its first bytes in hex (at
+/// most 8). Never the file's text: a message must not echo a file's
+/// contents (a credentials file given as a height map, issue #50).
 pub(crate) fn describe_start(bytes: &[u8]) -> String {
     if bytes.is_empty() {
         return "an empty file".into();
     }
     let shown: Vec<String> = bytes.iter().take(8).map(|b| format!("{b:02x}")).collect();
+    let shown = shown.join(" ");
     // files users mistake for height maps, by their magic numbers
-    let kinds: [(&[u8], &str); 7] = [
+    let kinds: [(&[u8], &str); 9] = [
         (b"\x89PNG\r\n\x1a\n", "a PNG image"),
         (b"\xff\xd8\xff", "a JPEG image"),
         (b"GIF8", "a GIF image"),
@@ -113,20 +116,27 @@ pub(crate) fn describe_start(bytes: &[u8]) -> String {
         (b"\x1f\x8b", "gzip-compressed data"),
         (b"PK\x03\x04", "a zip archive without an X3P's main.xml"),
         (b"II*\0", "a TIFF image"),
+        (b"<?xml", "an XML document"),
+        (b"\x7fELF", "an executable (ELF)"),
     ];
     if let Some((_, kind)) = kinds.iter().find(|(magic, _)| bytes.starts_with(magic)) {
-        return format!("{kind} (first bytes {})", shown.join(" "));
+        return format!("{kind} (first bytes {shown})");
     }
-    let head = &bytes[..bytes.len().min(24)];
-    let printable = head
-        .iter()
-        .all(|&b| b == b'\t' || b == b'\r' || b == b'\n' || (0x20..0x7f).contains(&b));
-    if printable {
-        let text = String::from_utf8_lossy(head);
-        let line = text.lines().next().unwrap_or_default();
-        format!("first bytes {}, text {line:?}", shown.join(" "))
-    } else {
-        format!("first bytes {}", shown.join(" "))
+    // UTF-8 text without control characters, a character cut at the end
+    // of the sample allowed.
+    let head = &bytes[..bytes.len().min(512)];
+    let valid = match std::str::from_utf8(head) {
+        Ok(text) => Some(text),
+        Err(e) if e.error_len().is_none() => std::str::from_utf8(&head[..e.valid_up_to()]).ok(),
+        Err(_) => None,
+    };
+    let is_text = valid.is_some_and(|t| {
+        t.chars()
+            .all(|c| !c.is_control() || c == '\t' || c == '\r' || c == '\n')
+    });
+    match is_text {
+        true => format!("text (first bytes {shown})"),
+        false => format!("first bytes {shown}"),
     }
 }
 
@@ -172,9 +182,10 @@ mod tests {
     #[test]
     fn unknown_files_are_described_by_their_start() {
         assert_eq!(describe_start(b""), "an empty file");
+        // Text is named as text, never shown (issue #50).
         assert_eq!(
-            describe_start(b"hello world\nmore"),
-            "first bytes 68 65 6c 6c 6f 20 77 6f, text \"hello world\""
+            describe_start(b"root:SECRET:19000:0:99999:7:::\nmore"),
+            "text (first bytes 72 6f 6f 74 3a 53 45 43)"
         );
         assert_eq!(describe_start(&[0, 1, 2]), "first bytes 00 01 02");
         assert_eq!(

@@ -11,6 +11,7 @@
 use std::path::Path;
 
 use hypercontact_core::regular_file::read_regular_file;
+use hypercontact_core::shown::is_name_like;
 use hypercontact_core::{ColumnData, StageError, Table};
 
 // Part of a CSV table's API; they live in core, where `ProductReader`
@@ -147,17 +148,33 @@ fn read_header(
         })
         .collect::<Result<_, _>>()?;
     if let [only] = header.as_slice()
-        && let Some((_, name)) = [(';', "semicolons"), ('\t', "tabs")]
+        && let Some((separator, name)) = [(';', "semicolons"), ('\t', "tabs")]
             .into_iter()
             .find(|(c, _)| only.contains(*c))
     {
         // A spreadsheet saved in a decimal-comma locale writes `;`; read
         // with `,` it is one column whose name holds every header field.
+        // The line is shown only if its fields read as names.
+        let shown = match only.split(separator).all(is_name_like) {
+            true => format!(" (`{}`)", only.escape_debug()),
+            false => String::new(),
+        };
         return Err(file.fail(format!(
-            "line {header_line}: the fields are separated by {name} (`{}`), not commas: \
+            "line {header_line}: the fields are separated by {name}{shown}, not commas: \
              save the file as comma-separated CSV with `.` as the decimal mark \
-             (e.g. `time_s,force_n` and `0.5,12.25`)",
-            only.escape_debug()
+             (e.g. `time_s,force_n` and `0.5,12.25`)"
+        )));
+    }
+    // Messages name columns by the header's names: a first line that is
+    // not a header of names (a password file, a settings file) is refused
+    // unshown, so no later message echoes it.
+    if let Some(column) = header.iter().position(|name| !is_name_like(name)) {
+        return Err(file.fail(format!(
+            "line {header_line}: is not a CSV header of column names (field {} of {} is not a \
+             name; the line is not shown): a table starts with a line of names such as \
+             `time_s,force_n`",
+            column + 1,
+            header.len()
         )));
     }
     Ok((header, header_line))

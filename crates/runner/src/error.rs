@@ -4,6 +4,8 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+use hypercontact_core::shown;
+
 use crate::yaml::Location;
 
 #[derive(Debug, Clone, PartialEq)]
@@ -34,13 +36,16 @@ impl fmt::Display for PipelineError {
 impl std::error::Error for PipelineError {}
 
 impl PipelineError {
+    /// The error in `file`; every value the message quotes (between
+    /// backticks or double quotes: a YAML string, a key, a stage name) is
+    /// cut to [`shown::ECHO_MAX_CHARS`] characters.
     pub fn new(file: &Path, message: impl Into<String>) -> Self {
         Self {
             file: file.to_owned(),
             line: None,
             column: None,
             stage: None,
-            message: message.into(),
+            message: shown::cut_quoted(&message.into()),
         }
     }
 
@@ -58,7 +63,7 @@ impl PipelineError {
     }
 
     pub fn stage(mut self, stage: &str) -> Self {
-        self.stage = Some(stage.to_owned());
+        self.stage = Some(shown::cut(stage));
         self
     }
 }

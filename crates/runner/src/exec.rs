@@ -13,6 +13,7 @@ use hypercontact_core::{Context, Inputs, Outputs, Product, ProductKind, Progress
 use indicatif::MultiProgress;
 
 use crate::cache::{Cache, EntryState, MANIFEST_FORMAT, Manifest, short_key, unix_now};
+use crate::folders;
 use crate::outcome::{Blocked, StageFailure, blocked_by};
 use crate::pipeline::{Pipeline, PipelineError};
 use crate::plan::{Plan, PlanOptions, PlannedStage, Reason};
@@ -152,7 +153,7 @@ pub enum RunError {
          folders apart from each other",
         out.display(),
         cache.display(),
-        if out.starts_with(cache) { "the outputs would sit inside the cache" } else { "the cache would sit inside the outputs" }
+        if crate::folders::is_within(out, cache) { "the outputs would sit inside the cache" } else { "the cache would sit inside the outputs" }
     )]
     Overlap { out: PathBuf, cache: PathBuf },
     /// The entry of a temporary stage this run planned to read was dropped
@@ -417,49 +418,15 @@ fn run_or_block(
 }
 
 /// Refuses an output folder inside the cache or a cache inside the output
-/// folder (compared as absolute paths with `.` and `..` resolved by name,
-/// and again through symbolic links where the folders exist).
+/// folder (compared as [`folders::is_within`] compares them).
 fn check_apart(out: &Path, cache: &Path) -> Result<(), RunError> {
-    let overlap = |a: &Path, b: &Path| a.starts_with(b) || b.starts_with(a);
-    let (out_abs, cache_abs) = (lexical_absolute(out), lexical_absolute(cache));
-    let resolved = |p: &Path| nearest_existing(p).unwrap_or_else(|| p.to_owned());
-    if overlap(&out_abs, &cache_abs) || overlap(&resolved(&out_abs), &resolved(&cache_abs)) {
+    if folders::is_within(out, cache) || folders::is_within(cache, out) {
         return Err(RunError::Overlap {
             out: out.to_owned(),
             cache: cache.to_owned(),
         });
     }
     Ok(())
-}
-
-/// `path` made absolute, `.` dropped and `..` taken back by name.
-fn lexical_absolute(path: &Path) -> PathBuf {
-    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_owned());
-    let mut out = PathBuf::new();
-    for part in absolute.components() {
-        match part {
-            std::path::Component::CurDir => {}
-            std::path::Component::ParentDir => {
-                out.pop();
-            }
-            other => out.push(other),
-        }
-    }
-    out
-}
-
-/// `path` with its longest existing ancestor resolved through symbolic
-/// links, the rest appended as named.
-fn nearest_existing(path: &Path) -> Option<PathBuf> {
-    let mut rest = Vec::new();
-    let mut head = path;
-    loop {
-        if let Ok(real) = head.canonicalize() {
-            return Some(rest.iter().rev().fold(real, |p, part| p.join(part)));
-        }
-        rest.push(head.file_name()?.to_owned());
-        head = head.parent()?;
-    }
 }
 
 /// The cache in `dir`, created if there is none.

@@ -5,6 +5,7 @@ pub mod cache;
 pub mod error;
 pub mod eta;
 pub mod exec;
+pub mod folders;
 pub mod graph;
 pub mod hash;
 pub mod outcome;

@@ -530,6 +530,8 @@ fn bindings(inputs: &IndexMap<String, RawInput>) -> Vec<InputBinding> {
 fn check_name(name: &str) -> Result<(), &'static str> {
     if name.is_empty() {
         Err("is empty")
+    } else if name.chars().count() > hypercontact_core::shown::ECHO_MAX_CHARS {
+        Err("is longer than 100 characters")
     } else if !name
         .chars()
         .all(|c| c.is_alphanumeric() || c == '-' || c == '_')

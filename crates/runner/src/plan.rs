@@ -425,6 +425,14 @@ fn keyed_params(
     let mut files = BTreeMap::new();
     for (param, path) in decl.params.input_paths() {
         let shown = path.display().to_string();
+        // Checked before hashing: a folder given for a file would be hashed
+        // whole (gigabytes, seconds) only to be refused by the stage.
+        if path.is_dir() && !takes_folder(&param) {
+            return Err(decl.param_error(
+                &param,
+                format!("parameter `{param}`: `{shown}` is a folder; `{param}` takes a file"),
+            ));
+        }
         let hash = path_hash(&path).map_err(|e| {
             decl.param_error(
                 &param,
@@ -441,6 +449,16 @@ fn keyed_params(
         files.insert(shown, hash);
     }
     Ok((params, files))
+}
+
+/// Whether the path parameter `param` (a dotted path, list items by
+/// index) names a folder: every stage calls a folder parameter `dir`
+/// (`dic`, `contact-images`, `surface`), every other path is a file.
+fn takes_folder(param: &str) -> bool {
+    param
+        .rsplit('.')
+        .find(|part| !part.bytes().all(|b| b.is_ascii_digit()))
+        .is_some_and(|name| name == "dir")
 }
 
 fn resolve_inputs(

@@ -5,7 +5,8 @@
 //!
 //! Parsing is `saphyr`'s (YAML 1.2 core schema: `1e-6` is a number, quoted
 //! scalars stay text; duplicate keys are an error; alias expansion has a
-//! node budget).
+//! node budget). A tag saphyr does not honour (`!!binary`, `!custom`) is
+//! refused naming it and its line, never read as plain text.
 
 use std::collections::BTreeMap;
 use std::fmt;
@@ -64,7 +65,8 @@ impl Located {
         match docs.as_slice() {
             [] => Ok(located),
             [doc] => {
-                located.value = convert(doc, &mut Vec::new(), &mut located.spans)?;
+                located.value = convert(doc, &mut Vec::new(), &mut located.spans)
+                    .map_err(|e| name_the_tag(e, text))?;
                 Ok(located)
             }
             [_, second, ..] => Err(YamlError {
@@ -206,12 +208,41 @@ fn convert(
             )));
         }
         YamlData::Representation(text, _, _) => Value::String(text.to_string()),
-        YamlData::Alias(_) | YamlData::BadValue => {
-            return Err(fail(
-                "a value that cannot be read (an unknown alias?)".into(),
-            ));
+        YamlData::Alias(_) => {
+            return Err(fail("an alias that names no anchor".into()));
+        }
+        // saphyr's mark of a scalar whose `!!` tag it does not honour
+        // (`!!binary`, `!!timestamp`) or that does not parse as its tag
+        // says (`!!int abc`); `Located::parse` names the tag.
+        YamlData::BadValue => {
+            return Err(fail(format!("{}a value that cannot be read", where_(path))));
         }
     })
+}
+
+/// The tags saphyr honours: a value so tagged is read as that type.
+const HONOURED_TAGS: &str = "!!str, !!int, !!float, !!bool and !!null";
+
+/// `error` naming the YAML tag written where it points, if one is: a
+/// tag the loader does not honour is refused, never read as plain text.
+fn name_the_tag(error: YamlError, text: &str) -> YamlError {
+    let tag = error.at.and_then(|at| {
+        let line = text.lines().nth(at.line.checked_sub(1)?)?;
+        let from: String = line.chars().skip(at.column.checked_sub(1)?).collect();
+        let tag: String = from.chars().take_while(|c| !c.is_whitespace()).collect();
+        tag.starts_with('!').then_some(tag)
+    });
+    match tag {
+        Some(tag) => YamlError {
+            message: format!(
+                "{}: the YAML tag `{tag}` is not honoured here (only {HONOURED_TAGS} are, on a \
+                 value of that type): write the value without it",
+                error.message
+            ),
+            ..error
+        },
+        None => error,
+    }
 }
 
 /// Names a value's place for a message: `stage \`s\`: parameter \`p.q\`: `
