@@ -93,6 +93,7 @@ impl<'a> Truncation<'a> {
             values,
             dx_m: self.surface.dx_m,
             dy_m: self.surface.dy_m,
+            short_cutoff_m: None,
         };
         (inside as f64 / n.max(1) as f64, field)
     }
@@ -241,6 +242,7 @@ fn contact_of(pressure: &Field) -> Field {
         values,
         dx_m: pressure.dx_m,
         dy_m: pressure.dy_m,
+        short_cutoff_m: None,
     }
 }
 

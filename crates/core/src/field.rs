@@ -20,6 +20,12 @@ pub struct Field {
     pub dx_m: f64,
     /// Grid spacing along axis 1 (y), metres.
     pub dy_m: f64,
+    /// The shortest length scale the instrument measured reliably, metres,
+    /// where known (SurfaceTopography's `short_reliability_cutoff`: for a
+    /// probe, the scale below which its tip distorts the map); `None` when
+    /// nothing is known or every scale of the grid is reliable. Kept in the
+    /// grid sidecar.
+    pub short_cutoff_m: Option<f64>,
 }
 
 /// The sidecar that keeps a field's grid next to its `.npy` file.
@@ -30,12 +36,18 @@ pub struct Grid {
     pub ny: usize,
     pub dx_m: f64,
     pub dy_m: f64,
+    /// [`Field::short_cutoff_m`]; absent when `None`, so a field without
+    /// one keeps the sidecar it always had.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub short_cutoff_m: Option<f64>,
 }
 
 #[derive(Debug, thiserror::Error)]
 pub enum FieldError {
     #[error("grid spacing must be positive and finite, got dx_m = {dx_m}, dy_m = {dy_m}")]
     BadSpacing { dx_m: f64, dy_m: f64 },
+    #[error("a reliability cut-off must be positive and finite, got short_cutoff_m = {0}")]
+    BadCutoff(f64),
     #[error("the field is empty ({nx} × {ny})")]
     Empty { nx: usize, ny: usize },
     #[error("grid sidecar says {grid_nx} × {grid_ny} but the array is {nx} × {ny}")]
@@ -97,7 +109,25 @@ impl Field {
         if nx == 0 || ny == 0 {
             return Err(FieldError::Empty { nx, ny });
         }
-        Ok(Self { values, dx_m, dy_m })
+        Ok(Self {
+            values,
+            dx_m,
+            dy_m,
+            short_cutoff_m: None,
+        })
+    }
+
+    /// The field with its reliability cut-off (see
+    /// [`Field::short_cutoff_m`]); a value that is not positive and finite
+    /// is refused.
+    pub fn with_short_cutoff_m(mut self, short_cutoff_m: Option<f64>) -> Result<Self, FieldError> {
+        if let Some(cutoff_m) = short_cutoff_m
+            && !(cutoff_m > 0.0 && cutoff_m.is_finite())
+        {
+            return Err(FieldError::BadCutoff(cutoff_m));
+        }
+        self.short_cutoff_m = short_cutoff_m;
+        Ok(self)
     }
 
     pub fn nx(&self) -> usize {
@@ -144,6 +174,7 @@ impl Field {
             ny: self.ny(),
             dx_m: self.dx_m,
             dy_m: self.dy_m,
+            short_cutoff_m: self.short_cutoff_m,
         }
     }
 
@@ -179,7 +210,8 @@ impl Field {
     pub fn read_with_grid<R: Read>(npy: R, grid_json: &[u8]) -> Result<Self, FieldError> {
         let grid: Grid =
             serde_json::from_slice(grid_json).map_err(|e| FieldError::Grid(e.to_string()))?;
-        let field = Self::read_npy(npy, grid.dx_m, grid.dy_m)?;
+        let field =
+            Self::read_npy(npy, grid.dx_m, grid.dy_m)?.with_short_cutoff_m(grid.short_cutoff_m)?;
         if (field.nx(), field.ny()) != (grid.nx, grid.ny) {
             return Err(FieldError::GridMismatch {
                 grid_nx: grid.nx,
@@ -406,6 +438,34 @@ mod tests {
         assert!(back.values[[0, 1]].is_nan());
         assert_eq!(back.values[[1, 1]], 4.5e-6);
         assert_eq!((back.dx_m, back.dy_m), (2e-5, 3e-5));
+    }
+
+    /// The cut-off travels in the sidecar; a field without one keeps the
+    /// sidecar's bytes as they were before it existed (#53).
+    #[test]
+    fn the_reliability_cut_off_round_trips_and_is_absent_when_unknown() {
+        let plain = Field::new(array![[1.0, 2.0], [3.0, 4.0]], 1e-9, 2e-9).unwrap();
+        assert_eq!(
+            String::from_utf8(plain.grid_json()).unwrap(),
+            "{\n  \"nx\": 2,\n  \"ny\": 2,\n  \"dx_m\": 1e-9,\n  \"dy_m\": 2e-9\n}\n"
+        );
+        let cut = plain.clone().with_short_cutoff_m(Some(5.7e-8)).unwrap();
+        let mut npy = Vec::new();
+        cut.write_npy(&mut npy).unwrap();
+        let back = Field::read_with_grid(npy.as_slice(), &cut.grid_json()).unwrap();
+        assert_eq!(back, cut);
+        assert_eq!(back.short_cutoff_m, Some(5.7e-8));
+        for bad in [0.0, -1e-9, f64::NAN, f64::INFINITY] {
+            assert!(matches!(
+                plain.clone().with_short_cutoff_m(Some(bad)),
+                Err(FieldError::BadCutoff(_))
+            ));
+        }
+        let grid = br#"{"nx": 2, "ny": 2, "dx_m": 1.0, "dy_m": 1.0, "short_cutoff_m": -1.0}"#;
+        assert!(matches!(
+            Field::read_with_grid(npy.as_slice(), grid),
+            Err(FieldError::BadCutoff(_))
+        ));
     }
 
     #[test]

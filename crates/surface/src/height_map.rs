@@ -14,6 +14,7 @@ use hypercontact_formats::{Format, Topography};
 use crate::channel_param::ChannelParam;
 use crate::level_rows::Axis;
 use crate::prepare::{FastAxis, FormKind, LevelRows, SpikeRule, StatedFastAxis, prepare};
+use crate::tip_cutoff::tip_reliability_cutoff_m;
 
 /// Parameters of `height-map`.
 #[params(check = one_window)]
@@ -64,6 +65,9 @@ pub struct HeightMapParams {
     pub level_rows_degree: usize,
     /// the axis along which each scan line ran, for level_rows (default: the file's where its format states it, x for the AFM formats read; otherwise x)
     pub fast_axis: Option<FastAxis>,
+    /// radius of the probe's tip (AFM, stylus): the map is then reliable only at length scales above the cut-off λ_c where its most negative scale-dependent curvature (the second difference spanning λ along x) reaches −1/(2 R), SurfaceTopography's short_reliability_cutoff (Sanner et al., Appl. Surf. Sci. Adv. 7, 100190, 2022); λ_c goes with the height field (its grid.json, short_cutoff_m) and into a note
+    #[param(unit = "m", positive)]
+    pub tip_radius_m: Option<f64>,
     /// the most points a map may have (default 2^26 = 67 108 864, 512 MiB of heights); a file whose header claims more is refused before its data is read or inflated
     #[param(default = 67_108_864, range = 1..=2_147_483_647)]
     pub max_points: usize,
@@ -84,7 +88,7 @@ pub struct HeightMap;
 
 static INFO: StageInfo = StageInfo {
     kind: "height-map",
-    version: 2,
+    version: 3,
     summary: "Load a height map (.npy or an instrument file) with its grid spacing",
     doc: "Reads a height map as the instrument wrote it. The format is told by the first \
           bytes, the extension only where bytes cannot tell (text): optical profilers and \
@@ -130,7 +134,18 @@ static INFO: StageInfo = StageInfo {
           `fast_axis` where given (it overrides the file, the note saying so), x otherwise. \
           Spikes go before the form, which they would pull; the lines are levelled on what the \
           form leaves, as a line's own median or tilt would take its share of a curved form. \
-          All are off by default: the map is given as measured, and `surface` removes a plane.",
+          All are off by default: the map is given as measured, and `surface` removes a plane. \
+          RELIABLE RANGE: with `tip_radius_m` = R (a probe's tip), the map as prepared gets the \
+          short-wavelength cut-off of SurfaceTopography's `short_reliability_cutoff` (Sanner et \
+          al., Appl. Surf. Sci. Adv. 7, 100190, 2022): the span λ_c of the central second \
+          difference [h(x + λ/2) − 2h(x) + h(x − λ/2)]/(λ/2)² along x (heights between points \
+          interpolated linearly; points whose stencil leaves the map, or touches a NaN, left \
+          out) at which its most negative value over the map is −1/(2R), the safety factor 1/2 \
+          of the paper, found by Brent's method between twice the mean spacing and half the mean \
+          side. Below λ_c the tip, not the surface, shapes the map. No cut-off when the map's \
+          curvature stays above −1/(2R) at twice the spacing (the tip resolves the grid); the \
+          mean side when it is below even at half of it (nothing reliable). The cut-off goes \
+          with the height field, as `short_cutoff_m` in its grid sidecar, and into a note.",
     inputs: &[],
     outputs: &[OutputSpec::field(
         "height",
@@ -162,8 +177,48 @@ impl Stage for HeightMap {
                 format!("holds an infinite height ({bad})"),
             ));
         }
+        let field = with_tip_cutoff(field, p, ctx)?;
         Ok(Outputs::new().field("height", field))
     }
+}
+
+/// The map with the reliability cut-off of a tip of `tip_radius_m`, when
+/// one is given, and a note saying what it is.
+fn with_tip_cutoff(field: Field, p: &HeightMapParams, ctx: &Context) -> Result<Field, StageError> {
+    let Some(radius_m) = p.tip_radius_m else {
+        return Ok(field);
+    };
+    let cutoff_m = tip_reliability_cutoff_m(&field, radius_m)
+        .map_err(|e| StageError::file(&p.path, format!("tip_radius_m: {e}")))?;
+    let (dx_m, dy_m) = (field.dx_m, field.dy_m);
+    let length = |m: f64| {
+        if m < 1e-6 {
+            format!("{:.4} nm", m * 1e9)
+        } else {
+            format!("{:.4} µm", m * 1e6)
+        }
+    };
+    let tip = format!("tip: R = {}", length(radius_m));
+    ctx.note(&match cutoff_m {
+        None => format!(
+            "{tip} resolves every scale of the grid (the map curves down by less than 1/(2R) \
+             already over twice the spacing, {}): no short cut-off",
+            length(match (field.nx(), field.ny()) {
+                (1, _) => 2.0 * dy_m,
+                (_, 1) => 2.0 * dx_m,
+                _ => dx_m + dy_m,
+            })
+        ),
+        Some(m) => format!(
+            "{tip}: reliable above λ_c = {} (short_cutoff_m = {m:e}; below it the map curves down \
+             by more than 1/(2R) and the tip, not the surface, shapes it; SurfaceTopography's \
+             short_reliability_cutoff)",
+            length(m)
+        ),
+    });
+    field
+        .with_short_cutoff_m(cutoff_m)
+        .map_err(|e| StageError::file(&p.path, format!("tip_radius_m: {e}")))
 }
 
 /// The map, its format told by the file's first bytes: a `.npy` array is
@@ -411,6 +466,7 @@ mod tests {
             level_rows: LevelRows::None,
             level_rows_degree: 2,
             fast_axis: None,
+            tip_radius_m: None,
             max_points: 1 << 26,
         }
     }

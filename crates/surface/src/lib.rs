@@ -26,6 +26,7 @@ pub mod stitch;
 pub mod surface_stage;
 pub mod surface_tables;
 pub mod tiles;
+pub mod tip_cutoff;
 
 use hypercontact_core::Registry;
 

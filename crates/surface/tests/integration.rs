@@ -11,3 +11,4 @@ mod level_rows;
 mod missing_points;
 mod spectra;
 mod stitching;
+mod tip_cutoff;
