@@ -20,36 +20,20 @@
 
 use std::path::{Path, PathBuf};
 
-use hypercontact_core::{Context, DynStage, Field, Inputs, Product};
+use hypercontact_core::Field;
 use hypercontact_surface::form::remove_sphere;
-use hypercontact_surface::height_map::HeightMap;
 use hypercontact_surface::iso25178::height_parameters;
 use hypercontact_surface::level_rows::{Axis, LineModel, level_rows};
 use hypercontact_surface::spikes::remove_outliers;
-use serde_json::{Value, json};
+use serde_json::json;
+
+use crate::common::height_map;
 
 /// A file of the repository's reference folder.
 fn reference(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../data/reference/topography/more")
         .join(name)
-}
-
-/// `height-map` with `params` (and `path`) as a pipeline gives them: the
-/// height map and the notes, or the error as text.
-fn run(path: &Path, mut params: Value) -> Result<(Field, Vec<String>), String> {
-    params["path"] = json!(path);
-    let checked = HeightMap
-        .params_from_json(params, Path::new("."))
-        .map_err(|e| format!("{}: {}", e.param, e.message))?;
-    let ctx = Context::new("afm");
-    let out = HeightMap
-        .run_dyn(&*checked, &Inputs::new(), &ctx)
-        .map_err(|e| e.to_string())?;
-    let Some(Product::Field(h)) = out.get("height") else {
-        panic!("no height output")
-    };
-    Ok((h.clone(), ctx.notes()))
 }
 
 /// (Sq, Ssk, Sku) about the mean of the measured points.
@@ -88,13 +72,13 @@ type Expected = (&'static str, [f64; 6], f64, [f64; 3]);
 fn check_against_numpy(file: &str, expected: &[Expected]) -> Vec<[f64; 3]> {
     let path = reference(file);
     let plane = json!({"form": "polynomial", "form_degree": 1});
-    let (planed, _) = run(&path, plane.clone()).unwrap();
+    let (planed, _) = height_map(&path, plane.clone()).unwrap();
     let mut found = Vec::new();
     for &(method, points, removed_rms_m, numpy_moments) in expected {
         let mut params = plane.clone();
         params["level_rows"] = json!(method);
         params["level_rows_degree"] = json!(3);
-        let (levelled, notes) = run(&path, params).unwrap();
+        let (levelled, notes) = height_map(&path, params).unwrap();
         let tolerance_m = 1e-12 * range_m(&levelled);
         for ((i, j), want) in POINTS.into_iter().zip(points) {
             let got = levelled.values[[i, j]];
@@ -159,7 +143,7 @@ fn check_against_numpy(file: &str, expected: &[Expected]) -> Vec<[f64; 3]> {
 /// structure runs along the lines.
 #[test]
 fn nid_1_levelled_equals_numpy_and_its_ssk_and_sku_come_toward_a_gaussians() {
-    let (planed, _) = run(
+    let (planed, _) = height_map(
         &reference("nid-1.nid"),
         json!({"form": "polynomial", "form_degree": 1}),
     )
@@ -257,7 +241,7 @@ fn nid_1_levelled_equals_numpy_and_its_ssk_and_sku_come_toward_a_gaussians() {
             "method {k}: Sku {sku}"
         );
     }
-    let (_, notes) = run(
+    let (_, notes) = height_map(
         &reference("nid-1.nid"),
         json!({"form": "polynomial", "form_degree": 1, "level_rows": "median"}),
     )
@@ -362,7 +346,7 @@ fn spot_1_levelled_equals_numpy_and_its_ssk_and_sku_come_from_its_pits_not_its_l
     for [_, ssk, sku] in check_against_numpy("spot_1-1000nm.ibw", &expected) {
         assert!(ssk < -5.6 && sku > 105.0, "Ssk {ssk}, Sku {sku}");
     }
-    let (planed, _) = run(
+    let (planed, _) = height_map(
         &reference("spot_1-1000nm.ibw"),
         json!({"form": "polynomial", "form_degree": 1}),
     )
@@ -389,8 +373,8 @@ fn spot_1_levelled_equals_numpy_and_its_ssk_and_sku_come_from_its_pits_not_its_l
 #[test]
 fn the_fast_axis_is_the_files_the_parameters_or_x() {
     let nid = reference("nid-1.nid");
-    let (planed, _) = run(&nid, json!({"form": "polynomial", "form_degree": 1})).unwrap();
-    let (across, notes) = run(
+    let (planed, _) = height_map(&nid, json!({"form": "polynomial", "form_degree": 1})).unwrap();
+    let (across, notes) = height_map(
         &nid,
         json!({"form": "polynomial", "form_degree": 1, "level_rows": "median", "fast_axis": "y"}),
     )
@@ -410,7 +394,7 @@ fn the_fast_axis_is_the_files_the_parameters_or_x() {
     planed
         .write_npy(std::fs::File::create(&npy).unwrap())
         .unwrap();
-    let (from_npy, notes) = run(
+    let (from_npy, notes) = height_map(
         &npy,
         json!({"pixel_m": planed.dx_m, "level_rows": "median"}),
     )
@@ -424,7 +408,7 @@ fn the_fast_axis_is_the_files_the_parameters_or_x() {
     );
     let core = level_rows(&planed.values, Axis::X, LineModel::Median).unwrap();
     assert_eq!(core.height_m, from_npy.values);
-    let (_, notes) = run(
+    let (_, notes) = height_map(
         &npy,
         json!({"pixel_m": planed.dx_m, "level_rows": "tilt", "fast_axis": "x"}),
     )
@@ -464,7 +448,7 @@ fn lines_are_levelled_after_the_form() {
         .unwrap()
         .write_npy(std::fs::File::create(&path).unwrap())
         .unwrap();
-    let (out, notes) = run(
+    let (out, notes) = height_map(
         &path,
         json!({"pixel_m": dx_m, "form": "sphere", "level_rows": "median"}),
     )
@@ -505,21 +489,21 @@ fn lines_are_levelled_after_the_form() {
 #[test]
 fn bad_parameters_are_refused_with_their_names() {
     let nid = reference("nid-1.nid");
-    let e = run(&nid, json!({"level_rows": "rows"})).unwrap_err();
+    let e = height_map(&nid, json!({"level_rows": "rows"})).unwrap_err();
     assert!(
         e.starts_with("level_rows: ") && e.contains("median-differences"),
         "{e}"
     );
-    let e = run(
+    let e = height_map(
         &nid,
         json!({"level_rows": "polynomial", "level_rows_degree": 7}),
     )
     .unwrap_err();
     assert!(e.starts_with("level_rows_degree: "), "{e}");
-    let e = run(&nid, json!({"level_rows": "median", "fast_axis": "z"})).unwrap_err();
+    let e = height_map(&nid, json!({"level_rows": "median", "fast_axis": "z"})).unwrap_err();
     assert!(e.starts_with("fast_axis: ") && e.contains("x"), "{e}");
     let dektak = reference("dektak-1.csv");
-    let e = run(&dektak, json!({"level_rows": "median", "fast_axis": "y"})).unwrap_err();
+    let e = height_map(&dektak, json!({"level_rows": "median", "fast_axis": "y"})).unwrap_err();
     assert!(
         e.contains("dektak-1.csv")
             && e.contains("level_rows: the scan lines along y have 1 point(s) each")
@@ -527,7 +511,7 @@ fn bad_parameters_are_refused_with_their_names() {
         "{e}"
     );
     // along x the profile is one line, levelled by its median
-    let (line, notes) = run(&dektak, json!({"level_rows": "median"})).unwrap();
+    let (line, notes) = height_map(&dektak, json!({"level_rows": "median"})).unwrap();
     assert_eq!((line.nx(), line.ny()), (9600, 1));
     assert!(
         notes

@@ -18,10 +18,11 @@
 
 use std::path::{Path, PathBuf};
 
-use hypercontact_core::{Context, DynStage, Field, Inputs, Product};
-use hypercontact_surface::height_map::HeightMap;
+use hypercontact_core::Field;
 use hypercontact_surface::tip_cutoff::tip_reliability_cutoff_m;
-use serde_json::{Value, json};
+use serde_json::json;
+
+use crate::common::height_map;
 
 /// SurfaceTopography 1.27.1's cut-offs of di-1 (metres) by tip radius (m).
 pub const SURFACE_TOPOGRAPHY_DI_1: [(f64, f64); 3] = [
@@ -74,23 +75,6 @@ fn the_cut_off_of_an_afm_map_is_surface_topographys() {
     // A 1 nm tip is sharper than anything the 0.98 nm grid shows:
     // SurfaceTopography gives None as well.
     assert_eq!(tip_reliability_cutoff_m(&map, 1e-9), Ok(None));
-}
-
-/// `height-map` on `path` with `params` as a pipeline gives them: the
-/// height field and the notes, or the error as text.
-fn height_map(path: &Path, mut params: Value) -> Result<(Field, Vec<String>), String> {
-    params["path"] = json!(path);
-    let checked = HeightMap
-        .params_from_json(params, Path::new("."))
-        .map_err(|e| format!("{}: {}", e.param, e.message))?;
-    let ctx = Context::new("afm");
-    let out = HeightMap
-        .run_dyn(&*checked, &Inputs::new(), &ctx)
-        .map_err(|e| e.to_string())?;
-    let Some(Product::Field(h)) = out.get("height") else {
-        panic!("no height output")
-    };
-    Ok((h.clone(), ctx.notes()))
 }
 
 /// The Bruker file itself, of the repository's reference folder.
