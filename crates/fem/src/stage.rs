@@ -16,7 +16,7 @@ use hypercontact_core::{
 };
 use hypercontact_material::material::{LinearElastic, Material};
 use hypercontact_material::table::{MaterialTable, material_from_table};
-use hypercontact_surface::crop::{CropParams, Window};
+use hypercontact_surface::crop::{CropParams, Window, refine};
 
 use crate::contact::{ContactProblem, NewtonOptions, Step};
 use crate::curve::{AreaSteps, Curve, bearing_approach_m, solve_area_steps};
@@ -138,14 +138,15 @@ pub struct Fem;
 
 static INFO: StageInfo = StageInfo {
     kind: "fem",
-    version: 3,
+    version: 4,
     summary: "Finite elements at finite strain: load against contact area of a rough, nearly \
               incompressible hyperelastic block on a rigid flat",
     doc: "The reference the tangent-modulus models are judged against: the rough patch as a \
           block of the hyperelastic material (or a linear one), pressed by a rigid, flat, \
           frictionless plane, solved at finite strain. PATCH: the window x0, y0, nx, ny of the \
-          input map (default all of it), each coarsen x coarsen block averaged (as the `crop` \
-          stage cuts it). MESH (fixed conventions, so results compare with other codes): one \
+          input map (default all of it), each coarsen x coarsen block averaged, then with \
+          `refine` > 1 resampled refine times finer by band-limited interpolation (as the `crop` \
+          stage cuts and refines it; the mesh then has a top node per refined point). MESH (fixed conventions, so results compare with other codes): one \
           top node per map point, node (i, j) at x = i dx, y = j dy, so the block is \
           (nx - 1)dx x (ny - 1)dy; base at z = 0, top node at z = depth_m + h[i, j] - mean(h) \
           (depth_m: default the larger lateral size); `layers` layers of trilinear hexahedra per \
@@ -252,8 +253,7 @@ impl Stage for Fem {
     ) -> Result<Outputs, StageError> {
         let surface = inputs.areal_field("surface", "fem")?;
         let window = Window::of(&p.window, surface.values.dim())?;
-        let patch = window.cut(surface)?;
-        let heights_m = checked_patch(&patch, &window, p)?;
+        let (patch, heights_m) = checked_patch(window.cut(surface)?, &window, p)?;
         let (law, e0_star_pa) = law_of(inputs.table("material")?, p.bulk_ratio, p.strain)?;
         let (nx, ny) = patch.values.dim();
         let map = HeightMap {
@@ -323,9 +323,14 @@ fn mesh_options(p: &FemParams) -> MeshOptions {
     }
 }
 
-/// The patch's heights (`i * ny + j`), refused if a point is missing or the
-/// mesh would exceed `max_nodes`.
-fn checked_patch(patch: &Field, window: &Window, p: &FemParams) -> Result<Vec<f64>, StageError> {
+/// The window's patch, refined `refine` times as `crop` refines it, and its
+/// heights (`i * ny + j`); refused if a point of the window is missing or
+/// the mesh would exceed `max_nodes`.
+fn checked_patch(
+    patch: Field,
+    window: &Window,
+    p: &FemParams,
+) -> Result<(Field, Vec<f64>), StageError> {
     let (nx, ny) = patch.values.dim();
     let missing = patch.values.iter().filter(|h| !h.is_finite()).count();
     if missing > 0 {
@@ -345,6 +350,8 @@ fn checked_patch(patch: &Field, window: &Window, p: &FemParams) -> Result<Vec<f6
             window.y0 + first.1 * window.coarsen,
         )));
     }
+    let patch = refine(&patch, p.window.refine)?;
+    let (nx, ny) = patch.values.dim();
     let heights_m: Vec<f64> = patch.values.iter().copied().collect();
     let map = HeightMap {
         heights_m: &heights_m,
@@ -367,7 +374,7 @@ fn checked_patch(patch: &Field, window: &Window, p: &FemParams) -> Result<Vec<f6
             "the patch is flat: all of it touches at once".to_owned(),
         ));
     }
-    Ok(heights_m)
+    Ok((patch, heights_m))
 }
 
 fn height_range_m(heights_m: &[f64]) -> f64 {

@@ -1,5 +1,5 @@
 //! The `fem` stage end to end on small patches: every declared output, the
-//! window and coarsening, a linear material, the same bits on 1 and 2
+//! window, coarsening and refinement, a linear material, the same bits on 1 and 2
 //! threads, its refusals, and — the small-strain check of the whole chain —
 //! the linear `bem` stage on the same (mirror-periodic) patch.
 
@@ -10,6 +10,7 @@ use hypercontact_fem::stage::{Fem, FemMapIndex, FemParams, FemResponseTable};
 use hypercontact_material::material::{LinearElastic, Material};
 use hypercontact_material::presets::paper_epdm;
 use hypercontact_material::table::{material_to_table, to_table};
+use hypercontact_surface::crop::refine;
 use ndarray::Array2;
 
 const PIXEL_M: f64 = 20e-6;
@@ -155,6 +156,32 @@ fn the_window_and_coarsening_cut_what_they_say() {
         Field::new(hand, 2.0 * PIXEL_M, 2.0 * PIXEL_M).unwrap(),
     );
     // NaN tangent ratios: compare the rows as printed.
+    assert_eq!(
+        format!("{:?}", response(&out)),
+        format!("{:?}", response(&by_hand))
+    );
+}
+
+/// `refine` reaches the mesh: the same as meshing the window refined by
+/// hand, as the `crop` stage refines it.
+#[test]
+fn refine_meshes_the_window_refined_as_crop_refines_it() {
+    let p = params(
+        r#"{"x0": 3, "y0": 5, "nx": 9, "ny": 8, "refine": 2, "steps": 2,
+            "max_area_fraction": 0.1, "map_fractions": [0.1]}"#,
+    );
+    let full = patch(32, 5);
+    let out = run(&p, full.clone());
+    let files = maps(&out);
+    let index = FemMapIndex::from_table(files.index.as_ref().unwrap()).unwrap();
+    let contact = npy(files, &index.contact_file[0]);
+    // 9 × 8 points refined twice: 17 × 15, at 10 µm.
+    assert_eq!(contact.values.dim(), (17, 15));
+    assert_eq!(index.maps.dx_m, vec![PIXEL_M / 2.0]);
+    let cut = Array2::from_shape_fn((9, 8), |(i, j)| full.values[[3 + i, 5 + j]]);
+    let window = Field::new(cut, PIXEL_M, PIXEL_M).unwrap();
+    let whole = params(r#"{"steps": 2, "max_area_fraction": 0.1, "map_fractions": [0.1]}"#);
+    let by_hand = run(&whole, refine(&window, 2).unwrap());
     assert_eq!(
         format!("{:?}", response(&out)),
         format!("{:?}", response(&by_hand))
