@@ -266,7 +266,16 @@ static INFO: StageInfo = StageInfo {
           solver (same boundary, tolerance and law: `hyperelastic` by default, the force by \
           the tangent-modulus integral over the solved frames, E_t*/E0* = 2 at first contact \
           with the paper's `tangent: equibiaxial` and 1 with `uniaxial`), each frame \
-          warm-started from the previous one. RAMP: the servo advances at `speed_m_per_s` (the \
+          warm-started from the previous one. PHYSICS: the experiment is the linear-elastic \
+          boundary-element half-space of `bem` (with `boundary`), its force either E0* times \
+          the linear load (`model: linear`, or a linear material) or the tangent-modulus \
+          integral (`model: hyperelastic`, with `tangent`); the truth table's column `physics` \
+          names which (e.g. `bem, hyperelastic, equibiaxial tangent, free boundary` or `bem, \
+          linear elastic, small-strain modulus, free boundary`). A model run with the same \
+          physics (`bem` with the same law and boundary) agrees with this experiment by \
+          construction: its score measures only what the imaging, the image analysis and the \
+          scan add, not the physics; contact-compare marks such responses with \
+          `same_physics`. RAMP: the servo advances at `speed_m_per_s` (the \
           paper: 3 µm/s, \
           quasi-static); the last frame's penetration is where the solve first reaches \
           `max_area_fraction` (found by the `bem` curve search); frames are evenly spaced in \
