@@ -1433,6 +1433,14 @@ cases! {
         .file("seq/b.png", png())
         .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n1.0,1.0\n2.0,2.0\n")
         .mentions(&["`cmp`", "`view_maps`", "`ghost`", "none connected"]);
+    // #49: a same_physics name that is not a wired response.
+    compare_same_physics_not_a_response: Case::run("name: cmp\nstages:\n  surf:\n    uses: height-map\n    with: { path: map.npy, pixel_m: 20.0e-6 }\n  c:\n    uses: contact-images\n    with: { dir: seq, clock_offset_s: 0 }\n  cmp:\n    uses: contact-compare\n    inputs: { contact: c.contact, observed_maps: c.contact_maps, surface: surf }\n    with: { same_physics: [bem] }\n", &[])
+        .file("map.npy", uneven_map(128, 1e-6))
+        .file("seq/frames.csv", "frame,time_s,file\n0,0.0,a.png\n1,1.0,b.png\n")
+        .file("seq/a.png", png())
+        .file("seq/b.png", png())
+        .file("seq/force.csv", "time_s,force_n\n0.0,0.0\n1.0,1.0\n2.0,2.0\n")
+        .mentions(&["`cmp`", "`same_physics`", "`bem`", "none connected"]);
 
     // #31 cliread
     // Every file the command line names is refused unopened unless it is a

@@ -37,7 +37,8 @@ pub const FAR_RMS_LOG_RATIO: f64 = 1.0;
 pub const ON_BOUND_SHARE: f64 = 0.02;
 
 /// Refuses model_maps labels that are reserved, `view_maps` keys that are
-/// no `responses` label and values that are no prediction.
+/// no `responses` label and values that are no prediction, and
+/// `same_physics` names that are no `responses` label.
 pub(crate) fn check_labels(
     p: &ContactCompareParams,
     inputs: &Inputs,
@@ -71,6 +72,19 @@ pub(crate) fn check_labels(
             )));
         }
         predictions.check_name(&format!("view_maps.{key}"), value)?;
+    }
+    for name in &p.same_physics {
+        if !responses.contains(name.as_str()) {
+            let wired: Vec<&str> = responses.iter().copied().collect();
+            return Err(StageError::invalid(format!(
+                "parameter `same_physics`: `{name}` is not a label of `responses` ({})",
+                if wired.is_empty() {
+                    "none connected".to_owned()
+                } else {
+                    wired.join(", ")
+                }
+            )));
+        }
     }
     Ok(())
 }
@@ -198,7 +212,10 @@ pub(crate) fn check_observed_in_table(
 
 /// Warnings on a finished comparison: the adopted turn or scale on a bound
 /// of its search, a ZNCC below [`LOW_ZNCC`], and even the best model's rms
-/// log ratio above [`FAR_RMS_LOG_RATIO`].
+/// log ratio above [`FAR_RMS_LOG_RATIO`]. This one looks at every model,
+/// those by construction too: it asks whether the table belongs to the
+/// run, and a model of the experiment's own physics that agrees says it
+/// does; it ranks nothing.
 pub(crate) fn quality_notes(
     p: &ContactCompareParams,
     transform: &TransformTable,
@@ -334,6 +351,20 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.starts_with("parameter `view_maps.bem` = ghost"), "{e}");
+        // #49: a same_physics name must be a wired response.
+        let same = params(serde_json::json!({ "same_physics": ["bem-linear"] }));
+        assert!(check_labels(&same, &inputs, &predictions).is_ok());
+        let e = check_labels(
+            &params(serde_json::json!({ "same_physics": ["bem", "fem"] })),
+            &inputs,
+            &predictions,
+        )
+        .unwrap_err()
+        .to_string();
+        assert_eq!(
+            e,
+            "parameter `same_physics`: `fem` is not a label of `responses` (bem, bem-linear)"
+        );
         // A model labelled `truncation` was shadowed by the built-in cut.
         let shadowed = Predictions {
             truncation: Truncation::new(&surface),
@@ -433,6 +464,7 @@ mod tests {
         AgreementTable {
             model: (0..rms.len()).map(|k| format!("m{k}")).collect(),
             rms_log_ratio: rms.to_vec(),
+            by_construction: vec![0; rms.len()],
             ..AgreementTable::default()
         }
     }

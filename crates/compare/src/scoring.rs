@@ -64,7 +64,9 @@ impl ViewAreas<'_> {
     }
 }
 
-/// The agreement and load-ratio tables of every labelled response.
+/// The agreement and load-ratio tables of every labelled response, the
+/// responses of `same_physics` marked by construction, `physics` (the
+/// experiment's) on every row.
 pub(crate) fn score_responses(
     p: &ContactCompareParams,
     inputs: &Inputs,
@@ -72,6 +74,7 @@ pub(crate) fn score_responses(
     predictions: &Predictions,
     registration: &Registration,
     camera: CameraGrid,
+    physics: &str,
 ) -> Result<(AgreementTable, LoadRatioTable), StageError> {
     let experiment = Curve {
         area_fraction: &contact.area_fraction,
@@ -107,14 +110,17 @@ pub(crate) fn score_responses(
         let a = agreement(&curve, experiment, range, &p.area_fractions)
             .map_err(|e| StageError::invalid(format!("`responses.{label}`: {e}")))?;
         bases.push(basis);
+        let marked = i64::from(p.same_physics.iter().any(|m| m == label));
         for (&at, &ratio) in p.area_fractions.iter().zip(&a.ratio_at) {
             ratios.model.push(label.to_owned());
             ratios.area_fraction.push(at);
             ratios.load_ratio.push(ratio);
+            ratios.by_construction.push(marked);
+            ratios.experiment_physics.push(physics.to_owned());
         }
         scores.push((label.to_owned(), a));
     }
-    let mut table = agreement_table(&scores);
+    let mut table = agreement_table(&scores, &p.same_physics, physics);
     table.area = bases;
     Ok((table, ratios))
 }
@@ -129,9 +135,19 @@ fn read_response(label: &str, product: &Product) -> Result<ResponseTable, StageE
         .map_err(|e| StageError::invalid(format!("input `responses.{label}`: {e}")))
 }
 
-/// Ranks by rms log ratio (1 = best; ties keep the label order).
-fn agreement_table(scores: &[(String, Agreement)]) -> AgreementTable {
-    let mut order: Vec<usize> = (0..scores.len()).collect();
+/// Ranks by rms log ratio (1 = best; ties keep the label order) the
+/// responses not in `same_physics`; those are marked by construction and
+/// ranked 0 (not ranked).
+pub(crate) fn agreement_table(
+    scores: &[(String, Agreement)],
+    same_physics: &[String],
+    physics: &str,
+) -> AgreementTable {
+    let marked: Vec<bool> = scores
+        .iter()
+        .map(|(label, _)| same_physics.contains(label))
+        .collect();
+    let mut order: Vec<usize> = (0..scores.len()).filter(|&k| !marked[k]).collect();
     order.sort_by(|&i, &j| {
         scores[i]
             .1
@@ -150,5 +166,44 @@ fn agreement_table(scores: &[(String, Agreement)]) -> AgreementTable {
         outside_model: scores.iter().map(|s| s.1.outside_model as i64).collect(),
         area: vec!["whole".to_owned(); scores.len()],
         rank,
+        by_construction: marked.iter().map(|&m| i64::from(m)).collect(),
+        experiment_physics: vec![physics.to_owned(); scores.len()],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scored(rms: f64) -> Agreement {
+        Agreement {
+            rms_log_ratio: rms,
+            mean_log_ratio: rms,
+            points: 10,
+            outside_model: 0,
+            ratio_at: Vec::new(),
+        }
+    }
+
+    /// The experiment's own physics scores best but is not ranked; the
+    /// others rank among themselves (#49).
+    #[test]
+    fn same_physics_rows_are_marked_and_left_out_of_the_ranking() {
+        let scores = [
+            ("icm".to_owned(), scored(0.4)),
+            ("bem-linear".to_owned(), scored(0.02)),
+            ("bem".to_owned(), scored(0.6)),
+            ("gw".to_owned(), scored(0.3)),
+        ];
+        let physics = "bem, linear elastic, small-strain modulus, free boundary";
+        let t = agreement_table(&scores, &["bem-linear".to_owned()], physics);
+        assert_eq!(t.rank, [2, 0, 3, 1]);
+        assert_eq!(t.by_construction, [0, 1, 0, 0]);
+        assert_eq!(t.experiment_physics, [physics; 4]);
+        // Nothing marked, no physics: the ranking of before, all judged.
+        let t = agreement_table(&scores, &[], "");
+        assert_eq!(t.rank, [3, 1, 4, 2]);
+        assert_eq!(t.by_construction, [0; 4]);
+        assert_eq!(t.experiment_physics, [""; 4]);
     }
 }

@@ -78,6 +78,9 @@ pub struct ContactCompareParams {
     /// the figures' longest side (the camera's maps are subsampled to it)
     #[param(default = 1024, unit = "px", range = 16..=16384)]
     pub figure_px: usize,
+    /// responses (labels) whose physics is the experiment's, e.g. `bem-linear` against synth-contact's `model: linear`: they agree by construction, so their rows are marked `by_construction` and not ranked (a label that is not wired is refused)
+    #[param(default = Vec::new())]
+    pub same_physics: Vec<String>,
 }
 
 fn consistent(p: &ContactCompareParams) -> Result<(), ParamError> {
@@ -190,8 +193,12 @@ pub struct AgreementTable {
     pub outside_model: Vec<i64>,
     /// the model's A/A0 as compared: `view (<maps>)` or `whole`
     pub area: Vec<String>,
-    /// 1 = the best agreement (smallest rms_log_ratio)
+    /// 1 = the best agreement (smallest rms_log_ratio) among the models not by construction; 0 = by construction, not ranked
     pub rank: Vec<i64>,
+    /// 1 = the model's physics is the experiment's (parameter same_physics): it agrees by construction; 0 = judged
+    pub by_construction: Vec<i64>,
+    /// the experiment's physics (the `truth` input's column physics; empty when no truth is wired)
+    pub experiment_physics: Vec<String>,
 }
 
 /// The `load_ratio` table: F_model / F_experiment at equal A/A0.
@@ -201,6 +208,18 @@ pub struct LoadRatioTable {
     pub area_fraction: Vec<f64>,
     /// NaN where a curve does not reach the area fraction
     pub load_ratio: Vec<f64>,
+    /// 1 = the model's physics is the experiment's (parameter same_physics); 0 = judged
+    pub by_construction: Vec<i64>,
+    /// the experiment's physics (the `truth` input's column physics; empty when no truth is wired)
+    pub experiment_physics: Vec<String>,
+}
+
+/// What contact-compare reads of the experiment's `truth` (synth-contact's
+/// truth table): the physics that rendered it, one string per row.
+#[derive(Clone, Debug, Default, PartialEq, Schema)]
+pub struct ExperimentPhysicsTable {
+    /// the physics that rendered the frames (the same on every row)
+    pub physics: Vec<String>,
 }
 
 /// The `contact-compare` stage.
@@ -208,7 +227,7 @@ pub struct ContactCompare;
 
 static INFO: StageInfo = StageInfo {
     kind: "contact-compare",
-    version: 4,
+    version: 5,
     summary: "Models against the contact experiment: registration of the observed contact \
               maps, overlap per frame and agreement of the load-area curves (Figs. 6, 7)",
     doc: "CHECKS (the index tables name no sample or run, so belonging is judged from \
@@ -241,7 +260,15 @@ static INFO: StageInfo = StageInfo {
           `contact`, over min_area_fraction <= A/A0 <= max_area_fraction: the model's load \
           at each measured A/A0 (log-log interpolation, never extrapolated) over the \
           measured force; rms and mean of the log ratio, rank 1 = smallest rms; `load_ratio` \
-          at area_fractions (both curves interpolated). The camera measures A/A0 of its view, \
+          at area_fractions (both curves interpolated). BY CONSTRUCTION: a synthetic \
+          experiment has a physics (synth-contact's truth names it, e.g. the hyperelastic BEM \
+          with the equibiaxial tangent); a model of the same physics agrees with it by \
+          construction, whatever the physics is worth. The responses listed in same_physics \
+          are marked (by_construction = 1 in `agreement` and `load_ratio`), scored as the \
+          others but ranked 0 (not ranked) and left out of the best agreement noted; the \
+          others rank 1, 2, ... among themselves. With `truth` wired, its physics string is \
+          carried into both tables (column experiment_physics; empty without it). Without \
+          same_physics every row is 0 and the ranks are as before. The camera measures A/A0 of its view, \
           the models give it for the whole scan, and on a free sample the two differ (its rim \
           lifts off, so its centre carries more contact). With area_basis `view` (default) \
           each model's A/A0 is converted to its view A/A0 before scoring: its own maps \
@@ -274,6 +301,11 @@ static INFO: StageInfo = StageInfo {
             "model_maps",
             Arity::Many,
             "contact models' contact_maps, labelled by model (pressure maps, indexed)",
+        ),
+        InputSpec::table::<ExperimentPhysicsTable>(
+            "truth",
+            Arity::Optional,
+            "the experiment's truth (synth-contact's truth): its physics is named in the tables",
         ),
     ],
     outputs: &[
@@ -330,8 +362,16 @@ impl Stage for ContactCompare {
             height_px: observed[0].height,
             pixel_m: observed[0].pixel_m,
         };
-        let (agreement, ratios) =
-            score_responses(p, inputs, &contact, &predictions, &registration, camera)?;
+        let physics = experiment_physics(inputs)?;
+        let (agreement, ratios) = score_responses(
+            p,
+            inputs,
+            &contact,
+            &predictions,
+            &registration,
+            camera,
+            &physics,
+        )?;
         ctx.note(&note(against, &registered.transform, &agreement));
         for warning in quality_notes(p, &registered.transform, &agreement) {
             ctx.note(&warning);
@@ -346,18 +386,51 @@ impl Stage for ContactCompare {
     }
 }
 
-/// The run's one line: the adopted registration and the best agreement.
+/// The physics of the experiment named by the optional `truth` input:
+/// empty when it is not wired or has no rows; refused when its rows differ.
+fn experiment_physics(inputs: &Inputs) -> Result<String, StageError> {
+    if inputs.get("truth").is_none() {
+        return Ok(String::new());
+    }
+    let truth: ExperimentPhysicsTable = inputs.read("truth")?;
+    let Some(first) = truth.physics.first() else {
+        return Ok(String::new());
+    };
+    if let Some(other) = truth.physics.iter().find(|p| *p != first) {
+        return Err(StageError::invalid(format!(
+            "input `truth`: its rows name two physics, `{first}` and `{other}`: one experiment \
+             has one"
+        )));
+    }
+    Ok(first.clone())
+}
+
+/// The run's one line: the adopted registration and the best agreement
+/// (of the models not by construction).
 fn note(against: &str, transform: &TransformTable, agreement: &AgreementTable) -> String {
-    let best = agreement
-        .rank
-        .iter()
-        .position(|&r| r == 1)
-        .map_or("no responses".to_owned(), |k| {
-            format!(
-                "{} (rms log ratio {:.3})",
-                agreement.model[k], agreement.rms_log_ratio[k]
-            )
-        });
+    let best =
+        agreement
+            .rank
+            .iter()
+            .position(|&r| r == 1)
+            .map_or("no response judged".to_owned(), |k| {
+                format!(
+                    "{} (rms log ratio {:.3})",
+                    agreement.model[k], agreement.rms_log_ratio[k]
+                )
+            });
+    let marked: Vec<&str> = (0..agreement.model.len())
+        .filter(|&k| agreement.by_construction[k] != 0)
+        .map(|k| agreement.model[k].as_str())
+        .collect();
+    let best = if marked.is_empty() {
+        best
+    } else {
+        format!(
+            "{best}; by construction (not ranked): {}",
+            marked.join(", ")
+        )
+    };
     format!(
         "registered onto `{against}`: turn {:.3}° ± {:.3}°, shift ({:.1}, {:.1}) µm, scale \
          {:.4}, ZNCC {:.3}; best agreement: {best}",

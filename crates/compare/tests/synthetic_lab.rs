@@ -78,7 +78,7 @@ struct Run {
 
 fn run(surface: Field, compare: &str, responses: &[(&str, f64)], bem_response: bool) -> Run {
     let scanned = surface.clone();
-    run_on_scan(surface, scanned, compare, responses, bem_response)
+    run_on_scan(surface, scanned, compare, responses, bem_response, false)
 }
 
 /// [`run`] with the comparison given the scan of `scanned`, which may be
@@ -89,6 +89,7 @@ fn run_on_scan(
     compare: &str,
     responses: &[(&str, f64)],
     bem_response: bool,
+    wire_truth: bool,
 ) -> Run {
     let material = hypercontact_material::presets::preset("paper-epdm").unwrap();
     let lab_params = serde_json::from_str::<SynthContactParams>(
@@ -163,6 +164,9 @@ fn run_on_scan(
         .with("surface", Product::Field(scan));
     if bem_response {
         inputs = inputs.with("responses.bem", Product::Table(table(&bem, "response")));
+    }
+    if wire_truth {
+        inputs = inputs.with("truth", Product::Table(table(&lab, "truth")));
     }
     for (label, factor) in responses {
         let response = ResponseTable {
@@ -317,6 +321,52 @@ fn agreement_ranks_the_experiment_itself_first_and_a_doubled_load_below() {
     for (k, want) in [2.0, 2.0, 1.0, 1.0].iter().enumerate() {
         assert!((r.load_ratio.load_ratio[k] - want).abs() < 1e-12);
     }
+    // No truth, no same_physics (#49): every row judged, no physics named.
+    assert_eq!(a.by_construction, [0, 0]);
+    assert_eq!(a.experiment_physics, ["", ""]);
+    assert_eq!(r.load_ratio.by_construction, [0; 4]);
+    assert_eq!(r.load_ratio.experiment_physics, [""; 4]);
+    assert!(
+        r.notes
+            .iter()
+            .any(|n| n.ends_with("best agreement: itself (rms log ratio 0.000)")),
+        "{:?}",
+        r.notes
+    );
+}
+
+/// #49: with the experiment's truth wired its physics is named in both
+/// tables; a response listed in same_physics (here the experiment itself)
+/// is marked by construction, ranked 0 and left out of the best agreement
+/// noted, the other ranked 1 alone.
+#[test]
+fn same_physics_is_marked_by_construction_and_the_truth_names_the_physics() {
+    let (_, hurst, rms_m, seed) = RECIPES[2];
+    let surface = sample(hurst, rms_m, seed);
+    let r = run_on_scan(
+        surface.clone(),
+        surface,
+        r#"{"area_fractions": [0.1, 0.5], "area_basis": "whole", "same_physics": ["itself"]}"#,
+        &[("double", 2.0), ("itself", 1.0)],
+        false,
+        true,
+    );
+    let a = &r.agreement;
+    assert_eq!(a.model, ["double", "itself"]);
+    assert_eq!(a.rank, [1, 0]);
+    assert_eq!(a.by_construction, [0, 1]);
+    assert_eq!(a.rms_log_ratio[1], 0.0);
+    let physics = "bem, hyperelastic, equibiaxial tangent, free boundary";
+    assert_eq!(a.experiment_physics, [physics; 2]);
+    assert_eq!(r.load_ratio.by_construction, [0, 0, 1, 1]);
+    assert_eq!(r.load_ratio.experiment_physics, [physics; 4]);
+    assert!(
+        r.notes.iter().any(|n| n.ends_with(
+            "best agreement: double (rms log ratio 0.693); by construction (not ranked): itself"
+        )),
+        "{:?}",
+        r.notes
+    );
 }
 
 /// The lab's own physics, the hyperelastic BEM on the same surface, scored
@@ -365,7 +415,14 @@ fn a_scan_of_another_sample_is_noted_and_the_right_one_is_not() {
         .filter(|n| n.starts_with("warning"))
         .collect();
     assert!(warnings.is_empty(), "{warnings:?}");
-    let wrong = run_on_scan(sample(h1, r1, s1), sample(h2, r2, s2), "{}", &[], true);
+    let wrong = run_on_scan(
+        sample(h1, r1, s1),
+        sample(h2, r2, s2),
+        "{}",
+        &[],
+        true,
+        false,
+    );
     eprintln!(
         "wrong scan: ZNCC {:.3}; notes {:#?}",
         wrong.transform.zncc[0], wrong.notes

@@ -3,12 +3,12 @@
 //! side and overlaid, each with a scale bar; the registration of every
 //! sample; and the agreement table under Fig. 7.
 
-use hypercontact_compare::stage::{FigureIndex, TRUNCATION};
+use hypercontact_compare::stage::{AgreementTable, FigureIndex, LoadRatioTable, TRUNCATION};
 use hypercontact_core::Files;
 use image::{Rgb, RgbImage};
 
 use crate::ReportError;
-use crate::gather::{ReportData, Sample};
+use crate::gather::ReportData;
 use crate::html::{escape, fmt_sig, simple_table};
 
 /// Scale-bar lengths tried, metres (the longest not above a quarter of the
@@ -307,19 +307,104 @@ pub fn transform_table(data: &ReportData<'_>) -> String {
     html
 }
 
+/// One sample's contact-compare tables, as the agreement table reads them.
+pub struct Scored<'a> {
+    pub label: &'a str,
+    pub agreement: &'a AgreementTable,
+    pub load_ratio: Option<&'a LoadRatioTable>,
+}
+
+/// The samples with an agreement table.
+fn scored<'a>(data: &'a ReportData<'_>) -> Vec<Scored<'a>> {
+    data.samples
+        .iter()
+        .filter_map(|s| {
+            Some(Scored {
+                label: &s.label,
+                agreement: s.agreement.as_ref()?,
+                load_ratio: s.load_ratio.as_ref(),
+            })
+        })
+        .collect()
+}
+
+/// The experiment's physics as contact-compare names it (its truth's
+/// physics string); None when no truth was wired.
+fn physics_of(a: &AgreementTable) -> Option<&str> {
+    a.experiment_physics
+        .iter()
+        .find(|p| !p.is_empty())
+        .map(String::as_str)
+}
+
+/// The models marked by construction (their physics is the experiment's).
+fn marked(a: &AgreementTable) -> Vec<&str> {
+    (0..a.model.len())
+        .filter(|&k| a.by_construction.get(k).is_some_and(|&b| b != 0))
+        .map(|k| a.model[k].as_str())
+        .collect()
+}
+
+/// What the captions of Figs. 7 and 9 and the experiment's section say of
+/// the experiment's physics: per group of samples with the same physics and
+/// the same marked models, the physics and which models share it. Empty
+/// when no sample names a physics or marks a model.
+pub fn physics_sentence(samples: &[Scored<'_>]) -> String {
+    let mut groups: Vec<(Option<&str>, Vec<&str>, Vec<&str>)> = Vec::new();
+    for s in samples {
+        let (physics, models) = (physics_of(s.agreement), marked(s.agreement));
+        if physics.is_none() && models.is_empty() {
+            continue;
+        }
+        match groups.iter_mut().find(|g| g.0 == physics && g.1 == models) {
+            Some(g) => g.2.push(s.label),
+            None => groups.push((physics, models, vec![s.label])),
+        }
+    }
+    let mut text = String::new();
+    for (physics, models, labels) in groups {
+        let shared = if models.is_empty() {
+            "no compared model shares it".to_owned()
+        } else {
+            format!(
+                "{} {} it, so {} with the experiment by construction (marked, not ranked)",
+                escape(&models.join(", ")),
+                if models.len() == 1 { "shares" } else { "share" },
+                if models.len() == 1 { "agrees" } else { "agree" },
+            )
+        };
+        text.push_str(&format!(
+            " The experiment of {}: {}; {shared}.",
+            escape(&labels.join(", ")),
+            match physics {
+                Some(p) => format!("rendered by <i>{}</i>", escape(p)),
+                None => "its physics not stated (no truth wired)".to_owned(),
+            }
+        ));
+    }
+    text
+}
+
+/// The same for the report's data.
+pub fn experiment_physics(data: &ReportData<'_>) -> String {
+    physics_sentence(&scored(data))
+}
+
 /// The agreement of each model's load–area curve with the experiment, per
 /// sample, best first, with the load ratios.
 pub fn agreement_table(data: &ReportData<'_>) -> String {
-    let samples: Vec<&Sample<'_>> = data
-        .samples
-        .iter()
-        .filter(|s| s.agreement.is_some())
-        .collect();
+    agreement_html(&scored(data))
+}
+
+/// [`agreement_table`] of the samples' tables: a model marked by
+/// construction shows "by construction" in place of a rank, after the
+/// ranked ones.
+pub fn agreement_html(samples: &[Scored<'_>]) -> String {
     if samples.is_empty() {
         return String::new();
     }
     let mut fractions: Vec<f64> = Vec::new();
-    for s in &samples {
+    for s in samples {
         for &a in s.load_ratio.iter().flat_map(|r| &r.area_fraction) {
             if !fractions.contains(&a) {
                 fractions.push(a);
@@ -327,14 +412,19 @@ pub fn agreement_table(data: &ReportData<'_>) -> String {
         }
     }
     let mut rows = Vec::new();
-    for s in &samples {
-        let a = s.agreement.as_ref().expect("filtered above");
+    for s in samples {
+        let a = s.agreement;
+        let by_construction = |k: usize| a.by_construction.get(k).is_some_and(|&b| b != 0);
         let mut order: Vec<usize> = (0..a.model.len()).collect();
-        order.sort_by_key(|&k| a.rank[k]);
+        order.sort_by_key(|&k| (by_construction(k), a.rank[k]));
         for k in order {
             let mut row = vec![
-                escape(&s.label),
-                a.rank[k].to_string(),
+                escape(s.label),
+                if by_construction(k) {
+                    "by construction".to_owned()
+                } else {
+                    a.rank[k].to_string()
+                },
                 escape(&a.model[k]),
                 escape(&a.area[k]),
                 fmt_sig(a.rms_log_ratio[k], 3),
@@ -342,7 +432,7 @@ pub fn agreement_table(data: &ReportData<'_>) -> String {
                 a.points[k].to_string(),
             ];
             for &want in &fractions {
-                let ratio = s.load_ratio.as_ref().and_then(|r| {
+                let ratio = s.load_ratio.and_then(|r| {
                     (0..r.model.len())
                         .find(|&i| r.model[i] == a.model[k] && r.area_fraction[i] == want)
                         .map(|i| r.load_ratio[i])
@@ -376,21 +466,122 @@ pub fn agreement_table(data: &ReportData<'_>) -> String {
         &header,
         &rows,
     );
-    html.push_str(
+    html.push_str(&agreement_note(&physics_sentence(samples)));
+    html
+}
+
+/// The note under the agreement table, with what the experiment's physics
+/// is (`physics`, from [`physics_sentence`]).
+fn agreement_note(physics: &str) -> String {
+    format!(
         "<p class=\"note\">At every measured frame in the scored range the model's load at the \
          measured A/A<sub>0</sub> (interpolated log-log on its curve, never extrapolated) over \
-         the measured force; rank 1 = the smallest rms. A mean below 0: the model reaches the \
-         area at a smaller load than measured. The measured A/A<sub>0</sub> is that of the \
-         camera's view; a model's is read on the view (its own contact maps, or profile \
-         theory's truncation, inside the registered view) or on the whole scan, as the second \
-         column says (the rim of a free sample lifts off, so the two differ by up to a third \
-         at A/A<sub>0</sub> = 0.5). <b>What the score measures \
-         depends on where the images come from.</b> When the experiment is the synthetic \
-         lab's (<code>synth-contact</code>, as in the shipped pipelines), its physics is the \
-         hyperelastic BEM on the true surface: against it the hyperelastic BEM's score \
-         measures only what the image analysis, the clock sync and the scan (stitching, \
-         filtering) add, and the ICM's score what profile theory misses. On a lab's real \
-         images every model is judged alike, against the rubber itself.</p>\n",
-    );
-    html
+         the measured force; rank 1 = the smallest rms among the models judged. A mean below \
+         0: the model reaches the area at a smaller load than measured. The measured \
+         A/A<sub>0</sub> is that of the camera's view; a model's is read on the view (its own \
+         contact maps, or profile theory's truncation, inside the registered view) or on the \
+         whole scan, as the fourth column says (the rim of a free sample lifts off, so the two \
+         differ by up to a third at A/A<sub>0</sub> = 0.5). <b>What the score measures depends \
+         on where the images come from.</b> When the experiment is the synthetic lab's \
+         (<code>synth-contact</code>), its physics is one model's: a model of that physics \
+         agrees with it by construction (its score measures only what the imaging, the image \
+         analysis and the scan add, not whether the physics is right), so it is shown \
+         <i>by construction</i> instead of ranked.{physics} On a lab's real images every \
+         model is judged alike, against the rubber itself.</p>\n"
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const LINEAR: &str = "bem, linear elastic, small-strain modulus, free boundary";
+
+    fn agreement(marked: [i64; 3], physics: &str) -> AgreementTable {
+        AgreementTable {
+            model: vec!["icm".into(), "bem-linear".into(), "bem".into()],
+            rms_log_ratio: vec![0.5, 0.01, 0.7],
+            mean_log_ratio: vec![0.5, 0.0, 0.7],
+            points: vec![9; 3],
+            outside_model: vec![0; 3],
+            area: vec!["whole".into(); 3],
+            rank: marked
+                .iter()
+                .scan(0, |r, &m| {
+                    *r += 1 - m;
+                    Some(if m == 1 { 0 } else { *r })
+                })
+                .collect(),
+            by_construction: marked.to_vec(),
+            experiment_physics: vec![physics.into(); 3],
+        }
+    }
+
+    /// #49: a model marked by construction shows so in place of a rank,
+    /// after the ranked ones, and the note names the experiment's physics.
+    #[test]
+    fn a_model_of_the_experiments_physics_shows_by_construction_not_a_rank() {
+        let marked = agreement([0, 1, 0], LINEAR);
+        let ratios = LoadRatioTable {
+            model: vec!["icm".into(), "bem-linear".into(), "bem".into()],
+            area_fraction: vec![0.5; 3],
+            load_ratio: vec![1.6, 1.0, 2.0],
+            by_construction: vec![0, 1, 0],
+            experiment_physics: vec![LINEAR.into(); 3],
+        };
+        let samples = [Scored {
+            label: "T1",
+            agreement: &marked,
+            load_ratio: Some(&ratios),
+        }];
+        let html = agreement_html(&samples);
+        let icm = html.find("<td>T1</td><td>1</td><td>icm</td>").unwrap();
+        let bem = html.find("<td>T1</td><td>2</td><td>bem</td>").unwrap();
+        let own = html
+            .find(
+                "<td>T1</td><td>by construction</td><td>bem-linear</td><td>whole</td><td>0.01</td>",
+            )
+            .unwrap();
+        assert!(icm < bem && bem < own, "{html}");
+        assert!(!html.contains("<td>0</td><td>bem-linear"), "{html}");
+        assert!(
+            html.contains(
+                "The experiment of T1: rendered by <i>bem, linear elastic, small-strain \
+                 modulus, free boundary</i>; bem-linear shares it, so agrees with the \
+                 experiment by construction (marked, not ranked)."
+            ),
+            "{html}"
+        );
+    }
+
+    /// Samples of one physics are named together; a sample whose physics
+    /// no model shares says so; tables without truth or marks say nothing.
+    #[test]
+    fn the_physics_sentence_groups_samples_and_says_when_no_model_shares_it() {
+        let hyper = "bem, hyperelastic, equibiaxial tangent, free boundary";
+        let (t1, t2) = (agreement([0, 1, 0], LINEAR), agreement([0, 1, 0], LINEAR));
+        let t3 = agreement([0, 0, 0], hyper);
+        let plain = agreement([0, 0, 0], "");
+        let scored = |label, agreement| Scored {
+            label,
+            agreement,
+            load_ratio: None,
+        };
+        let text = physics_sentence(&[
+            scored("T1", &t1),
+            scored("T2", &t2),
+            scored("T3", &t3),
+            scored("T4", &plain),
+        ]);
+        assert!(text.starts_with(" The experiment of T1, T2: rendered by <i>bem, linear"));
+        assert!(text.ends_with(
+            " The experiment of T3: rendered by <i>bem, hyperelastic, equibiaxial tangent, \
+             free boundary</i>; no compared model shares it."
+        ));
+        assert!(!text.contains("T4"), "{text}");
+        // The table of before #49's columns' defaults: ranks as they are.
+        let html = agreement_html(&[scored("T4", &plain)]);
+        assert!(html.contains("<td>T4</td><td>1</td><td>icm</td>"), "{html}");
+        assert!(!html.contains("<td>by construction</td>"), "{html}");
+    }
 }

@@ -869,8 +869,16 @@ fn contact_sections(
         .samples
         .iter()
         .any(|s| s.compare_figures.is_some() || s.transform.is_some());
+    let physics = crate::experiment::experiment_physics(data);
     if compared {
         body.push_str("<h2>Contact experiment: observed against predicted contact</h2>\n");
+        if !physics.is_empty() {
+            body.push_str(&format!(
+                "<p class=\"note\">What the experiment is:{physics} A model of the \
+                 experiment's own physics agrees with it by construction: its score measures \
+                 the imaging, the image analysis and the scan, not the physics.</p>\n"
+            ));
+        }
         body.push_str(fig6_html);
         body.push_str(&crate::experiment::transform_table(data));
     }
@@ -880,8 +888,9 @@ fn contact_sections(
     } else {
         ""
     };
+    let with_physics = format!("{band_caption}{physics}");
     if let Some(o) = by_name("fig7") {
-        body.push_str(&figure_html(o, band_caption));
+        body.push_str(&figure_html(o, &with_physics));
     }
     body.push_str(&crate::experiment::agreement_table(data));
     body.push_str(&load_ratio_table(summary, chosen, data));
@@ -890,7 +899,7 @@ fn contact_sections(
     }
     if let Some(o) = by_name("fig9").filter(|o| o.status.rendered) {
         body.push_str("<h2>Contact models compared</h2>\n");
-        body.push_str(&figure_html(o, band_caption));
+        body.push_str(&figure_html(o, &with_physics));
         let kappas: Vec<(&str, Vec<crate::models::KappaAt>)> = summary
             .samples
             .iter()

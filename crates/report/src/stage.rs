@@ -82,7 +82,7 @@ pub struct Report;
 
 static INFO: StageInfo = StageInfo {
     kind: "report",
-    version: 12,
+    version: 13,
     summary: "HTML report with the paper's Figs. 2, 4, 6, 7, 8, a model comparison (Fig. 9; PNG + \
               SVG), Table 1 and a summary",
     doc: "Every input is optional: a figure whose inputs are not wired is skipped and the \
@@ -108,7 +108,11 @@ static INFO: StageInfo = StageInfo {
           note, and a figure none of whose inputs is wired is skipped with the reason; Fig. 7 the `fig7_models` \
           (default every wired model) with the measured points of `experiments` \
           (contact-images' contact, the force over the models' E0* A0) and the agreement \
-          table of `agreement` and `load_ratio` (contact-compare) under it, then each \
+          table of `agreement` and `load_ratio` (contact-compare) under it (a model \
+          contact-compare marked by_construction, its physics the experiment's, shows \
+          \"by construction\" in place of a rank, after the ranked ones; the captions of \
+          Figs. 7 and 9 and the experiment's section name the experiment's physics from the \
+          tables' experiment_physics column, and the models that share it), then each \
           model's load over `reference_model`'s at `area_fractions` where that is set; Fig. \
           6 the first sample's `compare_figures` (observed, predicted and overlay maps at one \
           scale with a bar, read through contact-compare's figure index) with the \

@@ -563,6 +563,9 @@ fn flat_png(rgb: [u8; 3]) -> Vec<u8> {
         .unwrap()
 }
 
+/// The physics of [`with_experiment`]'s experiment (synth-contact's default).
+const PHYSICS: &str = "bem, hyperelastic, equibiaxial tangent, free boundary";
+
 /// T1 with the contact experiment and contact-compare's products.
 fn with_experiment() -> Inputs {
     use hypercontact_compare::stage::{
@@ -590,13 +593,18 @@ fn with_experiment() -> Inputs {
         points: vec![4, 4],
         outside_model: vec![0, 0],
         area: vec!["view (truncation)".into(), "view (bem)".into()],
-        rank: vec![2, 1],
+        // #49: bem is the experiment's own physics, marked and not ranked.
+        rank: vec![1, 0],
+        by_construction: vec![0, 1],
+        experiment_physics: vec![PHYSICS.into(); 2],
     };
     inputs.insert("agreement.T1", table(agreement.into_table()));
     let ratios = LoadRatioTable {
         model: vec!["icm".into(), "bem".into()],
         area_fraction: vec![0.5, 0.5],
         load_ratio: vec![0.375, f64::NAN],
+        by_construction: vec![0, 1],
+        experiment_physics: vec![PHYSICS.into(); 2],
     };
     inputs.insert("load_ratio.T1", table(ratios.into_table()));
     let transform = TransformTable {
@@ -656,18 +664,28 @@ fn the_experiment_adds_fig6_its_points_in_fig7_and_the_agreement_table() {
     }
     let registration = &html[html.find("Registration of the camera").unwrap()..];
     assert!(registration.contains("<td>T1</td><td>truncation</td><td>5 (0.6)</td><td>2.5</td>"));
-    // Agreement: best first, a missing ratio as n/a.
+    // Agreement: best first, the experiment's own physics (#49) after the
+    // ranked ones as "by construction"; a missing ratio as n/a.
     let agreement = &html[html.find("Agreement of the models").unwrap()..];
     let agreement = &agreement[..agreement.find("</table>").unwrap()];
     let bem = agreement
-        .find("<td>T1</td><td>1</td><td>bem</td><td>view (bem)</td><td>0.125</td>")
+        .find("<td>T1</td><td>by construction</td><td>bem</td><td>view (bem)</td><td>0.125</td>")
         .unwrap();
     let icm = agreement
-        .find("<td>T1</td><td>2</td><td>icm</td><td>view (truncation)</td><td>1.25</td>")
+        .find("<td>T1</td><td>1</td><td>icm</td><td>view (truncation)</td><td>1.25</td>")
         .unwrap();
     assert!(
-        bem < icm && agreement.contains("<td>n/a</td>") && agreement.contains("<td>0.375</td>")
+        icm < bem && agreement.contains("<td>n/a</td>") && agreement.contains("<td>0.375</td>")
     );
+    // Its physics named under the table, in Fig. 7's caption and in the
+    // experiment's section, with the model that shares it.
+    let named = "The experiment of T1: rendered by <i>bem, hyperelastic, equibiaxial tangent, \
+                 free boundary</i>; bem shares it, so agrees with the experiment by \
+                 construction (marked, not ranked).";
+    assert!(html.matches(named).count() >= 3, "{html}");
+    let fig7_caption = &html[html.find("<figure id=\"fig7\">").unwrap()..];
+    let fig7_caption = &fig7_caption[..fig7_caption.find("</figure>").unwrap()];
+    assert!(fig7_caption.contains(named), "{fig7_caption}");
     assert!(html.contains("synthetic lab"));
     // Fig. 7: four measured points (positive area and force) and the key.
     let fig7 = text(&files, "fig7.svg");

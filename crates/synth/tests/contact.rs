@@ -124,6 +124,44 @@ fn writes_the_lab_files_and_a_consistent_truth() {
     }
 }
 
+/// The truth names the physics that rendered the frames (#49): the paper's
+/// hyperelastic BEM with the equibiaxial tangent by default, the linear BEM
+/// with `model: linear`; same contact, the linear force below the
+/// tangent-modulus one (E_t*/E0* = 2 at first contact).
+#[test]
+fn the_truth_names_the_physics_of_each_law() {
+    let truth = |law: &str| run(&format!("{{{SMALL}, \"frames\": 6{law}}}")).unwrap().1;
+    let hyper = truth("");
+    let linear = truth(r#", "model": "linear""#);
+    let uniaxial = truth(r#", "tangent": "uniaxial", "boundary": "periodic""#);
+    let one = |t: &ContactTruthTable| {
+        assert_eq!(t.physics.len(), 6);
+        assert!(
+            t.physics.iter().all(|p| *p == t.physics[0]),
+            "{:?}",
+            t.physics
+        );
+        t.physics[0].clone()
+    };
+    assert_eq!(
+        one(&hyper),
+        "bem, hyperelastic, equibiaxial tangent, free boundary"
+    );
+    assert_eq!(
+        one(&linear),
+        "bem, linear elastic, small-strain modulus, free boundary"
+    );
+    assert_eq!(
+        one(&uniaxial),
+        "bem, hyperelastic, uniaxial tangent, periodic boundary"
+    );
+    assert_eq!(hyper.area_fraction, linear.area_fraction);
+    for k in 3..6 {
+        let ratio = hyper.force_n[k] / linear.force_n[k];
+        assert!(ratio > 1.9, "frame {k}: {ratio}");
+    }
+}
+
 #[test]
 fn refuses_a_view_beyond_the_map_and_frames_faster_than_the_exposure() {
     let e = run(r#"{"width_px": 96, "height_px": 80, "resolution_m": 1e-5, "magnification": 0.5}"#)

@@ -17,6 +17,7 @@
 //! clock), `force.csv` (`time_s, force_n`, sensor clock; with `trigger`,
 //! also `camera_trigger`: 1 at the samples taken while the shutter was open).
 
+pub mod physics;
 pub mod record;
 pub mod rig;
 pub mod solve;
@@ -213,6 +214,8 @@ pub struct ContactTruthTable {
     /// true force (noise-free, unquantised)
     #[column(unit = "N")]
     pub force_n: Vec<f64>,
+    /// the physics that rendered the frames (solver, law, modulus, boundary), e.g. `bem, linear elastic, small-strain modulus, free boundary`: a model of the same physics agrees with this experiment by construction
+    pub physics: Vec<String>,
 }
 
 /// The `truth_rig` table: one row.
@@ -252,7 +255,7 @@ pub struct SynthContact;
 
 static INFO: StageInfo = StageInfo {
     kind: "synth-contact",
-    version: 4,
+    version: 5,
     summary: "Synthetic contact experiment: interference frames, frame times and force log \
               of a rough sample pressed onto glass, with the ground truth",
     doc: "The paper's in-situ rig (Section 3, Fig. 3). SAMPLE: the height map (use the \
@@ -263,7 +266,16 @@ static INFO: StageInfo = StageInfo {
           solver (same boundary, tolerance and law: `hyperelastic` by default, the force by \
           the tangent-modulus integral over the solved frames, E_t*/E0* = 2 at first contact \
           with the paper's `tangent: equibiaxial` and 1 with `uniaxial`), each frame \
-          warm-started from the previous one. RAMP: the servo advances at `speed_m_per_s` (the \
+          warm-started from the previous one. PHYSICS: the experiment is the linear-elastic \
+          boundary-element half-space of `bem` (with `boundary`), its force either E0* times \
+          the linear load (`model: linear`, or a linear material) or the tangent-modulus \
+          integral (`model: hyperelastic`, with `tangent`); the truth table's column `physics` \
+          names which (e.g. `bem, hyperelastic, equibiaxial tangent, free boundary` or `bem, \
+          linear elastic, small-strain modulus, free boundary`). A model run with the same \
+          physics (`bem` with the same law and boundary) agrees with this experiment by \
+          construction: its score measures only what the imaging, the image analysis and the \
+          scan add, not the physics; contact-compare marks such responses with \
+          `same_physics`. RAMP: the servo advances at `speed_m_per_s` (the \
           paper: 3 µm/s, \
           quasi-static); the last frame's penetration is where the solve first reaches \
           `max_area_fraction` (found by the `bem` curve search); frames are evenly spaced in \
@@ -291,7 +303,7 @@ static INFO: StageInfo = StageInfo {
           samples taken while the shutter was open (a DAQ wired to the camera's trigger \
           output), from which contact-images finds the clock offset. TRUTH (never \
           read by the analysis): `truth` per frame (penetration, A/A0 of the whole map and of \
-          the camera's view, force), `truth_rig` (transform, pixel size, clock offset, \
+          the camera's view, force, physics), `truth_rig` (transform, pixel size, clock offset, \
           timing, solve grid), `truth_maps` (the true contact on the camera's pixels as 8-bit \
           PNG masks, 255 = contact, at the frames nearest map_fractions of view A/A0, indexed \
           by the table truth_maps.parquet as contact-images indexes its maps, area_fraction \
@@ -370,7 +382,9 @@ impl Stage for SynthContact {
             surface.nx(),
             surface.ny()
         ));
-        let truth = truth_table(&contacts, &ramp, view_fractions);
+        let linear_material = modulus.tangent_mode().is_none();
+        let physics = physics::label(p.law.model, p.law.tangent, p.boundary, linear_material);
+        let truth = truth_table(&contacts, &ramp, view_fractions, &physics);
         let rig = rig_table(&surface, &ramp, p);
         Ok(Outputs::new()
             .files("sequence", files)
@@ -430,11 +444,12 @@ fn solve_frames(
 }
 
 /// The `truth` table: per frame its times, penetration, true A/A0 of the
-/// whole map and of the camera's view, and true force.
+/// whole map and of the camera's view, true force, and the physics named.
 fn truth_table(
     contacts: &[FrameContact],
     ramp: &Ramp,
     view_fractions: Vec<f64>,
+    physics: &str,
 ) -> ContactTruthTable {
     let frames = ramp.frames;
     ContactTruthTable {
@@ -445,6 +460,7 @@ fn truth_table(
         area_fraction: contacts.iter().map(|c| c.area_fraction).collect(),
         view_area_fraction: view_fractions,
         force_n: contacts.iter().map(|c| c.force_n).collect(),
+        physics: vec![physics.to_owned(); frames],
     }
 }
 
