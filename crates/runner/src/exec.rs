@@ -20,7 +20,7 @@ use crate::plan::{Plan, PlanOptions, PlannedStage, Reason};
 use crate::progress::{RunBar, TerminalProgress};
 use crate::provenance::{CacheUse, Provenance, StageRecord};
 use crate::store::{self, OutputRecord, StoreError};
-use crate::timings::History;
+use crate::timings::{History, RunHistory};
 
 /// How to run.
 #[derive(Clone, Debug)]
@@ -302,7 +302,7 @@ fn run_once(
         return Ok(report(plan, provenance));
     }
 
-    let history = options.history.clone().with(previous.as_ref());
+    let history = RunHistory::new(&options.history, previous.as_ref());
     let multi = (!options.quiet).then(MultiProgress::new);
     let overall = RunBar::new(multi.as_ref(), &plan, &history, options.label.as_deref());
     let scope = RunScope {
@@ -447,7 +447,7 @@ fn new_provenance(pipeline: &Pipeline, options: &RunOptions, started_unix_s: u64
     Provenance {
         pipeline: pipeline.name.clone(),
         pipeline_file: pipeline.file.display().to_string(),
-        pipeline_blake3: crate::hash::text_hash(pipeline.source()),
+        pipeline_blake3: pipeline.source_blake3().to_owned(),
         hypercontact_version: env!("CARGO_PKG_VERSION").to_owned(),
         producer: Some(crate::producer::running().to_owned()),
         overrides: options.overrides.clone(),
@@ -465,7 +465,7 @@ struct RunScope<'a> {
     cache: &'a Cache,
     options: &'a RunOptions,
     /// Earlier runs' stage times, for the stages' ETAs.
-    history: &'a History,
+    history: &'a RunHistory<'a>,
 }
 
 /// What the stages of a run have left for the stages after them.

@@ -54,13 +54,45 @@ impl History {
     /// The recorded time of a planned stage's computation: its own entry's
     /// (a forced stage), else by key, else by parameters.
     pub fn seconds(&self, planned: &PlannedStage) -> Option<f64> {
+        RunHistory::new(self, None).seconds(planned)
+    }
+}
+
+/// The times one run goes by: the record in its own folder over the
+/// history handed to it, read through without copying the latter (a
+/// study hands each variant the times of every variant before it, and a
+/// copy per variant would make the study quadratic in its variants).
+pub struct RunHistory<'a> {
+    below: &'a History,
+    own: History,
+}
+
+impl<'a> RunHistory<'a> {
+    /// `below` with the run's previous record (if any) over it.
+    pub fn new(below: &'a History, previous: Option<&Provenance>) -> Self {
+        Self {
+            below,
+            own: History::default().with(previous),
+        }
+    }
+
+    /// As [`History::seconds`] on `below` with the record added: by key the
+    /// record's time wins, by parameters the longer.
+    pub fn seconds(&self, planned: &PlannedStage) -> Option<f64> {
         if let Some(m) = &planned.manifest {
             return Some(m.compute_s);
         }
-        let kind = planned.kind.clone();
-        (self.by_key.get(&(kind.clone(), planned.key.clone())))
-            .or_else(|| self.by_params.get(&(kind, canonical_json(&planned.params))))
-            .copied()
+        let key = (planned.kind.clone(), planned.key.clone());
+        let by_key = |h: &History| h.by_key.get(&key).copied();
+        if let Some(s) = by_key(&self.own).or_else(|| by_key(self.below)) {
+            return Some(s);
+        }
+        let alike = (planned.kind.clone(), canonical_json(&planned.params));
+        let by_params = |h: &History| h.by_params.get(&alike).copied();
+        match (by_params(&self.own), by_params(self.below)) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        }
     }
 }
 
