@@ -131,6 +131,13 @@ fn lines(provenance: &Provenance) -> Vec<Line<'_>> {
             })
         })
         .collect();
+    // A failed stage's time is part of where the run's time went.
+    lines.extend(provenance.failed.iter().map(|(stage, f)| Line {
+        stage,
+        kind: &f.kind,
+        status: "FAILED",
+        seconds: f.wall_s,
+    }));
     // Longest first; ties by name, so the table is the same every time.
     lines.sort_by(|a, b| b.seconds.total_cmp(&a.seconds).then(a.stage.cmp(b.stage)));
     lines
@@ -179,16 +186,24 @@ pub fn table(provenance: &Provenance) -> String {
             share(seconds)
         );
     }
-    let ran = lines.iter().filter(|l| l.status != "cached").count();
+    let failed = provenance.failed.len();
+    let ran = (lines.iter())
+        .filter(|l| l.status != "cached" && l.status != "FAILED")
+        .count();
+    let failed_text = match failed {
+        0 => String::new(),
+        n => format!(", {n} failed"),
+    };
     let memory = match provenance.peak_rss_mb {
         Some(mb) => format!("; peak memory {:.2} GB", mb / 1024.0),
         None => String::new(),
     };
     let _ = writeln!(
         out,
-        "\n{} stages: {ran} computed, {} cached; {in_stages_s:.1} s in stages, run wall {:.1} s{memory}",
+        "\n{} stages: {ran} computed, {} cached{failed_text}; {in_stages_s:.1} s in stages, run wall \
+         {:.1} s{memory}",
         lines.len(),
-        lines.len() - ran,
+        lines.len() - ran - failed,
         provenance.wall_s
     );
     out
@@ -237,6 +252,8 @@ mod tests {
             wall_s: 10.3,
             peak_rss_mb: Some(2048.0),
             stages,
+            format: crate::provenance::PROVENANCE_FORMAT,
+            failed: BTreeMap::new(),
         };
         let text = table(&provenance);
         let order: Vec<&str> = text
@@ -283,6 +300,8 @@ mod tests {
             wall_s: 80.0,
             peak_rss_mb: None,
             stages,
+            format: crate::provenance::PROVENANCE_FORMAT,
+            failed: BTreeMap::new(),
         };
         let history = History::default().with(Some(&provenance));
         let mut planned = crate::plan::PlannedStage {
