@@ -39,12 +39,7 @@ pub struct Exported {
 /// into `out_dir/<stage>/`.
 pub fn export_run(run_dir: &Path, out_dir: &Path, format: Format) -> Result<Exported> {
     let record = run_dir.join("provenance.json");
-    let Some(provenance) = Provenance::read(&record)? else {
-        bail!(
-            "{}: no provenance.json this version reads: give a run's output folder (runs/<name>)",
-            record.display()
-        );
-    };
+    let provenance = Provenance::load(&record)?;
     check_out_dir(run_dir, out_dir, &provenance)?;
     let mut exported = Exported::default();
     for (stage, files) in stage_files(&provenance) {

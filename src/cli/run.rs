@@ -69,13 +69,7 @@ pub fn run(
 
 /// `hypercontact timings RUN_DIR`: the table of a finished run.
 pub fn timings(run_dir: &Path) -> Result<()> {
-    let record = run_dir.join("provenance.json");
-    let Some(provenance) = Provenance::read(&record)? else {
-        bail!(
-            "{}: no provenance.json this version reads: give a run's output folder (runs/<name>)",
-            record.display()
-        );
-    };
+    let provenance = Provenance::load_with_times(&run_dir.join("provenance.json"))?;
     say_text(hypercontact_runner::timings::table(&provenance));
     Ok(())
 }

@@ -172,7 +172,12 @@ pub fn material(family: Constants, given: &dyn Given) -> Result<Material, ParamE
             ));
         }
     }
-    build(family, given)
+    let material = build(family, given)?;
+    check_magnitudes(given)?;
+    if let Material::Hyperelastic(model) = &material {
+        check_stable(model.as_ref(), family)?;
+    }
+    Ok(material)
 }
 
 /// The values of parameter `name`, none if it was not given.
@@ -254,6 +259,86 @@ fn build(family: Constants, given: &dyn Given) -> Result<Material, ParamError> {
         Constants::Ogden => Box::new(ogden(values("mu_pa"), values("alpha"))?),
     };
     Ok(Material::from(model))
+}
+
+/// The moduli a solid can have, Pa: a value outside is a typo or a unit
+/// slip (rubbers are 1e5–1e7 Pa, steel 2e11 Pa).
+pub const MODULUS_RANGE_PA: (f64, f64) = (1.0, 1e12);
+
+/// The parameters that are moduli (Pa).
+const MODULI: [&str; 6] = ["e_pa", "mu_pa", "c10_pa", "c01_pa", "c20_pa", "c30_pa"];
+
+/// Refuses a modulus of absurd size, naming it: any term beyond
+/// [`MODULUS_RANGE_PA`]'s upper end in size (a term may be negative or
+/// zero), and a non-zero term below 1 Pa in size, which no solid has.
+fn check_magnitudes(given: &dyn Given) -> Result<(), ParamError> {
+    let (low, high) = MODULUS_RANGE_PA;
+    for name in MODULI {
+        let values = values_of(given, name);
+        for (i, v) in values.iter().enumerate() {
+            let size = v.abs();
+            if size <= high && (size >= low || *v == 0.0) {
+                continue;
+            }
+            let at = match values.len() {
+                1 => name.to_owned(),
+                _ => format!("{name}.{i}"),
+            };
+            return Err(ParamError::new(
+                &at,
+                format!(
+                    "{v:e} Pa is no solid's modulus: a modulus term is 0 or {low} to \
+                     {high:e} Pa in size (rubbers are 1e5 to 1e7 Pa); check the unit"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The stretches over which `material` requires Drucker stability in
+/// uniaxial, planar and equibiaxial loading: the contact models' range
+/// (the paper's strains reach ε ≈ 0.5 in biaxial tension; compression to
+/// 0.7 is equibiaxial thickening to 2.04).
+pub const STABLE_STRETCHES: (f64, f64) = (0.7, 1.5);
+
+/// Refuses a law that is Drucker-unstable somewhere in
+/// [`STABLE_STRETCHES`] in any of the three tests, naming the test, where
+/// it turns unstable and the parameters to look at (Abaqus' check, as the
+/// fit reports it: [`crate::stability`]).
+fn check_stable(model: &dyn Hyperelastic, family: Constants) -> Result<(), ParamError> {
+    let (low, high) = STABLE_STRETCHES;
+    for range in crate::stability::stability_ranges(model) {
+        let unstable = if !range.stable_at_rest {
+            Some("at rest (λ = 1)".to_owned())
+        } else if range.lambda_min > low {
+            Some(format!("below λ = {:.4}", range.lambda_min))
+        } else if range.lambda_max < high {
+            Some(format!("above λ = {:.4}", range.lambda_max))
+        } else {
+            None
+        };
+        let Some(unstable) = unstable else {
+            continue;
+        };
+        let (required, _) = family.parameters();
+        return Err(ParamError::new(
+            required[0],
+            format!(
+                "the {} law with these constants is Drucker-unstable in {} {unstable}, inside \
+                 the stretches it must hold over ({low} ≤ λ ≤ {high} in UT, PT and BT); check \
+                 the signs and sizes of {}",
+                family.name(),
+                range.mode.label(),
+                required
+                    .iter()
+                    .map(|n| format!("`{n}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// An Ogden model from its lists: one length, α_i finite and non-zero,
@@ -409,5 +494,98 @@ mod tests {
         .unwrap_err();
         assert_eq!(e.param, "mu_pa");
         assert!(e.message.contains("`e_pa`, `poisson`"), "{e}");
+    }
+
+    /// Issue #50, item 8: the issue's unstable constants are refused,
+    /// naming the test, where the law turns unstable and the range it must
+    /// hold over; stable laws with negative terms (the version guard's
+    /// Ogden, a softening Yeoh) still pass.
+    #[test]
+    fn unstable_constants_are_refused_naming_where() {
+        let refused: [(Constants, &[Pair]); 2] = [
+            (
+                Constants::Ogden,
+                &[("mu_pa", &[1.1e6, -1e6]), ("alpha", &[-2.0, 2.0])],
+            ),
+            (
+                Constants::Yeoh,
+                &[("c10_pa", &[5e5]), ("c20_pa", &[-1e7]), ("c30_pa", &[0.0])],
+            ),
+        ];
+        for (family, pairs) in refused {
+            let e = material(family, &given(pairs)).unwrap_err();
+            assert!(
+                e.message.contains("is Drucker-unstable in UT ")
+                    && e.message.contains("(0.7 ≤ λ ≤ 1.5 in UT, PT and BT)"),
+                "{e}"
+            );
+            assert_eq!(e.param, family.parameters().0[0], "{e}");
+        }
+        let e = material(
+            Constants::Ogden,
+            &given(&[("mu_pa", &[1.1e6, -1e6]), ("alpha", &[-2.0, 2.0])]),
+        )
+        .unwrap_err();
+        assert!(
+            e.message.starts_with("the ogden law with these constants"),
+            "{e}"
+        );
+        let accepted: [(Constants, &[Pair]); 3] = [
+            (
+                Constants::Ogden,
+                &[("mu_pa", &[7e5, -1e5]), ("alpha", &[1.3, -2.0])],
+            ),
+            (
+                Constants::Ogden,
+                &[("mu_pa", &[7e5, -1e5, 2e3]), ("alpha", &[1.3, -2.0, 5.0])],
+            ),
+            (
+                Constants::Yeoh,
+                &[("c10_pa", &[2e5]), ("c20_pa", &[-1e4]), ("c30_pa", &[1e3])],
+            ),
+        ];
+        for (family, pairs) in accepted {
+            material(family, &given(pairs)).unwrap();
+        }
+    }
+
+    /// Moduli of absurd size are refused naming the parameter (and the
+    /// term of a list); zero terms pass.
+    #[test]
+    fn absurd_moduli_are_refused_naming_the_parameter() {
+        let cases: [(Constants, &[Pair], &str); 5] = [
+            (Constants::NeoHookean, &[("mu_pa", &[1e300])], "mu_pa"),
+            (Constants::Linear, &[("e_pa", &[3e12])], "e_pa"),
+            (Constants::NeoHookean, &[("mu_pa", &[0.5])], "mu_pa"),
+            (
+                Constants::Ogden,
+                &[("mu_pa", &[6e5, 1e13]), ("alpha", &[2.0, 4.0])],
+                "mu_pa.1",
+            ),
+            (
+                Constants::Yeoh,
+                &[("c10_pa", &[2e5]), ("c20_pa", &[1e-3]), ("c30_pa", &[0.0])],
+                "c20_pa",
+            ),
+        ];
+        for (family, pairs, param) in cases {
+            let e = material(family, &given(pairs)).unwrap_err();
+            assert_eq!(e.param, param, "{e}");
+            assert!(
+                e.message.contains("is no solid's modulus")
+                    && e.message.contains("is 0 or 1 to 1e12 Pa in size"),
+                "{e}"
+            );
+        }
+        let e = material(Constants::NeoHookean, &given(&[("mu_pa", &[1e300])])).unwrap_err();
+        assert!(
+            e.message.starts_with("1e300 Pa is no solid's modulus"),
+            "{e}"
+        );
+        material(
+            Constants::Yeoh,
+            &given(&[("c10_pa", &[2e5]), ("c20_pa", &[0.0]), ("c30_pa", &[0.0])]),
+        )
+        .unwrap();
     }
 }

@@ -125,7 +125,11 @@ static INFO: StageInfo = StageInfo {
           one length (Abaqus' W = sum 2 mu_i/alpha_i^2 (...), mu0 = sum mu_i > 0, alpha_i != \
           0). Or `file` alone: a text file of lines `name, value[, value...]` with the same \
           names (`family, ogden` / `mu_pa, 1.2e6, -2e5` / `alpha, 2, -2`), `#` comments and \
-          blank lines skipped, each name once; errors name the file and line. A `linear` \
+          blank lines skipped, each name once; errors name the file and line. Refused, naming \
+          the parameter: a modulus term of size outside 1 Pa to 1e12 Pa (0 is allowed), and a \
+          hyperelastic law that is Drucker-unstable anywhere in 0.7 <= lambda <= 1.5 in \
+          uniaxial, planar or equibiaxial loading (Abaqus' check, as material-fit reports it; \
+          the message says in which test and beyond which stretch). A `linear` \
           material is not hyperelastic: the contact stages use E* = E/(1 - nu^2) with its own \
           nu at every stress, whatever their `model`, `tangent` and `poisson` say (they note \
           it when these differ), so the hyperelastic and linear runs on it coincide. The \

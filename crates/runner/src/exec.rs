@@ -18,9 +18,9 @@ use crate::outcome::{Blocked, StageFailure, blocked_by};
 use crate::pipeline::{Pipeline, PipelineError};
 use crate::plan::{Plan, PlanOptions, PlannedStage, Reason};
 use crate::progress::{RunBar, TerminalProgress};
-use crate::provenance::{CacheUse, Provenance, StageRecord};
+use crate::provenance::{CacheUse, FailedRecord, PROVENANCE_FORMAT, Provenance, StageRecord};
 use crate::store::{self, OutputRecord, StoreError};
-use crate::timings::History;
+use crate::timings::{History, RunHistory};
 
 /// How to run.
 #[derive(Clone, Debug)]
@@ -302,7 +302,7 @@ fn run_once(
         return Ok(report(plan, provenance));
     }
 
-    let history = options.history.clone().with(previous.as_ref());
+    let history = RunHistory::new(&options.history, previous.as_ref());
     let multi = (!options.quiet).then(MultiProgress::new);
     let overall = RunBar::new(multi.as_ref(), &plan, &history, options.label.as_deref());
     let scope = RunScope {
@@ -354,6 +354,7 @@ fn run_once(
     } = outcome;
     provenance.wall_s = started.elapsed().as_secs_f64();
     provenance.peak_rss_mb = crate::provenance::peak_rss_mb();
+    record_failures(&mut provenance, &failures);
     if options.export {
         keep_earlier_records(&mut provenance, previous, pipeline);
         provenance
@@ -402,12 +403,15 @@ fn run_or_block(
         .filter(|_| planned.reason != Reason::Cached);
     let failure = match earlier {
         Some(cause) => StageFailure::earlier(planned, cause),
-        None => match run_stage(scope, planned, state, multi, after_file) {
-            Ok(record) => return Ok(Some(record)),
-            Err(e @ RunError::TempGone { .. }) => return Err(e),
-            Err(e) if !scope.options.keep_going => return Err(e),
-            Err(e) => StageFailure::new(planned, &e),
-        },
+        None => {
+            let t0 = Instant::now();
+            match run_stage(scope, planned, state, multi, after_file) {
+                Ok(record) => return Ok(Some(record)),
+                Err(e @ RunError::TempGone { .. }) => return Err(e),
+                Err(e) if !scope.options.keep_going => return Err(e),
+                Err(e) => StageFailure::new(planned, &e, t0.elapsed().as_secs_f64()),
+            }
+        }
     };
     outcome.failures.push(failure);
     // The temporary entries held for readers: written now, before this
@@ -442,12 +446,26 @@ fn cache_error(path: &Path) -> impl Fn(std::io::Error) -> RunError + '_ {
     }
 }
 
+/// Every failed stage into the record, with its time and error: a run's
+/// time spent on a stage that failed is part of where the time went.
+fn record_failures(provenance: &mut Provenance, failures: &[StageFailure]) {
+    for f in failures {
+        let record = FailedRecord {
+            kind: f.kind.clone(),
+            key: f.key.clone(),
+            wall_s: f.wall_s,
+            error: f.cause.clone(),
+        };
+        provenance.failed.insert(f.stage.clone(), record);
+    }
+}
+
 /// The record of a run before any stage has run.
 fn new_provenance(pipeline: &Pipeline, options: &RunOptions, started_unix_s: u64) -> Provenance {
     Provenance {
         pipeline: pipeline.name.clone(),
         pipeline_file: pipeline.file.display().to_string(),
-        pipeline_blake3: crate::hash::text_hash(pipeline.source()),
+        pipeline_blake3: pipeline.source_blake3().to_owned(),
         hypercontact_version: env!("CARGO_PKG_VERSION").to_owned(),
         producer: Some(crate::producer::running().to_owned()),
         overrides: options.overrides.clone(),
@@ -455,6 +473,8 @@ fn new_provenance(pipeline: &Pipeline, options: &RunOptions, started_unix_s: u64
         wall_s: 0.0,
         peak_rss_mb: None,
         stages: BTreeMap::new(),
+        format: PROVENANCE_FORMAT,
+        failed: BTreeMap::new(),
     }
 }
 
@@ -465,7 +485,7 @@ struct RunScope<'a> {
     cache: &'a Cache,
     options: &'a RunOptions,
     /// Earlier runs' stage times, for the stages' ETAs.
-    history: &'a History,
+    history: &'a RunHistory<'a>,
 }
 
 /// What the stages of a run have left for the stages after them.
@@ -746,7 +766,9 @@ fn keep_earlier_records(
         return;
     };
     for (name, record) in previous.stages {
-        if pipeline.stage(&name).is_some() {
+        // A stage that failed now is listed as failed, not as its earlier
+        // success.
+        if pipeline.stage(&name).is_some() && !provenance.failed.contains_key(&name) {
             provenance.stages.entry(name).or_insert(StageRecord {
                 cache: CacheUse::Skipped,
                 ..record

@@ -19,6 +19,9 @@ pub struct StageFailure {
     pub key: String,
     /// The error with every cause, on one line.
     pub cause: String,
+    /// How long it ran before failing, seconds (0 for an entry that
+    /// failed in an earlier variant and is not run again).
+    pub wall_s: f64,
 }
 
 /// A stage not run because a stage it reads failed.
@@ -30,8 +33,8 @@ pub struct Blocked {
 }
 
 impl StageFailure {
-    /// `planned` failed with `error`.
-    pub fn new(planned: &PlannedStage, error: &RunError) -> Self {
+    /// `planned` failed with `error` after `wall_s` seconds.
+    pub fn new(planned: &PlannedStage, error: &RunError, wall_s: f64) -> Self {
         Self {
             stage: planned.name.clone(),
             kind: planned.kind.clone(),
@@ -43,6 +46,7 @@ impl StageFailure {
                 }
                 other => crate::error::said_once(crate::error::chain(other)),
             },
+            wall_s,
         }
     }
 
@@ -53,6 +57,7 @@ impl StageFailure {
             kind: planned.kind.clone(),
             key: planned.key.clone(),
             cause: format!("{cause} (the same entry failed in an earlier variant; not run again)"),
+            wall_s: 0.0,
         }
     }
 }

@@ -89,6 +89,41 @@ pub struct StudySpec {
     pub cases: Vec<IndexMap<String, serde_json::Value>>,
     /// Table outputs (`stage.output`) gathered into one table per output.
     pub collect: Vec<String>,
+    /// `max_variants:`, the most variants the study may have (default
+    /// [`DEFAULT_MAX_VARIANTS`]); checked when the pipeline is read, before
+    /// any variant is enumerated.
+    pub max_variants: Option<u64>,
+}
+
+/// The most variants a study has unless its `max_variants:` says more:
+/// each variant is planned and kept in memory (a few kilobytes each).
+pub const DEFAULT_MAX_VARIANTS: u64 = 100_000;
+
+impl StudySpec {
+    /// How many variants the study has: the number of cases (one if none)
+    /// times the product of the grid's axis lengths, computed from the
+    /// lengths alone; None past `u128`.
+    pub fn count(&self) -> Option<u128> {
+        (self.grid.values()).try_fold(self.cases.len().max(1) as u128, |n, values| {
+            n.checked_mul(values.len() as u128)
+        })
+    }
+
+    /// The study's shape as the refusal names it: `3 cases × grid 10 × 10`.
+    fn shape(&self) -> String {
+        let axes: Vec<String> = self.grid.values().map(|v| v.len().to_string()).collect();
+        let cases = match self.cases.len() {
+            0 => None,
+            1 => Some("1 case".to_owned()),
+            n => Some(format!("{n} cases")),
+        };
+        let grid = (!axes.is_empty()).then(|| format!("grid {}", axes.join(" × ")));
+        cases
+            .into_iter()
+            .chain(grid)
+            .collect::<Vec<_>>()
+            .join(" × ")
+    }
 }
 
 /// A parsed, checked pipeline.
@@ -105,8 +140,13 @@ pub struct Pipeline {
     /// `slurm:` at the top: job resources for every stage under
     /// `--executor slurm` (a stage's own `slurm:` overrides them).
     pub slurm: SlurmKeys,
-    source: String,
-    doc: Located,
+    /// The text, its BLAKE3 and its key locations are shared by every
+    /// copy (a study's variants), so a copy costs the stages, not the
+    /// file: planning N variants of a file that lists N values stays
+    /// linear in N (issue #50, item 3).
+    source: Arc<str>,
+    source_blake3: Arc<str>,
+    doc: Arc<Located>,
 }
 
 #[derive(Deserialize)]
@@ -160,6 +200,8 @@ struct RawStudy {
     cases: Vec<IndexMap<String, serde_json::Value>>,
     #[serde(default)]
     collect: Vec<String>,
+    #[serde(default)]
+    max_variants: Option<u64>,
 }
 
 /// Deserialises `value` as `T`, or the error placed at the path serde
@@ -264,8 +306,9 @@ impl Pipeline {
             stages,
             study,
             slurm: raw.slurm,
-            source: source.to_owned(),
-            doc,
+            source: source.into(),
+            source_blake3: crate::hash::text_hash(source).into(),
+            doc: Arc::new(doc),
         })
     }
 
@@ -276,6 +319,11 @@ impl Pipeline {
     /// The pipeline text as read.
     pub fn source(&self) -> &str {
         &self.source
+    }
+
+    /// The BLAKE3 of the pipeline text, as provenance records it.
+    pub fn source_blake3(&self) -> &str {
+        &self.source_blake3
     }
 
     /// The location of a key of the pipeline file (`["stages", "icm",
@@ -479,11 +527,45 @@ fn study_spec(
         )
         .located(doc.locate(&["study", "grid", param.as_str()])));
     }
-    Ok(Some(StudySpec {
+    let spec = StudySpec {
         grid: study.grid,
         cases: study.cases,
         collect: study.collect,
-    }))
+        max_variants: study.max_variants,
+    };
+    check_study_size(&spec).map_err(|message| {
+        let key = if spec.grid.is_empty() {
+            "cases"
+        } else {
+            "grid"
+        };
+        PipelineError::new(file, message).located(doc.locate(&["study", key]))
+    })?;
+    Ok(Some(spec))
+}
+
+/// Refuses a study of more variants than its limit, from the axis lengths
+/// alone (a grid of 10^8 variants is never enumerated), naming the count
+/// and the key that raises the limit.
+fn check_study_size(spec: &StudySpec) -> Result<(), String> {
+    let limit = spec.max_variants.unwrap_or(DEFAULT_MAX_VARIANTS);
+    let count = spec.count();
+    if count.is_some_and(|n| n <= u128::from(limit)) {
+        return Ok(());
+    }
+    let (count, raise) = match count {
+        Some(n) => (n.to_string(), format!("`max_variants: {n}`")),
+        None => ("more than 3.4e38".to_owned(), "`max_variants:`".to_owned()),
+    };
+    let default = match spec.max_variants {
+        Some(_) => "",
+        None => ", the default",
+    };
+    Err(format!(
+        "study: {count} variants ({}), more than the limit of {limit} (`study.max_variants`\
+         {default}); narrow the study, or raise the limit with {raise} under `study:`",
+        spec.shape()
+    ))
 }
 
 fn bindings(inputs: &IndexMap<String, RawInput>) -> Vec<InputBinding> {

@@ -12,7 +12,7 @@ use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressState, P
 
 use crate::eta::{self, Pace};
 use crate::plan::{Plan, Reason};
-use crate::timings::History;
+use crate::timings::RunHistory;
 
 /// The bars of one stage: under the run's `MultiProgress`, with the run's
 /// label (a study's `variant 3/6`) and the stage's recorded time.
@@ -41,7 +41,7 @@ impl<'a> TerminalProgress<'a> {
         self
     }
 
-    /// The stage took `seconds` in an earlier run (see [`History`]).
+    /// The stage took `seconds` in an earlier run (see [`crate::timings::History`]).
     pub fn recorded(mut self, seconds: Option<f64>) -> Self {
         self.recorded_s = seconds;
         self
@@ -177,7 +177,7 @@ impl RunBar {
     pub fn new(
         multi: Option<&MultiProgress>,
         plan: &Plan,
-        history: &History,
+        history: &RunHistory,
         label: Option<&str>,
     ) -> Self {
         let expected_s = (plan.stages.iter())
@@ -279,6 +279,7 @@ impl Bar for StageBar {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::timings::History;
 
     /// A stage's progress reaches an indicatif bar labelled with the stage
     /// and what it counts, and the bar is cleared when the stage is done.
@@ -335,7 +336,12 @@ mod tests {
         let mut history = History::default();
         history.add_stage("bem", "key-bb", &serde_json::json!({}), 40.0);
         let multi = MultiProgress::with_draw_target(ProgressDrawTarget::hidden());
-        let bar = RunBar::new(Some(&multi), &plan, &history, Some("variant 2/6"));
+        let bar = RunBar::new(
+            Some(&multi),
+            &plan,
+            &RunHistory::new(&history, None),
+            Some("variant 2/6"),
+        );
         assert_eq!(bar.bar.prefix(), "variant 2/6");
         bar.start(0, "a");
         assert_eq!(bar.eta(), "ETA ≥ 40s", "`ccc` was never timed");
@@ -346,14 +352,19 @@ mod tests {
         let mut history = History::default();
         history.add_stage("bem", "key-bb", &serde_json::json!({}), 40.0);
         history.add_stage("bem", "other", &serde_json::json!({ "steps": 3 }), 19.5);
-        let bar = RunBar::new(Some(&multi), &plan, &history, None);
+        let bar = RunBar::new(Some(&multi), &plan, &RunHistory::new(&history, None), None);
         assert_eq!(bar.bar.prefix(), "stages");
         bar.start(1, "bb");
         assert_eq!(bar.eta(), "ETA 1m00s");
         bar.done(1);
         bar.start(2, "ccc");
         assert_eq!(bar.eta(), "ETA 20s");
-        let quiet = RunBar::new(None, &plan, &History::default(), None);
+        let quiet = RunBar::new(
+            None,
+            &plan,
+            &RunHistory::new(&History::default(), None),
+            None,
+        );
         assert_eq!(quiet.eta(), "");
     }
 

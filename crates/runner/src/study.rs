@@ -127,24 +127,35 @@ fn run_variants(
 ) -> Result<Vec<(Variant, RunReport)>, RunError> {
     let variants = variant_pipelines(pipeline)?;
     let n = variants.len();
-    let mut runs = Vec::new();
+    let mut runs = Vec::with_capacity(n);
     // Entries a cluster job computed count as the work of the first
-    // variant that reads them; later variants find them cached.
+    // variant that reads them; later variants find them cached. What
+    // grows from variant to variant (the times, the failures) is moved
+    // into each variant's options and back, never copied: a copy per
+    // variant would make a study quadratic in its variants.
     let mut unclaimed = options.remote.clone();
     let mut history = options.history.clone();
     let mut failed = options.known_failures.clone();
+    let base = RunOptions {
+        remote: Default::default(),
+        history: Default::default(),
+        known_failures: Default::default(),
+        ..options.clone()
+    };
     for (i, (variant, p)) in variants.into_iter().enumerate() {
         let k = i + 1;
-        let mut o = options.clone();
+        let mut o = base.clone();
         o.out_dir = variant_dir(&options.out_dir, k);
         o.overrides = variant.iter().map(|(p, v)| format!("{p}={v}")).collect();
         // Variants may share a temporary entry: drop them after the last.
         o.keep_temps = true;
-        o.remote = unclaimed.clone();
+        o.remote = std::mem::take(&mut unclaimed);
         o.label = Some(format!("variant {k}/{n}"));
-        o.history = history.clone();
-        o.known_failures = failed.clone();
-        let report = match run(&p, &o) {
+        o.history = std::mem::take(&mut history);
+        o.known_failures = std::mem::take(&mut failed);
+        let result = run(&p, &o);
+        (unclaimed, history, failed) = (o.remote, o.history, o.known_failures);
+        let report = match result {
             Ok(report) => report,
             Err(RunError::Failed(report)) if options.keep_going => *report,
             Err(e) => return Err(e),
@@ -188,8 +199,13 @@ impl StudyReport {
     /// where an entry an earlier variant computes shows as `shared` (it is
     /// computed once, by that variant), then the totals.
     pub fn describe(&self) -> String {
+        use std::collections::{HashMap, HashSet};
         let n = self.runs.len();
-        let mut first_by: std::collections::HashMap<&str, usize> = Default::default();
+        let mut first_by: HashMap<&str, usize> = HashMap::new();
+        // Per entry a variant runs: how many variants plan it (each
+        // variant counted once), so `shared` is one pass over the plans.
+        let mut planned_by: HashMap<&str, usize> = HashMap::new();
+        let mut cached: HashSet<&str> = HashSet::new();
         let mut out = String::new();
         for (i, (variant, run)) in self.runs.iter().enumerate() {
             let values: Vec<String> = variant.iter().map(|(p, v)| format!("{p}={v}")).collect();
@@ -200,27 +216,22 @@ impl StudyReport {
                 }
                 (first_by.get(s.key.as_str())).map(|&k| format!("computed once, by variant {k}"))
             }));
-            for s in run.plan.stages.iter().filter(|s| s.runs) {
-                first_by.entry(s.key.as_str()).or_insert(i + 1);
+            let keys: HashSet<&str> = run.plan.stages.iter().map(|s| s.key.as_str()).collect();
+            for key in keys {
+                *planned_by.entry(key).or_default() += 1;
+            }
+            for s in &run.plan.stages {
+                if s.runs {
+                    first_by.entry(s.key.as_str()).or_insert(i + 1);
+                }
+                if s.reason == crate::plan::Reason::Cached {
+                    cached.insert(s.key.as_str());
+                }
             }
         }
-        let cached: std::collections::HashSet<&str> = (self.runs.iter())
-            .flat_map(|(_, r)| r.plan.stages.iter())
-            .filter(|s| s.reason == crate::plan::Reason::Cached)
-            .map(|s| s.key.as_str())
-            .collect();
-        let shared = (self.runs.iter())
-            .flat_map(|(_, r)| r.plan.stages.iter().filter(|s| s.runs))
-            .filter(|s| {
-                self.runs
-                    .iter()
-                    .filter(|(_, r)| r.plan.stages.iter().any(|t| t.key == s.key))
-                    .count()
-                    > 1
-            })
-            .map(|s| s.key.as_str())
-            .collect::<std::collections::HashSet<_>>()
-            .len();
+        let shared = (first_by.keys())
+            .filter(|key| planned_by.get(*key).is_some_and(|&count| count > 1))
+            .count();
         out.push_str(&format!(
             "study: {} entries to compute ({shared} of them shared by several variants), {} cached\n",
             first_by.len(),
@@ -355,9 +366,14 @@ fn study_spec(pipeline: &Pipeline) -> Result<StudySpec, RunError> {
 /// values set, each error placed where the study gives the value).
 pub fn variant_pipelines(pipeline: &Pipeline) -> Result<Vec<(Variant, Pipeline)>, RunError> {
     let spec = study_spec(pipeline)?;
-    let mut out = Vec::new();
-    for (k, variant) in variants(&spec).into_iter().enumerate() {
-        let mut p = pipeline.clone();
+    // Each variant is a plain pipeline: without the study, a copy costs
+    // the stages only (the grid's values stay with the study's pipeline).
+    let mut base = pipeline.clone();
+    base.study = None;
+    let variants = variants(&spec);
+    let mut out = Vec::with_capacity(variants.len());
+    for (k, variant) in variants.into_iter().enumerate() {
+        let mut p = base.clone();
         for (path, value) in &variant {
             let origin = format!("study variant {} ({path} = {value})", k + 1);
             p.set_value(path, value.clone(), &origin).map_err(|e| {
@@ -375,17 +391,19 @@ pub fn variant_pipelines(pipeline: &Pipeline) -> Result<Vec<(Variant, Pipeline)>
 /// a collected stage, in order of first appearance; a variant without one
 /// (None: the stage failed there) is in no group.
 fn shared_entries(keys: &[Option<String>]) -> Vec<Vec<usize>> {
-    let mut groups: Vec<(&str, Vec<usize>)> = Vec::new();
+    let mut group_of: std::collections::HashMap<&str, usize> = Default::default();
+    let mut groups: Vec<Vec<usize>> = Vec::new();
     for (i, key) in keys.iter().enumerate() {
         let Some(key) = key.as_deref() else {
             continue;
         };
-        match groups.iter_mut().find(|(k, _)| *k == key) {
-            Some((_, members)) => members.push(i),
-            None => groups.push((key, vec![i])),
-        }
+        let g = *group_of.entry(key).or_insert_with(|| {
+            groups.push(Vec::new());
+            groups.len() - 1
+        });
+        groups[g].push(i);
     }
-    groups.into_iter().map(|(_, members)| members).collect()
+    groups
 }
 
 /// The leading columns of each group's rows, as a one-row table per

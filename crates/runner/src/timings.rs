@@ -54,13 +54,45 @@ impl History {
     /// The recorded time of a planned stage's computation: its own entry's
     /// (a forced stage), else by key, else by parameters.
     pub fn seconds(&self, planned: &PlannedStage) -> Option<f64> {
+        RunHistory::new(self, None).seconds(planned)
+    }
+}
+
+/// The times one run goes by: the record in its own folder over the
+/// history handed to it, read through without copying the latter (a
+/// study hands each variant the times of every variant before it, and a
+/// copy per variant would make the study quadratic in its variants).
+pub struct RunHistory<'a> {
+    below: &'a History,
+    own: History,
+}
+
+impl<'a> RunHistory<'a> {
+    /// `below` with the run's previous record (if any) over it.
+    pub fn new(below: &'a History, previous: Option<&Provenance>) -> Self {
+        Self {
+            below,
+            own: History::default().with(previous),
+        }
+    }
+
+    /// As [`History::seconds`] on `below` with the record added: by key the
+    /// record's time wins, by parameters the longer.
+    pub fn seconds(&self, planned: &PlannedStage) -> Option<f64> {
         if let Some(m) = &planned.manifest {
             return Some(m.compute_s);
         }
-        let kind = planned.kind.clone();
-        (self.by_key.get(&(kind.clone(), planned.key.clone())))
-            .or_else(|| self.by_params.get(&(kind, canonical_json(&planned.params))))
-            .copied()
+        let key = (planned.kind.clone(), planned.key.clone());
+        let by_key = |h: &History| h.by_key.get(&key).copied();
+        if let Some(s) = by_key(&self.own).or_else(|| by_key(self.below)) {
+            return Some(s);
+        }
+        let alike = (planned.kind.clone(), canonical_json(&planned.params));
+        let by_params = |h: &History| h.by_params.get(&alike).copied();
+        match (by_params(&self.own), by_params(self.below)) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        }
     }
 }
 
@@ -99,6 +131,13 @@ fn lines(provenance: &Provenance) -> Vec<Line<'_>> {
             })
         })
         .collect();
+    // A failed stage's time is part of where the run's time went.
+    lines.extend(provenance.failed.iter().map(|(stage, f)| Line {
+        stage,
+        kind: &f.kind,
+        status: "FAILED",
+        seconds: f.wall_s,
+    }));
     // Longest first; ties by name, so the table is the same every time.
     lines.sort_by(|a, b| b.seconds.total_cmp(&a.seconds).then(a.stage.cmp(b.stage)));
     lines
@@ -147,16 +186,24 @@ pub fn table(provenance: &Provenance) -> String {
             share(seconds)
         );
     }
-    let ran = lines.iter().filter(|l| l.status != "cached").count();
+    let failed = provenance.failed.len();
+    let ran = (lines.iter())
+        .filter(|l| l.status != "cached" && l.status != "FAILED")
+        .count();
+    let failed_text = match failed {
+        0 => String::new(),
+        n => format!(", {n} failed"),
+    };
     let memory = match provenance.peak_rss_mb {
         Some(mb) => format!("; peak memory {:.2} GB", mb / 1024.0),
         None => String::new(),
     };
     let _ = writeln!(
         out,
-        "\n{} stages: {ran} computed, {} cached; {in_stages_s:.1} s in stages, run wall {:.1} s{memory}",
+        "\n{} stages: {ran} computed, {} cached{failed_text}; {in_stages_s:.1} s in stages, run wall \
+         {:.1} s{memory}",
         lines.len(),
-        lines.len() - ran,
+        lines.len() - ran - failed,
         provenance.wall_s
     );
     out
@@ -205,6 +252,8 @@ mod tests {
             wall_s: 10.3,
             peak_rss_mb: Some(2048.0),
             stages,
+            format: crate::provenance::PROVENANCE_FORMAT,
+            failed: BTreeMap::new(),
         };
         let text = table(&provenance);
         let order: Vec<&str> = text
@@ -251,6 +300,8 @@ mod tests {
             wall_s: 80.0,
             peak_rss_mb: None,
             stages,
+            format: crate::provenance::PROVENANCE_FORMAT,
+            failed: BTreeMap::new(),
         };
         let history = History::default().with(Some(&provenance));
         let mut planned = crate::plan::PlannedStage {

@@ -7,3 +7,4 @@ mod common;
 mod errors;
 mod fuzz_yaml;
 mod runner;
+mod study_scale;

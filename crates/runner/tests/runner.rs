@@ -543,6 +543,34 @@ fn a_run_keeps_going_past_a_failed_branch() {
         serde_json::from_slice(&std::fs::read(o.out_dir.join("provenance.json")).unwrap()).unwrap();
     assert_eq!(recorded["stages"]["double"]["cache"], "miss");
     assert!(recorded["stages"].get("bad").is_none());
+    // Issue #50, item 10: the failed stage is recorded with its time and
+    // error, and `timings` lists it.
+    assert_eq!(recorded["format"], 2);
+    assert_eq!(recorded["failed"]["bad"]["kind"], "source");
+    assert_eq!(
+        recorded["failed"]["bad"]["error"],
+        "no column `x` (the table has: y)"
+    );
+    let failed_s = recorded["failed"]["bad"]["wall_s"].as_f64().unwrap();
+    assert!(
+        failed_s >= 0.0 && failed_s <= recorded["wall_s"].as_f64().unwrap(),
+        "{failed_s}"
+    );
+    let record = hypercontact_runner::provenance::Provenance::load_with_times(
+        &o.out_dir.join("provenance.json"),
+    )
+    .unwrap();
+    let table = hypercontact_runner::timings::table(&record);
+    assert!(
+        table
+            .lines()
+            .any(|l| l.starts_with("bad ") && l.contains(" FAILED ")),
+        "{table}"
+    );
+    assert!(
+        table.contains("3 stages: 2 computed, 0 cached, 1 failed;"),
+        "{table}"
+    );
     // The summary and the error say it all.
     let summary = report.summary();
     assert!(summary.contains("  FAILED  bad "), "{summary}");
@@ -561,10 +589,12 @@ fn a_run_keeps_going_past_a_failed_branch() {
         "{said}"
     );
 
-    // Fixed: what ran is cached, the rest runs now.
+    // Fixed: what ran is cached, the rest runs now, and the record has
+    // no failure left.
     write(t.path(), "y.csv", "x\n1\n");
     let fixed = run(&p, &o).unwrap();
     assert_eq!((fixed.computed(), fixed.hits()), (3, 2));
+    assert!(fixed.provenance.failed.is_empty());
 }
 
 /// A study keeps going past a failed variant, computes a failing entry
