@@ -48,7 +48,7 @@ pub enum Strain {
 pub struct FemParams {
     #[param(flatten)]
     pub window: CropParams,
-    /// block height at the mean surface (default: the larger lateral size)
+    /// block height at the mean surface (default: the larger lateral size; the block on its rigid base is then 2-5 % stiffer at equal approach than the half-space the other models assume, twice that depth within 1 %: see the stage doc)
     #[param(unit = "m", positive)]
     pub depth_m: Option<f64>,
     /// element layers through the height
@@ -149,7 +149,12 @@ static INFO: StageInfo = StageInfo {
           stage cuts and refines it; the mesh then has a top node per refined point). MESH (fixed conventions, so results compare with other codes): one \
           top node per map point, node (i, j) at x = i dx, y = j dy, so the block is \
           (nx - 1)dx x (ny - 1)dy; base at z = 0, top node at z = depth_m + h[i, j] - mean(h) \
-          (depth_m: default the larger lateral size); `layers` layers of trilinear hexahedra per \
+          (depth_m: default the larger lateral size; a block on a rigid base is stiffer than \
+          the half-space that bem, icm and persson assume, most for the longest wavelength: \
+          linear fem against linear bem on the paper's t1 window, at equal approach, 1.02-1.05 \
+          at depth = the window's side and 0.98-1.00 at twice it, so judge half-space models \
+          with depth_m at least twice the side, the extra layers graded to keep the top one); \
+          `layers` layers of trilinear hexahedra per \
           column, thicknesses in geometric progression with bottom/top ratio `grading`; with \
           lateral_coarsening, layer k's elements are s_k pixels wide in x and y, s_k the \
           largest power of two not above the layer's thickness nor its top's depth below the \
