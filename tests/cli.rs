@@ -584,6 +584,81 @@ fn the_tensile_csv_pipeline_fits_and_reports() {
 
 /// The quick version of the paper pipeline, end to end: DIC → fit, T1–T4
 /// scans → surface → truncation → ICM → report (issue 7's checks).
+/// Issue 49: the page opens with "What this rerun finds", its sentences
+/// linked to Figs. 7 and 10 and their tables, with the numbers that
+/// summary.json holds under `findings`.
+fn the_findings_open_the_page(page: &str, report: &std::path::Path) {
+    let section = page
+        .split_once("<section id=\"findings\">")
+        .and_then(|(before, rest)| {
+            assert!(
+                !before.contains("<h2>"),
+                "findings are not the first section"
+            );
+            rest.split_once("</section>")
+        })
+        .map(|(inside, _)| inside)
+        .expect("no findings section");
+    for part in [
+        "The paper compares contact models (icm, bem, persson, gw)",
+        "the finite-strain solution (fem) carries the small-strain load to within",
+        "with the equibiaxial tangent the models (icm, bem, persson) carry",
+        "with linear elasticity (icm-linear, bem-linear, persson-linear)",
+        "<a href=\"#fig10\">Fig. 10</a>",
+        "<a href=\"#fig10-table\">its table</a>",
+        "<a href=\"#fig7\">Fig. 7</a>",
+        "<a href=\"#agreement-table\">the agreement table</a>",
+        "bem-linear shares it",
+    ] {
+        assert!(section.contains(part), "{part}\n{section}");
+    }
+    for anchor in [
+        "id=\"fig7\"",
+        "id=\"fig10\"",
+        "id=\"fig10-table\"",
+        "id=\"agreement-table\"",
+    ] {
+        assert!(page.contains(anchor), "no {anchor}");
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(report.join("summary.json")).unwrap())
+            .unwrap();
+    let f = &summary["findings"];
+    let equibiaxial = &f["finite_strain"]["equibiaxial_over_finite"];
+    let (lo, hi) = (
+        equibiaxial["min"].as_f64().unwrap(),
+        equibiaxial["max"].as_f64().unwrap(),
+    );
+    assert!(0.0 < lo && lo <= hi, "{equibiaxial}");
+    // The sentence prints the summary's numbers.
+    let shown = format!("{}×", fmt2(lo, hi));
+    assert!(section.contains(&shown), "{shown}\n{section}");
+    assert!(
+        f["finite_strain"]["finite_vs_small_percent"]["max"]
+            .as_f64()
+            .unwrap()
+            >= 0.0
+    );
+    assert_eq!(f["experiment"]["by_construction"][0], "bem-linear");
+    assert!(
+        f["experiment"]["equibiaxial_over_experiment"]["min"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    assert!(f["claim"]["equibiaxial_models"].as_array().unwrap().len() >= 3);
+    println!("findings section:\n{section}");
+}
+
+/// A range as the findings print it, two significant digits.
+fn fmt2(lo: f64, hi: f64) -> String {
+    let (lo, hi) = (
+        hypercontact_report::html::fmt_sig(lo, 2),
+        hypercontact_report::html::fmt_sig(hi, 2),
+    );
+    if lo == hi { lo } else { format!("{lo}–{hi}") }
+}
+
 #[test]
 fn the_quick_paper_pipeline_writes_the_report() {
     let t = tempfile::tempdir().unwrap();
@@ -598,6 +673,7 @@ fn the_quick_paper_pipeline_writes_the_report() {
         page.contains("Load ratio F_model / F_fem"),
         "no finite-strain table"
     );
+    the_findings_open_the_page(&page, &report);
     let fem = parquet(t.path(), "t1-fem/response.parquet");
     let fractions = fem.f64("area_fraction").unwrap();
     assert!(*fractions.last().unwrap() >= 0.3);

@@ -9,7 +9,7 @@ use image::{Rgb, RgbImage};
 
 use crate::ReportError;
 use crate::gather::ReportData;
-use crate::html::{escape, fmt_sig, simple_table};
+use crate::html::{anchored_table, escape, fmt_sig, simple_table};
 
 /// Scale-bar lengths tried, metres (the longest not above a quarter of the
 /// image is drawn).
@@ -315,7 +315,7 @@ pub struct Scored<'a> {
 }
 
 /// The samples with an agreement table.
-fn scored<'a>(data: &'a ReportData<'_>) -> Vec<Scored<'a>> {
+pub(crate) fn scored<'a>(data: &'a ReportData<'_>) -> Vec<Scored<'a>> {
     data.samples
         .iter()
         .filter_map(|s| {
@@ -330,7 +330,7 @@ fn scored<'a>(data: &'a ReportData<'_>) -> Vec<Scored<'a>> {
 
 /// The experiment's physics as contact-compare names it (its truth's
 /// physics string); None when no truth was wired.
-fn physics_of(a: &AgreementTable) -> Option<&str> {
+pub(crate) fn physics_of(a: &AgreementTable) -> Option<&str> {
     a.experiment_physics
         .iter()
         .find(|p| !p.is_empty())
@@ -338,7 +338,7 @@ fn physics_of(a: &AgreementTable) -> Option<&str> {
 }
 
 /// The models marked by construction (their physics is the experiment's).
-fn marked(a: &AgreementTable) -> Vec<&str> {
+pub(crate) fn marked(a: &AgreementTable) -> Vec<&str> {
     (0..a.model.len())
         .filter(|&k| a.by_construction.get(k).is_some_and(|&b| b != 0))
         .map(|k| a.model[k].as_str())
@@ -389,6 +389,9 @@ pub fn physics_sentence(samples: &[Scored<'_>]) -> String {
 pub fn experiment_physics(data: &ReportData<'_>) -> String {
     physics_sentence(&scored(data))
 }
+
+/// The anchor of the agreement table.
+pub const AGREEMENT_ID: &str = "agreement-table";
 
 /// The agreement of each model's load–area curve with the experiment, per
 /// sample, best first, with the load ratios.
@@ -461,7 +464,8 @@ pub fn agreement_html(samples: &[Scored<'_>]) -> String {
             .iter()
             .map(|a| format!("F<sub>model</sub>/F<sub>exp</sub> at A/A<sub>0</sub> = {a}")),
     );
-    let mut html = simple_table(
+    let mut html = anchored_table(
+        AGREEMENT_ID,
         "Agreement of the models with the contact experiment (load at equal contact area)",
         &header,
         &rows,

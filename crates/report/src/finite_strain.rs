@@ -10,7 +10,7 @@ use crate::ReportError;
 use crate::figures::fig10::Fig10;
 use crate::figures::plotting::{Rendered, render};
 use crate::gather::{PatchCurve, PatchCurves};
-use crate::html::{escape, fmt_sig, simple_table};
+use crate::html::{anchored_table, escape, fmt_sig};
 use crate::interp::interpolate;
 
 /// What the finite-strain section compares.
@@ -218,6 +218,9 @@ const CAPTION: &str = "One patch per sample, every model on the same window: the
      (bem, Persson) solve the patch's mirror-image tiling, which is the problem fem solves with \
      symmetry planes for lateral faces; icm reads the patch's own truncation profile.";
 
+/// The anchor of the F_model/F_reference table.
+pub const TABLE_ID: &str = "fig10-table";
+
 fn ratio_table(rows: &[Ratios], options: &FiniteStrainOptions) -> String {
     if rows.is_empty() {
         return String::new();
@@ -244,7 +247,8 @@ fn ratio_table(rows: &[Ratios], options: &FiniteStrainOptions) -> String {
         row.extend(values.iter().map(|v| cell(*v)));
         body.push(row);
     }
-    let mut html = simple_table(
+    let mut html = anchored_table(
+        TABLE_ID,
         &format!(
             "Load ratio F_model / F_{} at equal contact area A/A0 on the patch",
             options.reference

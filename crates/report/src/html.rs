@@ -54,16 +54,24 @@ pub fn fmt_sig(v: f64, digits: usize) -> String {
 
 /// A table with a header row; `None` cells render as "n/a".
 pub fn simple_table(caption: &str, header: &[String], rows: &[Vec<String>]) -> String {
+    anchored_table("", caption, header, rows)
+}
+
+/// [`simple_table`] with an anchor `id` (on the caption, or on the table
+/// without one) that other sections link to; none when `id` is empty.
+pub fn anchored_table(id: &str, caption: &str, header: &[String], rows: &[Vec<String>]) -> String {
     // The caption is a paragraph, not <caption>: a <caption> is only as
     // wide as its table and wraps word by word above narrow tables.
     let mut html = String::new();
+    let mut anchor = (!id.is_empty()).then(|| format!(" id=\"{}\"", escape(id)));
     if !caption.is_empty() {
         html.push_str(&format!(
-            "<p class=\"table-caption\">{}</p>\n",
+            "<p class=\"table-caption\"{}>{}</p>\n",
+            anchor.take().unwrap_or_default(),
             escape(caption)
         ));
     }
-    html.push_str("<table>\n");
+    html.push_str(&format!("<table{}>\n", anchor.unwrap_or_default()));
     html.push_str("<thead><tr>");
     for h in header {
         html.push_str(&format!("<th>{h}</th>"));

@@ -14,6 +14,7 @@
 //! - [`figures`]: one file per figure, shared plotting helpers;
 //! - [`surface_stats`]: the surface stage's areal parameters, ACF,
 //!   distributions and scale-dependent statistics, and their table;
+//! - [`findings`]: the opening "What this rerun finds", in words and numbers;
 //! - [`summary`], [`html`]: the numbers and the page;
 //! - [`report`]: decides what can be drawn and assembles the files;
 //! - [`stage`]: the `report` stage kind.
@@ -25,6 +26,7 @@ pub mod band;
 pub mod error;
 pub mod experiment;
 pub mod figures;
+pub mod findings;
 pub mod finite_strain;
 pub mod gather;
 pub mod html;

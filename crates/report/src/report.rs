@@ -922,15 +922,19 @@ pub fn build_report(
 ) -> Result<Files, ReportError> {
     let chosen = options.models.resolve(data)?;
     let outcomes = figure_outcomes(data, &chosen)?;
+    let findings = crate::findings::Findings::new(data, &options.finite_strain);
+    let findings_html = crate::findings::section(&findings);
     let summary = Summary::new(
         &options.title,
         data,
         &options.area_fractions,
         chosen.reference.map(|k| k.label.as_str()),
         outcomes.iter().map(|o| o.status.clone()).collect(),
+        findings,
     );
 
     let mut body = format!("<h1>{}</h1>\n", escape(&options.title));
+    body.push_str(&findings_html);
     body.push_str(
         "<p class=\"note\">Reproduces the figures and tables of the study from the pipeline's \
          own results. Self-contained: figures are embedded; PNG and SVG copies and \

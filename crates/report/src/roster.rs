@@ -35,6 +35,28 @@ fn family(label: &str) -> &str {
     label.split('-').next().unwrap_or(label)
 }
 
+/// A model's law as its label names it where the data cannot (a patch
+/// curve has no tangent ratio): no suffix = the paper's equibiaxial tangent
+/// modulus (every contact model's default), `-uniaxial`, `-linear`, or
+/// another suffix. Fig. 10's strokes and the findings read it alike.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LabelLaw {
+    Equibiaxial,
+    Uniaxial,
+    Linear,
+    Other,
+}
+
+/// The law of `label`, from its suffix.
+pub fn label_law(label: &str) -> LabelLaw {
+    match label.split_once('-').map(|(_, law)| law) {
+        None => LabelLaw::Equibiaxial,
+        Some("uniaxial") => LabelLaw::Uniaxial,
+        Some("linear") => LabelLaw::Linear,
+        Some(_) => LabelLaw::Other,
+    }
+}
+
 impl Roster {
     /// The labels of `samples`' responses: those named in `order` first, in
     /// its order, then the rest in label order.

@@ -82,7 +82,7 @@ pub struct Report;
 
 static INFO: StageInfo = StageInfo {
     kind: "report",
-    version: 13,
+    version: 14,
     summary: "HTML report with the paper's Figs. 2, 4, 6, 7, 8, a model comparison (Fig. 9; PNG + \
               SVG), Table 1 and a summary",
     doc: "Every input is optional: a figure whose inputs are not wired is skipped and the \
@@ -152,7 +152,16 @@ static INFO: StageInfo = StageInfo {
           sample with the mean over samples, both as F/(E0* A0) read by linear interpolation \
           in A/A0, and says in words which model comes nearest and whether each family's \
           tangent modulus moves its load toward the finite-strain one or away (against its \
-          `-linear` variant). Figures use the bundled \
+          `-linear` variant). FINDINGS: the page opens with \"What this rerun finds\", \
+          sentences written from the numbers above, each linking its figure or table and left \
+          out when its inputs are not wired: the models compared with the equibiaxial tangent \
+          (labels without a law suffix whose tangent_ratio is not 1), the finite-strain \
+          verdict (F_reference/F of its small-strain twin, the reference's family, and the \
+          range of F_model/F_reference of the equibiaxial and the `-linear` models, from the \
+          finite-strain table), and the experiment (its physics, the models marked \
+          by_construction, the best-ranked of the others and the equibiaxial models' load \
+          ratio at the load_ratio A/A0 nearest 0.5); summary.json holds them under \
+          `findings`. Figures use the bundled \
           DejaVu Sans font; no system font or network is needed.",
     inputs: &[
         InputSpec::table::<CurvesTable>(

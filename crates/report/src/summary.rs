@@ -23,6 +23,8 @@ pub struct Summary {
     pub comparison: Option<Vec<Map<String, Value>>>,
     pub samples: Vec<SampleSummary>,
     pub figures: Vec<FigureStatus>,
+    /// The opening section's numbers ("What this rerun finds").
+    pub findings: crate::findings::Findings,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -163,6 +165,7 @@ impl Summary {
         area_fractions: &[f64],
         reference: Option<&str>,
         figures: Vec<FigureStatus>,
+        findings: crate::findings::Findings,
     ) -> Self {
         Summary {
             title: title.to_owned(),
@@ -238,6 +241,7 @@ impl Summary {
                 })
                 .collect(),
             figures,
+            findings,
         }
     }
 

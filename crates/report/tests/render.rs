@@ -327,6 +327,12 @@ fn no_inputs_at_all_still_give_a_page() {
     let html = text(&files, "index.html");
     assert_eq!(html.matches("skipped:").count(), 4 + 2 + 1, "{html}");
     assert!(files.files.contains_key("summary.json"));
+    // #49: no finding has its inputs: no section, nulls in summary.json.
+    assert!(!html.contains("What this rerun finds"), "{html}");
+    let summary: Value = serde_json::from_slice(&files.files["summary.json"]).unwrap();
+    for key in ["claim", "finite_strain", "experiment"] {
+        assert_eq!(summary["findings"][key], Value::Null, "{key}");
+    }
 }
 
 #[test]
@@ -687,6 +693,28 @@ fn the_experiment_adds_fig6_its_points_in_fig7_and_the_agreement_table() {
     let fig7_caption = &fig7_caption[..fig7_caption.find("</figure>").unwrap()];
     assert!(fig7_caption.contains(named), "{fig7_caption}");
     assert!(html.contains("synthetic lab"));
+    // #49: the page opens with the findings: the experiment's sentence,
+    // linked to Fig. 7 and the agreement table; no finite-strain sentence
+    // without `finite_strain`.
+    let findings = &html[html.find("<section id=\"findings\">").unwrap()..];
+    let findings = &findings[..findings.find("</section>").unwrap()];
+    assert!(html.find("<section id=\"findings\">") < html.find("<h2>Material"));
+    for part in [
+        "<b>The experiment.</b> The experiment is rendered by <i>bem, hyperelastic, \
+         equibiaxial tangent, free boundary</i>; bem shares it",
+        "Among the others the best-ranked is icm on T1 (rms ln(F<sub>model</sub>/\
+         F<sub>exp</sub>) 1.2)",
+        "<a href=\"#agreement-table\">the agreement table</a>",
+        "<a href=\"#fig7\">Fig. 7</a>",
+    ] {
+        assert!(findings.contains(part), "{part}\n{findings}");
+    }
+    assert!(html.contains("<p class=\"table-caption\" id=\"agreement-table\">"));
+    assert!(!findings.contains("Against finite strain"), "{findings}");
+    assert_eq!(
+        summary_of(&files)["findings"]["experiment"]["samples"][0],
+        "T1"
+    );
     // Fig. 7: four measured points (positive area and force) and the key.
     let fig7 = text(&files, "fig7.svg");
     assert_eq!(fig7.matches("<circle").count(), 4 + 1);
@@ -708,6 +736,10 @@ fn the_experiment_adds_fig6_its_points_in_fig7_and_the_agreement_table() {
         e.contains("compare_figures.T1") && e.contains("index"),
         "{e}"
     );
+}
+
+fn summary_of(files: &Files) -> Value {
+    serde_json::from_slice(&files.files["summary.json"]).unwrap()
 }
 
 /// The x of every `<text>` of an SVG, with its content.

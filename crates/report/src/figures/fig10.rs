@@ -12,6 +12,7 @@ use super::fig7::{LEGEND_PX, Ranges, draw_load_curve, load_area_chart, log_range
 use super::plotting::{Figure, LegendEntry, Line, Rasters, TextSizes, draw_legend, model_colour};
 use crate::ReportError;
 use crate::gather::{PatchCurve, PatchCurves};
+use crate::roster::{LabelLaw, label_law};
 
 pub struct Fig10<'a> {
     pub patches: &'a [PatchCurves],
@@ -29,11 +30,11 @@ fn family(label: &str) -> &str {
 
 /// A label's stroke, from its suffix.
 fn stroke(label: &str) -> Line {
-    match label.split_once('-').map(|(_, law)| law) {
-        None => Line::Solid,
-        Some("uniaxial") => Line::Dashed,
-        Some("linear") => Line::Dotted,
-        Some(_) => Line::LongDashed,
+    match label_law(label) {
+        LabelLaw::Equibiaxial => Line::Solid,
+        LabelLaw::Uniaxial => Line::Dashed,
+        LabelLaw::Linear => Line::Dotted,
+        LabelLaw::Other => Line::LongDashed,
     }
 }
 
