@@ -125,12 +125,9 @@ pub fn solve(
         }
         // previous_n is finite only after an iteration with every held node
         // placed and the set unchanged.
-        let chord = placed
-            && !set_changed
-            && previous_n.is_finite()
-            && residual_n <= options.chord_contraction * previous_n
-            && factored_held.as_ref() == Some(&held)
-            && problem.factored_with(&held);
+        let settled = placed && !set_changed;
+        let chord =
+            settled && chord_allowed(problem, &held, &factored_held, residual_n, previous_n);
         if !chord {
             factored_held = Some(held.clone());
         }
@@ -138,11 +135,7 @@ pub fn solve(
             direction(problem, &mut evaluation, chord, (&held, &pending), at)?;
         iterations += 1;
         at.iterations = iterations;
-        previous_n = if placed && !set_changed {
-            residual_n
-        } else {
-            f64::INFINITY
-        };
+        previous_n = if settled { residual_n } else { f64::INFINITY };
         let search = line_search(
             problem,
             (&evaluation, &direction, &held),
@@ -171,6 +164,23 @@ pub fn solve(
         // needs it).
         evaluation = trial;
     }
+}
+
+/// Whether the kept factorisation may serve (a chord step): the last
+/// iteration (`previous_n` finite: every held node placed, the set
+/// unchanged) cut the residual by [`NewtonOptions::chord_contraction`], and
+/// the factor was made with this held set.
+fn chord_allowed(
+    problem: &ContactProblem,
+    held: &[bool],
+    factored_held: &Option<Vec<bool>>,
+    residual_n: f64,
+    previous_n: f64,
+) -> bool {
+    previous_n.is_finite()
+        && residual_n <= problem.options().chord_contraction * previous_n
+        && factored_held.as_deref() == Some(held)
+        && problem.factored_with(held)
 }
 
 /// A chord step on the kept factorisation, or a Newton step (and the
