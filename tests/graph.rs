@@ -339,3 +339,31 @@ fn after_a_run_stages_are_cached_and_a_changed_one_is_stale_with_its_dependants(
     let (nodes, _) = parse_mermaid(&String::from_utf8(mermaid.stdout).unwrap());
     assert!(nodes.values().all(|(_, state)| state == "cached"));
 }
+
+/// Every pipeline shipped in pipelines/ loads (YAML, stage kinds, checked
+/// parameters, wiring) and plans against an empty cache: a pipeline the
+/// README names but no test runs (paper.yaml, refinement.yaml) is at least
+/// well formed.
+#[test]
+fn every_shipped_pipeline_loads_and_plans() {
+    let mut names = Vec::new();
+    for entry in std::fs::read_dir(repo().join("pipelines")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "yaml") {
+            continue;
+        }
+        let pipeline = Pipeline::load(&path, &hypercontact::registry())
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let t = tempfile::tempdir().unwrap();
+        let plan = dry_plan(&pipeline, &t.path().join("out"), &t.path().join("cache"));
+        assert!(!plan.stages.is_empty(), "{}: an empty plan", path.display());
+        names.push(path.file_name().unwrap().to_string_lossy().into_owned());
+    }
+    names.sort();
+    assert!(
+        ["paper.yaml", "quick.yaml", "refinement.yaml"]
+            .iter()
+            .all(|n| names.iter().any(|m| m == n)),
+        "{names:?}"
+    );
+}
