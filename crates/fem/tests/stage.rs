@@ -132,11 +132,7 @@ fn the_window_and_coarsening_cut_what_they_say() {
         r#"{"x0": 4, "y0": 2, "nx": 20, "ny": 21, "coarsen": 2, "steps": 2,
             "max_area_fraction": 0.1, "map_fractions": [0.1]}"#,
     );
-    let full = patch(32, 5);
-    let out = run(&p, full.clone());
-    let files = maps(&out);
-    let index = FemMapIndex::from_table(files.index.as_ref().unwrap()).unwrap();
-    let contact = npy(files, &index.contact_file[0]);
+    let (full, out, index, contact) = window_run(&p);
     // 20 × 21 points in blocks of 2: 10 × 10, at 40 µm.
     assert_eq!(contact.values.dim(), (10, 10));
     assert_eq!(index.maps.dx_m, vec![2.0 * PIXEL_M]);
@@ -150,14 +146,30 @@ fn the_window_and_coarsening_cut_what_they_say() {
         }
         s / 4.0
     });
-    let whole = params(r#"{"steps": 2, "max_area_fraction": 0.1, "map_fractions": [0.1]}"#);
-    let by_hand = run(
-        &whole,
+    same_as_whole(
+        &out,
         Field::new(hand, 2.0 * PIXEL_M, 2.0 * PIXEL_M).unwrap(),
     );
-    // NaN tangent ratios: compare the rows as printed.
+}
+
+/// `p` run on the 32² sample patch: the patch, the outputs, the map index
+/// and the first contact map.
+fn window_run(p: &Checked<FemParams>) -> (Field, Outputs, FemMapIndex, Field) {
+    let full = patch(32, 5);
+    let out = run(p, full.clone());
+    let files = maps(&out);
+    let index = FemMapIndex::from_table(files.index.as_ref().unwrap()).unwrap();
+    let contact = npy(files, &index.contact_file[0]);
+    (full, out, index, contact)
+}
+
+/// `out`'s response equals that of the whole of `map` meshed with the same
+/// steps (NaN tangent ratios: the rows are compared as printed).
+fn same_as_whole(out: &Outputs, map: Field) {
+    let whole = params(r#"{"steps": 2, "max_area_fraction": 0.1, "map_fractions": [0.1]}"#);
+    let by_hand = run(&whole, map);
     assert_eq!(
-        format!("{:?}", response(&out)),
+        format!("{:?}", response(out)),
         format!("{:?}", response(&by_hand))
     );
 }
@@ -170,22 +182,13 @@ fn refine_meshes_the_window_refined_as_crop_refines_it() {
         r#"{"x0": 3, "y0": 5, "nx": 9, "ny": 8, "refine": 2, "steps": 2,
             "max_area_fraction": 0.1, "map_fractions": [0.1]}"#,
     );
-    let full = patch(32, 5);
-    let out = run(&p, full.clone());
-    let files = maps(&out);
-    let index = FemMapIndex::from_table(files.index.as_ref().unwrap()).unwrap();
-    let contact = npy(files, &index.contact_file[0]);
+    let (full, out, index, contact) = window_run(&p);
     // 9 × 8 points refined twice: 17 × 15, at 10 µm.
     assert_eq!(contact.values.dim(), (17, 15));
     assert_eq!(index.maps.dx_m, vec![PIXEL_M / 2.0]);
     let cut = Array2::from_shape_fn((9, 8), |(i, j)| full.values[[3 + i, 5 + j]]);
     let window = Field::new(cut, PIXEL_M, PIXEL_M).unwrap();
-    let whole = params(r#"{"steps": 2, "max_area_fraction": 0.1, "map_fractions": [0.1]}"#);
-    let by_hand = run(&whole, refine(&window, 2).unwrap());
-    assert_eq!(
-        format!("{:?}", response(&out)),
-        format!("{:?}", response(&by_hand))
-    );
+    same_as_whole(&out, refine(&window, 2).unwrap());
 }
 
 /// `lateral_coarsening` reaches the mesh: the deformed mesh keeps the

@@ -487,25 +487,8 @@ mod tests {
     use hypercontact_compare::stage::{AgreementTable, LoadRatioTable};
 
     use super::*;
-    use crate::gather::PatchCurve;
+    use crate::finite_strain::tests::patch;
     use crate::roster::ModelKey;
-
-    fn line(slope: f64) -> PatchCurve {
-        PatchCurve {
-            area_fraction: vec![0.0, 0.1, 0.2, 0.4],
-            load_norm: vec![0.0, slope * 0.1, slope * 0.2, slope * 0.4],
-        }
-    }
-
-    fn patch(sample: &str, curves: &[(&str, f64)]) -> PatchCurves {
-        PatchCurves {
-            sample: sample.into(),
-            curves: curves
-                .iter()
-                .map(|(l, s)| (l.to_string(), line(*s)))
-                .collect(),
-        }
-    }
 
     fn roster(models: &[(&str, bool)]) -> Roster {
         Roster {

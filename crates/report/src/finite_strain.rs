@@ -266,17 +266,20 @@ fn ratio_table(rows: &[Ratios], options: &FiniteStrainOptions) -> String {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn line(slope: f64) -> PatchCurve {
+    /// A straight load–area curve of `slope` (test fixture, shared with
+    /// `findings`).
+    pub(crate) fn line(slope: f64) -> PatchCurve {
         PatchCurve {
             area_fraction: vec![0.0, 0.1, 0.2, 0.4],
             load_norm: vec![0.0, slope * 0.1, slope * 0.2, slope * 0.4],
         }
     }
 
-    fn patch(sample: &str, curves: &[(&str, f64)]) -> PatchCurves {
+    /// A sample's patch curves, each a [`line`] of the given slope.
+    pub(crate) fn patch(sample: &str, curves: &[(&str, f64)]) -> PatchCurves {
         PatchCurves {
             sample: sample.into(),
             curves: curves
