@@ -170,6 +170,8 @@ pub struct ReportData<'a> {
     /// The finite-strain comparison on one patch per sample (input
     /// `finite_strain`), samples in label order, curves in label order.
     pub finite_strain: Vec<PatchCurves>,
+    /// The refinement study's levels (input `refinement`), ascending k.
+    pub refinement: Vec<crate::refinement::RefinementLevel>,
 }
 
 /// The curves of one sample's patch: the finite-strain reference and the
@@ -238,6 +240,7 @@ impl<'a> ReportData<'a> {
             samples,
             roster,
             finite_strain: read_patches(inputs)?,
+            refinement: crate::refinement::read(inputs)?,
         };
         if let Some(material) = &data.material {
             for s in &data.samples {
@@ -383,7 +386,7 @@ pub(crate) fn sample_table<S: Schema>(input: &str, product: &Product) -> Result<
 
 /// The products of a nested input by (sample, model), each read by `read`
 /// under its input name (`responses.T1.icm`).
-fn nested<'a, T>(
+pub(crate) fn nested<'a, T>(
     inputs: &'a Inputs,
     name: &str,
     read: impl Fn(&str, &'a Product) -> Result<T, ReportError>,

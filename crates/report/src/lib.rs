@@ -14,6 +14,8 @@
 //! - [`figures`]: one file per figure, shared plotting helpers;
 //! - [`surface_stats`]: the surface stage's areal parameters, ACF,
 //!   distributions and scale-dependent statistics, and their table;
+//! - [`refinement`]: the convergence study of fem against bem over
+//!   refine factors, its table and Fig. 11;
 //! - [`findings`]: the opening "What this rerun finds", in words and numbers;
 //! - [`summary`], [`html`]: the numbers and the page;
 //! - [`report`]: decides what can be drawn and assembles the files;
@@ -34,6 +36,7 @@ pub mod interp;
 pub mod material;
 pub mod models;
 pub mod powerlaw;
+pub mod refinement;
 pub mod report;
 pub mod roster;
 pub mod stage;

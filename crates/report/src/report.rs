@@ -38,6 +38,8 @@ pub struct ReportOptions {
     pub published_material: Option<Preset>,
     /// The finite-strain comparison's reference and area fractions.
     pub finite_strain: crate::finite_strain::FiniteStrainOptions,
+    /// The refinement study's comparison points and axis.
+    pub refinement: crate::refinement::RefinementOptions,
 }
 
 /// The contact models' order and which of them each figure and table
@@ -98,6 +100,7 @@ impl Default for ReportOptions {
             models: ModelChoice::default(),
             published_material: None,
             finite_strain: Default::default(),
+            refinement: Default::default(),
         }
     }
 }
@@ -959,6 +962,9 @@ pub fn build_report(
     let (finite_html, fig10) =
         crate::finite_strain::section(&data.finite_strain, &options.finite_strain)?;
     body.push_str(&finite_html);
+    let (refinement_html, fig11) =
+        crate::refinement::section(&data.refinement, &options.refinement, provenance)?;
+    body.push_str(&refinement_html);
     body.push_str("<h2>Summary per sample</h2>\n");
     body.push_str(&sample_table(&summary, &chosen.summary));
     body.push_str(&provenance_section(provenance));
@@ -969,7 +975,12 @@ pub fn build_report(
     for (name, png) in fig6_images {
         files = files.with(&name, png);
     }
-    for r in outcomes.into_iter().filter_map(|o| o.rendered).chain(fig10) {
+    for r in outcomes
+        .into_iter()
+        .filter_map(|o| o.rendered)
+        .chain(fig10)
+        .chain(fig11)
+    {
         files = files
             .with(&format!("{}.png", r.name), r.png)
             .with(&format!("{}.svg", r.name), r.svg.into_bytes());

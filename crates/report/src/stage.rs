@@ -57,6 +57,12 @@ pub struct ReportParams {
     /// A/A0 at which the finite-strain table reads F_model / F_reference (1 to 10 of them)
     #[param(default = vec![0.05, 0.1, 0.2, 0.3], positive, range = ..=1.0, check = one_to_ten)]
     pub finite_strain_area_fractions: Vec<f64>,
+    /// A/A0 at which the refinement study compares fem and bem at equal area, and (where the finest bem reaches them) at equal approach (1 to 10 of them)
+    #[param(default = vec![0.05, 0.1, 0.2], positive, range = ..=1.0, check = one_to_ten)]
+    pub refinement_area_fractions: Vec<f64>,
+    /// points per shortest wavelength at refine factor 1 in the refinement study (the surface's filter wavelength over its spacing; refine k gives k times it)
+    #[param(default = 2.0, positive)]
+    pub refinement_points_per_wavelength: f64,
     /// a published material set beside the fit in Table 1 with its error on the same tensile data, not refitted (`paper-epdm`: the paper's Table 1; unset: none)
     pub published_material: Option<Preset>,
 }
@@ -161,7 +167,19 @@ static INFO: StageInfo = StageInfo {
           finite-strain table), and the experiment (its physics, the models marked \
           by_construction, the best-ranked of the others and the equibiaxial models' load \
           ratio at the load_ratio A/A0 nearest 0.5); summary.json holds them under \
-          `findings`. Figures use the bundled \
+          `findings`. REFINEMENT: with `refinement` wired (levels labelled by the \
+          refine factor k, each with `fem` and `bem`; a level without both, another label, or \
+          a bem whose tangent_ratio is not 1 stops the stage naming the input), the section \
+          \"Is the finite-strain judge converged?\" gives F_fem, F_bem (as F/(E0* A0)) and \
+          their ratio per k at equal approach (the same z_m, read where the finest bem \
+          reaches each of `refinement_area_fractions`; linear in z_m) and at equal counted \
+          area (those A/A0; linear in A/A0), n/a outside a curve, with the observed order p of \
+          each from the three finest levels (F_k = F* + C h_k^p with h_k = 1/k solved for p \
+          by bisection, as the refinement ratios differ; n/a if the differences change sign \
+          or vanish), and Fig. 11: the ratio against the points per shortest wavelength \
+          (k times `refinement_points_per_wavelength`), solid at equal approach and dashed at equal area; \
+          its caption names fem's block depth from the depth_m of the fem stages in the \
+          run's record. Figures use the bundled \
           DejaVu Sans font; no system font or network is needed.",
     inputs: &[
         InputSpec::table::<CurvesTable>(
@@ -267,6 +285,13 @@ static INFO: StageInfo = StageInfo {
              the finite-element reference (`finite_strain_reference`) and the models on the same \
              window (Fig. 10 and its load-ratio table)",
         ),
+        InputSpec::table::<ResponseTable>(
+            "refinement",
+            Arity::Nested,
+            "the refinement study, by refine factor and then `fem` and `bem` (`{\"1\": {fem: \
+             a.response, bem: b.response}, ...}`): linear fem at small strain and linear \
+             periodic bem on the mirror tiling of one window (the table and Fig. 11)",
+        ),
         InputSpec::files_indexed::<FigureIndex>(
             "compare_figures",
             Arity::Many,
@@ -307,6 +332,10 @@ impl Stage for Report {
             finite_strain: crate::finite_strain::FiniteStrainOptions {
                 reference: p.finite_strain_reference.clone(),
                 area_fractions: p.finite_strain_area_fractions.clone(),
+            },
+            refinement: crate::refinement::RefinementOptions {
+                area_fractions: p.refinement_area_fractions.clone(),
+                points_per_wavelength: p.refinement_points_per_wavelength,
             },
         };
         let progress = ctx.progress(1, "figures and page");

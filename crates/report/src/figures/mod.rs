@@ -3,6 +3,7 @@
 
 pub mod colormap;
 pub mod fig10;
+pub mod fig11;
 pub mod fig2;
 pub mod fig4;
 pub mod fig4b;
