@@ -597,6 +597,9 @@ impl Memory {
                 }
             }
         }
+        // What the stage and the products it outlived freed: back to the
+        // system before the next stage, not kept in malloc's arenas (#48).
+        crate::heap::return_freed();
     }
 }
 

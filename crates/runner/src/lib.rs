@@ -8,6 +8,7 @@ pub mod exec;
 pub mod folders;
 pub mod graph;
 pub mod hash;
+pub mod heap;
 pub mod outcome;
 pub mod pipeline;
 pub mod plan;
