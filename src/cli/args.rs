@@ -41,8 +41,9 @@ pub struct RunArgs {
     /// No progress bars and no summary.
     #[arg(long, short)]
     pub quiet: bool,
-    /// Keep going after a stage fails (the default, as Slurm jobs do):
-    /// every stage that does not depend on a failed one still runs and is
+    /// Keep going after a stage fails or cannot read its input file (the
+    /// default, as Slurm jobs do; errors in the pipeline itself stop the
+    /// plan): every stage that does not depend on a failed one still runs and is
     /// cached and exported; then the summary, each failure with its cause,
     /// the stages not run because of it, and a non-zero exit code.
     #[arg(long, conflicts_with = "fail_fast")]

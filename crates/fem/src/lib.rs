@@ -5,7 +5,9 @@
 //!
 //! - [`mesh`]: the mapped hexahedral mesh of a height-map patch and its
 //!   boundary sets, optionally coarsened laterally with depth (hanging
-//!   nodes tied to the coarse faces, issue #48);
+//!   nodes tied to the coarse faces, issue #48); the stage refuses a mesh
+//!   whose elements are more than [`MAX_FLATNESS`] (10) times wider than
+//!   thick (width over the layer's thickness in the lowest column);
 //! - [`energy`], [`isochoric`], [`law`]: the strain energy of every material
 //!   family (automatic differentiation in the invariants, closed-form
 //!   spectral calculus to C), the isochoric/volumetric split, and a
@@ -18,10 +20,13 @@
 //!   symbolic analysis reused;
 //! - [`contact`], [`newton`], [`curve`]: exact active-set contact with the
 //!   plane, Newton with line search, approach-controlled steps;
+//! - [`cause`]: the likely cause a failed solve names (unstable material,
+//!   a contact area that stopped growing, a first step too large);
 //! - [`vtk`]: the deformed mesh for ParaView;
 //! - [`stage`]: the pipeline stage `fem`.
 
 pub mod assembly;
+pub mod cause;
 pub mod contact;
 pub mod curve;
 pub mod dofs;
@@ -43,7 +48,7 @@ pub use curve::{
     AreaSteps, Curve, CurveOptions, Snapshot, bearing_approach_m, solve_area_steps, solve_curve,
 };
 pub use law::{DEFAULT_BULK_RATIO, Law};
-pub use mesh::{HeightMap, Lateral, Mesh, MeshOptions};
+pub use mesh::{Flatness, HeightMap, Lateral, MAX_FLATNESS, Mesh, MeshOptions};
 
 /// Errors of the fem core.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -374,6 +374,50 @@ pub(crate) fn weighted(masters: &[(usize, f64)], value: impl Fn(usize) -> f64) -
     masters.iter().map(|&(m, w)| w * value(m)).sum()
 }
 
+/// The flattest elements of a mesh: their layer and how many times wider
+/// than thick they are.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Flatness {
+    /// Element width / thickness: the wider of s_k dx and s_k dy over the
+    /// layer's thickness in the lowest column.
+    pub ratio: f64,
+    /// The layer, 0 at the base.
+    pub layer: usize,
+    pub width_m: f64,
+    pub thickness_m: f64,
+}
+
+/// The most an element may be wider than thick (the `fem` stage refuses a
+/// flatter mesh before meshing). The shipped pipelines stay below 1.4 and
+/// the stage's tests below 3.2; a 4 × 4 window with 32 layers (36) failed
+/// Newton after 10–45 s and one with 256 (288) ran for minutes. Tall
+/// elements (thickness over width: 27 at the default 8 layers on a 96²
+/// patch, which the bench solves) are not bounded.
+pub const MAX_FLATNESS: f64 = 10.0;
+
+impl Flatness {
+    /// The flattest layer of the mesh `map` and `options` would give,
+    /// without building it; None if the options are refused (then by
+    /// [`Mesh::new`]).
+    pub fn of(map: &HeightMap<'_>, options: &MeshOptions) -> Option<Flatness> {
+        let plan = Plan::new(map, options).ok()?;
+        let lowest = map.heights_m.iter().copied().fold(f64::INFINITY, f64::min);
+        let lowest_column_m = plan.depth_m + lowest - plan.mean_m;
+        (0..options.layers)
+            .map(|k| {
+                let width_m = plan.steps[k] as f64 * map.dx_m.max(map.dy_m);
+                let thickness_m = (plan.levels[k + 1] - plan.levels[k]) * lowest_column_m;
+                Flatness {
+                    ratio: width_m / thickness_m,
+                    layer: k,
+                    width_m,
+                    thickness_m,
+                }
+            })
+            .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
+    }
+}
+
 /// The lateral element size of each layer, in map points (module docs),
 /// from the level fractions and the mean column height in pixels.
 pub fn layer_steps(levels: &[f64], depth_px: f64, coarsen: bool) -> Vec<usize> {
@@ -549,6 +593,37 @@ pub(crate) mod tests {
             .map(|(i, j)| mesh.tributary_area_m2(i, j))
             .sum();
         assert!((area - 2e-5 * 2e-5).abs() < 1e-20);
+    }
+
+    /// Issue #50, item 2: the flattest layer is the top one of a small
+    /// window with many layers, measured in its lowest column.
+    #[test]
+    fn flatness_is_the_top_layer_width_over_its_thickness() {
+        let heights = [0.0, 0.0, 0.0, -1e-6];
+        let map = HeightMap {
+            heights_m: &heights,
+            nx: 2,
+            ny: 2,
+            dx_m: 1e-5,
+            dy_m: 1e-5,
+        };
+        let options = MeshOptions {
+            layers: 4,
+            grading: 1.0,
+            ..Default::default()
+        };
+        let flat = Flatness::of(&map, &options).unwrap();
+        // depth 1e-5, mean −2.5e-7: the lowest column 9.25e-6, layers a quarter.
+        assert!((flat.thickness_m - 9.25e-6 / 4.0).abs() < 1e-18, "{flat:?}");
+        assert_eq!(flat.width_m, 1e-5);
+        let graded = MeshOptions {
+            layers: 256,
+            grading: 8.0,
+            ..Default::default()
+        };
+        let flat = Flatness::of(&map, &graded).unwrap();
+        assert_eq!(flat.layer, 255);
+        assert!(flat.ratio > 10.0 * MAX_FLATNESS, "{flat:?}");
     }
 
     #[test]

@@ -18,10 +18,11 @@ use hypercontact_material::material::{LinearElastic, Material};
 use hypercontact_material::table::{MaterialTable, material_from_table};
 use hypercontact_surface::crop::{CropParams, Window, refine};
 
+use crate::cause::{Failure, unstable_stretches, with_likely_cause};
 use crate::contact::{ContactProblem, NewtonOptions, Step};
 use crate::curve::{AreaSteps, Curve, bearing_approach_m, solve_area_steps};
 use crate::law::Law;
-use crate::mesh::{HeightMap, Lateral, Mesh, MeshOptions};
+use crate::mesh::{Flatness, HeightMap, Lateral, MAX_FLATNESS, Mesh, MeshOptions};
 
 /// How the lateral faces of the block are held.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Choice)]
@@ -51,10 +52,10 @@ pub struct FemParams {
     /// block height at the mean surface (default: the larger lateral size; the block on its rigid base is then 2-5 % stiffer at equal approach than the half-space the other models assume, twice that depth within 1 %: see the stage doc)
     #[param(unit = "m", positive)]
     pub depth_m: Option<f64>,
-    /// element layers through the height
+    /// element layers through the height (an element may be at most 10 times wider than thick, else the stage is refused: fewer layers, less grading or a deeper block)
     #[param(default = 8, range = 1..=256)]
     pub layers: usize,
-    /// bottom-layer / top-layer thickness (1: uniform)
+    /// bottom-layer / top-layer thickness (1: uniform; the top layer's elements at most 10 times wider than thick)
     #[param(default = 8.0, range = 1.0..=1000.0)]
     pub grading: f64,
     /// how the lateral faces are held
@@ -155,7 +156,10 @@ static INFO: StageInfo = StageInfo {
           at depth = the window's side and 0.98-1.00 at twice it, so judge half-space models \
           with depth_m at least twice the side, the extra layers graded to keep the top one); \
           `layers` layers of trilinear hexahedra per \
-          column, thicknesses in geometric progression with bottom/top ratio `grading`; with \
+          column, thicknesses in geometric progression with bottom/top ratio `grading`, refused \
+          before meshing when an element would be more than 10 times wider than thick (its \
+          width over its layer's thickness in the lowest column; the shipped pipelines stay \
+          below 1.4); with \
           lateral_coarsening, layer k's elements are s_k pixels wide in x and y, s_k the \
           largest power of two not above the layer's thickness nor its top's depth below the \
           surface, in pixels, 1 for the top layer, \
@@ -259,7 +263,8 @@ impl Stage for Fem {
         let surface = inputs.areal_field("surface", "fem")?;
         let window = Window::of(&p.window, surface.values.dim())?;
         let (patch, heights_m) = checked_patch(window.cut(surface)?, &window, p)?;
-        let (law, e0_star_pa) = law_of(inputs.table("material")?, p.bulk_ratio, p.strain)?;
+        let (law, e0_star_pa, unstable) =
+            law_of(inputs.table("material")?, p.bulk_ratio, p.strain)?;
         let (nx, ny) = patch.values.dim();
         let map = HeightMap {
             heights_m: &heights_m,
@@ -283,7 +288,7 @@ impl Stage for Fem {
         check_memory(&problem, p, ctx)?;
         // At first touch, before any step: the undeformed top's mean gap.
         let first_gap_m = problem.mean_gap_m(0.0);
-        let curve = solve(&mut problem, &heights_m, p, ctx)?;
+        let curve = solve(&mut problem, &heights_m, p, unstable.as_deref(), ctx)?;
         let a0_m2 = (nx - 1) as f64 * patch.dx_m * (ny - 1) as f64 * patch.dy_m;
         let range_m = height_range_m(&heights_m);
         let table = response_table(&curve.steps, e0_star_pa, a0_m2, range_m, first_gap_m);
@@ -374,12 +379,35 @@ fn checked_patch(
             p.layers, p.max_nodes
         )));
     }
+    check_flatness(&map, p)?;
     if height_range_m(&heights_m) <= 0.0 {
         return Err(StageError::invalid(
             "the patch is flat: all of it touches at once".to_owned(),
         ));
     }
     Ok((patch, heights_m))
+}
+
+/// Refuses a mesh whose elements are more than [`MAX_FLATNESS`] times
+/// wider than thick: Newton fails or crawls on such slivers.
+fn check_flatness(map: &HeightMap<'_>, p: &FemParams) -> Result<(), StageError> {
+    let Some(flat) = Flatness::of(map, &mesh_options(p)) else {
+        return Ok(());
+    };
+    if flat.ratio <= MAX_FLATNESS {
+        return Ok(());
+    }
+    Err(StageError::invalid(format!(
+        "degenerate elements: layer {} of {} is {:.3e} m thick under {:.3e} m wide \
+         elements, aspect ratio {:.1} above the bound {MAX_FLATNESS} (width / thickness): \
+         take fewer `layers`, a smaller `grading`, a larger `depth_m`, or a window with more \
+         points (`nx`, `ny`, `refine`)",
+        flat.layer + 1,
+        p.layers,
+        flat.thickness_m,
+        flat.width_m,
+        flat.ratio,
+    )))
 }
 
 fn height_range_m(heights_m: &[f64]) -> f64 {
@@ -391,27 +419,29 @@ fn height_range_m(heights_m: &[f64]) -> f64 {
     hi - lo
 }
 
-/// The element law of the material table and its E0*: 4 μ0 for a
+/// The element law of the material table, its E0*: 4 μ0 for a
 /// hyperelastic material (ν = ½, as every contact model takes it), E/(1 −
-/// ν²) for a linear one.
+/// ν²) for a linear one, and where a finite-strain law is unstable (for a
+/// failure's likely cause).
 fn law_of(
     table: &hypercontact_core::Table,
     bulk_ratio: f64,
     strain: Strain,
-) -> Result<(Law, f64), StageError> {
+) -> Result<(Law, f64, Option<String>), StageError> {
     let material = material_from_table(table).map_err(StageError::other)?;
     match material {
         Material::Hyperelastic(model) => {
             let law =
                 Law::hyperelastic(Arc::as_ref(&model), bulk_ratio).map_err(StageError::other)?;
             let shear_pa = law.shear_modulus_pa();
-            let law = match strain {
-                Strain::Finite => law,
-                Strain::Small => {
-                    Law::linear_elastic(shear_pa, bulk_ratio).map_err(StageError::other)?
-                }
+            let (law, unstable) = match strain {
+                Strain::Finite => (law, unstable_stretches(Arc::as_ref(&model))),
+                Strain::Small => (
+                    Law::linear_elastic(shear_pa, bulk_ratio).map_err(StageError::other)?,
+                    None,
+                ),
             };
-            Ok((law, 4.0 * shear_pa))
+            Ok((law, 4.0 * shear_pa, unstable))
         }
         Material::Linear(LinearElastic { e_pa, poisson }) => {
             let shear_pa = e_pa / (2.0 * (1.0 + poisson));
@@ -422,16 +452,18 @@ fn law_of(
                 bulk_ratio
             };
             let law = Law::linear_elastic(shear_pa, ratio).map_err(StageError::other)?;
-            Ok((law, e_pa / (1.0 - poisson * poisson)))
+            Ok((law, e_pa / (1.0 - poisson * poisson), None))
         }
     }
 }
 
-/// The curve from first touch to max_area_fraction, with a progress bar.
+/// The curve from first touch to max_area_fraction, with a progress bar;
+/// a failure names its likely cause ([`crate::cause`]).
 fn solve(
     problem: &mut ContactProblem,
     heights_m: &[f64],
     p: &FemParams,
+    unstable_material: Option<&str>,
     ctx: &Context,
 ) -> Result<Curve, StageError> {
     let first_target = p.max_area_fraction / p.steps as f64;
@@ -448,11 +480,19 @@ fn solve(
     };
     let progress = ctx.progress(p.steps as u64, "load steps (aimed)");
     let mut iterations = 0;
-    let curve = solve_area_steps(problem, &options, &mut |step: &Step| {
+    let mut reached = Vec::new();
+    let solved = solve_area_steps(problem, &options, &mut |step: &Step| {
         iterations += step.iterations;
+        reached.push((step.approach_m, step.area_fraction));
         progress.inc(1);
-    })
-    .map_err(StageError::other)?;
+    });
+    let failure = Failure {
+        reached: &reached,
+        unstable_material,
+        steps: p.steps,
+        max_area_fraction: p.max_area_fraction,
+    };
+    let curve = solved.map_err(|e| StageError::other(with_likely_cause(e, &failure)))?;
     drop(progress);
     let last = curve.steps.last().map_or(0.0, |s| s.area_fraction);
     ctx.note(&format!(

@@ -5,6 +5,7 @@
 
 mod coarsening;
 mod common;
+mod degenerate;
 mod felupe;
 mod homogeneous;
 mod newton;

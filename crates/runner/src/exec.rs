@@ -16,7 +16,7 @@ use crate::cache::{Cache, EntryState, MANIFEST_FORMAT, Manifest, short_key, unix
 use crate::folders;
 use crate::outcome::{Blocked, StageFailure, blocked_by};
 use crate::pipeline::{Pipeline, PipelineError};
-use crate::plan::{Plan, PlanOptions, PlannedStage, Reason};
+use crate::plan::{Plan, PlanOptions, PlannedStage, Reason, Unreadable};
 use crate::progress::{RunBar, TerminalProgress};
 use crate::provenance::{CacheUse, FailedRecord, PROVENANCE_FORMAT, Provenance, StageRecord};
 use crate::store::{self, OutputRecord, StoreError};
@@ -296,7 +296,7 @@ fn run_once(
     let cache = open_cache(&options.cache_dir)?;
     let provenance_path = options.out_dir.join("provenance.json");
     let previous = Provenance::read(&provenance_path)?;
-    let plan = Plan::build(pipeline, &cache, &options.plan, previous.as_ref())?;
+    let plan = plan_run(pipeline, &cache, options, previous.as_ref())?;
     let provenance = new_provenance(pipeline, options, started_unix_s);
     if options.dry_run {
         return Ok(report(plan, provenance));
@@ -377,9 +377,26 @@ fn run_once(
     }
 }
 
+/// The plan of a run. Keeping going, an unreadable input file fails its
+/// stage alone; a dry run, which runs nothing, is refused as `--fail-fast`
+/// is.
+fn plan_run(
+    pipeline: &Pipeline,
+    cache: &Cache,
+    options: &RunOptions,
+    previous: Option<&Provenance>,
+) -> Result<Plan, PipelineError> {
+    let unreadable = match options.keep_going && !options.dry_run {
+        true => Unreadable::FailStage,
+        false => Unreadable::RefusePlan,
+    };
+    Plan::build_with(pipeline, cache, &options.plan, previous, unreadable)
+}
+
 /// One stage of a run that keeps going: not run when a stage it reads
-/// failed (listed in `outcome.blocked`), failed at once when an earlier
-/// variant of the study failed on the same entry, else run; a failure is
+/// failed (listed in `outcome.blocked`), failed at once when an input file
+/// of it cannot be read or an earlier variant of the study failed on the
+/// same entry, else run; a failure is
 /// listed in `outcome.failures` (Ok(None)) unless the run stops at the
 /// first one (Err). A concurrent run's removal of a temporary entry is
 /// always an Err: [`run_with_hook`] plans again.
@@ -401,9 +418,10 @@ fn run_or_block(
     }
     let earlier = (scope.options.known_failures.get(&planned.key))
         .filter(|_| planned.reason != Reason::Cached);
-    let failure = match earlier {
-        Some(cause) => StageFailure::earlier(planned, cause),
-        None => {
+    let failure = match (&planned.reason, earlier) {
+        (Reason::Unreadable(error), _) => StageFailure::unreadable(planned, error),
+        (_, Some(cause)) => StageFailure::earlier(planned, cause),
+        (_, None) => {
             let t0 = Instant::now();
             match run_stage(scope, planned, state, multi, after_file) {
                 Ok(record) => return Ok(Some(record)),

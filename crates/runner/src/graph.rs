@@ -103,6 +103,7 @@ fn state_text(stage: &PlannedStage) -> String {
         Reason::InputsChanged(_) => "input changed",
         Reason::FilesChanged(_) => "input file changed",
         Reason::NotInCache(_) => "not in cache",
+        Reason::Unreadable(_) => "input file unreadable",
         Reason::Cached | Reason::NotSelected | Reason::TempNotNeeded => "",
     };
     let temp = if stage.temp && state != NodeState::Temporary {

@@ -24,7 +24,7 @@ pub mod yaml;
 
 pub use exec::{RunError, RunOptions, RunReport, run};
 pub use pipeline::{Pipeline, PipelineError};
-pub use plan::{Action, Plan, PlanOptions, Reason};
+pub use plan::{Action, Plan, PlanOptions, Reason, Unreadable};
 
 use std::io::Write;
 use std::path::Path;

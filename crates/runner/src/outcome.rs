@@ -8,6 +8,7 @@
 //! executor's jobs do (Snakemake's and make's `--keep-going`).
 
 use crate::exec::{RunError, RunReport};
+use crate::pipeline::PipelineError;
 use crate::plan::PlannedStage;
 
 /// A stage that failed in this run.
@@ -47,6 +48,23 @@ impl StageFailure {
                 other => crate::error::said_once(crate::error::chain(other)),
             },
             wall_s,
+        }
+    }
+
+    /// `planned` failed at planning: an input file of it cannot be read.
+    pub fn unreadable(planned: &PlannedStage, error: &PipelineError) -> Self {
+        // The list names the stage and kind already: the cause keeps the
+        // file, line, column and parameter.
+        let cause = PipelineError {
+            stage: None,
+            ..error.clone()
+        };
+        Self {
+            stage: planned.name.clone(),
+            kind: planned.kind.clone(),
+            key: planned.key.clone(),
+            cause: cause.to_string(),
+            wall_s: 0.0,
         }
     }
 

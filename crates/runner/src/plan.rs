@@ -51,6 +51,23 @@ pub enum Reason {
     /// A temporary stage whose entry is gone and whose readers are all
     /// cached: nothing needs it.
     TempNotNeeded,
+    /// An input file of the stage cannot be read (missing, unreadable, a
+    /// folder for a file): the run fails the stage at once and keeps going
+    /// ([`Unreadable::FailStage`]). The error is the one the plan would
+    /// otherwise be refused with.
+    Unreadable(PipelineError),
+}
+
+/// What the plan does with a stage whose input file cannot be read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Unreadable {
+    /// Refuse the whole plan (`--fail-fast`, `--dry-run`, `graph`, a Slurm
+    /// submission, a cluster job).
+    RefusePlan,
+    /// Plan the stage as failing ([`Reason::Unreadable`]): a run that keeps
+    /// going fails it as it fails a stage at run time, and runs every stage
+    /// that does not read it.
+    FailStage,
 }
 
 impl fmt::Display for Reason {
@@ -69,6 +86,7 @@ impl fmt::Display for Reason {
             Reason::TempNotNeeded => {
                 f.write_str("temporary, not needed (every stage that reads it is cached)")
             }
+            Reason::Unreadable(e) => write!(f, "fails: {e}"),
         }
     }
 }
@@ -149,11 +167,25 @@ pub struct PlanOptions {
 }
 
 impl Plan {
+    /// The plan, refused when an input file of a stage cannot be read.
     pub fn build(
         pipeline: &Pipeline,
         cache: &Cache,
         options: &PlanOptions,
         previous: Option<&Provenance>,
+    ) -> Result<Plan, PipelineError> {
+        Self::build_with(pipeline, cache, options, previous, Unreadable::RefusePlan)
+    }
+
+    /// The plan; `unreadable` says whether a stage's unreadable input file
+    /// refuses it or fails that stage alone. Every other error (the
+    /// wiring, a cycle, an unknown stage to force) refuses it.
+    pub fn build_with(
+        pipeline: &Pipeline,
+        cache: &Cache,
+        options: &PlanOptions,
+        previous: Option<&Provenance>,
+        unreadable: Unreadable,
     ) -> Result<Plan, PipelineError> {
         let order = topological_order(pipeline)?;
         for name in options.force.iter().chain(options.only.iter()) {
@@ -182,7 +214,15 @@ impl Plan {
             }
             let info = decl.stage.info();
             let inputs = resolve_inputs(pipeline, decl, info, &keys)?;
-            let (params, files) = keyed_params(decl)?;
+            // A stage failing on its file still has a key (over its
+            // parameters as given), so its readers are keyed and listed.
+            let (params, files, refused) = match keyed_params(decl) {
+                Ok((params, files)) => (params, files, None),
+                Err(e) if unreadable == Unreadable::FailStage => {
+                    (decl.params.to_json(), BTreeMap::new(), Some(e))
+                }
+                Err(e) => return Err(e),
+            };
             let material = serde_json::json!({
                 "kind": info.kind,
                 "version": info.version,
@@ -198,20 +238,25 @@ impl Plan {
             let is_selected = selected.contains(&decl.name);
             // A stage `--only` does not need is not looked up (a cluster
             // job plans with `--only` its stage: it reads its inputs' entries,
-            // not every entry of the pipeline).
-            let state = match is_selected {
+            // not every entry of the pipeline), nor one that cannot be keyed.
+            let state = match is_selected && refused.is_none() {
                 true => cache.check(&key),
                 false => EntryState::Missing,
             };
-            let reason = if !is_selected {
-                Reason::NotSelected
-            } else if options.force.contains(&decl.name) {
-                Reason::Forced
-            } else if matches!(state, EntryState::Valid(_)) {
-                Reason::Cached
-            } else {
-                let record = previous.and_then(|p| p.stages.get(&decl.name));
-                why_rerun(decl, info, &files, &inputs, record, &runs, &state)
+            let reason = match (is_selected, refused) {
+                (false, _) => Reason::NotSelected,
+                (true, Some(e)) => Reason::Unreadable(e),
+                (true, None) => {
+                    let record = previous.and_then(|p| p.stages.get(&decl.name));
+                    let forced = options.force.contains(&decl.name);
+                    let change = Change {
+                        files: &files,
+                        inputs: &inputs,
+                        record,
+                        runs: &runs,
+                    };
+                    reason_to_run(decl, info, forced, &state, change)
+                }
             };
             let run = !matches!(reason, Reason::Cached | Reason::NotSelected);
             runs.insert(decl.name.clone(), run);
@@ -322,15 +367,40 @@ fn stage_list(pipeline: &Pipeline) -> String {
         .join(", ")
 }
 
-fn why_rerun(
+/// What a selected stage's key is compared with: its input files, its
+/// inputs, its record in the last run and which stages run.
+struct Change<'a> {
+    files: &'a BTreeMap<String, String>,
+    inputs: &'a [ResolvedInput],
+    record: Option<&'a StageRecord>,
+    runs: &'a HashMap<String, bool>,
+}
+
+/// Why a selected stage whose key could be computed runs, or that it is
+/// cached.
+fn reason_to_run(
     decl: &StageDecl,
     info: &StageInfo,
-    files: &BTreeMap<String, String>,
-    inputs: &[ResolvedInput],
-    record: Option<&StageRecord>,
-    runs: &HashMap<String, bool>,
+    forced: bool,
     state: &EntryState,
+    change: Change,
 ) -> Reason {
+    if forced {
+        Reason::Forced
+    } else if matches!(state, EntryState::Valid(_)) {
+        Reason::Cached
+    } else {
+        why_rerun(decl, info, change, state)
+    }
+}
+
+fn why_rerun(decl: &StageDecl, info: &StageInfo, change: Change, state: &EntryState) -> Reason {
+    let Change {
+        files,
+        inputs,
+        record,
+        runs,
+    } = change;
     let Some(record) = record else {
         return Reason::New;
     };

@@ -8,3 +8,4 @@ mod errors;
 mod fuzz_yaml;
 mod runner;
 mod study_scale;
+mod unreadable;
