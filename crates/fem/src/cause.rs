@@ -43,31 +43,13 @@ pub fn unstable_stretches(model: &dyn Hyperelastic) -> Option<String> {
 }
 
 /// `error` with its likely cause appended, when one is recognised.
-pub fn with_likely_cause(error: FemError, failure: &Failure) -> FemError {
-    let Some(cause) = likely_cause(&error, failure) else {
-        return error;
-    };
-    match error {
-        FemError::NotConverged {
-            step,
-            approach_m,
-            iterations,
-            residual_n,
-            tolerance_n,
-            contact_nodes,
-            detail,
-        } => FemError::NotConverged {
-            step,
-            approach_m,
-            iterations,
-            residual_n,
-            tolerance_n,
-            contact_nodes,
-            detail: format!("{detail}; likely cause: {cause}"),
-        },
-        FemError::Solver(message) => FemError::Solver(format!("{message}; likely cause: {cause}")),
-        other => other,
+pub fn with_likely_cause(mut error: FemError, failure: &Failure) -> FemError {
+    if let Some(cause) = likely_cause(&error, failure)
+        && let FemError::NotConverged { detail, .. } | FemError::Solver(detail) = &mut error
+    {
+        detail.push_str(&format!("; likely cause: {cause}"));
     }
+    error
 }
 
 fn likely_cause(error: &FemError, failure: &Failure) -> Option<String> {
