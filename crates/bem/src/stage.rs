@@ -192,6 +192,10 @@ impl Stage for Bem {
         &INFO
     }
 
+    fn let_go(&self) {
+        crate::shared::forget();
+    }
+
     fn run(
         &self,
         p: &Checked<BemParams>,

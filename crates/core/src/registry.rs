@@ -93,11 +93,17 @@ pub trait DynStage: Send + Sync {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError>;
+    /// [`Stage::let_go`].
+    fn let_go(&self);
 }
 
 impl<S: Stage> DynStage for S {
     fn info(&self) -> &'static StageInfo {
         Stage::info(self)
+    }
+
+    fn let_go(&self) {
+        Stage::let_go(self)
     }
 
     fn resources(&self) -> crate::stage::Resources {

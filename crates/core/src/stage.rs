@@ -287,4 +287,11 @@ pub trait Stage: Send + Sync + 'static {
         inputs: &Inputs,
         ctx: &Context,
     ) -> Result<Outputs, StageError>;
+
+    /// Drops what this kind keeps on the calling thread for the next stage
+    /// of its kind (a solved curve a second `bem` replays). The runner
+    /// calls it on the thread that ran the stage when the next stage in the
+    /// plan is of another kind, so nothing is held through the stages
+    /// between (#48). Keeps nothing by default.
+    fn let_go(&self) {}
 }

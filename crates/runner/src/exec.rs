@@ -342,6 +342,7 @@ fn run_once(
                     return Err(e);
                 }
             }
+            let_go_before_another_kind(pipeline, &plan, index);
         }
         overall.done(index);
     }
@@ -374,6 +375,21 @@ fn run_once(
         Ok(report)
     } else {
         Err(RunError::Failed(Box::new(report)))
+    }
+}
+
+/// Asks the kind of stage `index` to drop what it keeps for the next stage
+/// of its kind ([`hypercontact_core::Stage::let_go`]) when the next stage
+/// in the plan is of another kind.
+fn let_go_before_another_kind(pipeline: &Pipeline, plan: &Plan, index: usize) {
+    let kind = &plan.stages[index].kind;
+    if plan
+        .stages
+        .get(index + 1)
+        .is_none_or(|next| &next.kind != kind)
+        && let Some(decl) = pipeline.stage(&plan.stages[index].name)
+    {
+        decl.stage.let_go();
     }
 }
 

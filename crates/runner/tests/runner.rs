@@ -6,7 +6,7 @@ use crate::common;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
-use common::{BASIC, SCALE_RUNS, registry, write};
+use common::{BASIC, SCALE_LET_GOS, SCALE_RUNS, registry, write};
 use hypercontact_runner::cache::{Cache, EntryState, MANIFEST_FORMAT};
 use hypercontact_runner::plan::{Plan, PlanOptions, Reason};
 use hypercontact_runner::provenance::CacheUse;
@@ -38,6 +38,27 @@ fn keys(p: &Pipeline, dir: &Path) -> Vec<String> {
         .into_iter()
         .map(|s| s.key)
         .collect()
+}
+
+#[test]
+fn a_kind_lets_go_of_what_it_keeps_once_another_kind_follows() {
+    // src, a, b (two of a kind, side by side), all, c: `scale` is asked to
+    // let go after b and after c, on the thread that ran them, not after a.
+    let t = tempfile::tempdir().unwrap();
+    let text = "name: letgo\nstages:\n  src:\n    uses: source\n    with: { n: 2 }\n  \
+        a:\n    uses: scale\n    inputs: { t: src }\n  b:\n    uses: scale\n    inputs: { t: src }\n    \
+        with: { factor: 3 }\n  all:\n    uses: gather\n    inputs:\n      parts: { a: a.t, b: b.t }\n  \
+        c:\n    uses: scale\n    inputs: { t: src }\n    with: { factor: 4 }\n";
+    let p = load(t.path(), "p.yaml", text);
+    let order: Vec<String> = dry_plan(&p, &options(t.path()))
+        .stages
+        .iter()
+        .map(|s| s.name.clone())
+        .collect();
+    assert_eq!(order, ["src", "a", "b", "all", "c"]);
+    let before = SCALE_LET_GOS.with(|n| n.get());
+    run(&p, &options(t.path())).unwrap();
+    assert_eq!(SCALE_LET_GOS.with(|n| n.get()) - before, 2);
 }
 
 #[test]

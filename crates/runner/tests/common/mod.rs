@@ -16,6 +16,11 @@ use hypercontact_core::{
 /// How often `scale` computed, across threads.
 pub static SCALE_RUNS: AtomicUsize = AtomicUsize::new(0);
 
+thread_local! {
+    /// How often the runner asked `scale` to let go, on this thread.
+    pub static SCALE_LET_GOS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
 /// Parameters of the test `source`.
 #[params]
 pub struct SourceParams {
@@ -116,6 +121,9 @@ impl Stage for Scale {
     type Params = ScaleParams;
     fn info(&self) -> &'static StageInfo {
         &SCALE
+    }
+    fn let_go(&self) {
+        SCALE_LET_GOS.with(|n| n.set(n.get() + 1));
     }
     fn run(
         &self,

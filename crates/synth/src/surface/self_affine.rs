@@ -135,8 +135,12 @@ impl SelfAffine {
         let gain = |q: f64| (c0 * self.shape(q) * lx * ly / n).sqrt() / (pixel_m * pixel_m) / n;
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let corner = RealFft2::new(nx, ny)?.filtered_crop(
-            // Row-major draws, band after band: a whole grid's order.
-            |_, lines| {
+            // Row-major draws, band after band: a whole grid's order, drawn
+            // again from the seed by each pass over the rows.
+            |first, lines| {
+                if first == 0 {
+                    rng = ChaCha8Rng::seed_from_u64(seed);
+                }
                 for h in lines {
                     *h = StandardNormal.sample(&mut rng);
                 }

@@ -8,11 +8,13 @@
 //! while the columns are filtered. [`RealFft2::filter_in_place`] reads the
 //! grid from a map and returns all of it there; [`RealFft2::filtered_crop`]
 //! asks a callback for the rows, band by band, and returns a corner only,
-//! so the grid itself never exists: before the rows go back, each column
-//! of the spectrum is cut to the rows returned and the rest is given back.
+//! so neither the grid nor its whole half spectrum ever exists: two passes
+//! over the rows each filter part of the columns and keep only the rows
+//! returned, which go back in place (#48).
 //! Both give the bits of [`RealFft2::convolve`] with that gain, since every
 //! row and column meets the same transforms in the same order.
 
+use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
 use super::RealFft2;
@@ -21,6 +23,10 @@ use crate::NumericError;
 /// Rows transformed per band: enough for every thread, a small buffer
 /// beside the spectrum.
 const BAND: usize = 64;
+
+/// Columns moved from a pass's spectrum to the kept rows before the
+/// spectrum is shrunk: a row's 256 bytes written at a time.
+const TRANSFER: usize = 16;
 
 impl RealFft2 {
     /// Multiplies the spectrum of `map`, a whole `rows × cols` grid, by a
@@ -38,9 +44,9 @@ impl RealFft2 {
         let mut columns = vec![Complex64::ZERO; self.spectrum_len()];
         let mut band = vec![Complex64::ZERO; BAND * self.half];
         for (b, block) in map.chunks(BAND * self.cols).enumerate() {
-            self.band_into_columns(b * BAND, block, &mut band, &mut columns);
+            self.band_into_columns(b * BAND, block, &mut band, 0..self.half, &mut columns);
         }
-        self.filter_columns(&mut columns, gain);
+        self.filter_columns(&mut columns, 0, gain);
         self.rows_back(&columns, size, map, 1.0);
         Ok(())
     }
@@ -49,10 +55,21 @@ impl RealFft2 {
     /// [`Self::filter_in_place`] makes of the grid whose rows
     /// `fill_rows(first, rows)` writes: it is called once per band of
     /// whole rows, in row order from row 0, and must overwrite all of
-    /// `rows` (`rows.len() / cols` rows from row `first`). The same bits as
-    /// filtering the whole grid and cutting out the corner, holding one
-    /// half spectrum (then its first `crop.0` rows beside the crop) instead
-    /// of the grid and a half spectrum.
+    /// `rows` (`rows.len() / cols` rows from row `first`). When the crop
+    /// has fewer rows than the grid the rows are asked for twice, each time
+    /// from row 0, and must be the same both times (a seeded generator
+    /// starts again at `first == 0`). The same bits as filtering the whole
+    /// grid and cutting out the corner.
+    ///
+    /// Memory (#48): the half spectrum is never whole. The first pass
+    /// transforms and filters the columns `0..split`, the second the rest,
+    /// each keeping only its columns' first `crop.0` rows, row-major, in
+    /// one buffer that the rows are then transformed back in, in place.
+    /// With S the half spectrum's bytes and C its cropped rows', the split
+    /// at `S / (2S − C)` of the columns makes both passes peak at the same
+    /// ~S² / (2S − C): 1.13 GB instead of the 1.62 GB of one whole
+    /// spectrum and a separate crop on a paper-scale truth grid (13 824²,
+    /// crop 8 900²), for a second draw and row transform of the grid.
     pub fn filtered_crop(
         &self,
         mut fill_rows: impl FnMut(usize, &mut [f64]),
@@ -60,44 +77,118 @@ impl RealFft2 {
         crop: (usize, usize),
     ) -> Result<Vec<f64>, NumericError> {
         self.check_map("filtered crop", crop, crop.0 * crop.1)?;
-        let mut columns = vec![Complex64::ZERO; self.spectrum_len()];
+        // Re and im of the kept spectrum, row k of the crop at 2·k·half;
+        // zeroed pages are only touched as a pass writes them.
+        let mut kept = vec![0.0; crop.0 * 2 * self.half];
+        let split = (self.half * self.rows)
+            .div_ceil(2 * self.rows - crop.0)
+            .clamp(1, self.half);
+        for columns in [0..split, split..self.half] {
+            if !columns.is_empty() {
+                self.filter_pass(&mut fill_rows, &gain, columns, crop.0, &mut kept);
+            }
+        }
+        self.rows_back_in_place(&mut kept, crop);
+        Ok(kept)
+    }
+
+    /// One pass of [`Self::filtered_crop`]: the half-spectrum columns
+    /// `range` of the whole grid's rows, filtered, their first `crop_rows`
+    /// points written into `kept` (row-major re, im).
+    fn filter_pass(
+        &self,
+        fill_rows: &mut impl FnMut(usize, &mut [f64]),
+        gain: &(impl Fn(usize, usize) -> f64 + Sync),
+        range: std::ops::Range<usize>,
+        crop_rows: usize,
+        kept: &mut [f64],
+    ) {
+        let mut columns = vec![Complex64::ZERO; range.len() * self.rows];
         let mut band = vec![Complex64::ZERO; BAND * self.half];
         let mut lines = vec![0.0; BAND * self.cols];
         for first in (0..self.rows).step_by(BAND) {
             let lines = &mut lines[..(self.rows - first).min(BAND) * self.cols];
             fill_rows(first, lines);
-            self.band_into_columns(first, lines, &mut band, &mut columns);
+            self.band_into_columns(first, lines, &mut band, range.clone(), &mut columns);
         }
-        self.filter_columns(&mut columns, gain);
-        // Each column keeps its first crop.0 points, moved down to close
-        // the gaps: destinations lie below their sources, so column order
-        // never overwrites a point still to be moved. Shrinking returns the
-        // rest of the spectrum before the crop is allocated.
-        for l in 1..self.half {
-            let start = l * self.rows;
-            columns.copy_within(start..start + crop.0, l * crop.0);
+        drop((band, lines));
+        self.filter_columns(&mut columns, range.start, gain);
+        // From the last column back, a block at a time, each block's first
+        // rows go to `kept` and the block is given back: the spectrum
+        // shrinks as the kept rows grow.
+        let mut end = range.len();
+        while end > 0 {
+            let start = end.saturating_sub(TRANSFER);
+            for k in 0..crop_rows {
+                let row = &mut kept[2 * (k * self.half + range.start)..];
+                for l in start..end {
+                    let v = columns[l * self.rows + k];
+                    row[2 * l] = v.re;
+                    row[2 * l + 1] = v.im;
+                }
+            }
+            columns.truncate(start * self.rows);
+            columns.shrink_to_fit();
+            end = start;
         }
-        columns.truncate(self.half * crop.0);
-        columns.shrink_to_fit();
-        let mut corner = vec![0.0; crop.0 * crop.1];
-        self.rows_back(&columns, crop, &mut corner, 1.0);
-        Ok(corner)
+    }
+
+    /// The complex-to-real transforms of the first `crop.0` rows of the
+    /// spectrum held row-major in `kept` (re, im), their first `crop.1`
+    /// values left in `kept`, which is cut to them. Done in place: a group
+    /// of rows is copied out before its values are written back, and a
+    /// row's values (at most `cols` ≤ 2·half) land below the rows still to
+    /// be read.
+    fn rows_back_in_place(&self, kept: &mut Vec<f64>, crop: (usize, usize)) {
+        let (half, even) = (self.half, self.cols.is_multiple_of(2));
+        let group = BAND * rayon::current_num_threads().max(1);
+        let mut spectra = vec![Complex64::ZERO; group * half];
+        let mut values = vec![0.0; group * crop.1];
+        for first in (0..crop.0).step_by(group) {
+            let n = (crop.0 - first).min(group);
+            let source = &kept[2 * first * half..2 * (first + n) * half];
+            for (c, re_im) in spectra.iter_mut().zip(source.chunks_exact(2)) {
+                *c = Complex64::new(re_im[0], re_im[1]);
+            }
+            spectra[..n * half]
+                .par_chunks_mut(half)
+                .zip(values[..n * crop.1].par_chunks_mut(crop.1))
+                .for_each_init(
+                    || (vec![0.0; self.cols], self.c2r.make_scratch_vec()),
+                    |(line, scratch), (row, out)| {
+                        // As in rows_back: the DC and Nyquist terms of a
+                        // real row's spectrum are real.
+                        row[0].im = 0.0;
+                        if even {
+                            row[half - 1].im = 0.0;
+                        }
+                        self.c2r
+                            .process_with_scratch(row, line, scratch)
+                            .expect("buffer lengths come from the plan");
+                        out.copy_from_slice(&line[..crop.1]);
+                    },
+                );
+            kept[first * crop.1..(first + n) * crop.1].copy_from_slice(&values[..n * crop.1]);
+        }
+        kept.truncate(crop.0 * crop.1);
+        kept.shrink_to_fit();
     }
 
     /// Transforms the whole rows `lines` of the grid, from row `first`, and
-    /// writes them into the column-major `columns`; `band` is room for
-    /// [`BAND`] row transforms.
+    /// writes the half-spectrum columns `range` of them into the
+    /// column-major `columns`; `band` is room for [`BAND`] row transforms.
     fn band_into_columns(
         &self,
         first: usize,
         lines: &[f64],
         band: &mut [Complex64],
+        range: std::ops::Range<usize>,
         columns: &mut [Complex64],
     ) {
         let band = &mut band[..lines.len() / self.cols * self.half];
         self.rows_forward(lines, self.cols, band);
         for (i, row) in band.chunks_exact(self.half).enumerate() {
-            for (l, &v) in row.iter().enumerate() {
+            for (l, &v) in row[range.clone()].iter().enumerate() {
                 columns[l * self.rows + first + i] = v;
             }
         }
@@ -105,11 +196,17 @@ impl RealFft2 {
 
     /// Transforms the columns of a half spectrum holding the row
     /// transforms, multiplies each by its gain and transforms it back, a
-    /// strip at a time while it is in cache.
-    fn filter_columns(&self, columns: &mut [Complex64], gain: impl Fn(usize, usize) -> f64 + Sync) {
+    /// strip at a time while it is in cache; `columns` starts at half-spectrum
+    /// column `first_column`.
+    fn filter_columns(
+        &self,
+        columns: &mut [Complex64],
+        first_column: usize,
+        gain: impl Fn(usize, usize) -> f64 + Sync,
+    ) {
         self.columns_forward(None, columns, |offset, strip, scratch| {
             for (c, column) in strip.chunks_exact_mut(self.rows).enumerate() {
-                let l = offset / self.rows + c;
+                let l = first_column + offset / self.rows + c;
                 for (k, v) in column.iter_mut().enumerate() {
                     *v *= gain(k, l);
                 }
@@ -225,8 +322,9 @@ mod tests {
     }
 
     #[test]
-    fn a_filtered_crop_asks_for_each_row_once_in_order() {
-        // 150 rows: two whole bands and a short one.
+    fn a_filtered_crop_asks_for_the_rows_in_order_once_per_pass() {
+        // 150 rows: two whole bands and a short one, asked for by each of
+        // the two passes; a crop of every row needs one pass.
         let (rows, cols) = (150, 21);
         let fft = RealFft2::new(rows, cols).unwrap();
         let mut asked = Vec::new();
@@ -241,7 +339,19 @@ mod tests {
                 (40, 20),
             )
             .unwrap();
-        assert_eq!(asked, [(0, 64), (64, 64), (128, 22)]);
+        let bands = [(0, 64), (64, 64), (128, 22)];
+        assert_eq!(asked, [bands, bands].concat());
+        let mut once = 0;
+        fft.filtered_crop(
+            |_, lines| {
+                once += 1;
+                lines.fill(1.0)
+            },
+            |_, _| 1.0,
+            (rows, 3),
+        )
+        .unwrap();
+        assert_eq!(once, bands.len());
         // With unit gain the filter multiplies by the grid's size.
         let n = (rows * cols) as f64;
         for i in 0..40 {
