@@ -158,8 +158,13 @@ impl Cache {
                 stamps.insert(rel.clone(), s);
             }
         }
-        if let Ok(bytes) = serde_json::to_vec(&stamps) {
-            let _ = crate::write_atomic(&self.stamps_path(key), &bytes);
+        // Unchanged stamps are not written again: a cached rerun's every
+        // stage would otherwise sync a file (#50, 4).
+        let path = self.stamps_path(key);
+        if let Ok(bytes) = serde_json::to_vec(&stamps)
+            && fs::read(&path).ok().as_deref() != Some(&bytes[..])
+        {
+            let _ = crate::write_atomic(&path, &bytes);
         }
     }
 

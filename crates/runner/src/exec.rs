@@ -780,7 +780,8 @@ fn export_entry(
     for (output, record) in &manifest.outputs {
         for (rel, file) in &record.files {
             let name = store::export_name(output, record, rel);
-            store::place(&entry.join(rel), &stage_dir.join(&name)).map_err(|cause| {
+            let dst = stage_dir.join(&name);
+            store::place_unless_held(&entry.join(rel), &dst, file).map_err(|cause| {
                 RunError::Export {
                     stage: planned.name.clone(),
                     cause,

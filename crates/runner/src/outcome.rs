@@ -135,18 +135,36 @@ impl RunReport {
             ));
         }
         text.push_str("; every other stage ran and is cached");
-        for f in &self.failures {
+        for f in self.failures.iter().take(SHOWN) {
             text.push_str(&format!(
                 "\n  stage `{}` ({}): {}",
                 f.stage, f.kind, f.cause
             ));
         }
-        for b in &self.blocked {
+        more(
+            &mut text,
+            n,
+            "failures: provenance.json lists each under `failed`",
+        );
+        for b in self.blocked.iter().take(SHOWN) {
             text.push_str(&format!(
                 "\n  `{}` not run: it depends on `{}`, which failed",
                 b.stage, b.because
             ));
         }
+        more(&mut text, self.blocked.len(), "stages not run");
         text
+    }
+}
+
+/// Failures (and stages not run) listed one per line; the rest are
+/// counted: a study or a generated pipeline can fail thousands of stages at
+/// once, and a terminal of them helps no one.
+const SHOWN: usize = 20;
+
+/// "… and N more WHAT" past the first [`SHOWN`] of `total`.
+fn more(text: &mut String, total: usize, what: &str) {
+    if total > SHOWN {
+        text.push_str(&format!("\n  … and {} more {what}", total - SHOWN));
     }
 }

@@ -6,6 +6,7 @@
 mod common;
 mod errors;
 mod fuzz_yaml;
+mod pipeline_scale;
 mod runner;
 mod study_scale;
 mod unreadable;

@@ -492,6 +492,39 @@ stages:
     with: { factor: 2 }
 ";
 
+#[test]
+fn thousands_of_failures_are_counted_past_the_first_twenty() {
+    // #50: 1 041 failed crops of a generated pipeline printed 1 041 lines.
+    let t = tempfile::tempdir().unwrap();
+    write(t.path(), "y.csv", "y\n1\n");
+    let mut text = String::from("name: many\nstages:\n");
+    for i in 0..25 {
+        text.push_str(&format!(
+            "  bad{i}:\n    uses: source\n    with: {{ n: {}, path: y.csv }}\n  \
+             later{i}:\n    uses: scale\n    inputs: {{ t: bad{i} }}\n",
+            i + 1
+        ));
+    }
+    let p = load(t.path(), "p.yaml", &text);
+    let hypercontact_runner::RunError::Failed(report) = run(&p, &options(t.path())).unwrap_err()
+    else {
+        panic!("a run with failed stages is an error");
+    };
+    let said = report.failure_text();
+    assert!(said.contains(": 25 stages failed, 25 not run"), "{said}");
+    assert_eq!(said.matches("\n  stage `bad").count(), 20, "{said}");
+    assert_eq!(
+        said.matches(" not run: it depends on ").count(),
+        20,
+        "{said}"
+    );
+    assert!(
+        said.contains("\n  … and 5 more failures: provenance.json lists each under `failed`"),
+        "{said}"
+    );
+    assert!(said.ends_with("\n  … and 5 more stages not run"), "{said}");
+}
+
 /// Issue #37, item 1: a run keeps going past a failed stage (the default):
 /// the independent branch is computed, cached and exported with its
 /// provenance, the failure is listed with its cause and the stages that
