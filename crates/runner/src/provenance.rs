@@ -108,7 +108,7 @@ pub struct Provenance {
     pub started_unix_s: u64,
     pub wall_s: f64,
     /// The running process's peak resident memory by the end of the run,
-    /// MB (Linux `VmHWM`); None where the system does not say, and in a
+    /// MiB, 2^20 bytes (Linux `VmHWM`); None where the system does not say, and in a
     /// record written before.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub peak_rss_mb: Option<f64>,
@@ -256,7 +256,7 @@ impl Provenance {
         }
         match self.peak_rss_mb {
             Some(mb) if !(mb.is_finite() && mb >= 0.0) => Err(format!(
-                "impossible peak memory `peak_rss_mb` = {} MB",
+                "impossible peak memory `peak_rss_mb` = {} MiB",
                 seconds(mb)
             )),
             _ => Ok(()),

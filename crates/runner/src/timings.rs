@@ -195,7 +195,9 @@ pub fn table(provenance: &Provenance) -> String {
         n => format!(", {n} failed"),
     };
     let memory = match provenance.peak_rss_mb {
-        Some(mb) => format!("; peak memory {:.2} GB", mb / 1024.0),
+        // The record holds MiB (VmHWM's kB are KiB); the table says GB,
+        // 10^9 bytes: 2 048 MiB is 2.15 GB, not "2.00 GB" as it said.
+        Some(mib) => format!("; peak memory {:.2} GB", mib * 1_048_576.0 / 1e9),
         None => String::new(),
     };
     let _ = writeln!(
@@ -273,7 +275,7 @@ mod tests {
             text.contains("  bem                      2 ×      2.00 s =       4.00 s   40.0%"),
             "{text}"
         );
-        assert!(text.contains("4 stages: 3 computed, 1 cached; 10.0 s in stages, run wall 10.3 s; peak memory 2.00 GB"), "{text}");
+        assert!(text.contains("4 stages: 3 computed, 1 cached; 10.0 s in stages, run wall 10.3 s; peak memory 2.15 GB"), "{text}");
         assert!(!text.contains("gone"));
     }
 
