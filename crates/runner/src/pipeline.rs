@@ -4,6 +4,7 @@
 //! type ([`crate::stage_params`]); every error is placed by the path serde
 //! or the check reports, looked up in the file's key locations.
 
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -147,6 +148,10 @@ pub struct Pipeline {
     source: Arc<str>,
     source_blake3: Arc<str>,
     doc: Arc<Located>,
+    /// Stage name → position in `stages` as parsed, for [`Pipeline::stage`]
+    /// (a scan per lookup made planning quadratic, #50 item 4). `stages`
+    /// is public, so a hit is checked against it and a miss scans.
+    index: Arc<HashMap<String, usize>>,
 }
 
 #[derive(Deserialize)]
@@ -298,6 +303,9 @@ impl Pipeline {
             })
             .collect::<Result<Vec<_>, _>>()?;
         let study = study_spec(file, &doc, raw.study)?;
+        let index = (stages.iter().enumerate())
+            .map(|(i, s): (usize, &StageDecl)| (s.name.clone(), i))
+            .collect();
         Ok(Pipeline {
             name: raw.name,
             description: raw.description,
@@ -309,11 +317,15 @@ impl Pipeline {
             source: source.into(),
             source_blake3: crate::hash::text_hash(source).into(),
             doc: Arc::new(doc),
+            index: Arc::new(index),
         })
     }
 
     pub fn stage(&self, name: &str) -> Option<&StageDecl> {
-        self.stages.iter().find(|s| s.name == name)
+        let indexed = (self.index.get(name))
+            .and_then(|&i| self.stages.get(i))
+            .filter(|s| s.name == name);
+        indexed.or_else(|| self.stages.iter().find(|s| s.name == name))
     }
 
     /// The pipeline text as read.

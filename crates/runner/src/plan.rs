@@ -7,7 +7,7 @@
 //! are known before anything runs, so the plan sees every downstream rerun
 //! that an upstream change causes (Snakemake's dry run does; DVC's does not).
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fmt;
 
 use hypercontact_core::stage::Arity;
@@ -859,19 +859,25 @@ fn topological_order(pipeline: &Pipeline) -> Result<Vec<usize>, PipelineError> {
     Ok(order)
 }
 
-/// `name` and every stage it depends on.
-fn ancestors(pipeline: &Pipeline, name: &str) -> Vec<String> {
-    let mut out = vec![name.to_owned()];
-    let mut i = 0;
-    while i < out.len() {
-        if let Some(decl) = pipeline.stage(&out[i]) {
+/// `name` and every stage it depends on: a set, so that asking whether a
+/// stage is selected does not scan a list (quadratic over a pipeline of
+/// thousands of stages, #50 item 4).
+fn ancestors(pipeline: &Pipeline, name: &str) -> HashSet<String> {
+    let by_name: HashMap<&str, &StageDecl> = pipeline
+        .stages
+        .iter()
+        .map(|s| (s.name.as_str(), s))
+        .collect();
+    let mut out = HashSet::from([name.to_owned()]);
+    let mut todo = vec![name.to_owned()];
+    while let Some(next) = todo.pop() {
+        if let Some(decl) = by_name.get(next.as_str()) {
             for b in &decl.inputs {
-                if !out.contains(&b.from_stage) {
-                    out.push(b.from_stage.clone());
+                if out.insert(b.from_stage.clone()) {
+                    todo.push(b.from_stage.clone());
                 }
             }
         }
-        i += 1;
     }
     out
 }
