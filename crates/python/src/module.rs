@@ -220,8 +220,13 @@ fn interruptible<T: Send + 'static>(
             let _ = sender.send(work());
         })
         .map_err(value_error)?;
+    let mut receiver = receiver;
     loop {
-        match py.detach(|| receiver.recv_timeout(POLL)) {
+        // The receiver moves to the detached closure and back: it is Send,
+        // not Sync.
+        let (waited, back) = py.detach(move || (receiver.recv_timeout(POLL), receiver));
+        receiver = back;
+        match waited {
             Ok(result) => return Ok(result),
             Err(RecvTimeoutError::Disconnected) => {
                 return Err(value_error(
@@ -232,7 +237,7 @@ fn interruptible<T: Send + 'static>(
         }
         if let Err(signal) = py.check_signals() {
             cancel.store(true, Ordering::SeqCst);
-            let _ = py.detach(|| receiver.recv_timeout(GRACE));
+            let _ = py.detach(move || receiver.recv_timeout(GRACE).is_ok());
             return Err(signal);
         }
     }

@@ -53,8 +53,9 @@ def test_ctrl_c_interrupts_a_run_and_leaves_a_sound_cache(tmp_path):
     run_cli("run", pipeline, "--out", tmp_path / "rerun", "--cache", tmp_path / "cache",
             "--only", "bem-0", "--quiet")
     one_stage_s = time.monotonic() - started
+    print(f"KeyboardInterrupt {latency_s:.2f} s after SIGINT; one stage reruns in {one_stage_s:.1f} s")
     assert latency_s < 20.0, latency_s
     # Without the check the interruption waits for every stage to finish.
     assert latency_s < 2 * one_stage_s + 1.0, (latency_s, one_stage_s)
     verified = run_cli("cache", "verify", "--cache", tmp_path / "cache")
-    assert "corrupt" not in verified.stdout.lower() + verified.stderr.lower()
+    assert ", 0 corrupt," in verified.stdout + verified.stderr
