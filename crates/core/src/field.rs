@@ -250,26 +250,10 @@ fn read_npy_2d<R: Read>(
     let mut bytes = read_header(&mut reader)?;
     let data_start = bytes.len();
     let header = Header::from_reader(&mut bytes.as_slice()).map_err(npy_error)?;
-    let descr = header
-        .type_descriptor
-        .as_string()
-        .map_or("", String::as_str);
-    let item_bytes: usize = match descr {
-        "<f8" | ">f8" => 8,
-        "<f4" | ">f4" => 4,
-        _ => {
-            return Err(FieldError::Npy(format!(
-                "the values are `{}`, not float64 or float32",
-                header.type_descriptor
-            )));
-        }
-    };
+    let item_bytes = value_bytes(&header.type_descriptor.to_string())
+        .and_then(|n| check_2d(&header.shape).map(|()| n))
+        .map_err(|e| FieldError::Npy(e.to_string()))?;
     let shape = shape_text(&header.shape);
-    if header.shape.len() != 2 {
-        return Err(FieldError::Npy(format!(
-            "the array has shape {shape}, not 2-D"
-        )));
-    }
     let points = header
         .shape
         .iter()
@@ -315,6 +299,40 @@ fn read_npy_2d<R: Read>(
         Array2::<f32>::read_npy(bytes.as_slice()).map(|a| a.mapv(f64::from))
     };
     values.map_err(npy_error)
+}
+
+/// Why an array's values cannot be a field's: the words of the `.npy`
+/// reader, said also of an array handed over from another language (the
+/// Python `Field`), so both refuse the same arrays alike.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ValuesError {
+    /// The type descriptor as a `.npy` header writes it (`'<i8'`).
+    #[error("the values are `{0}`, not float64 or float32")]
+    Type(String),
+    #[error("the array has shape {0}, not 2-D")]
+    Shape(String),
+}
+
+/// The bytes of one value of type `descr`, the type descriptor as a `.npy`
+/// header writes it (a Python literal: `'<f8'`, `'|b1'`, `[('a', '<f8')]`):
+/// float64 and float32 of either byte order are field values; integers
+/// (which would be taken as metres), booleans, complex numbers (whose
+/// imaginary part would be lost), objects and records are not.
+pub fn value_bytes(descr: &str) -> Result<usize, ValuesError> {
+    match descr {
+        "'<f8'" | "'>f8'" => Ok(8),
+        "'<f4'" | "'>f4'" => Ok(4),
+        _ => Err(ValuesError::Type(descr.to_owned())),
+    }
+}
+
+/// Refuses an array of any shape but 2-D, naming its shape (`()` for a
+/// scalar).
+pub fn check_2d(shape: &[usize]) -> Result<(), ValuesError> {
+    match shape.len() {
+        2 => Ok(()),
+        _ => Err(ValuesError::Shape(shape_text(shape))),
+    }
 }
 
 /// A count with its digits in groups of three (`268 435 456`).
@@ -482,6 +500,47 @@ mod tests {
             Field::read_with_grid(npy.as_slice(), grid),
             Err(FieldError::GridMismatch { .. })
         ));
+    }
+
+    /// The `.npy` reader and an array from another language are refused in
+    /// the same words: integers, booleans, complex numbers and objects are
+    /// not field values, nor is a scalar a map.
+    #[test]
+    fn value_types_and_shapes_are_refused_in_the_readers_words() {
+        for (descr, bytes) in [("'<f8'", 8), ("'>f8'", 8), ("'<f4'", 4), ("'>f4'", 4)] {
+            assert_eq!(value_bytes(descr), Ok(bytes), "{descr}");
+        }
+        for descr in [
+            "'<i8'",
+            "'|b1'",
+            "'<c16'",
+            "'|O'",
+            "'<f2'",
+            "[('a', '<f8')]",
+        ] {
+            assert_eq!(
+                value_bytes(descr).unwrap_err().to_string(),
+                format!("the values are `{descr}`, not float64 or float32")
+            );
+        }
+        assert_eq!(check_2d(&[3, 4]), Ok(()));
+        assert_eq!(
+            check_2d(&[]).unwrap_err().to_string(),
+            "the array has shape (), not 2-D"
+        );
+        assert_eq!(
+            check_2d(&[5]).unwrap_err().to_string(),
+            "the array has shape (5,), not 2-D"
+        );
+        let integers = npy_file(
+            "{'descr': '<i8', 'fortran_order': False, 'shape': (1, 1), }",
+            &[0; 8],
+        );
+        let read = Field::read_npy(integers.as_slice(), 1.0, 1.0).unwrap_err();
+        assert_eq!(
+            read.to_string(),
+            "not a 2-D float64 .npy array: the values are `'<i8'`, not float64 or float32"
+        );
     }
 
     /// A `.npy` file with `header` (the dict text) and `data`: format 1.0,

@@ -8,7 +8,10 @@
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, RecvTimeoutError};
 use std::sync::{Arc, OnceLock};
+use std::time::Duration;
 
 use hypercontact_core::{Field, Files, Inputs, Product, Registry};
 use numpy::{PyArray2, PyReadonlyArray2};
@@ -193,6 +196,69 @@ fn show(progress: Option<Bound<'_, PyAny>>) -> PyResult<Show> {
     })
 }
 
+/// Runs `work` on a thread of its own while the interpreter's thread
+/// waits without the GIL, taking it back every [`POLL`] to run Python's
+/// signal handlers: Ctrl-C raises `KeyboardInterrupt` within a second
+/// (the CLI is ended by the signal itself; a Python process goes on). The
+/// run is then told to start no further stage (`cancel`); the stage under
+/// way finishes on its thread and writes its entry whole, as every entry
+/// is written, so the cache stays sound.
+fn interruptible<T: Send + 'static>(
+    py: Python<'_>,
+    cancel: &AtomicBool,
+    work: impl FnOnce() -> T + Send + 'static,
+) -> PyResult<T> {
+    const POLL: Duration = Duration::from_millis(100);
+    // How long an interrupted run gets to stop between stages before the
+    // interpreter goes on without it.
+    const GRACE: Duration = Duration::from_millis(500);
+    let (sender, receiver) = mpsc::channel();
+    std::thread::Builder::new()
+        .name("hypercontact-run".into())
+        .spawn(move || {
+            // The caller may have gone on after an interruption.
+            let _ = sender.send(work());
+        })
+        .map_err(value_error)?;
+    let mut receiver = receiver;
+    loop {
+        // The receiver moves to the detached closure and back: it is Send,
+        // not Sync.
+        let (waited, back) = py.detach(move || (receiver.recv_timeout(POLL), receiver));
+        receiver = back;
+        match waited {
+            Ok(result) => return Ok(result),
+            Err(RecvTimeoutError::Disconnected) => {
+                return Err(value_error(
+                    "the run ended without a result (its thread panicked)",
+                ));
+            }
+            Err(RecvTimeoutError::Timeout) => {}
+        }
+        if let Err(signal) = py.check_signals() {
+            cancel.store(true, Ordering::SeqCst);
+            let _ = py.detach(move || receiver.recv_timeout(GRACE).is_ok());
+            return Err(signal);
+        }
+    }
+}
+
+/// Refuses an array that cannot be a field's values in the words the
+/// CLI's `.npy` reader uses: `descr` is the type descriptor as a `.npy`
+/// header writes it (`'<i8'`), `shape` the array's.
+#[pyfunction]
+fn check_field_values(descr: &str, shape: Vec<usize>) -> PyResult<()> {
+    hypercontact_core::field::value_bytes(descr)
+        .and_then(|_| hypercontact_core::field::check_2d(&shape))
+        .map_err(value_error)
+}
+
+/// Why a float cannot be a parameter, in the words a YAML value gets.
+#[pyfunction]
+fn not_finite(value: f64) -> String {
+    hypercontact_runner::yaml::not_finite(value)
+}
+
 /// Runs a pipeline file as `hypercontact run` does (`sets` are `--set`
 /// assignments, in order); returns (run folder, summary, computed, cached).
 /// The GIL is released while it runs; an error is a `ValueError` with the
@@ -219,9 +285,12 @@ fn run_pipeline(
         only,
         progress,
     };
-    let outcome = py
-        .detach(|| runs::run_pipeline(registry(), &request))
-        .map_err(PyValueError::new_err)?;
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
+    let outcome = interruptible(py, &cancel, move || {
+        runs::run_pipeline(registry(), &request, Some(flag))
+    })?
+    .map_err(PyValueError::new_err)?;
     Ok((
         outcome.out_dir,
         outcome.summary,
@@ -250,9 +319,12 @@ fn run_study(
         progress,
         ..RunRequest::default()
     };
-    let outcome = py
-        .detach(|| runs::run_study(registry(), &request))
-        .map_err(PyValueError::new_err)?;
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
+    let outcome = interruptible(py, &cancel, move || {
+        runs::run_study(registry(), &request, Some(flag))
+    })?
+    .map_err(PyValueError::new_err)?;
     Ok((outcome.out_dir, outcome.tables))
 }
 
@@ -294,5 +366,7 @@ fn _hypercontact(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run_study, m)?)?;
     m.add_function(wrap_pyfunction!(read_field, m)?)?;
     m.add_function(wrap_pyfunction!(pipeline_stages, m)?)?;
+    m.add_function(wrap_pyfunction!(check_field_values, m)?)?;
+    m.add_function(wrap_pyfunction!(not_finite, m)?)?;
     Ok(())
 }

@@ -6,6 +6,8 @@
 //! a reload give the same thing.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 
 use hypercontact_core::Registry;
 use hypercontact_runner::{Pipeline, PlanOptions, RunOptions};
@@ -64,8 +66,13 @@ fn prepare(registry: &Registry, request: &RunRequest) -> Result<(Pipeline, RunOp
 
 /// Runs a pipeline as `hypercontact run` does; the error is the CLI's
 /// message.
-pub fn run_pipeline(registry: &Registry, request: &RunRequest) -> Result<RunOutcome, String> {
+pub fn run_pipeline(
+    registry: &Registry,
+    request: &RunRequest,
+    cancel: Option<Arc<AtomicBool>>,
+) -> Result<RunOutcome, String> {
     let (pipeline, mut options) = prepare(registry, request)?;
+    options.cancel = cancel;
     options.plan = PlanOptions {
         force: request.force.clone(),
         only: request.only.clone(),
@@ -81,8 +88,13 @@ pub fn run_pipeline(registry: &Registry, request: &RunRequest) -> Result<RunOutc
 }
 
 /// Runs a pipeline's `study:` sweep as `hypercontact study` does.
-pub fn run_study(registry: &Registry, request: &RunRequest) -> Result<StudyOutcome, String> {
+pub fn run_study(
+    registry: &Registry,
+    request: &RunRequest,
+    cancel: Option<Arc<AtomicBool>>,
+) -> Result<StudyOutcome, String> {
     let (pipeline, mut options) = prepare(registry, request)?;
+    options.cancel = cancel;
     if request.out.is_none() {
         options.out_dir = hypercontact_runner::study::default_dir(&pipeline);
     }

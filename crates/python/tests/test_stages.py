@@ -176,3 +176,44 @@ def test_tables_carry_their_declared_units_and_docs(tmp_path):
     # As the Parquet file holds them: polars reads the same key.
     response.write_parquet(tmp_path / "copy.parquet")  # a copy made in Python has none
     assert hypercontact.read_table(tmp_path / "copy.parquet").units == {}
+
+
+# The CLI's `.npy` reader refuses these value types in these words (#50, item 9).
+@pytest.mark.parametrize("values, descr", [
+    (np.arange(16, dtype=np.int64).reshape(4, 4), "'<i8'"),
+    (np.zeros((4, 4), dtype=bool), "'|b1'"),
+    (np.ones((4, 4), dtype=complex), "'<c16'"),
+    (np.full((4, 4), 1.0, dtype=object), "'|O'"),
+], ids=["int64", "bool", "complex", "object"])
+def test_a_field_refuses_what_the_cli_npy_reader_refuses(values, descr):
+    message = f"Field: heights_m: the values are `{descr}`, not float64 or float32"
+    with pytest.raises(ValueError) as refused:
+        Field(values, 1e-6)
+    assert str(refused.value) == message
+
+
+def test_float32_and_big_endian_heights_are_read_as_the_cli_reads_them():
+    single = Field(np.ones((2, 3), dtype=np.float32), 1e-6)
+    swapped = Field(np.ones((2, 3), dtype=">f8"), 1e-6)
+    assert single.heights_m.dtype == np.float64 and single == swapped
+
+
+def test_a_scalar_or_none_is_named_not_called_one_dimensional():
+    with pytest.raises(ValueError) as scalar:
+        Field(np.array(2.0), 1e-6)
+    assert str(scalar.value) == "Field: heights_m: the array has shape (), not 2-D"
+    with pytest.raises(ValueError) as none:
+        Field(None, 1e-6)
+    assert str(none.value).endswith("got None")
+
+
+@pytest.mark.parametrize("value, shown", [
+    (float("nan"), "NaN"), (float("inf"), "inf"), (np.float64("-inf"), "-inf"),
+])
+def test_a_non_finite_parameter_is_refused_naming_it(value, shown):
+    with pytest.raises(ValueError) as refused:
+        stages.material(mu_pa=value)
+    assert str(refused.value) == f"material: parameter `mu_pa`: `{shown}` is not a finite number"
+    with pytest.raises(ValueError, match=r"parameter `map_fractions\.1`: "):
+        stages.bem(surface=Field(surface_m(), 1e-6), material=stages.material_preset(),
+                   map_fractions=[0.1, value])

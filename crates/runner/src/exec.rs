@@ -6,6 +6,7 @@
 
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Weak};
 use std::time::Instant;
 
@@ -56,6 +57,11 @@ pub struct RunOptions {
     /// Recorded stage times from earlier runs, for the ETAs (the previous
     /// record in `out_dir` is added to it).
     pub history: History,
+    /// Set from outside (Python's Ctrl-C, which cannot end the process as
+    /// a signal ends the CLI): no stage starts once it is true, and the run
+    /// stops with [`RunError::Interrupted`]; the stage under way finishes
+    /// and its entry is written whole, as every entry is.
+    pub cancel: Option<Arc<AtomicBool>>,
 }
 
 impl RunOptions {
@@ -100,6 +106,7 @@ impl RunOptions {
             known_failures: BTreeMap::new(),
             label: None,
             history: History::default(),
+            cancel: None,
         }
     }
 }
@@ -169,6 +176,10 @@ pub enum RunError {
     /// the variants that ran are gathered; the report says what failed.
     #[error("{}", .0.failure_text())]
     StudyFailed(Box<crate::study::StudyReport>),
+    /// [`RunOptions::cancel`] was set: `stage` and the stages after it
+    /// did not start; every stage finished before it is in the cache.
+    #[error("interrupted before stage `{stage}`: the stages finished before it are in the cache")]
+    Interrupted { stage: String },
 }
 
 /// What a run did.
@@ -322,6 +333,12 @@ fn run_once(
     for (index, planned) in plan.stages.iter().enumerate() {
         overall.start(index, &planned.name);
         if !matches!(planned.reason, Reason::NotSelected | Reason::TempNotNeeded) {
+            if cancelled(options) {
+                write_deferred(&scope, &mut state, after_file);
+                return Err(RunError::Interrupted {
+                    stage: planned.name.clone(),
+                });
+            }
             match run_or_block(
                 &scope,
                 planned,
@@ -391,6 +408,14 @@ fn let_go_before_another_kind(pipeline: &Pipeline, plan: &Plan, index: usize) {
     {
         decl.stage.let_go();
     }
+}
+
+/// Whether the run was asked to stop ([`RunOptions::cancel`]).
+fn cancelled(options: &RunOptions) -> bool {
+    options
+        .cancel
+        .as_ref()
+        .is_some_and(|flag| flag.load(Ordering::SeqCst))
 }
 
 /// The plan of a run. Keeping going, an unreadable input file fails its

@@ -266,6 +266,12 @@ fn where_(path: &[String]) -> String {
     }
 }
 
+/// Why a number cannot be a parameter (NaN, ±inf), in the words a YAML
+/// value gets; the Python bridge says the same of a float argument.
+pub fn not_finite(value: f64) -> String {
+    format!("`{value}` is not a finite number")
+}
+
 fn scalar_value(scalar: &Scalar) -> Result<serde_json::Value, String> {
     use serde_json::Value;
     Ok(match scalar {
@@ -276,7 +282,7 @@ fn scalar_value(scalar: &Scalar) -> Result<serde_json::Value, String> {
             let f = f.into_inner();
             serde_json::Number::from_f64(f)
                 .map(Value::Number)
-                .ok_or_else(|| format!("`{f}` is not a finite number"))?
+                .ok_or_else(|| not_finite(f))?
         }
         Scalar::String(s) => Value::String(s.to_string()),
     })

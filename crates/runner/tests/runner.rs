@@ -1419,3 +1419,41 @@ fn an_entry_names_the_build_that_made_it_and_an_old_manifest_still_reads() {
         serde_json::from_slice(&std::fs::read(o.out_dir.join("provenance.json")).unwrap()).unwrap();
     assert_eq!(prov["stages"]["src"]["producer"], "unknown build");
 }
+
+/// Python's Ctrl-C sets `cancel` (#50, item 6): no stage starts after it,
+/// the run says which stage it stopped before, every entry written is
+/// sound, and the next run computes only what was not done.
+#[test]
+fn a_cancelled_run_starts_no_further_stage_and_leaves_a_sound_cache() {
+    use hypercontact_runner::RunError;
+    use std::sync::Arc;
+    use std::sync::atomic::AtomicBool;
+
+    let t = tempfile::tempdir().unwrap();
+    let p = load(t.path(), "p.yaml", BASIC);
+    let cancel = Arc::new(AtomicBool::new(false));
+    let o = RunOptions {
+        cancel: Some(cancel.clone()),
+        ..options(t.path())
+    };
+    // Set while the first stage's entry is written, as a signal arrives
+    // while a stage runs.
+    let mut set_during_src = |_: &Path| cancel.store(true, Ordering::SeqCst);
+    let stopped = hypercontact_runner::exec::run_with_hook(&p, &o, &mut set_during_src);
+    match stopped {
+        Err(e @ RunError::Interrupted { .. }) => assert_eq!(
+            e.to_string(),
+            "interrupted before stage `double`: the stages finished before it are in the cache"
+        ),
+        other => panic!("expected an interruption, got {other:?}"),
+    }
+    let cache = Cache::open(&t.path().join("cache")).unwrap();
+    let entries = cache.list().unwrap();
+    assert_eq!(entries.len(), 1, "only `src` ran");
+    for entry in &entries {
+        assert!(matches!(cache.verify(&entry.key), EntryState::Valid(_)));
+    }
+    cancel.store(false, Ordering::SeqCst);
+    let again = run(&p, &o).unwrap();
+    assert_eq!((again.hits(), again.computed()), (1, 1));
+}

@@ -64,10 +64,18 @@ class Field:
     __slots__ = ("heights_m", "dx_m", "dy_m")
 
     def __init__(self, heights_m: Any, dx_m: float, dy_m: Optional[float] = None):
-        heights = np.ascontiguousarray(heights_m, dtype=np.float64)
-        if heights.ndim != 2:
-            raise ValueError(f"Field: heights_m must be 2-D, got {heights.ndim}-D")
-        self.heights_m = heights
+        if heights_m is None:
+            raise ValueError("Field: heights_m must be a 2-D array of float64 or float32, got None")
+        given = np.asarray(heights_m)
+        # The CLI's `.npy` reader judges the same descriptor in the same words:
+        # integers would be taken as metres, complex numbers lose their
+        # imaginary part, and a scalar is no map.
+        descr = np.lib.format.dtype_to_descr(given.dtype)
+        try:
+            _hypercontact.check_field_values(repr(descr), list(given.shape))
+        except ValueError as e:
+            raise ValueError(f"Field: heights_m: {e}") from None
+        self.heights_m = np.ascontiguousarray(given, dtype=np.float64)
         self.dx_m = float(dx_m)
         self.dy_m = float(dx_m if dy_m is None else dy_m)
 
@@ -353,7 +361,34 @@ def stage(
     return _call(kind, inputs, out_dir, progress, params, stacklevel=3)
 
 
+def _not_finite(value: Any, path: str) -> Optional[str]:
+    """The first NaN or infinite float in a parameter value, named by its
+    dotted path as a YAML value's message names it; None when all are
+    finite."""
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    if isinstance(value, Mapping):
+        for key, item in value.items():
+            found = _not_finite(item, f"{path}.{key}")
+            if found is not None:
+                return found
+        return None
+    if isinstance(value, (list, tuple)):
+        for i, item in enumerate(value):
+            found = _not_finite(item, f"{path}.{i}")
+            if found is not None:
+                return found
+        return None
+    if isinstance(value, (float, np.floating)) and not np.isfinite(value):
+        return f"parameter `{path}`: {_hypercontact.not_finite(float(value))}"
+    return None
+
+
 def _call(kind, inputs, out_dir, progress, params, stacklevel: int) -> Dict[str, Any]:
+    for name, value in params.items():
+        found = _not_finite(value, name)
+        if found is not None:
+            raise ValueError(f"{kind}: {found}")
     try:
         params_json = json.dumps(params, default=_json_default, allow_nan=False)
     except (TypeError, ValueError) as e:
