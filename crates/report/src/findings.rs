@@ -8,6 +8,10 @@
 //!   tangent modulus (the responses' roster);
 //! - the finite-strain verdict: Fig. 10's table of F_model/F_fem
 //!   ([`crate::finite_strain::ratios`], the same numbers);
+//! - the judge's resolution: the refinement study's F_fem/F_bem at equal
+//!   approach (Fig. 11's table, [`crate::refinement::level_ratios`]): the
+//!   coarsest refine factor from which linear fem and linear bem agree
+//!   within 5 % over A/A0 0.05–0.3, or the closest level when none does;
 //! - the experiment: contact-compare's agreement and load-ratio tables,
 //!   with the models of the experiment's own physics set apart.
 
@@ -17,6 +21,7 @@ use crate::experiment::{AGREEMENT_ID, Scored, marked, physics_of};
 use crate::finite_strain::{FiniteStrainOptions, Ratios, TABLE_ID, ratios};
 use crate::gather::{PatchCurves, ReportData, Sample};
 use crate::html::{escape, fmt_sig};
+use crate::refinement::{RefinementLevel, RefinementOptions, comparisons, level_ratios};
 use crate::roster::{LabelLaw, Roster, label_law};
 
 /// Every finding the data allow; `None` where its inputs are absent.
@@ -25,6 +30,10 @@ pub struct Findings {
     pub claim: Option<Claim>,
     pub finite_strain: Option<FiniteStrainFinding>,
     pub experiment: Option<ExperimentFinding>,
+    /// Left out of summary.json (not null) without the refinement study, so
+    /// a summary without it keeps its bytes.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refinement: Option<RefinementFinding>,
 }
 
 /// The smallest and largest of some numbers.
@@ -91,6 +100,96 @@ pub struct FiniteStrainFinding {
     pub linear_over_finite: Option<Span>,
 }
 
+/// Within how many per cent F_fem/F_bem must be of 1 for the two to agree.
+pub const REFINEMENT_TOLERANCE_PERCENT: f64 = 5.0;
+/// The A/A0 over which they must agree (issue #49's criterion); the
+/// compared points inside it are read.
+pub const REFINEMENT_AREA_RANGE: [f64; 2] = [0.05, 0.3];
+
+/// The refinement study in a few numbers: at which refine factor linear fem
+/// and linear bem agree at equal approach.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RefinementFinding {
+    pub tolerance_percent: f64,
+    /// The equal-approach points read: the compared A/A0 inside
+    /// `REFINEMENT_AREA_RANGE` where every level's ratio is read.
+    pub area_fractions: Span,
+    /// The refine factors computed, ascending.
+    pub refines: Vec<u32>,
+    /// true: `level` is the coarsest level from which on every level agrees
+    /// within the tolerance; false: none does from any level on, and
+    /// `level` is the one with the smallest largest deviation.
+    pub agrees: bool,
+    pub level: LevelAgreement,
+    /// The finest level, where it is not `level`.
+    pub finest: Option<LevelAgreement>,
+}
+
+/// F_fem/F_bem at equal approach at one level, over the points read.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LevelAgreement {
+    pub refine: u32,
+    pub points_per_wavelength: f64,
+    pub ratio_equal_approach: Span,
+    /// The largest |F_fem/F_bem − 1| over those points (per cent).
+    pub largest_deviation_percent: f64,
+}
+
+/// The refinement finding; None without levels or without an equal-approach
+/// point inside the range that every level reads.
+pub fn refinement(
+    levels: &[RefinementLevel],
+    options: &RefinementOptions,
+) -> Option<RefinementFinding> {
+    let per_level = level_ratios(&comparisons(levels, options), options);
+    let [lo, hi] = REFINEMENT_AREA_RANGE;
+    let ratio = |l: &crate::refinement::LevelRatios, i: usize| l.equal_approach.get(i).copied()?;
+    let read: Vec<usize> = (0..options.area_fractions.len())
+        .filter(|&i| (lo..=hi).contains(&options.area_fractions[i]))
+        .filter(|&i| per_level.iter().all(|l| ratio(l, i).is_some()))
+        .collect();
+    let area_fractions = Span::of(read.iter().map(|&i| options.area_fractions[i]))?;
+    let agreement: Vec<LevelAgreement> = per_level
+        .iter()
+        .map(|l| {
+            let ratios: Vec<f64> = read.iter().filter_map(|&i| ratio(l, i)).collect();
+            Some(LevelAgreement {
+                refine: l.refine,
+                points_per_wavelength: l.points_per_wavelength,
+                ratio_equal_approach: Span::of(ratios.iter().copied())?,
+                largest_deviation_percent: ratios
+                    .iter()
+                    .map(|r| 100.0 * (r - 1.0).abs())
+                    .fold(0.0, f64::max),
+            })
+        })
+        .collect::<Option<_>>()?;
+    let within = |l: &LevelAgreement| l.largest_deviation_percent <= REFINEMENT_TOLERANCE_PERCENT;
+    // A level that agrees while a finer one does not is no converged answer.
+    let from = agreement
+        .iter()
+        .rposition(|l| !within(l))
+        .map_or(0, |i| i + 1);
+    let (agrees, at) = if from < agreement.len() {
+        (true, from)
+    } else {
+        let closest = (0..agreement.len()).min_by(|&a, &b| {
+            let deviation = |i: usize| agreement[i].largest_deviation_percent;
+            deviation(a).total_cmp(&deviation(b))
+        })?;
+        (false, closest)
+    };
+    let finest = (at + 1 < agreement.len()).then(|| agreement[agreement.len() - 1].clone());
+    Some(RefinementFinding {
+        tolerance_percent: REFINEMENT_TOLERANCE_PERCENT,
+        area_fractions,
+        refines: agreement.iter().map(|l| l.refine).collect(),
+        agrees,
+        level: agreement[at].clone(),
+        finest,
+    })
+}
+
 /// The experiment against the models it is scored with.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ExperimentFinding {
@@ -121,11 +220,16 @@ pub struct BestModel {
 impl Findings {
     /// The findings of the report's data.
     /// Model lists follow the roster's order (labels it lacks after).
-    pub fn new(data: &ReportData<'_>, options: &FiniteStrainOptions) -> Self {
+    pub fn new(
+        data: &ReportData<'_>,
+        options: &FiniteStrainOptions,
+        refinement_options: &RefinementOptions,
+    ) -> Self {
         let mut findings = Findings {
             claim: claim(&data.roster, &data.samples),
             finite_strain: finite_strain(&data.finite_strain, options),
             experiment: experiment(&crate::experiment::scored(data), &data.roster),
+            refinement: refinement(&data.refinement, refinement_options),
         };
         let roster = &data.roster;
         let order = |labels: &mut Vec<String>| labels.sort_by_key(|l| roster.position(l));
@@ -407,6 +511,59 @@ fn finite_strain_html(f: &FiniteStrainFinding) -> String {
     )
 }
 
+/// "k = 2 (4 points per shortest wavelength)".
+fn level_text(l: &LevelAgreement) -> String {
+    format!(
+        "k = {} ({} points per shortest wavelength)",
+        l.refine,
+        fmt_sig(l.points_per_wavelength, 3)
+    )
+}
+
+/// The sentence on the refinement study.
+fn refinement_html(r: &RefinementFinding) -> String {
+    let tolerance = fmt_sig(r.tolerance_percent, 2);
+    let ratio = |l: &LevelAgreement| {
+        format!(
+            "F<sub>fem</sub>/F<sub>bem</sub> = {}",
+            l.ratio_equal_approach.text(4)
+        )
+    };
+    let level = &r.level;
+    let head = if r.agrees {
+        let (from, on) = if r.finest.is_some() {
+            ("from", " on")
+        } else {
+            ("at the finest level computed,", "")
+        };
+        format!(
+            "linear fem and linear bem agree within {tolerance} % at equal approach {from} {}{on}: \
+             {}",
+            level_text(level),
+            ratio(level)
+        )
+    } else {
+        let refines: Vec<String> = r.refines.iter().map(u32::to_string).collect();
+        format!(
+            "linear fem and linear bem do not stay within {tolerance} % of each other at equal \
+             approach up to the finest refine factor computed (k = {}); the closest is {}: {}",
+            refines.join(", "),
+            level_text(level),
+            ratio(level)
+        )
+    };
+    let finest = r.finest.as_ref().map_or(String::new(), |f| {
+        format!("; at the finest, {}: {}", level_text(f), ratio(f))
+    });
+    format!(
+        "<p><b>The judge's resolution.</b> On the same window, {head}{finest} (read at the \
+         approaches where the finest bem reaches A/A<sub>0</sub> = {}; <a href=\"#fig11\">Fig. \
+         11</a> and <a href=\"#{}\">its table</a>).</p>\n",
+        r.area_fractions.text(3),
+        crate::refinement::TABLE_ID
+    )
+}
+
 /// The sentence on the experiment.
 fn experiment_html(e: &ExperimentFinding) -> String {
     let physics = if e.physics.is_empty() {
@@ -465,6 +622,7 @@ pub fn section(f: &Findings) -> String {
     let sentences: Vec<String> = [
         f.claim.as_ref().map(claim_html),
         f.finite_strain.as_ref().map(finite_strain_html),
+        f.refinement.as_ref().map(refinement_html),
         f.experiment.as_ref().map(experiment_html),
     ]
     .into_iter()
@@ -742,5 +900,113 @@ mod tests {
         assert!(!only_claim.contains("The experiment."));
         let json = serde_json::to_value(Findings::default()).unwrap();
         assert_eq!(json["finite_strain"], serde_json::Value::Null);
+        // Without the study the key is left out, so such summaries keep
+        // their bytes.
+        assert!(json.get("refinement").is_none(), "{json}");
+    }
+
+    /// Three hand-made levels (`scaled_level`: F_fem/F_bem at equal
+    /// approach is f0 at A/A0 ≤ 0.125, 0.25 f0 + 0.75 f1 at 0.2, and
+    /// involves f2 beyond 0.25) read at A/A0 0.05, 0.1, 0.2 and 0.35.
+    fn study(factors: [[f64; 3]; 3]) -> Option<RefinementFinding> {
+        let levels: Vec<RefinementLevel> = (1u32..)
+            .zip(factors)
+            .map(|(k, f)| crate::refinement::tests::scaled_level(k, f))
+            .collect();
+        let options = RefinementOptions {
+            area_fractions: vec![0.05, 0.1, 0.2, 0.35],
+            points_per_wavelength: 2.0,
+        };
+        refinement(&levels, &options)
+    }
+
+    /// #49: the coarsest level from which on fem and bem agree within 5 %
+    /// at equal approach over A/A0 0.05–0.3 (A/A0 = 0.35, where k = 2
+    /// would be 50 % off, is outside the range and not read).
+    #[test]
+    fn the_refinement_finding_names_the_level_where_fem_and_bem_agree() {
+        let r = study([[0.90, 0.92, 0.92], [0.96, 0.97, 0.5], [0.99, 1.0, 1.0]]).unwrap();
+        assert!(r.agrees);
+        assert_eq!(r.refines, [1, 2, 3]);
+        assert_eq!((r.area_fractions.min, r.area_fractions.max), (0.05, 0.2));
+        assert_eq!(r.level.refine, 2);
+        assert_eq!(r.level.points_per_wavelength, 4.0);
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+        let span = r.level.ratio_equal_approach;
+        assert!(close(span.min, 0.96) && close(span.max, 0.9675), "{span:?}");
+        assert!(close(r.level.largest_deviation_percent, 4.0));
+        let finest = r.finest.as_ref().unwrap();
+        assert_eq!(finest.refine, 3);
+        let html = refinement_html(&r);
+        for part in [
+            "linear fem and linear bem agree within 5 % at equal approach from k = 2 (4 points \
+             per shortest wavelength) on: F<sub>fem</sub>/F<sub>bem</sub> = 0.96–0.9675",
+            "at the finest, k = 3 (6 points per shortest wavelength): \
+             F<sub>fem</sub>/F<sub>bem</sub> = 0.99–0.9975",
+            "where the finest bem reaches A/A<sub>0</sub> = 0.05–0.2",
+            "<a href=\"#fig11\">Fig. 11</a>",
+            "<a href=\"#fig11-table\">its table</a>",
+        ] {
+            assert!(html.contains(part), "{part}\n{html}");
+        }
+        // A coarse level that agrees while a finer one does not is passed
+        // over: here only the finest agrees from there on.
+        let r = study([[0.99, 0.99, 0.99], [0.9, 0.9, 0.9], [0.98, 0.98, 0.98]]).unwrap();
+        assert!(r.agrees && r.level.refine == 3 && r.finest.is_none());
+        assert!(
+            refinement_html(&r).contains("at the finest level computed, k = 3"),
+            "{}",
+            refinement_html(&r)
+        );
+        // The section exists with this sentence alone.
+        let page = section(&Findings {
+            refinement: Some(r),
+            ..Default::default()
+        });
+        assert!(page.contains("<b>The judge's resolution.</b>"), "{page}");
+    }
+
+    /// #49: no level agrees within 5 %: the sentence says so and gives the
+    /// closest level's numbers (and the finest's when that is another).
+    #[test]
+    fn the_refinement_finding_gives_the_closest_level_when_none_agrees() {
+        let r = study([[0.80, 0.80, 0.80], [0.90, 0.88, 0.88], [0.93, 0.92, 0.92]]).unwrap();
+        assert!(!r.agrees);
+        assert_eq!(r.level.refine, 3);
+        assert_eq!(r.finest, None);
+        // 0.25 · 0.93 + 0.75 · 0.92 = 0.9225 at A/A0 = 0.2.
+        let span = r.level.ratio_equal_approach;
+        assert!((span.min - 0.9225).abs() < 1e-12 && (span.max - 0.93).abs() < 1e-12);
+        assert!((r.level.largest_deviation_percent - 7.75).abs() < 1e-9);
+        let html = refinement_html(&r);
+        for part in [
+            "do not stay within 5 % of each other at equal approach up to the finest refine \
+             factor computed (k = 1, 2, 3)",
+            "the closest is k = 3 (6 points per shortest wavelength): \
+             F<sub>fem</sub>/F<sub>bem</sub> = 0.9225–0.93",
+        ] {
+            assert!(html.contains(part), "{part}\n{html}");
+        }
+        assert!(!html.contains("at the finest,"), "{html}");
+        // The closest is not the finest: both are given.
+        let r = study([[0.80, 0.80, 0.80], [0.93, 0.93, 0.93], [0.90, 0.90, 0.90]]).unwrap();
+        assert!(!r.agrees && r.level.refine == 2);
+        let html = refinement_html(&r);
+        assert!(
+            html.contains("the closest is k = 2 (4 points per shortest wavelength)")
+                && html.contains(
+                    "at the finest, k = 3 (6 points per shortest wavelength): \
+                                  F<sub>fem</sub>/F<sub>bem</sub> = 0.9"
+                ),
+            "{html}"
+        );
+        // No level, or no compared point inside 0.05–0.3: no finding.
+        assert_eq!(refinement(&[], &RefinementOptions::default()), None);
+        let levels = [crate::refinement::tests::scaled_level(1, [1.0; 3])];
+        let outside = RefinementOptions {
+            area_fractions: vec![0.35],
+            ..Default::default()
+        };
+        assert_eq!(refinement(&levels, &outside), None);
     }
 }

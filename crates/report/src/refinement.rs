@@ -285,6 +285,43 @@ pub fn comparisons(levels: &[RefinementLevel], options: &RefinementOptions) -> V
     out
 }
 
+/// One level's F_fem / F_bem at every compared point, each list in the
+/// order of the options' A/A0; None where a load is not read.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LevelRatios {
+    pub refine: u32,
+    /// k times the options' points per shortest wavelength at k = 1.
+    pub points_per_wavelength: f64,
+    pub equal_approach: Vec<Option<f64>>,
+    pub equal_area: Vec<Option<f64>>,
+}
+
+/// The ratios of [`comparisons`]' rows regrouped by level, ascending k.
+pub fn level_ratios(rows: &[Comparison], options: &RefinementOptions) -> Vec<LevelRatios> {
+    let Some(first) = rows.first() else {
+        return Vec::new();
+    };
+    first
+        .levels
+        .iter()
+        .enumerate()
+        .map(|(i, level)| {
+            let of = |measure: Measure| -> Vec<Option<f64>> {
+                rows.iter()
+                    .filter(|c| c.measure == measure)
+                    .map(|c| c.levels.get(i).and_then(LevelLoads::ratio))
+                    .collect()
+            };
+            LevelRatios {
+                refine: level.refine,
+                points_per_wavelength: options.points_per_wavelength * f64::from(level.refine),
+                equal_approach: of(Measure::Approach),
+                equal_area: of(Measure::Area),
+            }
+        })
+        .collect()
+}
+
 /// The observed order over the last three levels, spacing 1/k.
 fn finest_order(loads: &[LevelLoads], pick: &dyn Fn(&LevelLoads) -> Option<f64>) -> Option<f64> {
     let last = loads.get(loads.len().checked_sub(3)?..)?;
@@ -556,21 +593,64 @@ pub(crate) mod tests {
     }
     /// A response table whose rows are `level`'s straight lines.
     fn response(slope: f64, tangent_ratio: f64) -> Product {
-        use hypercontact_core::Schema;
-        let z_m = vec![1e-5, 7.5e-6, 5e-6, 2.5e-6];
+        let z_m = Z_ROWS.to_vec();
         let area_fraction: Vec<f64> = z_m.iter().map(|z| (1e-5 - z) / 1e-5 * 0.5).collect();
         let load_norm: Vec<f64> = z_m.iter().map(|z| slope * (1e-5 - z)).collect();
+        response_of(area_fraction, load_norm, tangent_ratio)
+    }
+
+    /// The plane heights of the hand-made responses: the approach
+    /// d = 1e-5 − z_m is 0, 2.5, 5 and 7.5 µm.
+    pub(crate) const Z_ROWS: [f64; 4] = [1e-5, 7.5e-6, 5e-6, 2.5e-6];
+
+    /// A response table at [`Z_ROWS`] with these A/A0 and F/(E0* A0).
+    pub(crate) fn response_of(
+        area_fraction: Vec<f64>,
+        load_norm: Vec<f64>,
+        tangent_ratio: f64,
+    ) -> Product {
+        use hypercontact_core::Schema;
         Product::Table(
             ResponseTable {
                 load_n: load_norm.clone(),
                 mean_stress_pa: vec![1.0; 4],
                 tangent_ratio: vec![tangent_ratio; 4],
-                z_m,
+                z_m: Z_ROWS.to_vec(),
                 area_fraction,
                 load_norm,
             }
             .into_table(),
         )
+    }
+
+    /// A level's columns (A/A0, F/(E0* A0)) at [`Z_ROWS`], fem's then
+    /// bem's: bem counts A/A0 = 0.5 d/10 µm and carries F = 1000 d; fem
+    /// counts 0.8 of bem's area and carries bem's load times `factors` at
+    /// the rows d = 2.5, 5 and 7.5 µm. So, read by linear interpolation,
+    /// F_fem/F_bem at equal approach is factors[0] up to bem's A/A0 =
+    /// 0.125 and 0.25 f0 + 0.75 f1 at A/A0 = 0.2; at equal area 0.1 and
+    /// 0.2 it is 1.25 f0 and 1.25 f1.
+    pub(crate) fn scaled_columns(factors: [f64; 3]) -> [(Vec<f64>, Vec<f64>); 2] {
+        let approach = Z_ROWS.map(|z| 1e-5 - z);
+        let bem_area: Vec<f64> = approach.iter().map(|d| 0.5 * d / 1e-5).collect();
+        let bem_load: Vec<f64> = approach.iter().map(|d| 1000.0 * d).collect();
+        let fem_area: Vec<f64> = bem_area.iter().map(|a| 0.8 * a).collect();
+        let fem_load: Vec<f64> = [1.0, factors[0], factors[1], factors[2]]
+            .iter()
+            .zip(&bem_load)
+            .map(|(f, l)| f * l)
+            .collect();
+        [(fem_area, fem_load), (bem_area, bem_load)]
+    }
+
+    /// [`scaled_columns`] as a level.
+    pub(crate) fn scaled_level(refine: u32, factors: [f64; 3]) -> RefinementLevel {
+        let [(fem_area, fem_load), (bem_area, bem_load)] = scaled_columns(factors);
+        RefinementLevel {
+            refine,
+            fem: RefinementCurve::new(&Z_ROWS, &fem_area, &fem_load),
+            bem: RefinementCurve::new(&Z_ROWS, &bem_area, &bem_load),
+        }
     }
 
     fn study_inputs() -> hypercontact_core::Inputs {

@@ -925,7 +925,8 @@ pub fn build_report(
 ) -> Result<Files, ReportError> {
     let chosen = options.models.resolve(data)?;
     let outcomes = figure_outcomes(data, &chosen)?;
-    let findings = crate::findings::Findings::new(data, &options.finite_strain);
+    let findings =
+        crate::findings::Findings::new(data, &options.finite_strain, &options.refinement);
     let findings_html = crate::findings::section(&findings);
     let summary = Summary::new(
         &options.title,
@@ -934,7 +935,8 @@ pub fn build_report(
         chosen.reference.map(|k| k.label.as_str()),
         outcomes.iter().map(|o| o.status.clone()).collect(),
         findings,
-    );
+    )
+    .with_refinement(&data.refinement, &options.refinement);
 
     let mut body = format!("<h1>{}</h1>\n", escape(&options.title));
     body.push_str(&findings_html);

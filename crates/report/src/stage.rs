@@ -88,7 +88,7 @@ pub struct Report;
 
 static INFO: StageInfo = StageInfo {
     kind: "report",
-    version: 14,
+    version: 15,
     summary: "HTML report with the paper's Figs. 2, 4, 6, 7, 8, a model comparison (Fig. 9; PNG + \
               SVG), Table 1 and a summary",
     doc: "Every input is optional: a figure whose inputs are not wired is skipped and the \
@@ -166,8 +166,12 @@ static INFO: StageInfo = StageInfo {
           range of F_model/F_reference of the equibiaxial and the `-linear` models, from the \
           finite-strain table), and the experiment (its physics, the models marked \
           by_construction, the best-ranked of the others and the equibiaxial models' load \
-          ratio at the load_ratio A/A0 nearest 0.5); summary.json holds them under \
-          `findings`. REFINEMENT: with `refinement` wired (levels labelled by the \
+          ratio at the load_ratio A/A0 nearest 0.5), and with `refinement` wired the judge's \
+          resolution (the coarsest refine factor k from which on every level's F_fem/F_bem at \
+          equal approach lies within 5 % of 1 at each of `refinement_area_fractions` inside \
+          0.05–0.3 that every level reads, or, when none does, the level whose largest \
+          deviation is smallest, with the finest level's ratios beside it); summary.json holds \
+          them under `findings`. REFINEMENT: with `refinement` wired (levels labelled by the \
           refine factor k, each with `fem` and `bem`; a level without both, another label, or \
           a bem whose tangent_ratio is not 1 stops the stage naming the input), the section \
           \"Is the finite-strain judge converged?\" gives F_fem, F_bem (as F/(E0* A0)) and \
@@ -179,7 +183,14 @@ static INFO: StageInfo = StageInfo {
           or vanish), and Fig. 11: the ratio against the points per shortest wavelength \
           (k times `refinement_points_per_wavelength`), solid at equal approach and dashed at equal area; \
           its caption names fem's block depth from the depth_m of the fem stages in the \
-          run's record. Figures use the bundled \
+          run's record. summary.json then holds `refinement` (absent without the input): \
+          `points_per_wavelength_at_refine_1`, the compared `area_fractions`, \
+          `z_m_equal_approach` (m, per A/A0; null where the finest bem does not reach it), \
+          `levels` (per k: `refine`, `points_per_wavelength`, F_fem/F_bem per A/A0 as \
+          `ratio_equal_approach` and `ratio_equal_area`, null where a load is not read, each \
+          with its `_min` and `_max` over the A/A0 read) and `observed_order` (per compared \
+          point: `compared_at` equal_approach or equal_area, `area_fraction`, and the order p \
+          of F_fem, F_bem and their ratio as `order_fem`, `order_bem`, `order_ratio`). Figures use the bundled \
           DejaVu Sans font; no system font or network is needed.",
     inputs: &[
         InputSpec::table::<CurvesTable>(
